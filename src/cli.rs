@@ -1,0 +1,497 @@
+//! Command line: the report's flags (`-i`, `-o`, `-ds`, `-s`, `-nomedian`,
+//! `-all`) exactly as its examples write them, GNU-style long options beside
+//! them, and the `check` subcommand.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use clap::{Parser, Subcommand, ValueEnum};
+
+use delmesh::io::{self, InputMesh};
+use delmesh::mesh::Surface;
+use delmesh::refine::{self, Options, Stats, Worklist};
+use delmesh::samples::Score;
+
+/// Turn a triangle mesh into a Delaunay mesh with exactly the same geometry.
+///
+/// Reads an OBJ, splits input edges at sample points and flips edges inside
+/// flat regions until every interior edge is Delaunay (its two opposite
+/// angles sum to at most pi), and writes an OBJ whose first vertices are the
+/// input's, bit for bit. The report's single-dash flags (-ds, -nomedian,
+/// -all) work as written; each has a GNU-style long form.
+#[derive(Parser, Debug)]
+#[command(
+    name = "delmesh",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+#[command(after_help = "Examples:\n  \
+    delmesh -i bunny.obj -o out/bunny.obj                 (stack, score 2, median: the report's best)\n  \
+    delmesh -i elephant2.obj -o output/elephant.obj -s 2 -ds pqueue\n  \
+    delmesh -i elephant2.obj -o output/elephant.obj -all  (all 18 combinations)\n  \
+    delmesh check bunny.obj out/bunny.obj                 (verify an output)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(clap::Args, Debug)]
+struct RunArgs {
+    /// Input mesh (OBJ).
+    #[arg(short = 'i', long = "input", value_name = "FILE", required = true)]
+    input: Option<PathBuf>,
+
+    /// Output mesh (OBJ). Without it the input file is rewritten, only after
+    /// success. With -all, the stem and folder of the 18 output files.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: Option<PathBuf>,
+
+    /// Data structure holding the non-Delaunay edges [legacy: -ds].
+    #[arg(
+        long = "ds",
+        visible_alias = "data-structure",
+        value_enum,
+        default_value = "stack",
+        value_name = "DS"
+    )]
+    ds: DsArg,
+
+    /// Score of a sample: 0 all equal (the paper's), 1 weighted center,
+    /// 2 always center.
+    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2"], value_name = "N")]
+    score: String,
+
+    /// Take the first best sample from the edge's start instead of the median
+    /// of the best ones [legacy: -nomedian].
+    #[arg(long = "nomedian", visible_alias = "no-median")]
+    nomedian: bool,
+
+    /// Run all 18 combinations (3 DS x 3 scores x median on/off), writing
+    /// <stem>-<s|q|p>-<0|1|2>[-m].obj beside the output and printing a
+    /// summary table; -ds, -s and -nomedian are ignored [legacy: -all].
+    #[arg(long = "all")]
+    all: bool,
+
+    /// Print nothing but errors.
+    #[arg(short = 'q', long = "quiet")]
+    quiet: bool,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
+    /// reading the two files only. Exits 0 if it is, 1 if not.
+    Check {
+        /// The original mesh.
+        input: PathBuf,
+        /// The mesh to verify.
+        output: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum DsArg {
+    /// Last in, first out.
+    Stack,
+    /// First in, first out.
+    Queue,
+    /// Longest edge first.
+    Pqueue,
+}
+
+impl From<DsArg> for Worklist {
+    fn from(d: DsArg) -> Self {
+        match d {
+            DsArg::Stack => Worklist::Stack,
+            DsArg::Queue => Worklist::Queue,
+            DsArg::Pqueue => Worklist::PriorityQueue,
+        }
+    }
+}
+
+/// Rewrites the report's single-dash long flags into their GNU forms, so that
+/// `-ds pqueue`, `-nomedian` and `-all` work as the report writes them. A
+/// token right after `-i`/`-o` is a file name and is left alone.
+fn legacy_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::new();
+    for arg in args {
+        let after_path_flag = out
+            .last()
+            .and_then(|a| a.to_str())
+            .is_some_and(|a| matches!(a, "-i" | "-o" | "--input" | "--output"));
+        let rewritten = match arg.to_str() {
+            _ if after_path_flag => None,
+            Some("-ds") => Some("--ds".to_string()),
+            Some(s) if s.starts_with("-ds=") => Some(format!("-{s}")),
+            Some("-nomedian") => Some("--nomedian".to_string()),
+            Some("-all") => Some("--all".to_string()),
+            _ => None,
+        };
+        out.push(rewritten.map(Into::into).unwrap_or(arg));
+    }
+    out
+}
+
+/// Entry point: parse, run, print errors as one line, exit 1 on failure.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse_from(legacy_args(std::env::args_os()));
+    let result = match cli.command {
+        Some(Command::Check { input, output }) => run_check(&input, &output),
+        None => run(&cli.run),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("delmesh: {}", one_line(&e));
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// The error and its causes on one line.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut s = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !s.contains(&c) {
+            s.push_str(": ");
+            s.push_str(&c);
+        }
+    }
+    s.replace('\n', " ")
+}
+
+fn score_of(s: &str) -> Score {
+    match s {
+        "0" => Score::AllEqual,
+        "1" => Score::WeightedCenter,
+        _ => Score::AlwaysCenter,
+    }
+}
+
+fn score_name(s: Score) -> &'static str {
+    match s {
+        Score::AllEqual => "all equal",
+        Score::WeightedCenter => "weighted center",
+        Score::AlwaysCenter => "always center",
+    }
+}
+
+fn ds_name(w: Worklist) -> &'static str {
+    match w {
+        Worklist::Stack => "stack",
+        Worklist::Queue => "queue",
+        Worklist::PriorityQueue => "priority queue",
+    }
+}
+
+/// Refuses an output path that cannot be written, before any work starts.
+fn check_output_dir(path: &Path) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "{}: output folder {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    if path.is_dir() {
+        bail!("{}: output is a folder, not a file", path.display());
+    }
+    Ok(())
+}
+
+/// One refinement of an already-read input.
+struct Outcome {
+    surface: Surface,
+    stats: Stats,
+    seconds: f64,
+}
+
+fn refine_once(input: &InputMesh, path: &Path, options: &Options) -> anyhow::Result<Outcome> {
+    let mut surface = io::build_surface(input, path)?;
+    let start = Instant::now();
+    let stats =
+        refine::make_delaunay(&mut surface, options).with_context(|| path.display().to_string())?;
+    Ok(Outcome {
+        surface,
+        stats,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
+    let Some(input_path) = args.input.as_deref() else {
+        bail!("no input: give one with -i FILE")
+    };
+    let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
+    check_output_dir(&output)?;
+    let t0 = Instant::now();
+    let input = io::read_obj(input_path)?;
+    let read_s = t0.elapsed().as_secs_f64();
+    let surface = io::build_surface(&input, input_path)?;
+    let figures = surface.figures();
+    if !args.quiet {
+        println!(
+            "input   {}: {} vertices, {} faces ({} triangles); min angle {:.6} rad; edge length {:.6e} .. {:.6e}",
+            input_path.display(),
+            input.positions.len(),
+            input.faces_in_file,
+            input.triangles.len(),
+            figures.min_angle,
+            figures.min_edge,
+            figures.max_edge
+        );
+        if input.welded > 0 || input.unreferenced > 0 {
+            println!(
+                "        welded {} duplicate vertices, dropped {} unused vertices",
+                input.welded, input.unreferenced
+            );
+        }
+    }
+    if args.all {
+        return run_all(&input, input_path, &output, args.quiet);
+    }
+    let options = Options {
+        worklist: args.ds.into(),
+        score: score_of(&args.score),
+        median: !args.nomedian,
+    };
+    let out = refine_once(&input, input_path, &options)?;
+    let t1 = Instant::now();
+    io::write_obj(&output, &out.surface.positions, &out.surface.triangles())?;
+    let write_s = t1.elapsed().as_secs_f64();
+    if !args.quiet {
+        let s = &out.stats;
+        let c = s
+            .constants
+            .unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
+        println!(
+            "run     {}, {}, {}",
+            ds_name(options.worklist),
+            score_name(options.score),
+            if options.median {
+                "median"
+            } else {
+                "no median"
+            }
+        );
+        println!("samples rho_v {:.6e}, rho_e {:.6e}", c.rho_v, c.rho_e);
+        println!(
+            "output  {}: {} vertices, {} faces, {} added vertices",
+            output.display(),
+            out.surface.positions.len(),
+            out.surface.topo.n_faces(),
+            out.surface.positions.len() - out.surface.n_input_vertices
+        );
+        println!(
+            "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
+            s.splits, s.flips, s.non_delaunay_before, s.non_delaunay_after
+        );
+        println!(
+            "seconds {:.4} total (read {:.4}, refine {:.4}, write {:.4})",
+            t0.elapsed().as_secs_f64(),
+            read_s,
+            out.seconds,
+            write_s
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The 18 combinations, in the report's naming order.
+fn all_combinations() -> Vec<Options> {
+    let mut v = Vec::new();
+    for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+        for score in [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter] {
+            for median in [true, false] {
+                v.push(Options {
+                    worklist,
+                    score,
+                    median,
+                });
+            }
+        }
+    }
+    v
+}
+
+/// `<stem>-<s|q|p>-<0|1|2>[-m].obj` beside `output`.
+fn combination_path(output: &Path, o: &Options) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
+    let ds = match o.worklist {
+        Worklist::Stack => "s",
+        Worklist::Queue => "q",
+        Worklist::PriorityQueue => "p",
+    };
+    let score = match o.score {
+        Score::AllEqual => 0,
+        Score::WeightedCenter => 1,
+        Score::AlwaysCenter => 2,
+    };
+    let name = format!(
+        "{stem}-{ds}-{score}{}.obj",
+        if o.median { "-m" } else { "" }
+    );
+    output.with_file_name(name)
+}
+
+fn run_all(
+    input: &InputMesh,
+    input_path: &Path,
+    output: &Path,
+    quiet: bool,
+) -> anyhow::Result<ExitCode> {
+    let combos = all_combinations();
+    for o in &combos {
+        let p = combination_path(output, o);
+        if p == input_path {
+            bail!(
+                "{}: -all would overwrite the input; choose another -o",
+                p.display()
+            );
+        }
+    }
+    // Refine every combination first, write only when all succeeded.
+    let mut rows = Vec::new();
+    for o in &combos {
+        let out = refine_once(input, input_path, o)?;
+        rows.push((*o, out));
+    }
+    for (o, out) in &rows {
+        io::write_obj(
+            &combination_path(output, o),
+            &out.surface.positions,
+            &out.surface.triangles(),
+        )?;
+    }
+    if !quiet {
+        rows.sort_by_key(|(_, out)| out.surface.topo.n_faces());
+        println!(
+            "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9}  file",
+            "data structure",
+            "weight",
+            "median",
+            "faces",
+            "vertices",
+            "added",
+            "splits",
+            "flips",
+            "seconds"
+        );
+        for (o, out) in &rows {
+            println!(
+                "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9.4}  {}",
+                ds_name(o.worklist),
+                score_name(o.score),
+                if o.median { "yes" } else { "no" },
+                out.surface.topo.n_faces(),
+                out.surface.positions.len(),
+                out.surface.positions.len() - out.surface.n_input_vertices,
+                out.stats.splits,
+                out.stats.flips,
+                out.seconds,
+                combination_path(output, o)
+                    .file_name()
+                    .map(|f| f.to_string_lossy())
+                    .unwrap_or_default()
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
+    let report = delmesh::check::check_files(input, output)?;
+    println!(
+        "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {:.3e} rad)",
+        report.output_vertices,
+        report.added_vertices,
+        report.output_faces,
+        report.interior_edges,
+        report.non_delaunay_edges,
+        report.max_excess
+    );
+    for f in &report.failures {
+        println!("FAIL    {f}");
+    }
+    if report.passed() {
+        println!(
+            "PASS    {} is a Delaunay mesh with the geometry of {}",
+            output.display(),
+            input.display()
+        );
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!("FAILED  {} failure(s)", report.failures.len());
+        Ok(ExitCode::from(1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(s: &str) -> Vec<String> {
+        legacy_args(s.split_whitespace().map(Into::into))
+            .into_iter()
+            .map(|a| a.into_string().unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn legacy_flags_are_rewritten() {
+        assert_eq!(
+            args("delmesh -i e.obj -o out/e.obj -s 2 -ds pqueue"),
+            [
+                "delmesh",
+                "-i",
+                "e.obj",
+                "-o",
+                "out/e.obj",
+                "-s",
+                "2",
+                "--ds",
+                "pqueue"
+            ]
+        );
+        assert_eq!(
+            args("delmesh -i -all -nomedian -all"),
+            ["delmesh", "-i", "-all", "--nomedian", "--all"]
+        );
+    }
+
+    #[test]
+    fn combination_names() {
+        let o = Options {
+            worklist: Worklist::Stack,
+            score: Score::AllEqual,
+            median: true,
+        };
+        assert_eq!(
+            combination_path(Path::new("output/elephant.obj"), &o),
+            Path::new("output/elephant-s-0-m.obj")
+        );
+        let o = Options {
+            worklist: Worklist::PriorityQueue,
+            score: Score::AlwaysCenter,
+            median: false,
+        };
+        assert_eq!(
+            combination_path(Path::new("e.obj"), &o),
+            Path::new("e-p-2.obj")
+        );
+        assert_eq!(all_combinations().len(), 18);
+    }
+}

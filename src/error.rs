@@ -1,0 +1,58 @@
+//! The library's typed error: every way an input can be refused, each naming
+//! the file and the offending line, face, edge or vertex (SPEC §6).
+
+use std::path::PathBuf;
+
+/// Why delmesh refused an input or could not finish.
+///
+/// `Display` gives the one-line message the command line prints.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The file could not be opened or read.
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// The file is not a (text) OBJ file, or a line of it is malformed.
+    #[error("{path}:{line}: {what}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong with the line.
+        what: String,
+    },
+    /// The mesh is well-formed OBJ but not an input the algorithm accepts
+    /// (no faces, degenerate or non-manifold, inconsistently oriented).
+    #[error("{path}: {what}")]
+    Mesh {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the line, face, edge or vertex.
+        what: String,
+    },
+    /// Some non-Delaunay sub-edge has no sample left strictly inside it, so the
+    /// algorithm cannot make it Delaunay.
+    #[error("{count} non-Delaunay edge(s) cannot be split: no sample point left inside them (worst: alpha+beta-pi = {worst_excess:.3e} rad)")]
+    Unsplittable {
+        /// How many edges are left non-Delaunay.
+        count: usize,
+        /// The largest α+β−π among them, in radians.
+        worst_excess: f64,
+    },
+    /// An output file could not be written.
+    #[error("{path}: cannot write: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+}
+
+/// Result with the library's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

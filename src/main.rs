@@ -1,0 +1,7 @@
+//! The `delmesh` command line; see `delmesh --help` and README.md.
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::main()
+}

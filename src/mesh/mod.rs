@@ -1,0 +1,338 @@
+//! The mesh being refined: half-edge [`Topology`] plus the geometry and the
+//! bookkeeping that keeps the input's shape exact.
+//!
+//! Every vertex has a [`Carrier`] (an input vertex, or an input edge and a
+//! parameter on it); every edge knows the input edge it lies on, if any;
+//! every face knows its planar region (SPEC §2). Whether an edge may be
+//! flipped is read from this bookkeeping, never from a floating-point
+//! coplanarity test on computed positions.
+
+mod topology;
+
+pub use topology::{EdgeId, FaceId, HalfEdgeId, Topology, TopologyError, VertexId};
+
+use crate::geometry;
+use crate::samples::point_on_edge;
+use glam::DVec3;
+
+/// Where a vertex of the mesh lies on the input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Carrier {
+    /// It is input vertex number `.0`.
+    Vertex(u32),
+    /// It lies on input edge `edge` at parameter `t` ∈ (0, 1), measured from
+    /// the edge's lower-numbered end: position = v0 + t·(v1 − v0).
+    Edge {
+        /// The input edge.
+        edge: u32,
+        /// The parameter along it.
+        t: f64,
+    },
+}
+
+/// "No input edge": the edge was made by a split or a flip, inside a region.
+pub const NO_INPUT_EDGE: u32 = u32::MAX;
+
+/// A triangle mesh with the bookkeeping of its input. Sizes: 12 bytes per
+/// half-edge (topology) + 4 per edge (input edge) + 8 per face (topology and
+/// region) + 44 per vertex (position 24, carrier 16, topology 4).
+#[derive(Clone, Debug)]
+pub struct Surface {
+    /// Connectivity.
+    pub topo: Topology,
+    /// Vertex positions: input vertices first, then added ones.
+    pub positions: Vec<DVec3>,
+    /// Where each vertex lies on the input.
+    pub carriers: Vec<Carrier>,
+    /// The planar region of each face.
+    pub face_region: Vec<u32>,
+    /// For each edge, the input edge it lies on, or [`NO_INPUT_EDGE`].
+    pub edge_input: Vec<u32>,
+    /// The input edges, as (lower, higher) input vertex numbers.
+    pub input_edges: Vec<[u32; 2]>,
+    /// How many vertices the input has.
+    pub n_input_vertices: usize,
+    /// How many planar regions the input has.
+    pub n_regions: usize,
+}
+
+/// Figures of the input that the report's tables give.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InputFigures {
+    /// Smallest corner angle, radians.
+    pub min_angle: f64,
+    /// Shortest edge.
+    pub min_edge: f64,
+    /// Longest edge.
+    pub max_edge: f64,
+}
+
+impl Surface {
+    /// Builds the mesh of an input (positions welded, every vertex used).
+    pub fn new(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Surface, TopologyError> {
+        let topo = Topology::from_triangles(positions.len(), triangles)?;
+        let n = positions.len();
+        let input_edges = (0..topo.n_edges())
+            .map(|e| {
+                let h = EdgeId(e as u32).halfedge();
+                let (a, b) = (topo.origin(h).0, topo.dest(h).0);
+                [a.min(b), a.max(b)]
+            })
+            .collect();
+        let mut s = Surface {
+            edge_input: (0..topo.n_edges() as u32).collect(),
+            carriers: (0..n as u32).map(Carrier::Vertex).collect(),
+            face_region: Vec::new(),
+            n_input_vertices: n,
+            n_regions: 0,
+            input_edges,
+            positions,
+            topo,
+        };
+        s.find_regions();
+        Ok(s)
+    }
+
+    /// Joins faces across exactly flat edges into planar regions.
+    fn find_regions(&mut self) {
+        let n_faces = self.topo.n_faces();
+        let mut parent: Vec<u32> = (0..n_faces as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                parent[x as usize] = parent[parent[x as usize] as usize];
+                x = parent[x as usize];
+            }
+            x
+        }
+        for e in 0..self.topo.n_edges() {
+            let e = EdgeId(e as u32);
+            if !self.topo.is_interior(e) {
+                continue;
+            }
+            let [a, b, c, d] = self.edge_quad(e);
+            if geometry::flat_pair(a, b, c, d) {
+                let h = e.halfedge();
+                let (f1, f2) = (self.topo.face(h).0, self.topo.face(h.twin()).0);
+                let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
+                if r1 != r2 {
+                    parent[r1.max(r2) as usize] = r1.min(r2);
+                }
+            }
+        }
+        let mut id = vec![u32::MAX; n_faces];
+        let mut next = 0u32;
+        self.face_region = (0..n_faces as u32)
+            .map(|f| {
+                let r = root(&mut parent, f) as usize;
+                if id[r] == u32::MAX {
+                    id[r] = next;
+                    next += 1;
+                }
+                id[r]
+            })
+            .collect();
+        self.n_regions = next as usize;
+    }
+
+    /// Positions (a, b, c, d) of the interior edge `e` = a→b (its first
+    /// half-edge) with faces (a, b, c) and (b, a, d).
+    #[inline]
+    pub fn edge_quad(&self, e: EdgeId) -> [DVec3; 4] {
+        let h = e.halfedge();
+        let t = &self.topo;
+        let p = &self.positions;
+        [
+            p[t.origin(h).idx()],
+            p[t.dest(h).idx()],
+            p[t.apex(h).idx()],
+            p[t.apex(h.twin()).idx()],
+        ]
+    }
+
+    /// Whether `e` is interior and its opposite angles exceed π by more than
+    /// `tolerance`.
+    #[inline]
+    pub fn is_non_delaunay(&self, e: EdgeId, tolerance: f64) -> bool {
+        if !self.topo.is_interior(e) {
+            return false;
+        }
+        let [a, b, c, d] = self.edge_quad(e);
+        geometry::is_non_delaunay(a, b, c, d, tolerance)
+    }
+
+    /// α + β − π of an interior edge (radians); `None` on the boundary.
+    pub fn delaunay_excess(&self, e: EdgeId) -> Option<f64> {
+        if !self.topo.is_interior(e) {
+            return None;
+        }
+        let [a, b, c, d] = self.edge_quad(e);
+        Some(geometry::delaunay_excess(a, b, c, d))
+    }
+
+    /// Whether `e` may be flipped: it is interior and both its faces are in
+    /// one planar region (decided on the input, exactly).
+    #[inline]
+    pub fn is_flippable(&self, e: EdgeId) -> bool {
+        let h = e.halfedge();
+        let (f1, f2) = (self.topo.face(h), self.topo.face(h.twin()));
+        !f1.is_none() && !f2.is_none() && self.face_region[f1.idx()] == self.face_region[f2.idx()]
+    }
+
+    /// Length of edge `e`.
+    #[inline]
+    pub fn edge_length(&self, e: EdgeId) -> f64 {
+        let h = e.halfedge();
+        (self.positions[self.topo.dest(h).idx()] - self.positions[self.topo.origin(h).idx()])
+            .length()
+    }
+
+    /// The parameter of vertex `v` along input edge `edge` (0 or 1 at its
+    /// ends). `v` must lie on that edge.
+    pub fn param_on(&self, v: VertexId, edge: u32) -> f64 {
+        match self.carriers[v.idx()] {
+            Carrier::Vertex(i) => {
+                if i == self.input_edges[edge as usize][0] {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            Carrier::Edge { t, .. } => t,
+        }
+    }
+
+    /// End points of input edge `edge`.
+    #[inline]
+    pub fn input_edge_ends(&self, edge: u32) -> [DVec3; 2] {
+        let [a, b] = self.input_edges[edge as usize];
+        [self.positions[a as usize], self.positions[b as usize]]
+    }
+
+    /// Flips edge `e` (which must be flippable). See [`Topology::flip`].
+    pub fn flip(&mut self, e: EdgeId) {
+        self.topo.flip(e);
+        self.edge_input[e.idx()] = NO_INPUT_EDGE;
+    }
+
+    /// Splits edge `e`, which lies on an input edge, at parameter `t` of that
+    /// input edge. Returns the new vertex. See [`Topology::split`] for the
+    /// ids of the new edges and faces.
+    pub fn split(&mut self, e: EdgeId, t: f64) -> VertexId {
+        let edge = self.edge_input[e.idx()];
+        debug_assert_ne!(edge, NO_INPUT_EDGE);
+        let [p0, p1] = self.input_edge_ends(edge);
+        let h = e.halfedge();
+        let (f1, f2) = (self.topo.face(h), self.topo.face(h.twin()));
+        let p = self.topo.split(e);
+        self.positions.push(point_on_edge(p0, p1, t));
+        self.carriers.push(Carrier::Edge { edge, t });
+        self.edge_input
+            .extend_from_slice(&[edge, NO_INPUT_EDGE, NO_INPUT_EDGE]);
+        let (r1, r2) = (self.face_region[f1.idx()], self.face_region[f2.idx()]);
+        self.face_region.extend_from_slice(&[r1, r2]);
+        p
+    }
+
+    /// Smallest angle and extreme edge lengths.
+    pub fn figures(&self) -> InputFigures {
+        let mut min_angle = f64::INFINITY;
+        for f in 0..self.topo.n_faces() {
+            let [a, b, c] = self
+                .topo
+                .face_vertices(FaceId(f as u32))
+                .map(|v| self.positions[v.idx()]);
+            min_angle = min_angle
+                .min(geometry::corner_angle(b, c, a))
+                .min(geometry::corner_angle(c, a, b))
+                .min(geometry::corner_angle(a, b, c));
+        }
+        let (mut min_edge, mut max_edge) = (f64::INFINITY, 0.0f64);
+        for e in 0..self.topo.n_edges() {
+            let l = self.edge_length(EdgeId(e as u32));
+            min_edge = min_edge.min(l);
+            max_edge = max_edge.max(l);
+        }
+        InputFigures {
+            min_angle,
+            min_edge,
+            max_edge,
+        }
+    }
+
+    /// Number of interior edges whose opposite angles exceed π by more than
+    /// `tolerance`, and the largest excess over all interior edges.
+    pub fn count_non_delaunay(&self, tolerance: f64) -> (usize, f64) {
+        let mut count = 0;
+        let mut worst = f64::NEG_INFINITY;
+        for e in 0..self.topo.n_edges() {
+            let e = EdgeId(e as u32);
+            if self.is_non_delaunay(e, tolerance) {
+                count += 1;
+                worst = worst.max(self.delaunay_excess(e).unwrap_or(0.0));
+            }
+        }
+        (count, worst)
+    }
+
+    /// The faces as vertex triples.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.topo.triangles()
+    }
+
+    /// Checks the topology and the bookkeeping: array sizes, carriers of
+    /// vertices on their input edges, sub-edges lying on the input edge of
+    /// both their end points, faces of one region across every flippable
+    /// edge. Linear time; for tests.
+    pub fn validate(&self) -> Result<(), String> {
+        self.topo.validate()?;
+        let (nv, ne, nf) = (
+            self.topo.n_vertices(),
+            self.topo.n_edges(),
+            self.topo.n_faces(),
+        );
+        if self.positions.len() != nv || self.carriers.len() != nv {
+            return Err("vertex arrays disagree in length".into());
+        }
+        if self.edge_input.len() != ne || self.face_region.len() != nf {
+            return Err("edge or face arrays disagree in length".into());
+        }
+        for v in self.n_input_vertices..nv {
+            match self.carriers[v] {
+                Carrier::Edge { edge, t }
+                    if (edge as usize) < self.input_edges.len() && t > 0.0 && t < 1.0 =>
+                {
+                    let [p0, p1] = self.input_edge_ends(edge);
+                    if point_on_edge(p0, p1, t) != self.positions[v] {
+                        return Err(format!("vertex {v} is not where its carrier says"));
+                    }
+                }
+                c => return Err(format!("added vertex {v} has carrier {c:?}")),
+            }
+        }
+        for e in 0..ne {
+            let e = EdgeId(e as u32);
+            let h = e.halfedge();
+            let input = self.edge_input[e.idx()];
+            if input == NO_INPUT_EDGE {
+                // Made inside a region: both sides in one region.
+                if !self.topo.is_interior(e) || !self.is_flippable(e) {
+                    return Err(format!("{e:?} lies on no input edge but separates regions"));
+                }
+                continue;
+            }
+            let [i0, i1] = self.input_edges[input as usize];
+            for v in [self.topo.origin(h), self.topo.dest(h)] {
+                let on = match self.carriers[v.idx()] {
+                    Carrier::Vertex(i) => i == i0 || i == i1,
+                    Carrier::Edge { edge, .. } => edge == input,
+                };
+                if !on {
+                    return Err(format!(
+                        "{e:?} claims input edge {input} but {v:?} is not on it"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,731 @@
+//! Half-edge connectivity of a manifold triangle mesh (with boundary), with
+//! the two operations the algorithm needs — edge flip and edge split — and a
+//! [`Topology::validate`] that tests call after them.
+//!
+//! Layout, as in geometry-central's `surface_mesh`: plain `Vec`s indexed by
+//! small newtypes. The two half-edges of edge `e` are `2e` and `2e + 1`, so the
+//! twin of `h` is `h ^ 1` and needs no storage. A half-edge on the boundary
+//! has no face ([`FaceId::NONE`]) and no `next`. Memory: 12 bytes per
+//! half-edge (origin, next, face), 4 bytes per face, 4 bytes per vertex.
+//!
+//! This module knows nothing of positions: geometry lives elsewhere.
+
+use std::fmt;
+
+macro_rules! id_type {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+        pub struct $name(pub u32);
+
+        impl $name {
+            /// "No such element" (a boundary half-edge's face, for instance).
+            pub const NONE: $name = $name(u32::MAX);
+
+            /// The index into the per-element vectors.
+            #[inline]
+            pub fn idx(self) -> usize {
+                self.0 as usize
+            }
+
+            /// Whether this is [`Self::NONE`].
+            #[inline]
+            pub fn is_none(self) -> bool {
+                self.0 == u32::MAX
+            }
+        }
+
+        impl fmt::Debug for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                if self.is_none() {
+                    write!(f, "{}(NONE)", stringify!($name))
+                } else {
+                    write!(f, "{}({})", stringify!($name), self.0)
+                }
+            }
+        }
+    };
+}
+
+id_type!(
+    /// A vertex.
+    VertexId
+);
+id_type!(
+    /// A half-edge: one side of an edge, directed from its origin.
+    HalfEdgeId
+);
+id_type!(
+    /// An (undirected) edge: half-edges `2e` and `2e + 1`.
+    EdgeId
+);
+id_type!(
+    /// A triangle.
+    FaceId
+);
+
+impl HalfEdgeId {
+    /// The opposite half-edge of the same edge.
+    #[inline]
+    pub fn twin(self) -> HalfEdgeId {
+        HalfEdgeId(self.0 ^ 1)
+    }
+
+    /// The edge this half-edge belongs to.
+    #[inline]
+    pub fn edge(self) -> EdgeId {
+        EdgeId(self.0 >> 1)
+    }
+}
+
+impl EdgeId {
+    /// The first half-edge of the edge (the "canonical" direction).
+    #[inline]
+    pub fn halfedge(self) -> HalfEdgeId {
+        HalfEdgeId(self.0 << 1)
+    }
+}
+
+/// Why a list of triangles is not a manifold, consistently oriented mesh.
+/// Indices are 0-based positions in the list given to
+/// [`Topology::from_triangles`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum TopologyError {
+    /// The edge (a, b) is used by more than two faces; `face` is one of them.
+    EdgeWithMoreThanTwoFaces { face: usize, a: u32, b: u32 },
+    /// Two faces (`face` is the second) use the edge a → b in the same
+    /// direction: their orientations disagree.
+    InconsistentOrientation { face: usize, a: u32, b: u32 },
+    /// The faces around `vertex` form more than one fan (a pinch point).
+    NonManifoldVertex { vertex: u32 },
+    /// A vertex index is not below the vertex count.
+    IndexOutOfRange { face: usize, index: u32 },
+    /// A face uses a vertex twice.
+    RepeatedVertex { face: usize, vertex: u32 },
+}
+
+/// Half-edge connectivity. See the module documentation for the layout.
+#[derive(Clone, Debug, Default)]
+pub struct Topology {
+    he_origin: Vec<VertexId>,
+    he_next: Vec<HalfEdgeId>,
+    he_face: Vec<FaceId>,
+    face_he: Vec<HalfEdgeId>,
+    /// An outgoing half-edge with a face; on a boundary vertex, the first one
+    /// counter-clockwise (its twin has no face).
+    vertex_he: Vec<HalfEdgeId>,
+}
+
+impl Topology {
+    /// Builds the connectivity of `triangles` over `n_vertices` vertices.
+    ///
+    /// Every vertex must be used by some triangle. Runs in linear time: the
+    /// twin of a half-edge is found among the half-edges leaving its
+    /// destination (a compressed adjacency list), not in a hash map.
+    pub fn from_triangles(
+        n_vertices: usize,
+        triangles: &[[u32; 3]],
+    ) -> Result<Topology, TopologyError> {
+        for (f, t) in triangles.iter().enumerate() {
+            for &v in t {
+                if v as usize >= n_vertices {
+                    return Err(TopologyError::IndexOutOfRange { face: f, index: v });
+                }
+            }
+            if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                let vertex = if t[0] == t[1] || t[0] == t[2] {
+                    t[0]
+                } else {
+                    t[1]
+                };
+                return Err(TopologyError::RepeatedVertex { face: f, vertex });
+            }
+        }
+        // Corners c = 3f + i are the directed edges tri[i] -> tri[i+1].
+        let n_corners = triangles.len() * 3;
+        let origin = |c: usize| triangles[c / 3][c % 3];
+        let dest = |c: usize| triangles[c / 3][(c % 3 + 1) % 3];
+        // Outgoing corners per vertex, compressed (counting sort).
+        let mut start = vec![0u32; n_vertices + 1];
+        for c in 0..n_corners {
+            start[origin(c) as usize + 1] += 1;
+        }
+        for v in 0..n_vertices {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut out = vec![0u32; n_corners];
+        for c in 0..n_corners {
+            let v = origin(c) as usize;
+            out[fill[v] as usize] = c as u32;
+            fill[v] += 1;
+        }
+        let outgoing = |v: u32| &out[start[v as usize] as usize..start[v as usize + 1] as usize];
+
+        // Pair corners into edges.
+        const UNSET: u32 = u32::MAX;
+        let mut corner_he = vec![UNSET; n_corners];
+        let mut he_origin = Vec::with_capacity(n_corners + n_corners / 8);
+        for c in 0..n_corners {
+            if corner_he[c] != UNSET {
+                continue;
+            }
+            let (u, v) = (origin(c), dest(c));
+            let mut same = 0;
+            for &o in outgoing(u) {
+                if dest(o as usize) == v {
+                    same += 1;
+                }
+            }
+            let mut twin = None;
+            let mut opposite = 0;
+            for &o in outgoing(v) {
+                if dest(o as usize) == u {
+                    opposite += 1;
+                    twin = Some(o as usize);
+                }
+            }
+            if same + opposite > 2 {
+                return Err(TopologyError::EdgeWithMoreThanTwoFaces {
+                    face: c / 3,
+                    a: u,
+                    b: v,
+                });
+            }
+            if same > 1 {
+                let second = outgoing(u)
+                    .iter()
+                    .map(|&o| o as usize)
+                    .filter(|&o| dest(o) == v)
+                    .max()
+                    .unwrap_or(c);
+                return Err(TopologyError::InconsistentOrientation {
+                    face: second / 3,
+                    a: u,
+                    b: v,
+                });
+            }
+            let h = he_origin.len() as u32;
+            corner_he[c] = h;
+            he_origin.push(VertexId(u));
+            match twin {
+                Some(t) => {
+                    corner_he[t] = h + 1;
+                    he_origin.push(VertexId(v));
+                }
+                None => he_origin.push(VertexId(v)),
+            }
+        }
+        let n_he = he_origin.len();
+        let mut he_next = vec![HalfEdgeId::NONE; n_he];
+        let mut he_face = vec![FaceId::NONE; n_he];
+        let mut face_he = Vec::with_capacity(triangles.len());
+        for f in 0..triangles.len() {
+            for i in 0..3 {
+                let c = 3 * f + i;
+                let n = 3 * f + (i + 1) % 3;
+                he_next[corner_he[c] as usize] = HalfEdgeId(corner_he[n]);
+                he_face[corner_he[c] as usize] = FaceId(f as u32);
+            }
+            face_he.push(HalfEdgeId(corner_he[3 * f]));
+        }
+        let mut topo = Topology {
+            he_origin,
+            he_next,
+            he_face,
+            face_he,
+            vertex_he: vec![HalfEdgeId::NONE; n_vertices],
+        };
+        // One outgoing half-edge per vertex; on the boundary, the first of the fan.
+        for h in 0..n_he {
+            let h = HalfEdgeId(h as u32);
+            if topo.he_face[h.idx()].is_none() {
+                continue;
+            }
+            let v = topo.origin(h);
+            let cur = topo.vertex_he[v.idx()];
+            if cur.is_none() || topo.is_boundary_he(h.twin()) {
+                topo.vertex_he[v.idx()] = h;
+            }
+        }
+        // Every vertex must be a single fan: walking it must meet all its faces.
+        for v in 0..n_vertices {
+            let degree = start[v + 1] - start[v];
+            if degree == 0 {
+                continue;
+            }
+            let walked = topo.fan_len(VertexId(v as u32));
+            if walked != degree as usize {
+                return Err(TopologyError::NonManifoldVertex { vertex: v as u32 });
+            }
+        }
+        Ok(topo)
+    }
+
+    /// Number of vertices.
+    pub fn n_vertices(&self) -> usize {
+        self.vertex_he.len()
+    }
+    /// Number of half-edges (twice the number of edges).
+    pub fn n_halfedges(&self) -> usize {
+        self.he_origin.len()
+    }
+    /// Number of edges.
+    pub fn n_edges(&self) -> usize {
+        self.he_origin.len() / 2
+    }
+    /// Number of faces.
+    pub fn n_faces(&self) -> usize {
+        self.face_he.len()
+    }
+
+    /// The vertex a half-edge leaves.
+    #[inline]
+    pub fn origin(&self, h: HalfEdgeId) -> VertexId {
+        self.he_origin[h.idx()]
+    }
+    /// The vertex a half-edge points to.
+    #[inline]
+    pub fn dest(&self, h: HalfEdgeId) -> VertexId {
+        self.he_origin[h.twin().idx()]
+    }
+    /// The next half-edge around the face (`NONE` on the boundary).
+    #[inline]
+    pub fn next(&self, h: HalfEdgeId) -> HalfEdgeId {
+        self.he_next[h.idx()]
+    }
+    /// The face of a half-edge (`NONE` on the boundary).
+    #[inline]
+    pub fn face(&self, h: HalfEdgeId) -> FaceId {
+        self.he_face[h.idx()]
+    }
+    /// One half-edge of a face.
+    #[inline]
+    pub fn face_halfedge(&self, f: FaceId) -> HalfEdgeId {
+        self.face_he[f.idx()]
+    }
+    /// Whether a half-edge lies on the boundary (has no face).
+    #[inline]
+    pub fn is_boundary_he(&self, h: HalfEdgeId) -> bool {
+        self.he_face[h.idx()].is_none()
+    }
+    /// Whether an edge has faces on both sides.
+    #[inline]
+    pub fn is_interior(&self, e: EdgeId) -> bool {
+        let h = e.halfedge();
+        !self.is_boundary_he(h) && !self.is_boundary_he(h.twin())
+    }
+    /// The vertex opposite half-edge `h` in its face (`NONE` on the boundary).
+    #[inline]
+    pub fn apex(&self, h: HalfEdgeId) -> VertexId {
+        let n = self.he_next[h.idx()];
+        if n.is_none() {
+            return VertexId::NONE;
+        }
+        self.dest(n)
+    }
+    /// The three vertices of a face, in order.
+    pub fn face_vertices(&self, f: FaceId) -> [VertexId; 3] {
+        let h = self.face_he[f.idx()];
+        let n = self.next(h);
+        [self.origin(h), self.origin(n), self.dest(n)]
+    }
+
+    /// Counter-clockwise successor of the outgoing half-edge `h` around its
+    /// origin, or `NONE` at the boundary.
+    pub(crate) fn rotate_ccw(&self, h: HalfEdgeId) -> HalfEdgeId {
+        let prev = self.next(self.next(h));
+        let t = prev.twin();
+        if self.is_boundary_he(t) {
+            HalfEdgeId::NONE
+        } else {
+            t
+        }
+    }
+
+    /// Number of faces met walking the fan of `v` from its stored half-edge.
+    fn fan_len(&self, v: VertexId) -> usize {
+        let first = self.vertex_he[v.idx()];
+        let mut h = first;
+        let mut n = 0;
+        loop {
+            n += 1;
+            h = self.rotate_ccw(h);
+            if h.is_none() || h == first || n > self.he_face.len() {
+                return n;
+            }
+        }
+    }
+
+    /// Flips the interior edge `e` inside the quad formed by its two faces.
+    /// The edge keeps its id and its two faces keep theirs.
+    ///
+    /// ```text
+    ///         c                    c
+    ///        / \                  /|\
+    ///       / F1\                / | \
+    ///      a --e-- b    ==>     a F1e F2 b
+    ///       \ F2/                \ | /
+    ///        \ /                  \|/
+    ///         d                    d
+    /// ```
+    /// Before: F1 = (a, b, c) holds `h = 2e` (a→b), F2 = (b, a, d) its twin.
+    /// After: F1 = (d, c, a) with `h` d→c, F2 = (c, d, b) with the twin c→d.
+    pub fn flip(&mut self, e: EdgeId) {
+        let h = e.halfedge();
+        let t = h.twin();
+        debug_assert!(self.is_interior(e));
+        let (h1, t1) = (self.next(h), self.next(t));
+        let (h2, t2) = (self.next(h1), self.next(t1));
+        let (a, b) = (self.origin(h), self.origin(t));
+        let (c, d) = (self.origin(h2), self.origin(t2));
+        let (f1, f2) = (self.face(h), self.face(t));
+        // F1: h (d→c), h2 (c→a), t1 (a→d).
+        self.he_origin[h.idx()] = d;
+        self.he_next[h.idx()] = h2;
+        self.he_next[h2.idx()] = t1;
+        self.he_next[t1.idx()] = h;
+        self.he_face[t1.idx()] = f1;
+        self.face_he[f1.idx()] = h;
+        // F2: t (c→d), t2 (d→b), h1 (b→c).
+        self.he_origin[t.idx()] = c;
+        self.he_next[t.idx()] = t2;
+        self.he_next[t2.idx()] = h1;
+        self.he_next[h1.idx()] = t;
+        self.he_face[h1.idx()] = f2;
+        self.face_he[f2.idx()] = t;
+        // a and b no longer own h and t.
+        if self.vertex_he[a.idx()] == h {
+            self.vertex_he[a.idx()] = t1;
+        }
+        if self.vertex_he[b.idx()] == t {
+            self.vertex_he[b.idx()] = h1;
+        }
+    }
+
+    /// Splits the interior edge `e` = (a, b) at a new vertex `p`, and each of
+    /// its two faces in two. Returns `p`; the new edges and faces get the next
+    /// free ids.
+    ///
+    /// ```text
+    ///         c                       c
+    ///        / \                    / | \
+    ///       / F1\                  /F1|F3\
+    ///      a --e-- b     ==>      a-e-p-e1-b
+    ///       \ F2/                  \F2|F4/
+    ///        \ /                    \ | /
+    ///         d                       d
+    /// ```
+    /// With n = the old edge count and m = the old face count: `e` becomes
+    /// (a, p), new edge `n` is (p, b), `n + 1` is (p, c), `n + 2` is (p, d);
+    /// F1 = (a, p, c), F2 = (p, a, d), new faces `m` = (p, b, c) and
+    /// `m + 1` = (b, p, d). Half-edge `2e` still leaves `a`.
+    pub fn split(&mut self, e: EdgeId) -> VertexId {
+        let h = e.halfedge();
+        let t = h.twin();
+        debug_assert!(self.is_interior(e));
+        let (h1, t1) = (self.next(h), self.next(t));
+        let (h2, t2) = (self.next(h1), self.next(t1));
+        let b = self.origin(t);
+        let (c, d) = (self.origin(h2), self.origin(t2));
+        let (f1, f2) = (self.face(h), self.face(t));
+        let p = VertexId(self.vertex_he.len() as u32);
+        let base = self.he_origin.len() as u32;
+        let (g, g_t) = (HalfEdgeId(base), HalfEdgeId(base + 1)); // p→b, b→p
+        let (k, k_t) = (HalfEdgeId(base + 2), HalfEdgeId(base + 3)); // p→c, c→p
+        let (m, m_t) = (HalfEdgeId(base + 4), HalfEdgeId(base + 5)); // p→d, d→p
+        let f3 = FaceId(self.face_he.len() as u32);
+        let f4 = FaceId(f3.0 + 1);
+        self.he_origin.extend_from_slice(&[p, b, p, c, p, d]);
+        self.he_next.extend_from_slice(&[HalfEdgeId::NONE; 6]);
+        self.he_face.extend_from_slice(&[FaceId::NONE; 6]);
+        self.face_he.extend_from_slice(&[g, g_t]);
+        self.vertex_he.push(g);
+        self.he_origin[t.idx()] = p;
+        // F1 = (a, p, c): h, k, h2.
+        self.link(f1, [h, k, h2]);
+        // F3 = (p, b, c): g, h1, k_t.
+        self.link(f3, [g, h1, k_t]);
+        // F2 = (p, a, d): t, t1, m_t.
+        self.link(f2, [t, t1, m_t]);
+        // F4 = (b, p, d): g_t, m, t2.
+        self.link(f4, [g_t, m, t2]);
+        if self.vertex_he[b.idx()] == t {
+            self.vertex_he[b.idx()] = g_t;
+        }
+        p
+    }
+
+    fn link(&mut self, f: FaceId, hs: [HalfEdgeId; 3]) {
+        for i in 0..3 {
+            self.he_next[hs[i].idx()] = hs[(i + 1) % 3];
+            self.he_face[hs[i].idx()] = f;
+        }
+        self.face_he[f.idx()] = hs[0];
+    }
+
+    /// Reserves room for `splits` more edge splits, so that the main loop does
+    /// not reallocate.
+    pub fn reserve_splits(&mut self, splits: usize) {
+        self.he_origin.reserve(6 * splits);
+        self.he_next.reserve(6 * splits);
+        self.he_face.reserve(6 * splits);
+        self.face_he.reserve(2 * splits);
+        self.vertex_he.reserve(splits);
+    }
+
+    /// The faces as vertex triples, in face order.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        (0..self.n_faces())
+            .map(|f| self.face_vertices(FaceId(f as u32)).map(|v| v.0))
+            .collect()
+    }
+
+    /// Checks every invariant of the structure; `Err` describes the first one
+    /// broken. Linear time; meant for tests and debug runs.
+    pub fn validate(&self) -> Result<(), String> {
+        let n_he = self.he_origin.len();
+        if n_he % 2 != 0 || self.he_next.len() != n_he || self.he_face.len() != n_he {
+            return Err("half-edge arrays disagree in length".into());
+        }
+        for i in 0..n_he {
+            let h = HalfEdgeId(i as u32);
+            let v = self.origin(h);
+            if v.idx() >= self.n_vertices() {
+                return Err(format!("{h:?} has origin {v:?} out of range"));
+            }
+            if self.origin(h) == self.dest(h) {
+                return Err(format!("{h:?} is a loop at {v:?}"));
+            }
+            let f = self.face(h);
+            if f.is_none() {
+                if self.is_boundary_he(h.twin()) {
+                    return Err(format!("edge {:?} has no face on either side", h.edge()));
+                }
+                continue;
+            }
+            let n = self.next(h);
+            if n.is_none() || self.face(n) != f {
+                return Err(format!("{h:?}: next {n:?} is not in face {f:?}"));
+            }
+            if self.origin(n) != self.dest(h) {
+                return Err(format!("{h:?}: next does not start where it ends"));
+            }
+            if self.next(self.next(n)) != h {
+                return Err(format!("{h:?}: face {f:?} is not a triangle"));
+            }
+        }
+        for f in 0..self.n_faces() {
+            let h = self.face_he[f];
+            if self.face(h) != FaceId(f as u32) {
+                return Err(format!("face {f}: its half-edge {h:?} is in another face"));
+            }
+            let [a, b, c] = self.face_vertices(FaceId(f as u32));
+            if a == b || b == c || c == a {
+                return Err(format!("face {f} repeats a vertex"));
+            }
+        }
+        // Each vertex: a valid outgoing half-edge and a single fan covering
+        // all its faces; no two edges join the same pair of vertices.
+        let mut corners = vec![0usize; self.n_vertices()];
+        for f in 0..self.n_faces() {
+            for v in self.face_vertices(FaceId(f as u32)) {
+                corners[v.idx()] += 1;
+            }
+        }
+        let mut seen = vec![u32::MAX; self.n_vertices()];
+        for v in 0..self.n_vertices() {
+            let vid = VertexId(v as u32);
+            let h = self.vertex_he[v];
+            if h.is_none() || h.idx() >= n_he || self.origin(h) != vid || self.is_boundary_he(h) {
+                return Err(format!("{vid:?}: bad outgoing half-edge {h:?}"));
+            }
+            // Walking counter-clockwise from the stored half-edge must meet every
+            // face (on a boundary vertex it must therefore start the fan).
+            if self.fan_len(vid) != corners[v] {
+                return Err(format!(
+                    "{vid:?}: fan of {} faces, but {} faces use it",
+                    self.fan_len(vid),
+                    corners[v]
+                ));
+            }
+            // Neighbours must be distinct.
+            let mut g = h;
+            loop {
+                let w = self.dest(g);
+                if seen[w.idx()] == v as u32 {
+                    return Err(format!("two edges join {vid:?} and {w:?}"));
+                }
+                seen[w.idx()] = v as u32;
+                let next = self.rotate_ccw(g);
+                if next.is_none() {
+                    // Boundary: also the last edge of the fan.
+                    let last = self.next(g);
+                    let w = self.dest(last);
+                    if seen[w.idx()] == v as u32 {
+                        return Err(format!("two edges join {vid:?} and {w:?}"));
+                    }
+                    seen[w.idx()] = v as u32;
+                    break;
+                }
+                if next == h {
+                    break;
+                }
+                g = next;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Octahedron: closed, every vertex of degree 4.
+    fn octahedron() -> Vec<[u32; 3]> {
+        vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ]
+    }
+
+    #[test]
+    fn builds_closed_and_open_meshes() {
+        let t = Topology::from_triangles(6, &octahedron()).unwrap();
+        t.validate().unwrap();
+        assert_eq!((t.n_vertices(), t.n_edges(), t.n_faces()), (6, 12, 8));
+        // A square of two triangles: 5 edges, 4 on the boundary.
+        let s = Topology::from_triangles(4, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+        s.validate().unwrap();
+        assert_eq!(s.n_edges(), 5);
+        assert_eq!((0..5).filter(|&e| s.is_interior(EdgeId(e))).count(), 1);
+        assert_eq!(s.triangles(), vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn refuses_bad_topology() {
+        let three = [[0, 1, 2], [1, 0, 3], [0, 1, 4]];
+        assert!(matches!(
+            Topology::from_triangles(5, &three),
+            Err(TopologyError::EdgeWithMoreThanTwoFaces { .. })
+        ));
+        let flipped = [[0, 1, 2], [0, 1, 3]];
+        assert!(matches!(
+            Topology::from_triangles(4, &flipped),
+            Err(TopologyError::InconsistentOrientation {
+                face: 1,
+                a: 0,
+                b: 1
+            })
+        ));
+        // Two triangles sharing only vertex 0: a bow tie.
+        let bowtie = [[0, 1, 2], [0, 3, 4]];
+        assert_eq!(
+            Topology::from_triangles(5, &bowtie).unwrap_err(),
+            TopologyError::NonManifoldVertex { vertex: 0 }
+        );
+        assert!(matches!(
+            Topology::from_triangles(3, &[[0, 1, 3]]),
+            Err(TopologyError::IndexOutOfRange { index: 3, .. })
+        ));
+        assert!(matches!(
+            Topology::from_triangles(3, &[[0, 1, 1]]),
+            Err(TopologyError::RepeatedVertex { vertex: 1, .. })
+        ));
+    }
+
+    #[test]
+    fn flip_keeps_structure() {
+        let mut t = Topology::from_triangles(4, &[[0, 1, 2], [1, 0, 3]]).unwrap();
+        let e = (0..t.n_edges() as u32)
+            .map(EdgeId)
+            .find(|&e| t.is_interior(e))
+            .unwrap();
+        t.flip(e);
+        t.validate().unwrap();
+        let (o, d) = (t.origin(e.halfedge()), t.dest(e.halfedge()));
+        assert_eq!([o.0.min(d.0), o.0.max(d.0)], [2, 3]);
+        // Flipping back restores the edge (0, 1).
+        t.flip(e);
+        t.validate().unwrap();
+        let (o, d) = (t.origin(e.halfedge()), t.dest(e.halfedge()));
+        assert_eq!([o.0.min(d.0), o.0.max(d.0)], [0, 1]);
+        // Every edge of an octahedron, flipped and flipped back.
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        let before = t.triangles();
+        for e in 0..t.n_edges() as u32 {
+            t.flip(EdgeId(e));
+            t.validate().unwrap();
+            t.flip(EdgeId(e));
+            t.validate().unwrap();
+        }
+        let sorted = |mut v: Vec<[u32; 3]>| {
+            for t in v.iter_mut() {
+                let m = (0..3).min_by_key(|&i| t[i]).unwrap();
+                t.rotate_left(m);
+            }
+            v.sort();
+            v
+        };
+        assert_eq!(sorted(t.triangles()), sorted(before));
+    }
+
+    #[test]
+    fn split_keeps_structure() {
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        for round in 0..3 {
+            for e in 0..t.n_edges() as u32 {
+                let before = (t.n_vertices(), t.n_edges(), t.n_faces());
+                let e = EdgeId(e);
+                let a = t.origin(e.halfedge());
+                let p = t.split(e);
+                t.validate()
+                    .unwrap_or_else(|m| panic!("round {round}, edge {e:?}: {m}"));
+                assert_eq!(
+                    (t.n_vertices(), t.n_edges(), t.n_faces()),
+                    (before.0 + 1, before.1 + 3, before.2 + 2)
+                );
+                assert_eq!((t.origin(e.halfedge()), t.dest(e.halfedge())), (a, p));
+            }
+        }
+        // Euler characteristic stays 2.
+        assert_eq!(
+            t.n_vertices() as i64 - t.n_edges() as i64 + t.n_faces() as i64,
+            2
+        );
+        // Split an open mesh's interior edge next to the boundary.
+        let mut s = Topology::from_triangles(4, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+        let e = (0..s.n_edges() as u32)
+            .map(EdgeId)
+            .find(|&e| s.is_interior(e))
+            .unwrap();
+        s.split(e);
+        s.validate().unwrap();
+        for e in 0..s.n_edges() as u32 {
+            if s.is_interior(EdgeId(e)) {
+                s.flip(EdgeId(e));
+                s.validate().unwrap();
+                s.flip(EdgeId(e));
+            }
+        }
+        // Flipping two spokes of the split square would join 1 and 3 twice:
+        // validate() must catch that.
+        let spokes: Vec<EdgeId> = (0..s.n_edges() as u32)
+            .map(EdgeId)
+            .filter(|&e| s.is_interior(e))
+            .collect();
+        let mut caught = false;
+        for &e in &spokes {
+            s.flip(e);
+            caught |= s.validate().is_err();
+        }
+        assert!(caught, "duplicate edges not detected");
+    }
+}

@@ -1,0 +1,302 @@
+//! Algorithm 2 of Liu et al. 2015 with the DelMesh heuristics (SPEC §4):
+//! flip flippable non-Delaunay edges, split the others at a chosen sample,
+//! until every interior edge is Delaunay.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, VecDeque};
+
+use glam::{DVec2, DVec3};
+
+use crate::error::{Error, Result};
+use crate::geometry::{self, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
+use crate::mesh::{EdgeId, Surface, NO_INPUT_EDGE};
+use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
+
+/// The order in which non-Delaunay edges are taken (`-ds`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Worklist {
+    /// Last in, first out.
+    Stack,
+    /// First in, first out.
+    Queue,
+    /// Longest edge first (3D length when pushed; ties: lower edge id).
+    PriorityQueue,
+}
+
+/// The settings of one run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Options {
+    /// The data structure DS.
+    pub worklist: Worklist,
+    /// The score of a sample.
+    pub score: Score,
+    /// Median of the best samples (`true`) or the first from the edge's start.
+    pub median: bool,
+}
+
+impl Default for Options {
+    /// The report's best overall: stack, score 2, median.
+    fn default() -> Self {
+        Options {
+            worklist: Worklist::Stack,
+            score: Score::AlwaysCenter,
+            median: true,
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// The sample constants used.
+    pub constants: Option<SampleConstants>,
+    /// Edge splits (= added vertices).
+    pub splits: usize,
+    /// Edge flips.
+    pub flips: usize,
+    /// Interior edges with α + β > π + 1e-9 in the input.
+    pub non_delaunay_before: usize,
+    /// Interior edges with α + β > π + 1e-9 at the end (0 on success).
+    pub non_delaunay_after: usize,
+    /// Verification passes over all edges (1 when the local updates caught
+    /// everything).
+    pub passes: usize,
+}
+
+/// The data structure DS: each edge at most once at a time.
+struct Ds {
+    kind: Worklist,
+    list: VecDeque<EdgeId>,
+    heap: BinaryHeap<(u64, Reverse<u32>)>,
+    queued: Vec<bool>,
+}
+
+impl Ds {
+    fn new(kind: Worklist, n_edges: usize) -> Self {
+        Ds {
+            kind,
+            list: VecDeque::new(),
+            heap: BinaryHeap::new(),
+            queued: vec![false; n_edges],
+        }
+    }
+
+    fn push(&mut self, e: EdgeId, length: f64) {
+        if e.idx() >= self.queued.len() {
+            self.queued.resize(e.idx() + 1, false);
+        }
+        if std::mem::replace(&mut self.queued[e.idx()], true) {
+            return;
+        }
+        match self.kind {
+            Worklist::Stack | Worklist::Queue => self.list.push_back(e),
+            // Lengths are non-negative, so their bit patterns sort like them.
+            Worklist::PriorityQueue => self.heap.push((length.to_bits(), Reverse(e.0))),
+        }
+    }
+
+    fn pop(&mut self) -> Option<EdgeId> {
+        let e = match self.kind {
+            Worklist::Stack => self.list.pop_back(),
+            Worklist::Queue => self.list.pop_front(),
+            Worklist::PriorityQueue => self.heap.pop().map(|(_, Reverse(e))| EdgeId(e)),
+        }?;
+        self.queued[e.idx()] = false;
+        Some(e)
+    }
+}
+
+/// The sample constants of a mesh (from its current smallest angle and
+/// shortest edge: call it on the input).
+pub fn sample_constants(surface: &Surface) -> SampleConstants {
+    let f = surface.figures();
+    SampleConstants::new(f.min_angle, f.min_edge)
+}
+
+/// The six conditions of splitting the interior edge `e` = (a, b), taken from
+/// its first half-edge, at a point p at distance x from a: the halves (a, p),
+/// (p, b) and the outer edges (a, c), (c, b), (b, d), (d, a) stay Delaunay.
+/// `beyond` are the apexes of the triangles across the outer edges, in that
+/// order (`None` on the boundary).
+pub fn split_conditions(
+    [a, b, c, d]: [DVec3; 4],
+    beyond: [Option<DVec3>; 4],
+) -> ([Condition; 2], [Condition; 4]) {
+    let frame = EdgeFrame::new(a, b);
+    let len = frame.length;
+    let (a2, b2) = (DVec2::ZERO, DVec2::new(len, 0.0));
+    let (c2, d2) = (frame.unfold(c, true), frame.unfold(d, false));
+    let halves = [
+        Condition {
+            side: Side::AtMost,
+            breakpoint: geometry::second_axis_crossing(0.0, c2, d2),
+        },
+        Condition {
+            side: Side::AtLeast,
+            breakpoint: geometry::second_axis_crossing(len, c2, d2),
+        },
+    ];
+    // Outer edge from the anchor (a or b, on the x axis) to `other` (c or d):
+    // the circle through both and the apex beyond, unfolded away from `inside`.
+    let outer = |side,
+                 (anchor3, anchor2): (DVec3, DVec2),
+                 (other3, other2),
+                 beyond: Option<DVec3>,
+                 inside| {
+        let breakpoint = beyond.map_or(f64::NAN, |x3| {
+            let x2 = geometry::unfold_across(anchor3, other3, x3, anchor2, other2, inside);
+            geometry::second_axis_crossing(anchor2.x, other2, x2)
+        });
+        Condition { side, breakpoint }
+    };
+    let outer = [
+        outer(Side::AtLeast, (a, a2), (c, c2), beyond[0], b2),
+        outer(Side::AtMost, (b, b2), (c, c2), beyond[1], a2),
+        outer(Side::AtMost, (b, b2), (d, d2), beyond[2], a2),
+        outer(Side::AtLeast, (a, a2), (d, d2), beyond[3], b2),
+    ];
+    (halves, outer)
+}
+
+/// Runs Algorithm 2 on `surface` until every interior edge is Delaunay.
+///
+/// Fails with [`Error::Unsplittable`] if some non-Delaunay sub-edge has no
+/// sample left inside it; it never loops.
+pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> {
+    let constants = sample_constants(surface);
+    let mut run = Run {
+        s: surface,
+        options: *options,
+        constants,
+        stats: Stats::default(),
+        stuck: Vec::new(),
+    };
+    run.stats.constants = Some(constants);
+    run.stats.non_delaunay_before = run.s.count_non_delaunay(ACCEPT_TOLERANCE).0;
+    let n_edges = run.s.topo.n_edges();
+    let mut ds = Ds::new(options.worklist, n_edges);
+    loop {
+        // (Re)fill DS with every non-Delaunay edge not known to be stuck.
+        run.stats.passes += 1;
+        let mut any = false;
+        for e in 0..run.s.topo.n_edges() {
+            let e = EdgeId(e as u32);
+            if !run.is_stuck(e) && run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
+                ds.push(e, run.s.edge_length(e));
+                any = true;
+            }
+        }
+        if !any {
+            break;
+        }
+        while let Some(e) = ds.pop() {
+            run.process(e, &mut ds);
+        }
+    }
+    let (after, worst) = run.s.count_non_delaunay(ACCEPT_TOLERANCE);
+    run.stats.non_delaunay_after = after;
+    if after > 0 {
+        return Err(Error::Unsplittable {
+            count: after,
+            worst_excess: worst,
+        });
+    }
+    Ok(run.stats)
+}
+
+struct Run<'a> {
+    s: &'a mut Surface,
+    options: Options,
+    constants: SampleConstants,
+    stats: Stats,
+    /// Edges found non-Delaunay with no sample left (bit per edge, grown on
+    /// demand; such an edge can never change).
+    stuck: Vec<bool>,
+}
+
+impl Run<'_> {
+    fn is_stuck(&self, e: EdgeId) -> bool {
+        self.stuck.get(e.idx()).copied().unwrap_or(false)
+    }
+
+    fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {
+        if !self.is_stuck(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
+            ds.push(e, self.s.edge_length(e));
+        }
+    }
+
+    fn process(&mut self, e: EdgeId, ds: &mut Ds) {
+        if !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
+            return;
+        }
+        let topo = &self.s.topo;
+        let h = e.halfedge();
+        let t = h.twin();
+        let (h1, t1) = (topo.next(h), topo.next(t));
+        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let around = [h2.edge(), h1.edge(), t2.edge(), t1.edge()];
+        if self.s.is_flippable(e) {
+            self.s.flip(e);
+            self.stats.flips += 1;
+            for x in around {
+                self.push_if_bad(ds, x);
+            }
+            return;
+        }
+        match self.choose_sample(e) {
+            Some(choice) => {
+                let n = self.s.topo.n_edges() as u32;
+                self.s.split(e, choice.t);
+                self.stats.splits += 1;
+                for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]
+                    .into_iter()
+                    .chain(around)
+                {
+                    self.push_if_bad(ds, x);
+                }
+            }
+            None => {
+                if self.stuck.len() <= e.idx() {
+                    self.stuck.resize(self.s.topo.n_edges(), false);
+                }
+                self.stuck[e.idx()] = true;
+            }
+        }
+    }
+
+    /// The sample at which to split the non-flippable edge `e`.
+    fn choose_sample(&self, e: EdgeId) -> Option<samples::Choice> {
+        let s = &*self.s;
+        let input = s.edge_input[e.idx()];
+        if input == NO_INPUT_EDGE {
+            return None; // cannot happen: such edges lie inside a region
+        }
+        let topo = &s.topo;
+        let h = e.halfedge();
+        let (a, b) = (topo.origin(h), topo.dest(h));
+        let quad = s.edge_quad(e);
+        let t = h.twin();
+        let (h1, t1) = (topo.next(h), topo.next(t));
+        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let apex = |x: crate::mesh::HalfEdgeId| {
+            let v = topo.apex(x.twin());
+            (!v.is_none()).then(|| s.positions[v.idx()])
+        };
+        let (halves, outer) = split_conditions(quad, [apex(h2), apex(h1), apex(t2), apex(t1)]);
+        let ends = s.input_edge_ends(input);
+        let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), &self.constants);
+        let query = SplitQuery {
+            samples: &edge_samples,
+            edge_ends: ends,
+            t_a: s.param_on(a, input),
+            t_b: s.param_on(b, input),
+            pos_a: quad[0],
+            pos_b: quad[1],
+            halves,
+            outer,
+            score: self.options.score,
+            median: self.options.median,
+        };
+        samples::choose(&query)
+    }
+}

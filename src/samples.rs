@@ -1,0 +1,541 @@
+//! Sample points on input edges (SPEC §3) and the choice of the sample at
+//! which a non-Delaunay sub-edge is split (SPEC §4).
+//!
+//! Samples are never stored: sample `k` of an input edge is computed from the
+//! edge's length and the two global constants. An edge may carry more samples
+//! than an `f64` can count (about 10^16 on `mpi_triang.obj`), so indices are
+//! `u64`, and the choice works on *ranges* of indices: each of the six score
+//! conditions holds on one side of a breakpoint along the edge, so the score
+//! is piecewise constant over at most seven index ranges, found by a galloping
+//! search from an analytic guess. [`choose_by_enumeration`] visits samples one
+//! by one; it is the test oracle and is never used by the algorithm.
+
+use glam::DVec3;
+
+/// The two sample spacings of Liu et al. 2015, from the input's smallest
+/// corner angle and shortest edge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleConstants {
+    /// θ_min, the smallest corner angle of the input, in radians.
+    pub theta_min: f64,
+    /// l_min, the shortest input edge.
+    pub l_min: f64,
+    /// ρ_v = min(l_min·sin θ_min / (0.5 + sin θ_min), l_min / 2): distance of
+    /// the first and last samples from the edge's ends.
+    pub rho_v: f64,
+    /// ρ_e = 2·ρ_v·sin θ_min: the largest spacing of the inner samples.
+    pub rho_e: f64,
+}
+
+impl SampleConstants {
+    /// The constants for a mesh with smallest angle `theta_min` and shortest
+    /// edge `l_min`.
+    pub fn new(theta_min: f64, l_min: f64) -> Self {
+        let s = theta_min.sin();
+        let rho_v = (l_min * s / (0.5 + s)).min(l_min / 2.0);
+        let rho_e = 2.0 * rho_v * s;
+        SampleConstants {
+            theta_min,
+            l_min,
+            rho_v,
+            rho_e,
+        }
+    }
+}
+
+/// The most samples an edge is given: spacing below length/2^62 is far
+/// below f64 resolution anyway.
+const MAX_INTERVALS: f64 = 4_611_686_018_427_387_904.0; // 2^62
+
+/// The samples of one input edge of length `len`, computed on demand.
+///
+/// If `len < 2ρ_v` the only sample is the midpoint; otherwise they are at
+/// distance ρ_v + k·step from the first end, k = 0..=n, n = ⌈(len − 2ρ_v)/ρ_e⌉
+/// and step = (len − 2ρ_v)/n.
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeSamples {
+    len: f64,
+    rho_v: f64,
+    step: f64,
+    count: u64,
+}
+
+impl EdgeSamples {
+    /// The samples of an input edge of length `len`.
+    pub fn new(len: f64, c: &SampleConstants) -> Self {
+        let inner = len - 2.0 * c.rho_v;
+        let n = if inner > 0.0 {
+            (inner / c.rho_e).ceil()
+        } else {
+            0.0
+        };
+        if !(n >= 1.0) {
+            return EdgeSamples {
+                len,
+                rho_v: len / 2.0,
+                step: 0.0,
+                count: 1,
+            };
+        }
+        let n = n.min(MAX_INTERVALS);
+        EdgeSamples {
+            len,
+            rho_v: c.rho_v,
+            step: inner / n,
+            count: n as u64 + 1,
+        }
+    }
+
+    /// How many samples the edge has.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// The parameter t ∈ (0, 1) of sample `k` along the input edge, measured
+    /// from its first end. Non-decreasing in `k` (strictly while the spacing
+    /// is above f64 resolution).
+    #[inline]
+    pub fn t(&self, k: u64) -> f64 {
+        (self.rho_v + k as f64 * self.step) / self.len
+    }
+
+    /// The index whose parameter is about `t` (a starting guess for searches).
+    fn guess(&self, t: f64) -> f64 {
+        if self.step > 0.0 {
+            (t * self.len - self.rho_v) / self.step
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The position of the point at parameter `t` on the input edge (p0, p1): the
+/// one formula used for every added vertex, so that the same `t` always gives
+/// the same coordinates.
+#[inline]
+pub fn point_on_edge(p0: DVec3, p1: DVec3, t: f64) -> DVec3 {
+    p0 + t * (p1 - p0)
+}
+
+/// Which of the report's scores ranks the samples (`-s`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Score {
+    /// `-s 0`, "all equal": +1 per Delaunay edge among the six.
+    AllEqual,
+    /// `-s 1`, "weighted center": +1.5 per Delaunay half, +1 per outer edge.
+    WeightedCenter,
+    /// `-s 2`, "always center": +5 if both halves are Delaunay (else +1 per
+    /// Delaunay half), +1 per Delaunay outer edge.
+    AlwaysCenter,
+}
+
+impl Score {
+    /// The score, doubled so that it is an integer.
+    pub fn doubled(self, halves: [bool; 2], outer_delaunay: u32) -> u32 {
+        let h = halves.iter().filter(|&&x| x).count() as u32;
+        let outer = 2 * outer_delaunay;
+        match self {
+            Score::AllEqual => 2 * h + outer,
+            Score::WeightedCenter => 3 * h + outer,
+            Score::AlwaysCenter if h == 2 => 10 + outer,
+            Score::AlwaysCenter => 2 * h + outer,
+        }
+    }
+}
+
+/// Which side of its breakpoint a condition holds on, along the sub-edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// Holds where x ≤ breakpoint.
+    AtMost,
+    /// Holds where x ≥ breakpoint.
+    AtLeast,
+}
+
+/// One of the six conditions of a split, as a half-line of the sub-edge: x
+/// is the distance of the split point from the sub-edge's start `a`. A NaN
+/// breakpoint (degenerate circle) means the condition always holds.
+#[derive(Clone, Copy, Debug)]
+pub struct Condition {
+    /// The side of the breakpoint where the condition holds.
+    pub side: Side,
+    /// Where along the sub-edge the condition changes.
+    pub breakpoint: f64,
+}
+
+impl Condition {
+    /// Whether the condition holds at `x`.
+    #[inline]
+    pub fn holds(&self, x: f64) -> bool {
+        match self.side {
+            Side::AtMost => !(x > self.breakpoint),
+            Side::AtLeast => !(x < self.breakpoint),
+        }
+    }
+}
+
+/// Everything the choice of a split sample depends on.
+#[derive(Clone, Copy, Debug)]
+pub struct SplitQuery<'a> {
+    /// The samples of the input edge carrying the sub-edge.
+    pub samples: &'a EdgeSamples,
+    /// The input edge's end points (t = 0 and t = 1).
+    pub edge_ends: [DVec3; 2],
+    /// Parameter of the sub-edge's start `a` (the origin of the half-edge
+    /// taken from DS) and of its end `b`.
+    pub t_a: f64,
+    /// See `t_a`.
+    pub t_b: f64,
+    /// Positions of `a` and `b`: a sample that rounds onto one is skipped.
+    pub pos_a: DVec3,
+    /// See `pos_a`.
+    pub pos_b: DVec3,
+    /// The conditions for the halves (a, p) and (p, b).
+    pub halves: [Condition; 2],
+    /// The conditions for the four outer edges.
+    pub outer: [Condition; 4],
+    /// The score.
+    pub score: Score,
+    /// Median of the best samples (`true`) or the first one from `a`.
+    pub median: bool,
+}
+
+/// The chosen sample: its index on the input edge and its parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Choice {
+    /// Index of the sample on its input edge.
+    pub k: u64,
+    /// Its parameter t along the input edge.
+    pub t: f64,
+}
+
+/// The samples strictly inside a sub-edge, listed from `a` to `b`:
+/// local index j ↦ sample index k.
+struct Window<'a> {
+    q: &'a SplitQuery<'a>,
+    first: u64,
+    count: u64,
+    forward: bool,
+}
+
+impl<'a> Window<'a> {
+    fn new(q: &'a SplitQuery<'a>) -> Option<Self> {
+        let s = q.samples;
+        let forward = q.t_a < q.t_b;
+        let (t_lo, t_hi, p_lo, p_hi) = if forward {
+            (q.t_a, q.t_b, q.pos_a, q.pos_b)
+        } else {
+            (q.t_b, q.t_a, q.pos_b, q.pos_a)
+        };
+        let pos = |k: u64| point_on_edge(q.edge_ends[0], q.edge_ends[1], s.t(k));
+        // First sample past the low end (in t and in rounded position) ...
+        let first = first_true(s.count, s.guess(t_lo), |k| s.t(k) > t_lo && pos(k) != p_lo);
+        // ... and first sample at or past the high end.
+        let end = first_true(s.count, s.guess(t_hi), |k| {
+            !(s.t(k) < t_hi && pos(k) != p_hi)
+        });
+        (first < end).then_some(Window {
+            q,
+            first,
+            count: end - first,
+            forward,
+        })
+    }
+
+    #[inline]
+    fn k(&self, j: u64) -> u64 {
+        if self.forward {
+            self.first + j
+        } else {
+            self.first + self.count - 1 - j
+        }
+    }
+
+    /// Distance of sample j from `a`, measured along the input edge;
+    /// non-decreasing in j.
+    #[inline]
+    fn x(&self, j: u64) -> f64 {
+        let t = self.q.samples.t(self.k(j));
+        let d = if self.forward {
+            t - self.q.t_a
+        } else {
+            self.q.t_a - t
+        };
+        d * self.q.samples.len
+    }
+
+    /// Local index about at distance `x` from `a`.
+    fn guess(&self, x: f64) -> f64 {
+        let s = self.q.samples;
+        let t = if self.forward {
+            self.q.t_a + x / s.len
+        } else {
+            self.q.t_a - x / s.len
+        };
+        let k = s.guess(t);
+        if self.forward {
+            k - self.first as f64
+        } else {
+            (self.first + self.count - 1) as f64 - k
+        }
+    }
+
+    /// The first local index at which `c` changes value (the first j with
+    /// x > breakpoint for `AtMost`, with x ≥ breakpoint for `AtLeast`).
+    fn cut(&self, c: &Condition) -> u64 {
+        if c.breakpoint.is_nan() {
+            return 0;
+        }
+        let g = self.guess(c.breakpoint);
+        match c.side {
+            Side::AtMost => first_true(self.count, g, |j| self.x(j) > c.breakpoint),
+            Side::AtLeast => first_true(self.count, g, |j| self.x(j) >= c.breakpoint),
+        }
+    }
+}
+
+/// The first index in `0..n` at which the monotone predicate `pred` (false
+/// then true) is true, or `n`. Gallops from `guess` (clamped; NaN is 0), so it
+/// costs O(log |answer − guess|) evaluations.
+pub fn first_true(n: u64, guess: f64, pred: impl Fn(u64) -> bool) -> u64 {
+    if n == 0 {
+        return 0;
+    }
+    let g = if guess >= 0.0 {
+        (guess as u64).min(n - 1)
+    } else {
+        0
+    };
+    // Bracket: pred is false below `lo`, and true at `hi` (or hi == n).
+    let (mut lo, mut hi);
+    if pred(g) {
+        hi = g;
+        lo = 0;
+        let mut step = 1u64;
+        while step <= g {
+            let c = g - step;
+            if pred(c) {
+                hi = c;
+                step = step.saturating_mul(2);
+            } else {
+                lo = c + 1;
+                break;
+            }
+        }
+    } else {
+        lo = g + 1;
+        hi = n;
+        let mut step = 1u64;
+        loop {
+            let c = g.saturating_add(step);
+            if c >= n {
+                break;
+            }
+            if pred(c) {
+                hi = c;
+                break;
+            }
+            lo = c + 1;
+            step = step.saturating_mul(2);
+        }
+    }
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if pred(mid) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
+/// Chooses the sample at which to split, without visiting samples one by
+/// one; `None` if no sample lies strictly inside the sub-edge.
+///
+/// The best score over the sub-edge's samples is found piece by piece, the
+/// pieces being delimited by the six conditions' breakpoints. Among the best
+/// samples, ordered from `a` to `b`, it takes the median (the lower one of an
+/// even count) or the first.
+pub fn choose(q: &SplitQuery) -> Option<Choice> {
+    let w = Window::new(q)?;
+    let conds: [&Condition; 6] = [
+        &q.halves[0],
+        &q.halves[1],
+        &q.outer[0],
+        &q.outer[1],
+        &q.outer[2],
+        &q.outer[3],
+    ];
+    let mut cuts = [0u64; 6];
+    for (cut, c) in cuts.iter_mut().zip(conds) {
+        *cut = w.cut(c);
+    }
+    // Piece boundaries: 0, the cuts, count.
+    let mut bounds = [0u64; 8];
+    bounds[1..7].copy_from_slice(&cuts);
+    bounds[7] = w.count;
+    bounds.sort_unstable();
+    let holds = |i: usize, j: u64| match conds[i].side {
+        _ if conds[i].breakpoint.is_nan() => true,
+        Side::AtMost => j < cuts[i],
+        Side::AtLeast => j >= cuts[i],
+    };
+    let piece_score = |j: u64| {
+        let outer = (2..6).filter(|&i| holds(i, j)).count() as u32;
+        q.score.doubled([holds(0, j), holds(1, j)], outer)
+    };
+    let pieces = bounds
+        .windows(2)
+        .filter(|b| b[0] < b[1])
+        .map(|b| (b[0], b[1], piece_score(b[0])));
+    let best = pieces.clone().map(|p| p.2).max()?;
+    let j = if q.median {
+        let total: u64 = pieces
+            .clone()
+            .filter(|p| p.2 == best)
+            .map(|p| p.1 - p.0)
+            .sum();
+        let mut rank = (total - 1) / 2;
+        let mut found = 0;
+        for (lo, hi, s) in pieces {
+            if s != best {
+                continue;
+            }
+            if rank < hi - lo {
+                found = lo + rank;
+                break;
+            }
+            rank -= hi - lo;
+        }
+        found
+    } else {
+        pieces.clone().find(|p| p.2 == best).map(|p| p.0)?
+    };
+    let k = w.k(j);
+    Some(Choice {
+        k,
+        t: q.samples.t(k),
+    })
+}
+
+/// The test oracle for [`choose`]: scores every sample inside the sub-edge
+/// one by one with `holds(condition index, x)` evaluated pointwise, where
+/// conditions 0 and 1 are the halves and 2..6 the outer edges. Only usable
+/// on edges with few samples.
+pub fn choose_by_enumeration(q: &SplitQuery, holds: impl Fn(usize, f64) -> bool) -> Option<Choice> {
+    let s = q.samples;
+    let (t_lo, t_hi) = (q.t_a.min(q.t_b), q.t_a.max(q.t_b));
+    let mut inside: Vec<u64> = (0..s.count())
+        .filter(|&k| {
+            let t = s.t(k);
+            let p = point_on_edge(q.edge_ends[0], q.edge_ends[1], t);
+            t > t_lo && t < t_hi && p != q.pos_a && p != q.pos_b
+        })
+        .collect();
+    if q.t_a > q.t_b {
+        inside.reverse();
+    }
+    let scored: Vec<(u64, u32)> = inside
+        .iter()
+        .map(|&k| {
+            let x = (s.t(k) - q.t_a).abs() * s.len;
+            let outer = (2..6).filter(|&i| holds(i, x)).count() as u32;
+            (k, q.score.doubled([holds(0, x), holds(1, x)], outer))
+        })
+        .collect();
+    let best = scored.iter().map(|p| p.1).max()?;
+    let winners: Vec<u64> = scored.iter().filter(|p| p.1 == best).map(|p| p.0).collect();
+    let k = if q.median {
+        winners[(winners.len() - 1) / 2]
+    } else {
+        winners[0]
+    };
+    Some(Choice { k, t: s.t(k) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_follow_the_formulas() {
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0);
+        // sin 30° = 0.5: ρ_v = min(2·0.5/1, 1) = 1, ρ_e = 2·1·0.5 = 1.
+        assert!((c.rho_v - 1.0).abs() < 1e-15 && (c.rho_e - 1.0).abs() < 1e-15);
+        let c = SampleConstants::new(0.1, 1.0);
+        let s = 0.1f64.sin();
+        assert_eq!(c.rho_v, (s / (0.5 + s)).min(0.5));
+        assert_eq!(c.rho_e, 2.0 * c.rho_v * s);
+    }
+
+    #[test]
+    fn sample_positions() {
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
+                                                                        // Length 10: samples at 1, 2, ..., 9 (n = 8 intervals).
+        let s = EdgeSamples::new(10.0, &c);
+        assert_eq!(s.count(), 9);
+        for k in 0..9 {
+            assert!((s.t(k) * 10.0 - (1.0 + k as f64)).abs() < 1e-12);
+        }
+        // Length 3.5: samples at 1 and 2.5 and one between: n = ⌈1.5⌉ = 2.
+        let s = EdgeSamples::new(3.5, &c);
+        assert_eq!(s.count(), 3);
+        assert!((s.t(1) * 3.5 - 1.75).abs() < 1e-12);
+        // Shorter than 2ρ_v: the midpoint only.
+        let s = EdgeSamples::new(1.5, &c);
+        assert_eq!((s.count(), s.t(0)), (1, 0.5));
+        // Exactly 2ρ_v: one sample, the midpoint.
+        let s = EdgeSamples::new(2.0, &c);
+        assert_eq!((s.count(), s.t(0)), (1, 0.5));
+    }
+
+    #[test]
+    fn huge_sample_counts_are_integers() {
+        // The needle constants of mpi_triang: ~10^16 samples on an edge.
+        let c = SampleConstants::new(3.5e-7, 1.0);
+        let s = EdgeSamples::new(1.7e4, &c);
+        assert!(s.count() > 1u64 << 53);
+        assert!(s.t(s.count() - 1) < 1.0 && s.t(0) > 0.0);
+        // Monotone even where neighbouring samples round together.
+        let mut last = 0.0;
+        for k in (s.count() - 1000)..s.count() {
+            assert!(s.t(k) >= last);
+            last = s.t(k);
+        }
+    }
+
+    #[test]
+    fn first_true_finds_the_boundary_from_any_guess() {
+        for n in [0u64, 1, 2, 3, 10, 1000] {
+            for answer in 0..=n.min(12) {
+                for guess in [-5.0, 0.0, 1.0, 3.7, 9.0, 500.0, 1e30, f64::NAN] {
+                    assert_eq!(
+                        first_true(n, guess, |j| j >= answer),
+                        answer,
+                        "n {n} answer {answer} guess {guess}"
+                    );
+                }
+            }
+        }
+        let n = u64::MAX / 4;
+        assert_eq!(first_true(n, 12.0, |j| j >= n / 3), n / 3);
+        assert_eq!(first_true(n, 1e300, |j| j >= 7), 7);
+    }
+
+    #[test]
+    fn scores_weigh_as_the_report_says() {
+        use Score::*;
+        assert_eq!(AllEqual.doubled([true, true], 4), 12);
+        assert_eq!(AllEqual.doubled([true, false], 1), 4);
+        assert_eq!(WeightedCenter.doubled([true, true], 0), 6);
+        assert_eq!(WeightedCenter.doubled([false, true], 2), 7);
+        assert_eq!(AlwaysCenter.doubled([true, true], 0), 10);
+        assert_eq!(AlwaysCenter.doubled([true, false], 4), 10);
+        // Always-center: both halves tie with one half and four outer edges.
+        assert_eq!(
+            AlwaysCenter.doubled([true, true], 0),
+            AlwaysCenter.doubled([true, false], 4)
+        );
+    }
+}
