@@ -166,6 +166,20 @@ fn one_line(e: &anyhow::Error) -> String {
     s.replace('\n', " ")
 }
 
+/// `x` with six significant digits, in plain notation where that reads well.
+fn sig(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{x}");
+    }
+    if (1e-3..1e7).contains(&a) {
+        let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
 fn score_of(s: &str) -> Score {
     match s {
         "0" => Score::AllEqual,
@@ -241,14 +255,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let figures = surface.figures();
     if !args.quiet {
         println!(
-            "input   {}: {} vertices, {} faces ({} triangles); min angle {:.6} rad; edge length {:.6e} .. {:.6e}",
+            "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
             input_path.display(),
             input.positions.len(),
             input.faces_in_file,
             input.triangles.len(),
-            figures.min_angle,
-            figures.min_edge,
-            figures.max_edge
+            sig(figures.min_angle),
+            sig(figures.min_edge),
+            sig(figures.max_edge)
         );
         if input.welded > 0 || input.unreferenced > 0 {
             println!(
@@ -284,7 +298,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 "no median"
             }
         );
-        println!("samples rho_v {:.6e}, rho_e {:.6e}", c.rho_v, c.rho_e);
+        println!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
         println!(
             "output  {}: {} vertices, {} faces, {} added vertices",
             output.display(),
@@ -363,11 +377,32 @@ fn run_all(
             );
         }
     }
-    // Refine every combination first, write only when all succeeded.
+    // Refine every combination first (on all cores: each run is independent
+    // and deterministic, so the files equal a sequential run's), and write
+    // only when all succeeded.
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(combos.len());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<Option<anyhow::Result<Outcome>>> =
+        (0..combos.len()).map(|_| None).collect();
+    let slots = std::sync::Mutex::new(&mut results);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(o) = combos.get(i) else { break };
+                let out = refine_once(input, input_path, o);
+                slots.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(out);
+            });
+        }
+    });
     let mut rows = Vec::new();
-    for o in &combos {
-        let out = refine_once(input, input_path, o)?;
-        rows.push((*o, out));
+    for (o, r) in combos.iter().zip(results) {
+        let Some(out) = r else {
+            bail!("internal error: a combination did not run")
+        };
+        rows.push((*o, out?));
     }
     for (o, out) in &rows {
         io::write_obj(

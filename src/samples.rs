@@ -69,7 +69,7 @@ impl EdgeSamples {
         } else {
             0.0
         };
-        if !(n >= 1.0) {
+        if n.is_nan() || n < 1.0 {
             return EdgeSamples {
                 len,
                 rho_v: len / 2.0,
@@ -168,8 +168,9 @@ impl Condition {
     #[inline]
     pub fn holds(&self, x: f64) -> bool {
         match self.side {
-            Side::AtMost => !(x > self.breakpoint),
-            Side::AtLeast => !(x < self.breakpoint),
+            _ if self.breakpoint.is_nan() => true,
+            Side::AtMost => x <= self.breakpoint,
+            Side::AtLeast => x >= self.breakpoint,
         }
     }
 }

@@ -534,7 +534,7 @@ impl Topology {
             }
         }
         let mut seen = vec![u32::MAX; self.n_vertices()];
-        for v in 0..self.n_vertices() {
+        for (v, &used_by) in corners.iter().enumerate() {
             let vid = VertexId(v as u32);
             let h = self.vertex_he[v];
             if h.is_none() || h.idx() >= n_he || self.origin(h) != vid || self.is_boundary_he(h) {
@@ -542,11 +542,10 @@ impl Topology {
             }
             // Walking counter-clockwise from the stored half-edge must meet every
             // face (on a boundary vertex it must therefore start the fan).
-            if self.fan_len(vid) != corners[v] {
+            if self.fan_len(vid) != used_by {
                 return Err(format!(
-                    "{vid:?}: fan of {} faces, but {} faces use it",
-                    self.fan_len(vid),
-                    corners[v]
+                    "{vid:?}: fan of {} faces, but {used_by} faces use it",
+                    self.fan_len(vid)
                 ));
             }
             // Neighbours must be distinct.

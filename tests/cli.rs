@@ -1,0 +1,362 @@
+//! The command line as a user runs it: the report's example lines, `-all`,
+//! rewriting the input, `--help`, and every bad input of SPEC §6.
+
+mod common;
+
+use assert_cmd::Command;
+use std::path::Path;
+
+fn delmesh() -> Command {
+    Command::cargo_bin("delmesh").unwrap()
+}
+
+fn copy_fixture(name: &str, to: &Path) {
+    std::fs::copy(common::data_dir().join(name), to).unwrap();
+}
+
+fn check_passes(input: &Path, output: &Path) {
+    let out = delmesh()
+        .arg("check")
+        .arg(input)
+        .arg(output)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "check failed: {stdout}");
+    assert!(stdout.contains("PASS"), "{stdout}");
+}
+
+#[test]
+fn report_example_line_with_pqueue() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("elephant.obj", &dir.path().join("elephant2.obj"));
+    std::fs::create_dir(dir.path().join("output")).unwrap();
+    let out = delmesh()
+        .current_dir(dir.path())
+        .args([
+            "-i",
+            "elephant2.obj",
+            "-o",
+            "output/elephant.obj",
+            "-s",
+            "2",
+            "-ds",
+            "pqueue",
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for needle in [
+        "priority queue",
+        "always center",
+        "min angle",
+        "added vertices",
+        "splits",
+        "flips",
+        "before",
+        "after",
+        "seconds",
+    ] {
+        assert!(stdout.contains(needle), "missing {needle:?} in {stdout}");
+    }
+    check_passes(
+        &dir.path().join("elephant2.obj"),
+        &dir.path().join("output/elephant.obj"),
+    );
+}
+
+#[test]
+fn report_example_line_with_all() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("cube.obj", &dir.path().join("elephant2.obj"));
+    std::fs::create_dir(dir.path().join("output")).unwrap();
+    let out = delmesh()
+        .current_dir(dir.path())
+        .args(["-i", "elephant2.obj", "-o", "output/elephant.obj", "-all"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut names: Vec<String> = std::fs::read_dir(dir.path().join("output"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let mut expected = Vec::new();
+    for ds in ["s", "q", "p"] {
+        for s in 0..3 {
+            expected.push(format!("elephant-{ds}-{s}-m.obj"));
+            expected.push(format!("elephant-{ds}-{s}.obj"));
+        }
+    }
+    expected.sort();
+    assert_eq!(names, expected);
+    // The summary table: a header and 18 rows sorted by faces.
+    let rows: Vec<&str> = stdout.lines().filter(|l| l.contains("elephant-")).collect();
+    assert_eq!(rows.len(), 18, "{stdout}");
+    let faces: Vec<usize> = rows
+        .iter()
+        .map(|r| r.split_whitespace().rev().nth(6).unwrap().parse().unwrap())
+        .collect();
+    assert!(faces.windows(2).all(|w| w[0] <= w[1]), "{faces:?}");
+    assert!(
+        stdout.contains("data structure") && stdout.contains("weight") && stdout.contains("median")
+    );
+    for name in &expected {
+        check_passes(
+            &dir.path().join("elephant2.obj"),
+            &dir.path().join("output").join(name),
+        );
+    }
+}
+
+#[test]
+fn long_options_work_beside_legacy_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("cube.obj", &dir.path().join("c.obj"));
+    let out = dir.path().join("o.obj");
+    delmesh()
+        .arg("--input")
+        .arg(dir.path().join("c.obj"))
+        .arg("--output")
+        .arg(&out)
+        .args([
+            "--data-structure",
+            "queue",
+            "--score",
+            "0",
+            "--no-median",
+            "--quiet",
+        ])
+        .assert()
+        .success()
+        .stdout("");
+    check_passes(&dir.path().join("c.obj"), &out);
+}
+
+#[test]
+fn help_lists_every_flag() {
+    let out = delmesh().arg("--help").output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    for flag in [
+        "--input",
+        "--output",
+        "--ds",
+        "--score",
+        "--nomedian",
+        "--all",
+        "check",
+        "-ds pqueue",
+    ] {
+        assert!(text.contains(flag), "--help lacks {flag}: {text}");
+    }
+}
+
+#[test]
+fn without_output_the_input_is_rewritten_after_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cube.obj");
+    copy_fixture("cube.obj", &path);
+    let original = dir.path().join("original.obj");
+    copy_fixture("cube.obj", &original);
+    delmesh().arg("-i").arg(&path).assert().success();
+    assert_ne!(
+        std::fs::read(&path).unwrap(),
+        std::fs::read(&original).unwrap()
+    );
+    check_passes(&original, &path);
+    // Only the rewritten file is left: no temporary files.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+}
+
+/// A bad input: exit 1, one line on stderr naming the file and `detail`,
+/// no output file, and the input untouched (also when rewriting in place).
+fn refused(name: &str, content: &[u8], detail: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join(name);
+    std::fs::write(&input, content).unwrap();
+    let output = dir.path().join("out.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{name}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{name}: not one line: {stderr}");
+    assert!(stderr.contains(name), "{name}: file not named: {stderr}");
+    assert!(
+        stderr.contains(detail),
+        "{name}: expected {detail:?} in {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!output.exists(), "{name}: an output was written");
+    // In place: the input must survive byte for byte.
+    let out = delmesh().arg("-i").arg(&input).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        std::fs::read(&input).unwrap(),
+        content,
+        "{name}: input changed"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "{name}: stray files"
+    );
+}
+
+const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+#[test]
+fn bad_inputs_are_refused_with_one_line() {
+    refused(
+        "ply.obj",
+        b"ply\nformat ascii 1.0\nelement vertex 3\n",
+        ":1: unknown statement 'ply'",
+    );
+    refused(
+        "binary.obj",
+        &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a],
+        "not text",
+    );
+    refused("nofaces.obj", TRI.as_bytes(), "no faces");
+    refused("empty.obj", b"", "no faces");
+    refused(
+        "nan.obj",
+        b"v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
+        ":2: vertex 2 has a non-finite coordinate",
+    );
+    refused("inf.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n", ":3:");
+    refused(
+        "range.obj",
+        format!("{TRI}f 1 2 4\n").as_bytes(),
+        ":4: face index 4 is out of range",
+    );
+    refused(
+        "neg.obj",
+        format!("{TRI}f -1 -2 -4\n").as_bytes(),
+        ":4: face index -4 is out of range",
+    );
+    refused(
+        "zero.obj",
+        format!("{TRI}f 0 1 2\n").as_bytes(),
+        ":4: face index 0",
+    );
+    refused(
+        "repeat.obj",
+        format!("{TRI}f 1 2 2\n").as_bytes(),
+        ":4: face 1 repeats vertex 2",
+    );
+    refused(
+        "weldrepeat.obj",
+        format!("{TRI}v 1 0 0\nf 1 2 3\nf 2 4 3\n").as_bytes(),
+        ":6: face 2 repeats vertex 2",
+    );
+    refused(
+        "flat.obj",
+        b"v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n",
+        ":4: face 1 has zero area",
+    );
+    let fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n";
+    refused(
+        "fin.obj",
+        format!("{fin}f 1 2 3\nf 2 1 4\nf 1 2 5\n").as_bytes(),
+        "edge between vertices 1 and 2 has more than two faces",
+    );
+    refused(
+        "orient.obj",
+        format!("{fin}f 1 2 3\nf 1 2 4\n").as_bytes(),
+        "line 7: face runs along edge 1 -> 2",
+    );
+    refused(
+        "bowtie.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
+        "vertex 1: its faces form more than one fan (non-manifold vertex)",
+    );
+}
+
+#[test]
+fn unreadable_input_and_bad_output_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(&missing)
+        .arg("-o")
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.obj: cannot read"));
+    // A folder given as input.
+    let out = delmesh()
+        .arg("-i")
+        .arg(dir.path())
+        .arg("-o")
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    // An output in a folder that does not exist: refused before any work.
+    let input = dir.path().join("c.obj");
+    copy_fixture("cube.obj", &input);
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("nope/o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
+}
+
+#[test]
+fn the_shipped_teapot_is_refused_clearly() {
+    let teapot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/nonmanifold/teapot.obj");
+    if !teapot.exists() {
+        return; // shared/ is beside the clone in CI and in development
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh()
+        .arg("-i")
+        .arg(&teapot)
+        .arg("-o")
+        .arg(dir.path().join("t.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("teapot.obj") && stderr.contains("non-manifold"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn check_rejects_a_non_delaunay_output() {
+    // The input itself, as its own "output", is not Delaunay.
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = delmesh()
+        .arg("check")
+        .arg(&bunny)
+        .arg(&bunny)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("FAIL"));
+}
