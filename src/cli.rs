@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 
-use delmesh::io::{self, InputMesh};
+use delmesh::io;
 use delmesh::mesh::Surface;
 use delmesh::refine::{self, Options, Stats, Worklist};
 use delmesh::samples::Score;
@@ -211,11 +211,7 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
         _ => Path::new("."),
     };
     if !dir.is_dir() {
-        bail!(
-            "{}: output folder {} does not exist",
-            path.display(),
-            dir.display()
-        );
+        bail!("{}: output folder {} does not exist", path.display(), dir.display());
     }
     if path.is_dir() {
         bail!("{}: output is a folder, not a file", path.display());
@@ -230,11 +226,9 @@ struct Outcome {
     seconds: f64,
 }
 
-fn refine_once(input: &InputMesh, path: &Path, options: &Options) -> anyhow::Result<Outcome> {
-    let mut surface = io::build_surface(input, path)?;
+fn refine_once(mut surface: Surface, path: &Path, options: &Options) -> anyhow::Result<Outcome> {
     let start = Instant::now();
-    let stats =
-        refine::make_delaunay(&mut surface, options).with_context(|| path.display().to_string())?;
+    let stats = refine::make_delaunay(&mut surface, options).with_context(|| path.display().to_string())?;
     Ok(Outcome {
         surface,
         stats,
@@ -251,8 +245,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     let input = io::read_obj(input_path)?;
     let read_s = t0.elapsed().as_secs_f64();
+    let t_build = Instant::now();
     let surface = io::build_surface(&input, input_path)?;
-    let figures = surface.figures();
+    let build_s = t_build.elapsed().as_secs_f64();
+    let figures = surface.input_figures;
     if !args.quiet {
         println!(
             "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
@@ -272,31 +268,25 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if args.all {
-        return run_all(&input, input_path, &output, args.quiet);
+        return run_all(&surface, input_path, &output, args.quiet);
     }
     let options = Options {
         worklist: args.ds.into(),
         score: score_of(&args.score),
         median: !args.nomedian,
     };
-    let out = refine_once(&input, input_path, &options)?;
+    let out = refine_once(surface, input_path, &options)?;
     let t1 = Instant::now();
     io::write_obj(&output, &out.surface.positions, &out.surface.triangles())?;
     let write_s = t1.elapsed().as_secs_f64();
     if !args.quiet {
         let s = &out.stats;
-        let c = s
-            .constants
-            .unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
+        let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
         println!(
             "run     {}, {}, {}",
             ds_name(options.worklist),
             score_name(options.score),
-            if options.median {
-                "median"
-            } else {
-                "no median"
-            }
+            if options.median { "median" } else { "no median" }
         );
         println!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
         println!(
@@ -311,9 +301,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             s.splits, s.flips, s.non_delaunay_before, s.non_delaunay_after
         );
         println!(
-            "seconds {:.4} total (read {:.4}, refine {:.4}, write {:.4})",
+            "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
             t0.elapsed().as_secs_f64(),
             read_s,
+            build_s,
             out.seconds,
             write_s
         );
@@ -354,27 +345,16 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Score::WeightedCenter => 1,
         Score::AlwaysCenter => 2,
     };
-    let name = format!(
-        "{stem}-{ds}-{score}{}.obj",
-        if o.median { "-m" } else { "" }
-    );
+    let name = format!("{stem}-{ds}-{score}{}.obj", if o.median { "-m" } else { "" });
     output.with_file_name(name)
 }
 
-fn run_all(
-    input: &InputMesh,
-    input_path: &Path,
-    output: &Path,
-    quiet: bool,
-) -> anyhow::Result<ExitCode> {
+fn run_all(surface: &Surface, input_path: &Path, output: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
     let combos = all_combinations();
     for o in &combos {
         let p = combination_path(output, o);
         if p == input_path {
-            bail!(
-                "{}: -all would overwrite the input; choose another -o",
-                p.display()
-            );
+            bail!("{}: -all would overwrite the input; choose another -o", p.display());
         }
     }
     // Refine every combination first (on all cores: each run is independent
@@ -384,15 +364,14 @@ fn run_all(
         .map_or(1, |n| n.get())
         .min(combos.len());
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<Option<anyhow::Result<Outcome>>> =
-        (0..combos.len()).map(|_| None).collect();
+    let mut results: Vec<Option<anyhow::Result<Outcome>>> = (0..combos.len()).map(|_| None).collect();
     let slots = std::sync::Mutex::new(&mut results);
     std::thread::scope(|scope| {
         for _ in 0..threads {
             scope.spawn(|| loop {
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(o) = combos.get(i) else { break };
-                let out = refine_once(input, input_path, o);
+                let out = refine_once(surface.clone(), input_path, o);
                 slots.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(out);
             });
         }
@@ -415,15 +394,7 @@ fn run_all(
         rows.sort_by_key(|(_, out)| out.surface.topo.n_faces());
         println!(
             "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9}  file",
-            "data structure",
-            "weight",
-            "median",
-            "faces",
-            "vertices",
-            "added",
-            "splits",
-            "flips",
-            "seconds"
+            "data structure", "weight", "median", "faces", "vertices", "added", "splits", "flips", "seconds"
         );
         for (o, out) in &rows {
             println!(
@@ -489,17 +460,7 @@ mod tests {
     fn legacy_flags_are_rewritten() {
         assert_eq!(
             args("delmesh -i e.obj -o out/e.obj -s 2 -ds pqueue"),
-            [
-                "delmesh",
-                "-i",
-                "e.obj",
-                "-o",
-                "out/e.obj",
-                "-s",
-                "2",
-                "--ds",
-                "pqueue"
-            ]
+            ["delmesh", "-i", "e.obj", "-o", "out/e.obj", "-s", "2", "--ds", "pqueue"]
         );
         assert_eq!(
             args("delmesh -i -all -nomedian -all"),
@@ -523,10 +484,7 @@ mod tests {
             score: Score::AlwaysCenter,
             median: false,
         };
-        assert_eq!(
-            combination_path(Path::new("e.obj"), &o),
-            Path::new("e-p-2.obj")
-        );
+        assert_eq!(combination_path(Path::new("e.obj"), &o), Path::new("e-p-2.obj"));
         assert_eq!(all_combinations().len(), 18);
     }
 }

@@ -123,8 +123,7 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
     let mut faces: Vec<(usize, u32)> = Vec::new();
     for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
         let n = i + 1;
-        let line = std::str::from_utf8(line)
-            .map_err(|_| syntax(n, "not text: this is not an OBJ file".into()))?;
+        let line = std::str::from_utf8(line).map_err(|_| syntax(n, "not text: this is not an OBJ file".into()))?;
         let line = line.split('#').next().unwrap_or("");
         let mut tokens = line.split_ascii_whitespace();
         let Some(keyword) = tokens.next() else {
@@ -137,16 +136,13 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
                     let tok = tokens
                         .next()
                         .ok_or_else(|| syntax(n, format!("vertex has {k} coordinates, needs 3")))?;
-                    *c = tok.parse().map_err(|_| {
-                        syntax(n, format!("vertex coordinate '{tok}' is not a number"))
-                    })?;
+                    *c = tok
+                        .parse()
+                        .map_err(|_| syntax(n, format!("vertex coordinate '{tok}' is not a number")))?;
                     if !c.is_finite() {
                         return Err(syntax(
                             n,
-                            format!(
-                                "vertex {} has a non-finite coordinate '{tok}'",
-                                raw.len() + 1
-                            ),
+                            format!("vertex {} has a non-finite coordinate '{tok}'", raw.len() + 1),
                         ));
                     }
                 }
@@ -173,10 +169,7 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
                 if corners.len() - start < 3 {
                     return Err(syntax(
                         n,
-                        format!(
-                            "face has {} vertices, needs at least 3",
-                            corners.len() - start
-                        ),
+                        format!("face has {} vertices, needs at least 3", corners.len() - start),
                     ));
                 }
                 faces.push((start, n as u32));
@@ -200,10 +193,7 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
     // Out-of-range indices (forward references are allowed).
     for (f, &(start, line)) in faces.iter().enumerate() {
         let end = faces.get(f + 1).map_or(corners.len(), |x| x.0);
-        if let Some(&bad) = corners[start..end]
-            .iter()
-            .find(|&&c| c as usize >= raw.len())
-        {
+        if let Some(&bad) = corners[start..end].iter().find(|&&c| c as usize >= raw.len()) {
             return Err(syntax(
                 line as usize,
                 format!(
@@ -262,10 +252,7 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
             let t = [poly[0], poly[i], poly[i + 1]].map(|v| new_index[v as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
             if geometry::collinear(a, b, c) {
-                return Err(syntax(
-                    line as usize,
-                    format!("face {} has zero area", f + 1),
-                ));
+                return Err(syntax(line as usize, format!("face {} has zero area", f + 1)));
             }
             triangles.push(t);
             triangle_line.push(line);
@@ -319,10 +306,7 @@ pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
 /// Writes `bytes` produced by `fill` to `path` atomically: into a temporary
 /// file in the same directory, renamed over `path` only when complete. On
 /// any error `path` is untouched and the temporary file removed.
-pub fn write_atomic(
-    path: &Path,
-    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<()> {
+pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let err = |source| Error::Write {
         path: path.to_owned(),
         source,
@@ -372,11 +356,7 @@ pub fn write_obj(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Re
 }
 
 /// Writes OBJ text to any writer.
-pub fn write_obj_to(
-    w: &mut dyn Write,
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-) -> std::io::Result<()> {
+pub fn write_obj_to(w: &mut dyn Write, positions: &[DVec3], triangles: &[[u32; 3]]) -> std::io::Result<()> {
     let mut fmt = ryu::Buffer::new();
     let mut line = Vec::with_capacity(96);
     for p in positions {
@@ -448,8 +428,7 @@ mod tests {
 
     #[test]
     fn welds_bit_identical_positions_and_drops_unused() {
-        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 5 6 3\n")
-            .unwrap();
+        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 5 6 3\n").unwrap();
         assert_eq!(m.welded, 1);
         assert_eq!(m.unreferenced, 1);
         assert_eq!(m.positions.len(), 4);
@@ -470,14 +449,8 @@ mod tests {
                 ":4: face index 4 is out of range",
             ),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", ":4: face index 0"),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n",
-                ":4: face 1 repeats vertex 2",
-            ),
-            (
-                "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n",
-                ":4: face 1 has zero area",
-            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n", ":4: face 1 repeats vertex 2"),
+            ("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", ":4: face 1 has zero area"),
             ("ply\nformat ascii 1.0\n", ":1: unknown statement 'ply'"),
             (
                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 4 2 3 1\n",
@@ -499,22 +472,16 @@ mod tests {
     fn topology_errors_name_lines_and_vertices() {
         let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n";
         let m = parse(&format!("{tri}f 1 2 3\nf 1 2 4\n")).unwrap();
-        let msg = build_surface(&m, Path::new("t.obj"))
-            .unwrap_err()
-            .to_string();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(
             msg.contains("line 7") && msg.contains("inconsistent orientation"),
             "{msg}"
         );
         let m = parse(&format!("{tri}f 1 2 3\nf 2 1 4\nf 1 2 5\n")).unwrap();
-        let msg = build_surface(&m, Path::new("t.obj"))
-            .unwrap_err()
-            .to_string();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(msg.contains("more than two faces"), "{msg}");
         let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n").unwrap();
-        let msg = build_surface(&m, Path::new("t.obj"))
-            .unwrap_err()
-            .to_string();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(
             msg.contains("vertex 1:") && msg.contains("non-manifold vertex"),
             "{msg}"

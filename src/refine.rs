@@ -106,10 +106,10 @@ impl Ds {
     }
 }
 
-/// The sample constants of a mesh (from its current smallest angle and
-/// shortest edge: call it on the input).
+/// The sample constants of a mesh, from its input's smallest angle and
+/// shortest edge.
 pub fn sample_constants(surface: &Surface) -> SampleConstants {
-    let f = surface.figures();
+    let f = surface.input_figures;
     SampleConstants::new(f.min_angle, f.min_edge)
 }
 
@@ -118,10 +118,7 @@ pub fn sample_constants(surface: &Surface) -> SampleConstants {
 /// (p, b) and the outer edges (a, c), (c, b), (b, d), (d, a) stay Delaunay.
 /// `beyond` are the apexes of the triangles across the outer edges, in that
 /// order (`None` on the boundary).
-pub fn split_conditions(
-    [a, b, c, d]: [DVec3; 4],
-    beyond: [Option<DVec3>; 4],
-) -> ([Condition; 2], [Condition; 4]) {
+pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) -> ([Condition; 2], [Condition; 4]) {
     let frame = EdgeFrame::new(a, b);
     let len = frame.length;
     let (a2, b2) = (DVec2::ZERO, DVec2::new(len, 0.0));
@@ -138,11 +135,7 @@ pub fn split_conditions(
     ];
     // Outer edge from the anchor (a or b, on the x axis) to `other` (c or d):
     // the circle through both and the apex beyond, unfolded away from `inside`.
-    let outer = |side,
-                 (anchor3, anchor2): (DVec3, DVec2),
-                 (other3, other2),
-                 beyond: Option<DVec3>,
-                 inside| {
+    let outer = |side, (anchor3, anchor2): (DVec3, DVec2), (other3, other2), beyond: Option<DVec3>, inside| {
         let breakpoint = beyond.map_or(f64::NAN, |x3| {
             let x2 = geometry::unfold_across(anchor3, other3, x3, anchor2, other2, inside);
             geometry::second_axis_crossing(anchor2.x, other2, x2)
@@ -172,34 +165,46 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         stuck: Vec::new(),
     };
     run.stats.constants = Some(constants);
-    run.stats.non_delaunay_before = run.s.count_non_delaunay(ACCEPT_TOLERANCE).0;
-    let n_edges = run.s.topo.n_edges();
-    let mut ds = Ds::new(options.worklist, n_edges);
+    let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
+    // First pass: count the input's non-Delaunay edges and fill DS.
+    for e in 0..run.s.topo.n_edges() {
+        let e = EdgeId(e as u32);
+        if let Some((y, x)) = run.s.excess_sin_cos(e) {
+            run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
+            if geometry::exceeds(y, x, ALGORITHM_TOLERANCE) {
+                ds.push(e, run.s.edge_length(e));
+            }
+        }
+    }
     loop {
-        // (Re)fill DS with every non-Delaunay edge not known to be stuck.
         run.stats.passes += 1;
-        let mut any = false;
+        while let Some(e) = ds.pop() {
+            run.process(e, &mut ds);
+        }
+        // Verification pass: anything missed goes back into DS.
+        let mut missed = false;
         for e in 0..run.s.topo.n_edges() {
             let e = EdgeId(e as u32);
             if !run.is_stuck(e) && run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
                 ds.push(e, run.s.edge_length(e));
-                any = true;
+                missed = true;
             }
         }
-        if !any {
+        if !missed {
             break;
         }
-        while let Some(e) = ds.pop() {
-            run.process(e, &mut ds);
-        }
     }
-    let (after, worst) = run.s.count_non_delaunay(ACCEPT_TOLERANCE);
-    run.stats.non_delaunay_after = after;
-    if after > 0 {
-        return Err(Error::Unsplittable {
-            count: after,
-            worst_excess: worst,
-        });
+    // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
+    // may still be within the acceptance tolerance.
+    if run.stuck.iter().any(|&s| s) {
+        let (after, worst) = run.s.count_non_delaunay(ACCEPT_TOLERANCE);
+        run.stats.non_delaunay_after = after;
+        if after > 0 {
+            return Err(Error::Unsplittable {
+                count: after,
+                worst_excess: worst,
+            });
+        }
     }
     Ok(run.stats)
 }
@@ -248,10 +253,7 @@ impl Run<'_> {
                 let n = self.s.topo.n_edges() as u32;
                 self.s.split(e, choice.t);
                 self.stats.splits += 1;
-                for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]
-                    .into_iter()
-                    .chain(around)
-                {
+                for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)].into_iter().chain(around) {
                     self.push_if_bad(ds, x);
                 }
             }

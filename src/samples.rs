@@ -64,11 +64,7 @@ impl EdgeSamples {
     /// The samples of an input edge of length `len`.
     pub fn new(len: f64, c: &SampleConstants) -> Self {
         let inner = len - 2.0 * c.rho_v;
-        let n = if inner > 0.0 {
-            (inner / c.rho_e).ceil()
-        } else {
-            0.0
-        };
+        let n = if inner > 0.0 { (inner / c.rho_e).ceil() } else { 0.0 };
         if n.is_nan() || n < 1.0 {
             return EdgeSamples {
                 len,
@@ -232,9 +228,7 @@ impl<'a> Window<'a> {
         // First sample past the low end (in t and in rounded position) ...
         let first = first_true(s.count, s.guess(t_lo), |k| s.t(k) > t_lo && pos(k) != p_lo);
         // ... and first sample at or past the high end.
-        let end = first_true(s.count, s.guess(t_hi), |k| {
-            !(s.t(k) < t_hi && pos(k) != p_hi)
-        });
+        let end = first_true(s.count, s.guess(t_hi), |k| !(s.t(k) < t_hi && pos(k) != p_hi));
         (first < end).then_some(Window {
             q,
             first,
@@ -257,11 +251,7 @@ impl<'a> Window<'a> {
     #[inline]
     fn x(&self, j: u64) -> f64 {
         let t = self.q.samples.t(self.k(j));
-        let d = if self.forward {
-            t - self.q.t_a
-        } else {
-            self.q.t_a - t
-        };
+        let d = if self.forward { t - self.q.t_a } else { self.q.t_a - t };
         d * self.q.samples.len
     }
 
@@ -302,11 +292,7 @@ pub fn first_true(n: u64, guess: f64, pred: impl Fn(u64) -> bool) -> u64 {
     if n == 0 {
         return 0;
     }
-    let g = if guess >= 0.0 {
-        (guess as u64).min(n - 1)
-    } else {
-        0
-    };
+    let g = if guess >= 0.0 { (guess as u64).min(n - 1) } else { 0 };
     // Bracket: pred is false below `lo`, and true at `hi` (or hi == n).
     let (mut lo, mut hi);
     if pred(g) {
@@ -392,11 +378,7 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
         .map(|b| (b[0], b[1], piece_score(b[0])));
     let best = pieces.clone().map(|p| p.2).max()?;
     let j = if q.median {
-        let total: u64 = pieces
-            .clone()
-            .filter(|p| p.2 == best)
-            .map(|p| p.1 - p.0)
-            .sum();
+        let total: u64 = pieces.clone().filter(|p| p.2 == best).map(|p| p.1 - p.0).sum();
         let mut rank = (total - 1) / 2;
         let mut found = 0;
         for (lo, hi, s) in pieces {
@@ -414,10 +396,7 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
         pieces.clone().find(|p| p.2 == best).map(|p| p.0)?
     };
     let k = w.k(j);
-    Some(Choice {
-        k,
-        t: q.samples.t(k),
-    })
+    Some(Choice { k, t: q.samples.t(k) })
 }
 
 /// The test oracle for [`choose`]: scores every sample inside the sub-edge

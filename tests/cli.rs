@@ -15,12 +15,7 @@ fn copy_fixture(name: &str, to: &Path) {
 }
 
 fn check_passes(input: &Path, output: &Path) {
-    let out = delmesh()
-        .arg("check")
-        .arg(input)
-        .arg(output)
-        .output()
-        .unwrap();
+    let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "check failed: {stdout}");
     assert!(stdout.contains("PASS"), "{stdout}");
@@ -46,11 +41,7 @@ fn report_example_line_with_pqueue() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
     for needle in [
         "priority queue",
         "always center",
@@ -81,11 +72,7 @@ fn report_example_line_with_all() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
     let mut names: Vec<String> = std::fs::read_dir(dir.path().join("output"))
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
@@ -108,14 +95,9 @@ fn report_example_line_with_all() {
         .map(|r| r.split_whitespace().rev().nth(6).unwrap().parse().unwrap())
         .collect();
     assert!(faces.windows(2).all(|w| w[0] <= w[1]), "{faces:?}");
-    assert!(
-        stdout.contains("data structure") && stdout.contains("weight") && stdout.contains("median")
-    );
+    assert!(stdout.contains("data structure") && stdout.contains("weight") && stdout.contains("median"));
     for name in &expected {
-        check_passes(
-            &dir.path().join("elephant2.obj"),
-            &dir.path().join("output").join(name),
-        );
+        check_passes(&dir.path().join("elephant2.obj"), &dir.path().join("output").join(name));
     }
 }
 
@@ -129,14 +111,7 @@ fn long_options_work_beside_legacy_ones() {
         .arg(dir.path().join("c.obj"))
         .arg("--output")
         .arg(&out)
-        .args([
-            "--data-structure",
-            "queue",
-            "--score",
-            "0",
-            "--no-median",
-            "--quiet",
-        ])
+        .args(["--data-structure", "queue", "--score", "0", "--no-median", "--quiet"])
         .assert()
         .success()
         .stdout("");
@@ -170,10 +145,7 @@ fn without_output_the_input_is_rewritten_after_success() {
     let original = dir.path().join("original.obj");
     copy_fixture("cube.obj", &original);
     delmesh().arg("-i").arg(&path).assert().success();
-    assert_ne!(
-        std::fs::read(&path).unwrap(),
-        std::fs::read(&original).unwrap()
-    );
+    assert_ne!(std::fs::read(&path).unwrap(), std::fs::read(&original).unwrap());
     check_passes(&original, &path);
     // Only the rewritten file is left: no temporary files.
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
@@ -186,36 +158,19 @@ fn refused(name: &str, content: &[u8], detail: &str) {
     let input = dir.path().join(name);
     std::fs::write(&input, content).unwrap();
     let output = dir.path().join("out.obj");
-    let out = delmesh()
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&output)
-        .output()
-        .unwrap();
+    let out = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{name}: {stderr}");
     assert_eq!(stderr.lines().count(), 1, "{name}: not one line: {stderr}");
     assert!(stderr.contains(name), "{name}: file not named: {stderr}");
-    assert!(
-        stderr.contains(detail),
-        "{name}: expected {detail:?} in {stderr}"
-    );
+    assert!(stderr.contains(detail), "{name}: expected {detail:?} in {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!output.exists(), "{name}: an output was written");
     // In place: the input must survive byte for byte.
     let out = delmesh().arg("-i").arg(&input).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(
-        std::fs::read(&input).unwrap(),
-        content,
-        "{name}: input changed"
-    );
-    assert_eq!(
-        std::fs::read_dir(dir.path()).unwrap().count(),
-        1,
-        "{name}: stray files"
-    );
+    assert_eq!(std::fs::read(&input).unwrap(), content, "{name}: input changed");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "{name}: stray files");
 }
 
 const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
@@ -227,11 +182,7 @@ fn bad_inputs_are_refused_with_one_line() {
         b"ply\nformat ascii 1.0\nelement vertex 3\n",
         ":1: unknown statement 'ply'",
     );
-    refused(
-        "binary.obj",
-        &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a],
-        "not text",
-    );
+    refused("binary.obj", &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a], "not text");
     refused("nofaces.obj", TRI.as_bytes(), "no faces");
     refused("empty.obj", b"", "no faces");
     refused(
@@ -250,11 +201,7 @@ fn bad_inputs_are_refused_with_one_line() {
         format!("{TRI}f -1 -2 -4\n").as_bytes(),
         ":4: face index -4 is out of range",
     );
-    refused(
-        "zero.obj",
-        format!("{TRI}f 0 1 2\n").as_bytes(),
-        ":4: face index 0",
-    );
+    refused("zero.obj", format!("{TRI}f 0 1 2\n").as_bytes(), ":4: face index 0");
     refused(
         "repeat.obj",
         format!("{TRI}f 1 2 2\n").as_bytes(),
@@ -326,8 +273,7 @@ fn unreadable_input_and_bad_output_paths() {
 
 #[test]
 fn the_shipped_teapot_is_refused_clearly() {
-    let teapot =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/nonmanifold/teapot.obj");
+    let teapot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/nonmanifold/teapot.obj");
     if !teapot.exists() {
         return; // shared/ is beside the clone in CI and in development
     }
@@ -351,12 +297,7 @@ fn the_shipped_teapot_is_refused_clearly() {
 fn check_rejects_a_non_delaunay_output() {
     // The input itself, as its own "output", is not Delaunay.
     let bunny = common::data_dir().join("bunny.obj");
-    let out = delmesh()
-        .arg("check")
-        .arg(&bunny)
-        .arg(&bunny)
-        .output()
-        .unwrap();
+    let out = delmesh().arg("check").arg(&bunny).arg(&bunny).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stdout).contains("FAIL"));
 }

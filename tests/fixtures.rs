@@ -39,20 +39,9 @@ fn every_fixture_every_combination_passes_check() {
                 .validate()
                 .unwrap_or_else(|e| panic!("{}: {options:?}: {e}", path.display()));
             assert_eq!(stats.non_delaunay_after, 0);
-            assert_eq!(
-                surface
-                    .count_non_delaunay(delmesh::geometry::ACCEPT_TOLERANCE)
-                    .0,
-                0
-            );
-            assert_eq!(
-                stats.splits,
-                surface.positions.len() - input.positions.len()
-            );
-            assert_eq!(
-                &surface.positions[..input.positions.len()],
-                &input.positions[..]
-            );
+            assert_eq!(surface.count_non_delaunay(delmesh::geometry::ACCEPT_TOLERANCE).0, 0);
+            assert_eq!(stats.splits, surface.positions.len() - input.positions.len());
+            assert_eq!(&surface.positions[..input.positions.len()], &input.positions[..]);
             let out = dir.path().join("out.obj");
             io::write_obj(&out, &surface.positions, &surface.triangles()).unwrap();
             let report = delmesh::check::check_files(&path, &out).unwrap();
@@ -75,13 +64,11 @@ fn cube_fixture_needs_both_splits_and_flips() {
     let mut surface = io::build_surface(&input, &path).unwrap();
     // The crease 5-6 (0-based 4-5) cannot be flipped; bottom edge 9-3 can.
     let find = |s: &delmesh::mesh::Surface, a: u32, b: u32| {
-        (0..s.topo.n_edges() as u32)
-            .map(delmesh::mesh::EdgeId)
-            .find(|&e| {
-                let h = e.halfedge();
-                let (o, d) = (s.topo.origin(h).0, s.topo.dest(h).0);
-                (o, d) == (a, b) || (o, d) == (b, a)
-            })
+        (0..s.topo.n_edges() as u32).map(delmesh::mesh::EdgeId).find(|&e| {
+            let h = e.halfedge();
+            let (o, d) = (s.topo.origin(h).0, s.topo.dest(h).0);
+            (o, d) == (a, b) || (o, d) == (b, a)
+        })
     };
     let crease = find(&surface, 4, 5).unwrap();
     let flat = find(&surface, 8, 2).unwrap();

@@ -8,9 +8,7 @@ mod common;
 use common::Rng;
 use delmesh::geometry::{corner_angle, unfold_across, EdgeFrame};
 use delmesh::refine::split_conditions;
-use delmesh::samples::{
-    choose, choose_by_enumeration, point_on_edge, EdgeSamples, SampleConstants, Score, SplitQuery,
-};
+use delmesh::samples::{choose, choose_by_enumeration, point_on_edge, EdgeSamples, SampleConstants, Score, SplitQuery};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
@@ -84,8 +82,7 @@ fn random_config(rng: &mut Rng) -> Config {
         mid + random_point(rng, sub),
         mid + random_point(rng, sub),
     ];
-    let beyond =
-        [0, 1, 2, 3].map(|_| (rng.below(6) != 0).then(|| mid + random_point(rng, 1.5 * sub)));
+    let beyond = [0, 1, 2, 3].map(|_| (rng.below(6) != 0).then(|| mid + random_point(rng, 1.5 * sub)));
     Config {
         ends,
         samples,
@@ -162,10 +159,7 @@ fn interval_choice_matches_enumeration() {
         }
     }
     // The configurations must exercise both outcomes.
-    assert!(
-        none > 0 && none < compared / 2,
-        "{none} of {compared} without sample"
-    );
+    assert!(none > 0 && none < compared / 2, "{none} of {compared} without sample");
 }
 
 #[test]
@@ -212,10 +206,7 @@ fn chosen_sample_lies_strictly_inside_even_with_1e16_samples() {
         if let Some(ch) = choose(&q) {
             assert!(ch.k > k0 && ch.k < k0 + gap);
             let p = point_on_edge(ends[0], ends[1], ch.t);
-            assert!(
-                p != pos[0] && p != pos[1],
-                "sample rounds onto an end point"
-            );
+            assert!(p != pos[0] && p != pos[1], "sample rounds onto an end point");
             assert!(ch.t > t[0] && ch.t < t[1]);
         } else {
             // Only possible when every sample between rounds onto an end.

@@ -54,6 +54,8 @@ pub struct Surface {
     pub n_input_vertices: usize,
     /// How many planar regions the input has.
     pub n_regions: usize,
+    /// Smallest angle and extreme edge lengths of the input.
+    pub input_figures: InputFigures,
 }
 
 /// Figures of the input that the report's tables give.
@@ -85,11 +87,17 @@ impl Surface {
             face_region: Vec::new(),
             n_input_vertices: n,
             n_regions: 0,
+            input_figures: InputFigures {
+                min_angle: 0.0,
+                min_edge: 0.0,
+                max_edge: 0.0,
+            },
             input_edges,
             positions,
             topo,
         };
         s.find_regions();
+        s.input_figures = s.figures();
         Ok(s)
     }
 
@@ -149,6 +157,17 @@ impl Surface {
         ]
     }
 
+    /// `(sin, cos)` of α + β − π for an interior edge, up to a positive
+    /// factor (see [`geometry::excess_sin_cos`]); `None` on the boundary.
+    #[inline]
+    pub fn excess_sin_cos(&self, e: EdgeId) -> Option<(f64, f64)> {
+        if !self.topo.is_interior(e) {
+            return None;
+        }
+        let [a, b, c, d] = self.edge_quad(e);
+        Some(geometry::excess_sin_cos(a, b, c, d))
+    }
+
     /// Whether `e` is interior and its opposite angles exceed π by more than
     /// `tolerance`.
     #[inline]
@@ -182,8 +201,7 @@ impl Surface {
     #[inline]
     pub fn edge_length(&self, e: EdgeId) -> f64 {
         let h = e.halfedge();
-        (self.positions[self.topo.dest(h).idx()] - self.positions[self.topo.origin(h).idx()])
-            .length()
+        (self.positions[self.topo.dest(h).idx()] - self.positions[self.topo.origin(h).idx()]).length()
     }
 
     /// The parameter of vertex `v` along input edge `edge` (0 or 1 at its
@@ -226,8 +244,7 @@ impl Surface {
         let p = self.topo.split(e);
         self.positions.push(point_on_edge(p0, p1, t));
         self.carriers.push(Carrier::Edge { edge, t });
-        self.edge_input
-            .extend_from_slice(&[edge, NO_INPUT_EDGE, NO_INPUT_EDGE]);
+        self.edge_input.extend_from_slice(&[edge, NO_INPUT_EDGE, NO_INPUT_EDGE]);
         let (r1, r2) = (self.face_region[f1.idx()], self.face_region[f2.idx()]);
         self.face_region.extend_from_slice(&[r1, r2]);
         p
@@ -285,11 +302,7 @@ impl Surface {
     /// edge. Linear time; for tests.
     pub fn validate(&self) -> Result<(), String> {
         self.topo.validate()?;
-        let (nv, ne, nf) = (
-            self.topo.n_vertices(),
-            self.topo.n_edges(),
-            self.topo.n_faces(),
-        );
+        let (nv, ne, nf) = (self.topo.n_vertices(), self.topo.n_edges(), self.topo.n_faces());
         if self.positions.len() != nv || self.carriers.len() != nv {
             return Err("vertex arrays disagree in length".into());
         }
@@ -298,9 +311,7 @@ impl Surface {
         }
         for v in self.n_input_vertices..nv {
             match self.carriers[v] {
-                Carrier::Edge { edge, t }
-                    if (edge as usize) < self.input_edges.len() && t > 0.0 && t < 1.0 =>
-                {
+                Carrier::Edge { edge, t } if (edge as usize) < self.input_edges.len() && t > 0.0 && t < 1.0 => {
                     let [p0, p1] = self.input_edge_ends(edge);
                     if point_on_edge(p0, p1, t) != self.positions[v] {
                         return Err(format!("vertex {v} is not where its carrier says"));
@@ -327,9 +338,7 @@ impl Surface {
                     Carrier::Edge { edge, .. } => edge == input,
                 };
                 if !on {
-                    return Err(format!(
-                        "{e:?} claims input edge {input} but {v:?} is not on it"
-                    ));
+                    return Err(format!("{e:?} claims input edge {input} but {v:?} is not on it"));
                 }
             }
         }

@@ -122,10 +122,7 @@ impl Topology {
     /// Every vertex must be used by some triangle. Runs in linear time: the
     /// twin of a half-edge is found among the half-edges leaving its
     /// destination (a compressed adjacency list), not in a hash map.
-    pub fn from_triangles(
-        n_vertices: usize,
-        triangles: &[[u32; 3]],
-    ) -> Result<Topology, TopologyError> {
+    pub fn from_triangles(n_vertices: usize, triangles: &[[u32; 3]]) -> Result<Topology, TopologyError> {
         for (f, t) in triangles.iter().enumerate() {
             for &v in t {
                 if v as usize >= n_vertices {
@@ -133,11 +130,7 @@ impl Topology {
                 }
             }
             if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
-                let vertex = if t[0] == t[1] || t[0] == t[2] {
-                    t[0]
-                } else {
-                    t[1]
-                };
+                let vertex = if t[0] == t[1] || t[0] == t[2] { t[0] } else { t[1] };
                 return Err(TopologyError::RepeatedVertex { face: f, vertex });
             }
         }
@@ -618,11 +611,7 @@ mod tests {
         let flipped = [[0, 1, 2], [0, 1, 3]];
         assert!(matches!(
             Topology::from_triangles(4, &flipped),
-            Err(TopologyError::InconsistentOrientation {
-                face: 1,
-                a: 0,
-                b: 1
-            })
+            Err(TopologyError::InconsistentOrientation { face: 1, a: 0, b: 1 })
         ));
         // Two triangles sharing only vertex 0: a bow tie.
         let bowtie = [[0, 1, 2], [0, 3, 4]];
@@ -643,10 +632,7 @@ mod tests {
     #[test]
     fn flip_keeps_structure() {
         let mut t = Topology::from_triangles(4, &[[0, 1, 2], [1, 0, 3]]).unwrap();
-        let e = (0..t.n_edges() as u32)
-            .map(EdgeId)
-            .find(|&e| t.is_interior(e))
-            .unwrap();
+        let e = (0..t.n_edges() as u32).map(EdgeId).find(|&e| t.is_interior(e)).unwrap();
         t.flip(e);
         t.validate().unwrap();
         let (o, d) = (t.origin(e.halfedge()), t.dest(e.halfedge()));
@@ -695,16 +681,10 @@ mod tests {
             }
         }
         // Euler characteristic stays 2.
-        assert_eq!(
-            t.n_vertices() as i64 - t.n_edges() as i64 + t.n_faces() as i64,
-            2
-        );
+        assert_eq!(t.n_vertices() as i64 - t.n_edges() as i64 + t.n_faces() as i64, 2);
         // Split an open mesh's interior edge next to the boundary.
         let mut s = Topology::from_triangles(4, &[[0, 1, 2], [0, 2, 3]]).unwrap();
-        let e = (0..s.n_edges() as u32)
-            .map(EdgeId)
-            .find(|&e| s.is_interior(e))
-            .unwrap();
+        let e = (0..s.n_edges() as u32).map(EdgeId).find(|&e| s.is_interior(e)).unwrap();
         s.split(e);
         s.validate().unwrap();
         for e in 0..s.n_edges() as u32 {
