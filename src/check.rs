@@ -1,30 +1,1657 @@
-//! Placeholder with the verifier's API, until the real one lands.
-#![allow(missing_docs)]
-use std::path::Path;
+//! Independent judge of a delmesh result.
+//!
+//! Given the INPUT mesh and the OUTPUT mesh (Wavefront OBJ files, or meshes already read with
+//! [`Mesh3::read_obj`]), [`check_files`] / [`check_meshes`] decide whether OUTPUT is a valid
+//! Delaunay mesh of INPUT with exactly the same geometry. The module shares no code with the
+//! construction: it has its own reader (on top of `tobj`), its own topology and its own geometry.
+//!
+//! # What is checked
+//!
+//! 1. Every input vertex appears in the output with bit-identical coordinates.
+//! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
+//!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
+//!    spatial hash over pieces of the input edges, so the search is near linear.
+//! 3. Every output face lies inside one planar region of the input (input faces joined across
+//!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
+//!    orientation.
+//! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]).
+//! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
+//!    number of boundary loops and number of connected components equal the input's.
+//! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
+//!
+//! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind) with
+//! 1-based vertex and face numbers. [`Mesh3::read_obj`] numbers vertices in the order of their
+//! first `v` line, so the numbers are the OBJ numbers whenever the file has neither duplicated
+//! nor unused vertices. Nothing here panics on bad input: an unreadable or invalid INPUT gives a
+//! [`CheckError`] (or a failure line from [`check_meshes`]), anything wrong with OUTPUT gives
+//! failure lines.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+use std::fmt;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+/// An interior edge is Delaunay iff `alpha + beta <= pi + DELAUNAY_TOLERANCE` (radians), where
+/// `alpha` and `beta` are the angles opposite the edge in its two faces.
 pub const DELAUNAY_TOLERANCE: f64 = 1e-9;
-#[derive(Debug, Default)]
+
+/// Relative tolerance on the area of a planar region (relative to the region's input area).
+pub const AREA_TOLERANCE: f64 = 1e-9;
+
+/// Absolute floor of the area tolerance, as a fraction of the total input area.
+pub const AREA_FLOOR: f64 = 1e-12;
+
+/// Distance tolerance of the on-edge test, relative to the largest absolute coordinate of the
+/// edge's endpoints: a point `p` is on input edge `(a, b)` iff its projection parameter `t` lies
+/// in `(0, 1)` and `|p - (a + t (b - a))| <= ON_EDGE_TOLERANCE * max(1e-300, max|a_i|, |b_i|)`.
+///
+/// A point computed in f64 as `a + t * (b - a)` is off the exact segment by a few units in the
+/// last place of the coordinates (about `4e-16` relative) and the test itself adds about as much,
+/// so `1.6e-11` accepts every such point with a margin of more than 10^4, while still refusing a
+/// point moved off the edge by `1e-9` relative (60 times the tolerance).
+pub const ON_EDGE_TOLERANCE: f64 = 16e-12;
+
+/// At most this many failure lines are reported per kind of failure; the rest are summarised
+/// in one `... and N more` line.
+pub const MAX_LINES_PER_KIND: usize = 20;
+
+/// A triangle mesh as the checker sees it: welded positions and triangles indexing them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh3 {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Triangles as 0-based indices into `positions`, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Why a check could not be run at all.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckError {
+    /// The file could not be read.
+    #[error("{}: cannot read the file: {source}", .path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not a readable OBJ mesh (syntax, bad index, non-finite coordinate, ...).
+    #[error("{}: not a valid OBJ mesh: {reason}", .path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file has no triangle (after ignoring points and lines).
+    #[error("{}: the mesh has no faces", .path.display())]
+    NoFaces {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The INPUT mesh itself is not a valid input (non-manifold, inconsistently oriented,
+    /// degenerate faces repeating a vertex), so no output can be judged against it.
+    #[error("{}: the input mesh is invalid: {reason}", .path.display())]
+    InvalidInput {
+        /// The input file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// The outcome of a check: statistics and the list of failures.
+#[derive(Debug, Clone, PartialEq)]
 pub struct CheckReport {
+    /// Vertices of the input (referenced by a face).
     pub input_vertices: usize,
+    /// Faces of the input.
     pub input_faces: usize,
+    /// Planar regions of the input.
     pub input_regions: usize,
+    /// Vertices of the output (referenced by a face).
     pub output_vertices: usize,
+    /// Faces of the output.
     pub output_faces: usize,
+    /// Output vertices that are not input vertices (valid or not).
     pub added_vertices: usize,
+    /// Interior edges of the output (two faces, opposite directions).
     pub interior_edges: usize,
+    /// Interior output edges with `alpha + beta > pi + DELAUNAY_TOLERANCE`.
     pub non_delaunay_edges: usize,
+    /// `max(alpha + beta - pi)` over the interior output edges, in radians
+    /// (`f64::NEG_INFINITY` when there is no interior edge).
     pub max_excess: f64,
+    /// One human-readable line per failure, at most [`MAX_LINES_PER_KIND`] per kind plus one
+    /// `... and N more` line per kind that overflowed. Empty iff the output is valid.
     pub failures: Vec<String>,
 }
+
 impl CheckReport {
+    /// True iff the output is a valid result for the input (no failure).
     pub fn passed(&self) -> bool {
         self.failures.is_empty()
     }
+
+    fn empty(input: &Mesh3, output: &Mesh3) -> CheckReport {
+        CheckReport {
+            input_vertices: 0,
+            input_faces: input.triangles.len(),
+            input_regions: 0,
+            output_vertices: 0,
+            output_faces: output.triangles.len(),
+            added_vertices: 0,
+            interior_edges: 0,
+            non_delaunay_edges: 0,
+            max_excess: f64::NEG_INFINITY,
+            failures: Vec::new(),
+        }
+    }
 }
-#[derive(Debug, thiserror::Error)]
-pub enum CheckError {
-    #[error("not implemented")]
-    Todo,
+
+impl fmt::Display for CheckReport {
+    /// A multi-line summary followed by the failure lines.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "input: {} vertices, {} faces, {} planar regions",
+            self.input_vertices, self.input_faces, self.input_regions
+        )?;
+        writeln!(
+            f,
+            "output: {} vertices ({} added), {} faces",
+            self.output_vertices, self.added_vertices, self.output_faces
+        )?;
+        writeln!(
+            f,
+            "interior edges: {}, non-Delaunay: {}, max alpha+beta-pi: {:.3e} rad",
+            self.interior_edges, self.non_delaunay_edges, self.max_excess
+        )?;
+        if self.passed() {
+            write!(f, "PASS")
+        } else {
+            write!(f, "FAIL")?;
+            for line in &self.failures {
+                write!(f, "\n  {line}")?;
+            }
+            Ok(())
+        }
+    }
 }
-pub fn check_files(_input: &Path, _output: &Path) -> Result<CheckReport, CheckError> {
-    Err(CheckError::Todo)
+
+/// Reads both files with [`Mesh3::read_obj`] and checks OUTPUT against INPUT.
+///
+/// Errors when a file cannot be read, is not an OBJ mesh, has no faces, or when the input
+/// is itself invalid (see [`CheckError::InvalidInput`]). Everything wrong with the output is
+/// reported as failure lines in the [`CheckReport`].
+pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckError> {
+    let input_mesh = Mesh3::read(input)?;
+    let output_mesh = Mesh3::read(output)?;
+    check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
+        path: input.to_path_buf(),
+        reason,
+    })
+}
+
+/// Checks OUTPUT against INPUT, both already read. An invalid input is reported as a single
+/// `input mesh is invalid: ...` failure line. Unreferenced vertices of either mesh are ignored.
+pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
+    check_core(input, output).unwrap_or_else(|reason| {
+        let mut report = CheckReport::empty(input, output);
+        report.failures.push(format!("input mesh is invalid: {reason}"));
+        report
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------------------------
+
+impl Mesh3 {
+    /// Reads a mesh file: OBJ with [`Mesh3::read_obj`]; OFF, PLY and STL (possibly
+    /// gzip-compressed) with the readers of [`crate::io::formats`] — the one piece of reading
+    /// code the judge shares with the construction, for formats `tobj` does not read — followed
+    /// by the same welding and pinch rule as OBJ.
+    pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
+        use crate::io::formats;
+        let path = path.as_ref();
+        let parse_error = |reason: String| CheckError::Parse {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| parse_error(e.to_string()))?;
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
+        let raw = match format {
+            None | Some(formats::Format::Obj) => return Mesh3::read_obj_bytes(path, &bytes),
+            Some(formats::Format::Off) => formats::read_off(&bytes),
+            Some(formats::Format::Ply) => formats::read_ply(&bytes),
+            Some(formats::Format::Stl) => formats::read_stl(&bytes),
+        }
+        .map_err(|e| parse_error(e.to_string()))?;
+        let mut welder = Welder::default();
+        let mut triangles = Vec::new();
+        let ids: Vec<u32> = raw
+            .positions
+            .iter()
+            .map(|p| welder.insert(DVec3::from_array(*p)))
+            .collect::<Result<_, _>>()
+            .map_err(parse_error)?;
+        for f in 0..raw.face_start.len().saturating_sub(1) {
+            let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+            for i in 1..poly.len().saturating_sub(1) {
+                triangles.push([poly[0], poly[i], poly[i + 1]].map(|v| ids[v as usize]));
+            }
+        }
+        if triangles.is_empty() {
+            return Err(CheckError::NoFaces {
+                path: path.to_path_buf(),
+            });
+        }
+        // Keep only used vertices, in file order (welded ids are already in first-seen order).
+        let mut used = vec![false; welder.positions.len()];
+        triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
+        let mut new_id = vec![u32::MAX; used.len()];
+        let mut positions = Vec::new();
+        for (i, p) in welder.positions.iter().enumerate() {
+            if used[i] {
+                new_id[i] = positions.len() as u32;
+                positions.push(*p);
+            }
+        }
+        let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+        Ok(split_pinched_vertices(Mesh3 { positions, triangles }))
+    }
+
+    /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
+    /// fan-triangulated, points and lines ignored, vertices with bit-identical positions welded,
+    /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
+    /// `v` line. Material libraries are not read.
+    ///
+    /// Errors when the file cannot be read or parsed, a face index is out of range, a used
+    /// coordinate is not finite, or there is no face.
+    pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Mesh3::read_obj_bytes(path, &bytes)
+    }
+
+    /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
+    fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
+        let parse_error = |reason: String| CheckError::Parse {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ignore_points: true,
+            ignore_lines: true,
+        };
+        let (models, _materials) =
+            tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
+                .map_err(|e| parse_error(e.to_string()))?;
+
+        let mut welder = Welder::default();
+        let mut triangles = Vec::new();
+        for model in &models {
+            welder.add_model(&model.mesh, &mut triangles).map_err(parse_error)?;
+        }
+        if triangles.is_empty() {
+            return Err(CheckError::NoFaces {
+                path: path.to_path_buf(),
+            });
+        }
+        let mesh = split_pinched_vertices(renumber_by_obj_order(welder.positions, triangles, bytes));
+        if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            return Err(parse_error(format!(
+                "vertex {} {} has a non-finite coordinate",
+                i + 1,
+                fmt_point(mesh.positions[i])
+            )));
+        }
+        Ok(mesh)
+    }
+}
+
+/// Gives every fan of a pinched vertex but the first its own vertex at the same position.
+///
+/// After welding, a vertex whose faces form several edge-connected fans is a pinch point. A
+/// file written by `delmesh --repair` (or its output) has such vertices cut apart on purpose,
+/// as separate vertices at one position; welding joins them again. Reading every pinch as
+/// separate fans makes such a file read back as the surface it was written from, and leaves
+/// manifold meshes unchanged. Fans are ordered by their lowest face index, so the rule is
+/// deterministic; edges with more than two faces are not cut (they stay errors).
+fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
+    let n = mesh.positions.len();
+    // Faces around each vertex, compressed.
+    let mut start = vec![0usize; n + 1];
+    for t in &mesh.triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![0u32; start[n]];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            around[fill[v as usize]] = f as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    let mut parent: Vec<usize> = Vec::new();
+    let mut by_neighbour: Vec<(u32, usize)> = Vec::new();
+    for v in 0..n {
+        let faces = &around[start[v]..start[v + 1]];
+        if faces.len() < 2 {
+            continue;
+        }
+        // Union the faces around v that share an edge (v, w).
+        parent.clear();
+        parent.extend(0..faces.len());
+        by_neighbour.clear();
+        for (i, &f) in faces.iter().enumerate() {
+            for &w in &mesh.triangles[f as usize] {
+                if w as usize != v {
+                    by_neighbour.push((w, i));
+                }
+            }
+        }
+        by_neighbour.sort_unstable();
+        fn root(parent: &mut [usize], mut x: usize) -> usize {
+            while parent[x] != x {
+                parent[x] = parent[parent[x]];
+                x = parent[x];
+            }
+            x
+        }
+        for pair in by_neighbour.windows(2) {
+            if pair[0].0 == pair[1].0 {
+                let (a, b) = (root(&mut parent, pair[0].1), root(&mut parent, pair[1].1));
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+        // Faces are listed in increasing order, so root 0 is the fan of the lowest face.
+        let mut new_vertex: Vec<(usize, u32)> = Vec::new();
+        for (i, &f) in faces.iter().enumerate() {
+            let r = root(&mut parent, i);
+            if r == 0 {
+                continue;
+            }
+            let id = match new_vertex.iter().find(|(root, _)| *root == r) {
+                Some(&(_, id)) => id,
+                None => {
+                    let id = mesh.positions.len() as u32;
+                    mesh.positions.push(mesh.positions[v]);
+                    new_vertex.push((r, id));
+                    id
+                }
+            };
+            for corner in mesh.triangles[f as usize].iter_mut() {
+                if *corner as usize == v {
+                    *corner = id;
+                }
+            }
+        }
+    }
+    mesh
+}
+
+/// Welds positions by their bit patterns while models are appended.
+#[derive(Default)]
+struct Welder {
+    positions: Vec<DVec3>,
+    index: FastMap<[u64; 3], u32>,
+}
+
+impl Welder {
+    /// Returns the welded index of `p`, adding it if new.
+    fn insert(&mut self, p: DVec3) -> Result<u32, String> {
+        let next = u32::try_from(self.positions.len()).map_err(|_| "too many vertices (more than 2^32)".to_string())?;
+        let id = *self.index.entry(bits(p)).or_insert(next);
+        if id == next {
+            self.positions.push(p);
+        }
+        Ok(id)
+    }
+
+    /// Appends the triangles of one tobj model, welding its positions.
+    fn add_model(&mut self, mesh: &tobj::Mesh, triangles: &mut Vec<[u32; 3]>) -> Result<(), String> {
+        let local = mesh
+            .positions
+            .chunks_exact(3)
+            .map(|c| self.insert(DVec3::new(c[0], c[1], c[2])))
+            .collect::<Result<Vec<u32>, String>>()?;
+        let get = |i: u32| {
+            local
+                .get(i as usize)
+                .copied()
+                .ok_or_else(|| format!("face index {i} out of range"))
+        };
+        for t in mesh.indices.chunks_exact(3) {
+            triangles.push([get(t[0])?, get(t[1])?, get(t[2])?]);
+        }
+        Ok(())
+    }
+}
+
+/// Renumbers the welded vertices in the order of their first `v` line in the file (the welder
+/// numbers them in order of first use). Vertices not found in the scan keep their relative order
+/// after all others; unused vertices do not exist here (tobj only keeps used positions).
+fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes: &[u8]) -> Mesh3 {
+    let first_line = obj_vertex_numbers(bytes);
+    let mut keyed: Vec<(usize, u32)> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let line = first_line.get(&bits(*p)).copied().unwrap_or(usize::MAX);
+            (line, i as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    let order: Vec<u32> = keyed.into_iter().map(|(_, i)| i).collect();
+    let mut new_id = vec![0u32; positions.len()];
+    for (rank, &old) in order.iter().enumerate() {
+        new_id[old as usize] = rank as u32;
+    }
+    Mesh3 {
+        positions: order.iter().map(|&i| positions[i as usize]).collect(),
+        triangles: triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect(),
+    }
+}
+
+/// Maps every position written on a `v` line to the 0-based number of its first `v` line,
+/// parsing coordinates exactly as tobj does (including the optional `w` divisor).
+fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
+    let mut first_line = FastMap::default();
+    let mut count = 0usize;
+    for line in bytes.split(|&c| c == b'\n') {
+        let Ok(line) = std::str::from_utf8(line) else {
+            continue;
+        };
+        let mut words = line.split_whitespace();
+        if words.next() != Some("v") {
+            continue;
+        }
+        let rest: Vec<&str> = words.collect();
+        let coords: Vec<f64> = rest.iter().take(3).filter_map(|w| w.parse().ok()).collect();
+        if coords.len() < 3 {
+            continue;
+        }
+        let mut p = DVec3::new(coords[0], coords[1], coords[2]);
+        if rest.len() == 4 {
+            if let Ok(w) = rest[3].parse::<f64>() {
+                p = DVec3::new(p.x / w, p.y / w, p.z / w);
+            }
+        }
+        first_line.entry(bits(p)).or_insert(count);
+        count += 1;
+    }
+    first_line
+}
+
+// ---------------------------------------------------------------------------------------------
+// The check
+// ---------------------------------------------------------------------------------------------
+
+/// Runs every check; `Err` carries why the input is invalid.
+fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
+    let model = InputModel::new(input)?;
+    let mut report = CheckReport::empty(input, output);
+    report.input_vertices = model.prepared.stats.vertices;
+    report.input_regions = model.regions.area.len();
+
+    let mut fail = Failures::default();
+    if let Some(out) = Prepared::new(output, "output", &mut fail) {
+        report.output_vertices = out.stats.vertices;
+        let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
+        report.added_vertices = candidates.added;
+        let assigned = assign_faces(&model.regions, output, &candidates, &mut fail);
+        check_areas(&model.regions, &assigned, &mut fail);
+        compare_topology(&model.prepared.stats, &out.stats, &mut fail);
+        let delaunay = delaunay_edges(output, &out.edges, &mut fail);
+        report.interior_edges = delaunay.interior;
+        report.non_delaunay_edges = delaunay.non_delaunay;
+        report.max_excess = delaunay.max_excess;
+    }
+    report.failures = fail.finish();
+    Ok(report)
+}
+
+/// The validated input with its planar regions.
+struct InputModel<'a> {
+    mesh: &'a Mesh3,
+    prepared: Prepared,
+    regions: Regions,
+    /// Regions of the faces around each input vertex (sorted, unique).
+    vertex_regions: Csr,
+}
+
+impl<'a> InputModel<'a> {
+    /// Validates the input (indices, finite coordinates, oriented manifold) and computes its
+    /// planar regions.
+    fn new(mesh: &'a Mesh3) -> Result<InputModel<'a>, String> {
+        if mesh.triangles.is_empty() {
+            return Err("the mesh has no faces".into());
+        }
+        let mut problems = Failures::default();
+        let prepared = Prepared::new(mesh, "input", &mut problems);
+        let prepared = match prepared {
+            Some(p) if problems.is_empty() => p,
+            _ => return Err(problems.summary(5)),
+        };
+        let regions = Regions::new(mesh, &prepared.edges);
+        let corners: Vec<(u32, u32)> = mesh
+            .triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(f, t)| t.map(|v| (v, regions.of_face[f])))
+            .collect();
+        let vertex_regions = Csr::from_pairs(mesh.positions.len(), &corners).sorted_unique();
+        Ok(InputModel {
+            mesh,
+            prepared,
+            regions,
+            vertex_regions,
+        })
+    }
+}
+
+impl InputModel<'_> {
+    /// The regions of the faces of the given input edges (sorted, unique), into `set`. A point
+    /// on several input edges (possible only near a vertex) gets the union of their regions.
+    fn regions_of_edges(&self, edges: &[u32], set: &mut Vec<u32>) {
+        set.clear();
+        for &e in edges {
+            let edge = &self.prepared.edges[e as usize];
+            for &f in &edge.faces[..edge.count.min(2) as usize] {
+                set.push(self.regions.of_face[f as usize]);
+            }
+        }
+        set.sort_unstable();
+        set.dedup();
+    }
+}
+
+/// A mesh whose indices and coordinates were validated, with its edges and topology.
+struct Prepared {
+    referenced: Vec<bool>,
+    edges: Vec<Edge>,
+    stats: TopologyStats,
+}
+
+impl Prepared {
+    /// Validates indices and coordinates (failures and `None` when wrong), then builds the edges
+    /// and topology, reporting non-manifold features as failures.
+    fn new(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Option<Prepared> {
+        let n = mesh.positions.len();
+        let failures_before = fail.total();
+        let mut referenced = vec![false; n];
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for &v in t {
+                match referenced.get_mut(v as usize) {
+                    Some(r) => *r = true,
+                    None => fail.push(KIND_INDEX, || {
+                        format!("{who} face {} refers to vertex {} of {n}", f + 1, v as u64 + 1)
+                    }),
+                }
+            }
+        }
+        if fail.total() > failures_before {
+            return None;
+        }
+        for (v, p) in mesh.positions.iter().enumerate() {
+            if referenced[v] && !p.is_finite() {
+                fail.push(KIND_INDEX, || {
+                    format!("{who} vertex {} {} is not finite", v + 1, fmt_point(*p))
+                });
+            }
+        }
+        if fail.total() > failures_before {
+            return None;
+        }
+        let edges = build_edges(mesh, who, fail);
+        let stats = topology_stats(mesh, &referenced, &edges, who, fail);
+        Some(Prepared {
+            referenced,
+            edges,
+            stats,
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Edges and topology
+// ---------------------------------------------------------------------------------------------
+
+/// An undirected edge `lo < hi` with (up to) its first two faces.
+struct Edge {
+    lo: u32,
+    hi: u32,
+    /// The first two faces using the edge (`u32::MAX` when absent).
+    faces: [u32; 2],
+    /// Whether each of those faces uses the edge as `lo -> hi`.
+    forward: [bool; 2],
+    /// Number of faces using the edge.
+    count: u32,
+}
+
+impl Edge {
+    /// Two faces using the edge in opposite directions.
+    fn is_interior(&self) -> bool {
+        self.count == 2 && self.forward[0] != self.forward[1]
+    }
+
+    /// For an interior edge: `(a, b, f, g)` with face `f = (a, b, c)` and face `g = (b, a, d)`.
+    fn oriented(&self) -> (u32, u32, u32, u32) {
+        let (a, b) = if self.forward[0] {
+            (self.lo, self.hi)
+        } else {
+            (self.hi, self.lo)
+        };
+        (a, b, self.faces[0], self.faces[1])
+    }
+}
+
+/// A face repeating a vertex (it has no proper edges).
+fn is_degenerate(t: &[u32; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[2] == t[0]
+}
+
+/// The vertex of `t` that is neither `a` nor `b`.
+fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
+    t.iter().copied().find(|&v| v != a && v != b).unwrap_or(a)
+}
+
+/// Builds the undirected edges of the non-degenerate faces (sorted by vertex pair), reporting
+/// degenerate faces, edges with more than two faces and edges used twice in one direction.
+fn build_edges(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Vec<Edge> {
+    let mut halves: Vec<(u32, (u32, u32, bool))> = Vec::with_capacity(mesh.triangles.len() * 3);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if is_degenerate(t) {
+            fail.push(KIND_DEGENERATE, || {
+                format!("{who} face {} {} repeats a vertex", f + 1, fmt_face(t))
+            });
+            continue;
+        }
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            halves.push((a.min(b), (a.max(b), f as u32, a < b)));
+        }
+    }
+    // Group the half-edges by their lower vertex, then sort each (small) row by upper vertex.
+    let (starts, mut by_lo) = group_by_row(mesh.positions.len(), &halves);
+    drop(halves);
+    let mut edges = Vec::new();
+    for lo in 0..mesh.positions.len() {
+        let row = &mut by_lo[starts[lo]..starts[lo + 1]];
+        row.sort_unstable();
+        for group in row.chunk_by(|x, y| x.0 == y.0) {
+            push_edge(lo as u32, group, &mut edges, who, fail);
+        }
+    }
+    edges
+}
+
+/// Appends the edge `(lo, hi)` made of `group` (all `(hi, face, forward)` entries of one vertex
+/// pair), reporting it when it has more than two faces or is misoriented.
+fn push_edge(lo: u32, group: &[(u32, u32, bool)], edges: &mut Vec<Edge>, who: &str, fail: &mut Failures) {
+    let (hi, f0, d0) = group[0];
+    let second = group.get(1).copied();
+    let edge = Edge {
+        lo,
+        hi,
+        faces: [f0, second.map_or(u32::MAX, |s| s.1)],
+        forward: [d0, second.is_some_and(|s| s.2)],
+        count: group.len() as u32,
+    };
+    if edge.count > 2 {
+        fail.push(KIND_MANIFOLD, || {
+            format!(
+                "{who} edge (v{}, v{}) is shared by {} faces",
+                lo + 1,
+                hi + 1,
+                edge.count
+            )
+        });
+    } else if edge.count == 2 && !edge.is_interior() {
+        fail.push(KIND_MANIFOLD, || {
+            format!(
+                "{who} faces {} and {} use edge (v{}, v{}) in the same direction \
+                 (inconsistent orientation)",
+                edge.faces[0] + 1,
+                edge.faces[1] + 1,
+                lo + 1,
+                hi + 1
+            )
+        });
+    }
+    edges.push(edge);
+}
+/// Topological invariants of a mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct TopologyStats {
+    /// Referenced vertices.
+    vertices: usize,
+    /// Undirected edges.
+    edges: usize,
+    /// Faces.
+    faces: usize,
+    /// `V - E + F`.
+    euler: i64,
+    /// Connected components (through faces).
+    components: usize,
+    /// Boundary loops; `None` when the mesh is not manifold (then undefined).
+    boundary_loops: Option<usize>,
+}
+
+/// Computes the invariants, reporting vertices whose faces do not form a single fan.
+fn topology_stats(mesh: &Mesh3, referenced: &[bool], edges: &[Edge], who: &str, fail: &mut Failures) -> TopologyStats {
+    let errors_before = fail.total();
+    check_vertex_fans(mesh, who, fail);
+    let manifold = fail.total() == errors_before && edges.iter().all(|e| e.count == 1 || e.is_interior());
+    let vertices = referenced.iter().filter(|&&r| r).count();
+    TopologyStats {
+        vertices,
+        edges: edges.len(),
+        faces: mesh.triangles.len(),
+        euler: vertices as i64 - edges.len() as i64 + mesh.triangles.len() as i64,
+        components: count_components(mesh, referenced),
+        boundary_loops: manifold.then(|| count_boundary_loops(mesh.positions.len(), edges)),
+    }
+}
+
+/// Reports every vertex whose faces do not form a single fan (a disk or half-disk).
+fn check_vertex_fans(mesh: &Mesh3, who: &str, fail: &mut Failures) {
+    let mut corners: Vec<(u32, (u32, u32))> = Vec::with_capacity(mesh.triangles.len() * 3);
+    for t in mesh.triangles.iter().filter(|t| !is_degenerate(t)) {
+        for k in 0..3 {
+            corners.push((t[k], (t[(k + 1) % 3], t[(k + 2) % 3])));
+        }
+    }
+    let (counts, mut links) = group_by_row(mesh.positions.len(), &corners);
+    drop(corners);
+    for v in 0..mesh.positions.len() {
+        let link = &mut links[counts[v]..counts[v + 1]];
+        if !link.is_empty() && is_single_fan(link) == Some(false) {
+            fail.push(KIND_MANIFOLD, || {
+                format!(
+                    "{who} vertex {} {}: its faces do not form a single fan (non-manifold vertex)",
+                    v + 1,
+                    fmt_point(mesh.positions[v])
+                )
+            });
+        }
+    }
+}
+
+/// Given the link edges `x -> y` of a vertex (one per face `(v, x, y)`), tells whether they form
+/// one path or one cycle. `None` when a link vertex has two successors or two predecessors
+/// (a non-manifold or misoriented edge, reported elsewhere).
+fn is_single_fan(link: &mut [(u32, u32)]) -> Option<bool> {
+    link.sort_unstable();
+    if link.windows(2).any(|w| w[0].0 == w[1].0) {
+        return None;
+    }
+    let mut heads: Vec<u32> = link.iter().map(|e| e.1).collect();
+    heads.sort_unstable();
+    if heads.windows(2).any(|w| w[0] == w[1]) {
+        return None;
+    }
+    let successor = |x: u32| link.binary_search_by_key(&x, |e| e.0).ok().map(|i| link[i].1);
+    let start = link
+        .iter()
+        .map(|e| e.0)
+        .find(|x| heads.binary_search(x).is_err())
+        .unwrap_or(link[0].0);
+    let mut steps = 0;
+    let mut current = start;
+    while let Some(next) = successor(current) {
+        steps += 1;
+        current = next;
+        if current == start || steps > link.len() {
+            break;
+        }
+    }
+    Some(steps == link.len())
+}
+
+/// Number of connected components of the referenced vertices, joined through faces.
+fn count_components(mesh: &Mesh3, referenced: &[bool]) -> usize {
+    let mut sets = UnionFind::new(mesh.positions.len());
+    for t in &mesh.triangles {
+        sets.union(t[0], t[1]);
+        sets.union(t[1], t[2]);
+    }
+    (0..mesh.positions.len() as u32)
+        .filter(|&v| referenced[v as usize] && sets.find(v) == v)
+        .count()
+}
+
+/// Number of boundary loops of a manifold mesh: cycles of the directed boundary edges.
+fn count_boundary_loops(vertex_count: usize, edges: &[Edge]) -> usize {
+    const NONE: u32 = u32::MAX;
+    let mut next = vec![NONE; vertex_count];
+    for e in edges.iter().filter(|e| e.count == 1) {
+        let (a, b) = if e.forward[0] { (e.lo, e.hi) } else { (e.hi, e.lo) };
+        next[a as usize] = b;
+    }
+    let mut visited = vec![false; vertex_count];
+    let mut loops = 0;
+    for start in 0..vertex_count {
+        if next[start] == NONE || visited[start] {
+            continue;
+        }
+        loops += 1;
+        let mut current = start as u32;
+        while current != NONE && !visited[current as usize] {
+            visited[current as usize] = true;
+            current = next[current as usize];
+        }
+    }
+    loops
+}
+
+/// Reports every invariant of the output that differs from the input's.
+fn compare_topology(input: &TopologyStats, output: &TopologyStats, fail: &mut Failures) {
+    if input.euler != output.euler {
+        fail.push(KIND_TOPOLOGY, || {
+            format!(
+                "Euler characteristic {} became {} (V-E+F: {}-{}+{} became {}-{}+{})",
+                input.euler,
+                output.euler,
+                input.vertices,
+                input.edges,
+                input.faces,
+                output.vertices,
+                output.edges,
+                output.faces
+            )
+        });
+    }
+    if let (Some(a), Some(b)) = (input.boundary_loops, output.boundary_loops) {
+        if a != b {
+            fail.push(KIND_TOPOLOGY, || format!("number of boundary loops {a} became {b}"));
+        }
+    }
+    if input.components != output.components {
+        fail.push(KIND_TOPOLOGY, || {
+            format!(
+                "number of connected components {} became {}",
+                input.components, output.components
+            )
+        });
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Planar regions of the input
+// ---------------------------------------------------------------------------------------------
+
+/// The planar regions of the input.
+struct Regions {
+    /// Region of every input face.
+    of_face: Vec<u32>,
+    /// Area of every region.
+    area: Vec<f64>,
+    /// Unit normal of every region (of its largest face; zero if all its faces have zero area).
+    normal: Vec<DVec3>,
+    /// Lowest-numbered input face of every region (to name it).
+    first_face: Vec<u32>,
+    /// Total input area.
+    total_area: f64,
+}
+
+impl Regions {
+    /// Joins input faces across every interior edge that is exactly coplanar and flat.
+    fn new(mesh: &Mesh3, edges: &[Edge]) -> Regions {
+        let p = |v: u32| mesh.positions[v as usize];
+        let mut sets = UnionFind::new(mesh.triangles.len());
+        for e in edges.iter().filter(|e| e.is_interior()) {
+            let (a, b, f, g) = e.oriented();
+            let c = third(&mesh.triangles[f as usize], a, b);
+            let d = third(&mesh.triangles[g as usize], a, b);
+            if coplanar_and_flat(p(a), p(b), p(c), p(d)) {
+                sets.union(f, g);
+            }
+        }
+        let mut id = vec![u32::MAX; mesh.triangles.len()];
+        let mut regions = Regions {
+            of_face: vec![0; mesh.triangles.len()],
+            area: Vec::new(),
+            normal: Vec::new(),
+            first_face: Vec::new(),
+            total_area: 0.0,
+        };
+        let mut largest: Vec<f64> = Vec::new();
+        for f in 0..mesh.triangles.len() {
+            let root = sets.find(f as u32) as usize;
+            if id[root] == u32::MAX {
+                id[root] = regions.area.len() as u32;
+                regions.area.push(0.0);
+                regions.normal.push(DVec3::ZERO);
+                regions.first_face.push(f as u32);
+                largest.push(-1.0);
+            }
+            let r = id[root] as usize;
+            regions.of_face[f] = r as u32;
+            let n = face_normal(mesh, &mesh.triangles[f]);
+            let area = 0.5 * n.length();
+            regions.area[r] += area;
+            regions.total_area += area;
+            if area > largest[r] {
+                largest[r] = area;
+                regions.normal[r] = n.normalize_or_zero();
+            }
+        }
+        regions
+    }
+
+    /// A name for region `r` in failure lines.
+    fn name(&self, r: usize) -> String {
+        format!("region {} (containing input face {})", r + 1, self.first_face[r] + 1)
+    }
+}
+
+/// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
+fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+    if robust::orient3d(c3(a), c3(b), c3(c), c3(d)) != 0.0 {
+        return false;
+    }
+    let projections: [fn(DVec3) -> robust::Coord<f64>; 3] = [
+        |p| robust::Coord { x: p.x, y: p.y },
+        |p| robust::Coord { x: p.y, y: p.z },
+        |p| robust::Coord { x: p.z, y: p.x },
+    ];
+    for proj in projections {
+        let side_c = robust::orient2d(proj(a), proj(b), proj(c));
+        if side_c != 0.0 {
+            let side_d = robust::orient2d(proj(a), proj(b), proj(d));
+            return (side_c > 0.0 && side_d < 0.0) || (side_c < 0.0 && side_d > 0.0);
+        }
+    }
+    false
+}
+
+/// The non-normalised normal `(b - a) x (c - a)` of a face (twice its area in length).
+fn face_normal(mesh: &Mesh3, t: &[u32; 3]) -> DVec3 {
+    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+    (b - a).cross(c - a)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output vertices
+// ---------------------------------------------------------------------------------------------
+
+/// Candidate regions of every output vertex.
+struct Candidates {
+    /// Regions per output vertex (sorted, unique).
+    regions: Csr,
+    /// Whether the vertex was recognised (input vertex or on an input edge).
+    known: Vec<bool>,
+    /// Number of referenced output vertices that are not input vertices.
+    added: usize,
+}
+
+/// Checks rules 1 and 2 and returns the candidate regions of every output vertex.
+fn classify_output_vertices(
+    model: &InputModel,
+    output: &Mesh3,
+    out_referenced: &[bool],
+    fail: &mut Failures,
+) -> Candidates {
+    let input = model.mesh;
+    // Input vertices by position; several share one position where a pinch was read as
+    // separate fans (see `split_pinched_vertices`): `same_next` chains them.
+    const END: u32 = u32::MAX;
+    let mut lookup: FastMap<[u64; 3], u32> = FastMap::default();
+    let mut same_next = vec![END; input.positions.len()];
+    for (v, p) in input.positions.iter().enumerate().rev() {
+        if model.prepared.referenced[v] {
+            if let Some(old) = lookup.insert(bits(*p), v as u32) {
+                same_next[v] = old;
+            }
+        }
+    }
+    let mut seen = vec![false; input.positions.len()];
+    let mut grid: Option<EdgeGrid> = None;
+    let mut regions = CsrBuilder::default();
+    let mut known = vec![false; output.positions.len()];
+    let mut added = 0;
+    let mut on_edges = Vec::new();
+    let mut set = Vec::new();
+    for (v, &p) in output.positions.iter().enumerate() {
+        if !out_referenced[v] {
+            regions.finish_row();
+            continue;
+        }
+        if let Some(&first) = lookup.get(&bits(p)) {
+            known[v] = true;
+            set.clear();
+            let mut iv = first;
+            while iv != END {
+                seen[iv as usize] = true;
+                set.extend_from_slice(model.vertex_regions.row(iv as usize));
+                iv = same_next[iv as usize];
+            }
+            set.sort_unstable();
+            set.dedup();
+            regions.extend(&set);
+        } else {
+            added += 1;
+            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+            if on_edges.is_empty() {
+                fail.push(KIND_VERTEX, || {
+                    format!(
+                        "output vertex {} {} is neither an input vertex nor on an input edge",
+                        v + 1,
+                        fmt_point(p)
+                    )
+                });
+            } else {
+                known[v] = true;
+                model.regions_of_edges(&on_edges, &mut set);
+                regions.extend(&set);
+            }
+        }
+        regions.finish_row();
+    }
+    for (v, &p) in input.positions.iter().enumerate() {
+        if model.prepared.referenced[v] && !seen[v] {
+            fail.push(KIND_MISSING, || {
+                format!("input vertex {} {} missing from output", v + 1, fmt_point(p))
+            });
+        }
+    }
+    Candidates {
+        regions: regions.build(),
+        known,
+        added,
+    }
+}
+
+/// The on-edge tolerance of input edge `(a, b)`; see [`ON_EDGE_TOLERANCE`].
+fn edge_tolerance(a: DVec3, b: DVec3) -> f64 {
+    ON_EDGE_TOLERANCE * a.abs().max_element().max(b.abs().max_element()).max(1e-300)
+}
+
+/// Whether `p` lies on segment `(a, b)` strictly between its endpoints, within tolerance.
+fn on_edge(p: DVec3, a: DVec3, b: DVec3) -> bool {
+    let d = b - a;
+    let len2 = d.length_squared();
+    if len2 <= 0.0 {
+        return false;
+    }
+    let t = (p - a).dot(d) / len2;
+    t > 0.0 && t < 1.0 && (p - (a + t * d)).length() <= edge_tolerance(a, b)
+}
+
+/// A spatial hash over the input edges: every edge is cut into pieces no longer than the cell
+/// size, and each piece (its bounding box grown by twice the edge's tolerance) is registered in
+/// every cell it overlaps. Cells are hashed into a table of buckets stored as one flat array (CSR).
+///
+/// Cell coordinates are computed in a frame scaled by an exact power of two (`scale`, 1 unless
+/// coordinates exceed 2^1000), so that no difference of coordinates can overflow.
+struct EdgeGrid {
+    frame: GridFrame,
+    mask: usize,
+    starts: Vec<usize>,
+    items: Vec<u32>,
+}
+
+/// The geometry of an [`EdgeGrid`], in the scaled frame `q = p * scale`.
+struct GridFrame {
+    scale: f64,
+    /// Lowest corner of the edges' bounding box, in the scaled frame.
+    origin: DVec3,
+    /// Cell size in the scaled frame.
+    cell: f64,
+}
+
+impl GridFrame {
+    /// Chooses the frame for the edges that [`can_contain_points`]. The cell size is the median
+    /// edge length, but at least a quarter of the mean length (so long edges make at most 5E
+    /// pieces in total), at least four times the largest edge tolerance (so a grown piece spans
+    /// at most 3 cells per axis) and at least `1e-9` of the extent (so cell coordinates stay far
+    /// inside `i64`).
+    fn new(mesh: &Mesh3, edges: &[Edge]) -> GridFrame {
+        let usable = || {
+            edges
+                .iter()
+                .map(|e| (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize]))
+                .filter(|&segment| can_contain_points(segment))
+        };
+        let largest = usable()
+            .map(|(a, b)| a.abs().max(b.abs()).max_element())
+            .fold(0.0, f64::max);
+        let scale = if largest > 2f64.powi(1000) { 2f64.powi(-24) } else { 1.0 };
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        let mut lengths = Vec::new();
+        for (a, b) in usable() {
+            let (a, b) = (a * scale, b * scale);
+            lo = lo.min(a).min(b);
+            hi = hi.max(a).max(b);
+            lengths.push((b - a).length());
+        }
+        if lengths.is_empty() {
+            return GridFrame {
+                scale,
+                origin: DVec3::ZERO,
+                cell: 1.0,
+            };
+        }
+        let mean = lengths.iter().sum::<f64>() / lengths.len() as f64;
+        let mid = lengths.len() / 2;
+        let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
+        let mut cell = median
+            .max(mean / 4.0)
+            .max(4.0 * ON_EDGE_TOLERANCE * largest.max(1e-300) * scale)
+            .max((hi - lo).max_element() * 1e-9);
+        if !(cell.is_finite() && cell > 0.0 && (1.0 / cell).is_finite()) {
+            cell = 1.0;
+        }
+        GridFrame {
+            scale,
+            origin: lo,
+            cell,
+        }
+    }
+
+    /// Integer cell coordinates of a point (monotone in each coordinate).
+    fn cell_of(&self, p: DVec3) -> [i64; 3] {
+        let q = (p * self.scale - self.origin) / self.cell;
+        [q.x.floor() as i64, q.y.floor() as i64, q.z.floor() as i64]
+    }
+}
+
+impl EdgeGrid {
+    /// Builds the hash (two passes over the edges: count, then fill).
+    fn new(mesh: &Mesh3, edges: &[Edge]) -> EdgeGrid {
+        let buckets = edges.len().max(64).next_power_of_two();
+        let mut grid = EdgeGrid {
+            frame: GridFrame::new(mesh, edges),
+            mask: buckets - 1,
+            starts: Vec::new(),
+            items: Vec::new(),
+        };
+        let segment = |e: &Edge| (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize]);
+        let mut counts = vec![0usize; buckets + 1];
+        for e in edges {
+            grid.for_each_bucket(segment(e), |k| counts[k + 1] += 1);
+        }
+        for i in 1..counts.len() {
+            counts[i] += counts[i - 1];
+        }
+        let mut next = counts.clone();
+        let mut items = vec![0u32; counts[buckets]];
+        for (i, e) in edges.iter().enumerate() {
+            grid.for_each_bucket(segment(e), |k| {
+                items[next[k]] = i as u32;
+                next[k] += 1;
+            });
+        }
+        grid.starts = counts;
+        grid.items = items;
+        grid
+    }
+
+    /// The bucket of a cell.
+    fn bucket(&self, c: [i64; 3]) -> usize {
+        let h = (c[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (c[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (c[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+        let h = (h ^ (h >> 31)).wrapping_mul(0xD6E8_FEB8_6659_FD93);
+        ((h ^ (h >> 32)) as usize) & self.mask
+    }
+
+    /// Calls `f` with the bucket of every cell overlapped by the grown pieces of edge `(a, b)`
+    /// (a bucket may come more than once). Edges that cannot contain points are skipped.
+    fn for_each_bucket(&self, (a, b): (DVec3, DVec3), mut f: impl FnMut(usize)) {
+        if !can_contain_points((a, b)) {
+            return;
+        }
+        // Twice the tolerance: covers every accepted point plus any rounding of the pieces.
+        let grow = DVec3::splat(2.0 * edge_tolerance(a, b));
+        let length = (b - a).length() * self.frame.scale;
+        let pieces = (length / self.frame.cell).ceil().clamp(1.0, 1e7) as usize;
+        for k in 0..pieces {
+            let p0 = a.lerp(b, k as f64 / pieces as f64);
+            let p1 = a.lerp(b, (k + 1) as f64 / pieces as f64);
+            let lo = self.frame.cell_of(p0.min(p1) - grow);
+            let hi = self.frame.cell_of(p0.max(p1) + grow);
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        f(self.bucket([x, y, z]));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Fills `out` with the (sorted, unique) input edges that contain `p`.
+    fn edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
+        out.clear();
+        let k = self.bucket(self.frame.cell_of(p));
+        for &e in &self.items[self.starts[k]..self.starts[k + 1]] {
+            let edge = &edges[e as usize];
+            let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
+            if on_edge(p, a, b) {
+                out.push(e);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
+/// Whether [`on_edge`] can accept any point on segment `(a, b)`: its squared length must be
+/// positive and finite (an overflowing length makes the test refuse everything). Other edges
+/// are left out of the grid, which keeps its geometry finite.
+fn can_contain_points((a, b): (DVec3, DVec3)) -> bool {
+    let len2 = (b - a).length_squared();
+    len2 > 0.0 && len2.is_finite()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output faces and areas
+// ---------------------------------------------------------------------------------------------
+
+/// Checks rule 3 and returns the output area assigned to every region.
+fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Vec<f64> {
+    let mut assigned = vec![0.0; regions.area.len()];
+    let mut common = Vec::new();
+    for (f, t) in output.triangles.iter().enumerate() {
+        if is_degenerate(t) {
+            continue;
+        }
+        let known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
+        let Some((&first, rest)) = known.split_first() else {
+            continue; // all three vertices already reported
+        };
+        common.clear();
+        common.extend(candidates.regions.row(first as usize).iter().copied().filter(|r| {
+            rest.iter()
+                .all(|&v| candidates.regions.row(v as usize).binary_search(r).is_ok())
+        }));
+        let normal = face_normal(output, t);
+        let best = common.iter().copied().max_by(|&r, &s| {
+            let dr = regions.normal[r as usize].dot(normal);
+            let ds = regions.normal[s as usize].dot(normal);
+            dr.total_cmp(&ds)
+        });
+        let Some(best) = best else {
+            fail.push(KIND_FACE, || {
+                format!(
+                    "output face {} {} does not lie inside one planar region of the input \
+                     (its vertices share no region)",
+                    f + 1,
+                    fmt_face(t)
+                )
+            });
+            continue;
+        };
+        let r = best as usize;
+        assigned[r] += 0.5 * normal.length();
+        let dot = regions.normal[r].dot(normal);
+        let same_orientation = dot > 0.0; // false for NaN too
+        if !same_orientation {
+            fail.push(KIND_FACE, || {
+                let what = if normal.length_squared() > 0.0 {
+                    "is reversed or degenerate relative to"
+                } else {
+                    "has zero area in"
+                };
+                format!(
+                    "output face {} {} {what} {} (normal . region normal = {dot:.3e})",
+                    f + 1,
+                    fmt_face(t),
+                    regions.name(r)
+                )
+            });
+        }
+    }
+    assigned
+}
+
+/// Checks rule 4: every region keeps its area.
+fn check_areas(regions: &Regions, assigned: &[f64], fail: &mut Failures) {
+    let floor = AREA_FLOOR * regions.total_area;
+    for (r, (&before, &after)) in regions.area.iter().zip(assigned).enumerate() {
+        let tolerance = AREA_TOLERANCE * before + floor;
+        let kept = (after - before).abs() <= tolerance; // false for NaN too
+        if !kept {
+            fail.push(KIND_AREA, || {
+                format!("{} area {before} became {after}", regions.name(r))
+            });
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Delaunay
+// ---------------------------------------------------------------------------------------------
+
+/// Result of the Delaunay check.
+struct DelaunayStats {
+    interior: usize,
+    non_delaunay: usize,
+    max_excess: f64,
+}
+
+/// The angle between two vectors, in `[0, pi]`.
+fn angle(u: DVec3, v: DVec3) -> f64 {
+    u.cross(v).length().atan2(u.dot(v))
+}
+
+/// `alpha + beta - pi` of interior edge `(a, b)` with faces `(a, b, c)` and `(b, a, d)`.
+fn excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    angle(a - c, b - c) + angle(a - d, b - d) - PI
+}
+
+/// Checks rule 6 on every interior output edge; reports the worst edges first.
+fn delaunay_edges(output: &Mesh3, edges: &[Edge], fail: &mut Failures) -> DelaunayStats {
+    let p = |v: u32| output.positions[v as usize];
+    let mut stats = DelaunayStats {
+        interior: 0,
+        non_delaunay: 0,
+        max_excess: f64::NEG_INFINITY,
+    };
+    let mut bad: Vec<(f64, u32, u32)> = Vec::new();
+    for e in edges.iter().filter(|e| e.is_interior()) {
+        let (a, b, f, g) = e.oriented();
+        let c = third(&output.triangles[f as usize], a, b);
+        let d = third(&output.triangles[g as usize], a, b);
+        let x = excess(p(a), p(b), p(c), p(d));
+        stats.interior += 1;
+        stats.max_excess = stats.max_excess.max(x);
+        let delaunay = x <= DELAUNAY_TOLERANCE; // false for NaN too
+        if !delaunay {
+            bad.push((x, e.lo, e.hi));
+        }
+    }
+    stats.non_delaunay = bad.len();
+    bad.sort_by(|x, y| y.0.total_cmp(&x.0));
+    for (x, lo, hi) in bad {
+        fail.push(KIND_DELAUNAY, || {
+            format!(
+                "non-Delaunay edge (v{}, v{}): alpha+beta-pi = {x:.3e} rad",
+                lo + 1,
+                hi + 1
+            )
+        });
+    }
+    stats
+}
+
+// ---------------------------------------------------------------------------------------------
+// Small utilities
+// ---------------------------------------------------------------------------------------------
+
+const KIND_INDEX: &str = "invalid index or coordinate";
+const KIND_DEGENERATE: &str = "degenerate face";
+const KIND_MANIFOLD: &str = "non-manifold or misoriented feature";
+const KIND_MISSING: &str = "missing input vertex";
+const KIND_VERTEX: &str = "misplaced output vertex";
+const KIND_FACE: &str = "face outside a planar region";
+const KIND_AREA: &str = "region area change";
+const KIND_TOPOLOGY: &str = "topology change";
+const KIND_DELAUNAY: &str = "non-Delaunay edge";
+
+/// Collects failure lines, keeping at most [`MAX_LINES_PER_KIND`] per kind.
+#[derive(Default)]
+struct Failures {
+    lines: Vec<String>,
+    /// Kinds in order of first appearance, with their total count.
+    counts: Vec<(&'static str, usize)>,
+}
+
+impl Failures {
+    /// Records one failure; the line is only formatted when it will be kept.
+    fn push(&mut self, kind: &'static str, line: impl FnOnce() -> String) {
+        let i = match self.counts.iter().position(|(k, _)| *k == kind) {
+            Some(i) => i,
+            None => {
+                self.counts.push((kind, 0));
+                self.counts.len() - 1
+            }
+        };
+        self.counts[i].1 += 1;
+        if self.counts[i].1 <= MAX_LINES_PER_KIND {
+            self.lines.push(line());
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.counts.is_empty()
+    }
+
+    /// Number of failures recorded so far (kept or not).
+    fn total(&self) -> usize {
+        self.counts.iter().map(|(_, c)| c).sum()
+    }
+
+    /// The kept lines plus one `... and N more` line per overflowing kind.
+    fn finish(mut self) -> Vec<String> {
+        for (kind, count) in &self.counts {
+            if *count > MAX_LINES_PER_KIND {
+                let more = count - MAX_LINES_PER_KIND;
+                self.lines.push(format!("... and {more} more {kind} failures"));
+            }
+        }
+        self.lines
+    }
+
+    /// The first `n` lines joined, for an error message.
+    fn summary(self, n: usize) -> String {
+        let total = self.total();
+        let lines = self.finish();
+        let mut text = lines.iter().take(n).cloned().collect::<Vec<_>>().join("; ");
+        if total > n {
+            text.push_str(&format!(" (and {} more problems)", total - n));
+        }
+        text
+    }
+}
+
+/// Counting sort of `(row, item)` pairs by row (stable): returns the start of every row (plus
+/// the end) and the items. Every row must be `< rows`.
+fn group_by_row<T: Copy + Default>(rows: usize, pairs: &[(u32, T)]) -> (Vec<usize>, Vec<T>) {
+    let mut starts = vec![0usize; rows + 1];
+    for &(r, _) in pairs {
+        starts[r as usize + 1] += 1;
+    }
+    for i in 1..starts.len() {
+        starts[i] += starts[i - 1];
+    }
+    let mut next = starts.clone();
+    let mut items = vec![T::default(); pairs.len()];
+    for &(r, x) in pairs {
+        items[next[r as usize]] = x;
+        next[r as usize] += 1;
+    }
+    (starts, items)
+}
+
+/// Rows of `u32` stored flat (compressed sparse rows).
+struct Csr {
+    starts: Vec<usize>,
+    items: Vec<u32>,
+}
+
+impl Csr {
+    /// Groups `(row, item)` pairs by row (counting sort; items keep their order).
+    fn from_pairs(rows: usize, pairs: &[(u32, u32)]) -> Csr {
+        let (starts, items) = group_by_row(rows, pairs);
+        Csr { starts, items }
+    }
+
+    /// The same rows, each sorted and without duplicates.
+    fn sorted_unique(mut self) -> Csr {
+        let mut builder = CsrBuilder::default();
+        for r in 0..self.starts.len() - 1 {
+            let row = &mut self.items[self.starts[r]..self.starts[r + 1]];
+            row.sort_unstable();
+            let mut last = None;
+            for &x in row.iter() {
+                if last != Some(x) {
+                    builder.items.push(x);
+                    last = Some(x);
+                }
+            }
+            builder.finish_row();
+        }
+        builder.build()
+    }
+
+    /// Row `r`.
+    fn row(&self, r: usize) -> &[u32] {
+        &self.items[self.starts[r]..self.starts[r + 1]]
+    }
+}
+
+/// Builds a [`Csr`] row by row.
+struct CsrBuilder {
+    starts: Vec<usize>,
+    items: Vec<u32>,
+}
+
+impl Default for CsrBuilder {
+    fn default() -> Self {
+        CsrBuilder {
+            starts: vec![0],
+            items: Vec::new(),
+        }
+    }
+}
+
+impl CsrBuilder {
+    /// Appends items to the current row.
+    fn extend(&mut self, items: &[u32]) {
+        self.items.extend_from_slice(items);
+    }
+
+    /// Ends the current row.
+    fn finish_row(&mut self) {
+        self.starts.push(self.items.len());
+    }
+
+    fn build(self) -> Csr {
+        Csr {
+            starts: self.starts,
+            items: self.items,
+        }
+    }
+}
+
+/// Disjoint sets over `0..n` with path halving and union by size.
+struct UnionFind {
+    parent: Vec<u32>,
+    size: Vec<u32>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> UnionFind {
+        UnionFind {
+            parent: (0..n as u32).collect(),
+            size: vec![1; n],
+        }
+    }
+
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let grandparent = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = grandparent;
+            x = grandparent;
+        }
+        x
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (mut a, mut b) = (self.find(a), self.find(b));
+        if a == b {
+            return;
+        }
+        if self.size[a as usize] < self.size[b as usize] {
+            std::mem::swap(&mut a, &mut b);
+        }
+        self.parent[b as usize] = a;
+        self.size[a as usize] += self.size[b as usize];
+    }
+}
+
+/// A fast multiplicative hasher for the position maps (the standard SipHash is several times
+/// slower here; keys come from files, and a bad case could only cost time, never correctness).
+#[derive(Default, Clone, Copy)]
+struct FastHasher {
+    hash: u64,
+}
+
+impl FastHasher {
+    fn add(&mut self, x: u64) {
+        self.hash = (self.hash.rotate_left(5) ^ x).wrapping_mul(0x517C_C1B7_2722_0A95);
+    }
+}
+
+impl Hasher for FastHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
+
+    /// Murmur3's 64-bit finaliser, so that every input bit reaches the low (bucket) bits even
+    /// for "round" coordinates whose low mantissa bits are all zero.
+    fn finish(&self) -> u64 {
+        let mut h = self.hash;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+        h ^ (h >> 33)
+    }
+}
+
+type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FastHasher>>;
+
+/// The bit patterns of a position (the welding key).
+fn bits(p: DVec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+/// `(x, y, z)` with shortest round-trip formatting.
+fn fmt_point(p: DVec3) -> String {
+    format!("({}, {}, {})", p.x, p.y, p.z)
+}
+
+/// `(vA, vB, vC)` with 1-based vertex numbers.
+fn fmt_face(t: &[u32; 3]) -> String {
+    format!("(v{}, v{}, v{})", t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1)
 }

@@ -42,12 +42,14 @@ struct Cli {
 
 #[derive(clap::Args, Debug)]
 struct RunArgs {
-    /// Input mesh (OBJ).
+    /// Input mesh: OBJ, OFF, PLY or STL, by extension or content, possibly
+    /// gzip-compressed (.gz).
     #[arg(short = 'i', long = "input", value_name = "FILE", required = true)]
     input: Option<PathBuf>,
 
-    /// Output mesh (OBJ). Without it the input file is rewritten, only after
-    /// success. With -all, the stem and folder of the 18 output files.
+    /// Output mesh: OBJ, OFF, PLY (binary) or STL by extension, OBJ if none.
+    /// Without it the input file is rewritten, only after success. With -all,
+    /// the stem, folder and extension of the 18 output files.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<PathBuf>,
 
@@ -76,6 +78,35 @@ struct RunArgs {
     /// summary table; -ds, -s and -nomedian are ignored [legacy: -all].
     #[arg(long = "all")]
     all: bool,
+
+    /// Work limit: stop (exit 1) once this many vertices have been added, or
+    /// three times as many edges flipped. Some settings (the first best sample
+    /// instead of the median, on inputs with tiny angles) would otherwise add
+    /// billions of vertices or flip quadratically often.
+    #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
+    max_added: usize,
+
+    /// Fix what would be refused: weld positions (see --weld-tolerance),
+    /// drop faces that repeat a vertex, zero-area and duplicate faces, orient
+    /// each component consistently, cut non-manifold edges and vertices apart.
+    /// Prints one line per kind of fix.
+    #[arg(long = "repair")]
+    repair: bool,
+
+    /// With --repair: weld vertices closer than this distance (0: only
+    /// bit-identical positions).
+    #[arg(
+        long = "weld-tolerance",
+        value_name = "DIST",
+        default_value_t = 0.0,
+        requires = "repair"
+    )]
+    weld_tolerance: f64,
+
+    /// With --repair: also write the repaired input here, the mesh `delmesh
+    /// check` should compare the output with.
+    #[arg(long = "repaired", value_name = "FILE", requires = "repair")]
+    repaired: Option<PathBuf>,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -242,8 +273,29 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
     check_output_dir(&output)?;
+    if let Some(repaired) = &args.repaired {
+        check_output_dir(repaired)?;
+        if repaired == input_path || *repaired == output {
+            bail!(
+                "{}: --repaired must name a file other than the input and the output",
+                repaired.display()
+            );
+        }
+    }
+    let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    if args.output.is_none() && compressed {
+        bail!(
+            "{}: cannot rewrite this input in place; give an output with -o",
+            input_path.display()
+        );
+    }
     let t0 = Instant::now();
-    let input = io::read_obj(input_path)?;
+    let read_options = io::ReadOptions {
+        repair: args.repair.then_some(delmesh::repair::RepairOptions {
+            weld_tolerance: args.weld_tolerance,
+        }),
+    };
+    let input = io::read_mesh(input_path, &read_options)?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     let surface = io::build_surface(&input, input_path)?;
@@ -260,24 +312,34 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sig(figures.min_edge),
             sig(figures.max_edge)
         );
-        if input.welded > 0 || input.unreferenced > 0 {
+        if let Some(report) = &input.repair {
+            if report.is_clean() {
+                println!("repair  nothing to repair");
+            }
+            for line in report.lines() {
+                println!("repair  {line}");
+            }
+        } else if input.welded > 0 || input.unreferenced > 0 {
             println!(
                 "        welded {} duplicate vertices, dropped {} unused vertices",
                 input.welded, input.unreferenced
             );
         }
     }
-    if args.all {
-        return run_all(&surface, input_path, &output, args.quiet);
+    if let Some(repaired) = &args.repaired {
+        io::write_mesh(repaired, &input.positions, &input.triangles)?;
+        if !args.quiet {
+            println!("        repaired input written to {}", repaired.display());
+        }
     }
-    let options = Options {
-        worklist: args.ds.into(),
-        score: score_of(&args.score),
-        median: !args.nomedian,
-    };
+    if args.all {
+        return run_all(&surface, input_path, &output, args);
+    }
+    let mut options = Options::new(args.ds.into(), score_of(&args.score), !args.nomedian);
+    options.max_added = args.max_added;
     let out = refine_once(surface, input_path, &options)?;
     let t1 = Instant::now();
-    io::write_obj(&output, &out.surface.positions, &out.surface.triangles())?;
+    io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
     let write_s = t1.elapsed().as_secs_f64();
     if !args.quiet {
         let s = &out.stats;
@@ -318,11 +380,7 @@ fn all_combinations() -> Vec<Options> {
     for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
         for score in [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter] {
             for median in [true, false] {
-                v.push(Options {
-                    worklist,
-                    score,
-                    median,
-                });
+                v.push(Options::new(worklist, score, median));
             }
         }
     }
@@ -345,75 +403,116 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Score::WeightedCenter => 1,
         Score::AlwaysCenter => 2,
     };
-    let name = format!("{stem}-{ds}-{score}{}.obj", if o.median { "-m" } else { "" });
+    let ext = output
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "obj".into());
+    let name = format!("{stem}-{ds}-{score}{}.{ext}", if o.median { "-m" } else { "" });
     output.with_file_name(name)
 }
 
-fn run_all(surface: &Surface, input_path: &Path, output: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
-    let combos = all_combinations();
+/// One row of the `-all` summary.
+struct Row {
+    options: Options,
+    file: PathBuf,
+    result: anyhow::Result<RowFigures>,
+}
+
+struct RowFigures {
+    faces: usize,
+    vertices: usize,
+    added: usize,
+    stats: Stats,
+    seconds: f64,
+}
+
+/// Refines one combination and writes its file (atomically).
+fn run_combination(surface: &Surface, input_path: &Path, options: &Options, file: &Path) -> anyhow::Result<RowFigures> {
+    let out = refine_once(surface.clone(), input_path, options)?;
+    io::write_mesh(file, &out.surface.positions, &out.surface.triangles())?;
+    Ok(RowFigures {
+        faces: out.surface.topo.n_faces(),
+        vertices: out.surface.positions.len(),
+        added: out.surface.positions.len() - out.surface.n_input_vertices,
+        stats: out.stats,
+        seconds: out.seconds,
+    })
+}
+
+fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) -> anyhow::Result<ExitCode> {
+    let combos: Vec<Options> = all_combinations()
+        .into_iter()
+        .map(|o| Options {
+            max_added: args.max_added,
+            ..o
+        })
+        .collect();
     for o in &combos {
         let p = combination_path(output, o);
         if p == input_path {
             bail!("{}: -all would overwrite the input; choose another -o", p.display());
         }
     }
-    // Refine every combination first (on all cores: each run is independent
-    // and deterministic, so the files equal a sequential run's), and write
-    // only when all succeeded.
+    // The combinations run on all cores; each run is independent and
+    // deterministic, so every file equals what a sequential run writes. Each
+    // file is written as soon as its run ends: only the figures are kept.
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(combos.len());
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<Option<anyhow::Result<Outcome>>> = (0..combos.len()).map(|_| None).collect();
-    let slots = std::sync::Mutex::new(&mut results);
+    let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
     std::thread::scope(|scope| {
         for _ in 0..threads {
             scope.spawn(|| loop {
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(o) = combos.get(i) else { break };
-                let out = refine_once(surface.clone(), input_path, o);
-                slots.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(out);
+                let Some(options) = combos.get(i) else { break };
+                let file = combination_path(output, options);
+                let result = run_combination(surface, input_path, options, &file);
+                rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
+                    options: *options,
+                    file,
+                    result,
+                });
             });
         }
     });
-    let mut rows = Vec::new();
-    for (o, r) in combos.iter().zip(results) {
-        let Some(out) = r else {
-            bail!("internal error: a combination did not run")
-        };
-        rows.push((*o, out?));
-    }
-    for (o, out) in &rows {
-        io::write_obj(
-            &combination_path(output, o),
-            &out.surface.positions,
-            &out.surface.triangles(),
-        )?;
-    }
-    if !quiet {
-        rows.sort_by_key(|(_, out)| out.surface.topo.n_faces());
+    let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
+    // Sorted by faces as the report's tables; failed runs last.
+    rows.sort_by_key(|r| {
+        (
+            r.result.as_ref().map_or(usize::MAX, |f| f.faces),
+            combos.iter().position(|o| *o == r.options),
+        )
+    });
+    let failed = rows.iter().filter(|r| r.result.is_err()).count();
+    if !args.quiet {
         println!(
             "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9}  file",
             "data structure", "weight", "median", "faces", "vertices", "added", "splits", "flips", "seconds"
         );
-        for (o, out) in &rows {
-            println!(
-                "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9.4}  {}",
-                ds_name(o.worklist),
-                score_name(o.score),
-                if o.median { "yes" } else { "no" },
-                out.surface.topo.n_faces(),
-                out.surface.positions.len(),
-                out.surface.positions.len() - out.surface.n_input_vertices,
-                out.stats.splits,
-                out.stats.flips,
-                out.seconds,
-                combination_path(output, o)
-                    .file_name()
-                    .map(|f| f.to_string_lossy())
-                    .unwrap_or_default()
+        for r in &rows {
+            let name = r.file.file_name().map(|f| f.to_string_lossy()).unwrap_or_default();
+            let head = format!(
+                "{:<15} {:<16} {:<6}",
+                ds_name(r.options.worklist),
+                score_name(r.options.score),
+                if r.options.median { "yes" } else { "no" }
             );
+            match &r.result {
+                Ok(f) => println!(
+                    "{head} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9.4}  {name}",
+                    f.faces, f.vertices, f.added, f.stats.splits, f.stats.flips, f.seconds
+                ),
+                Err(e) => println!("{head} {:>9}  not written: {}", "failed", one_line(e)),
+            }
         }
+    }
+    if failed > 0 {
+        eprintln!(
+            "delmesh: {failed} of {} combinations failed (see the table); the others were written",
+            rows.len()
+        );
+        return Ok(ExitCode::from(1));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -470,20 +569,12 @@ mod tests {
 
     #[test]
     fn combination_names() {
-        let o = Options {
-            worklist: Worklist::Stack,
-            score: Score::AllEqual,
-            median: true,
-        };
+        let o = Options::new(Worklist::Stack, Score::AllEqual, true);
         assert_eq!(
             combination_path(Path::new("output/elephant.obj"), &o),
             Path::new("output/elephant-s-0-m.obj")
         );
-        let o = Options {
-            worklist: Worklist::PriorityQueue,
-            score: Score::AlwaysCenter,
-            median: false,
-        };
+        let o = Options::new(Worklist::PriorityQueue, Score::AlwaysCenter, false);
         assert_eq!(combination_path(Path::new("e.obj"), &o), Path::new("e-p-2.obj"));
         assert_eq!(all_combinations().len(), 18);
     }

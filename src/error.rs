@@ -44,6 +44,19 @@ pub enum Error {
         /// The largest α+β−π among them, in radians.
         worst_excess: f64,
     },
+    /// The run reached its work limit (`--max-added` splits, or three times
+    /// as many flips): some settings (the first best sample instead of the
+    /// median, on inputs with tiny angles) approach the theoretical bound of
+    /// billions of vertices, or flip quadratically often.
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; the median rule (the default) with -s 2 usually needs far less")]
+    WorkLimit {
+        /// Splits done.
+        splits: usize,
+        /// Flips done.
+        flips: usize,
+        /// The `--max-added` limit.
+        limit: usize,
+    },
     /// An output file could not be written.
     #[error("{path}: cannot write: {source}")]
     Write {

@@ -59,10 +59,19 @@ pub fn exceeds(y: f64, x: f64, tolerance: f64) -> bool {
 
 /// Whether the edge (a, b) with opposite vertices `c`, `d` violates the
 /// Delaunay condition by more than `tolerance` radians.
+///
+/// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
+/// that common case is decided without a square root.
 #[inline]
 pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> bool {
-    let (y, x) = excess_sin_cos(a, b, c, d);
-    exceeds(y, x, tolerance)
+    let (u1, v1) = (a - c, b - c);
+    let (u2, v2) = (a - d, b - d);
+    let (c1, c2) = (u1.dot(v1), u2.dot(v2));
+    if c1 >= 0.0 && c2 >= 0.0 {
+        return false;
+    }
+    let (s1, s2) = (u1.cross(v1).length(), u2.cross(v2).length());
+    exceeds(-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2, tolerance)
 }
 
 /// Positions of a triangle pair unfolded into the plane of the edge (a, b):

@@ -33,6 +33,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod refine;
+pub mod repair;
 pub mod samples;
 
 pub use error::{Error, Result};

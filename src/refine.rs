@@ -32,16 +32,36 @@ pub struct Options {
     pub score: Score,
     /// Median of the best samples (`true`) or the first from the edge's start.
     pub median: bool,
+    /// Stop with [`Error::WorkLimit`] after adding this many vertices (or
+    /// flipping [`FLIPS_PER_ADDED`] times as many edges).
+    pub max_added: usize,
+}
+
+/// The default of [`Options::max_added`]: about 1.5 GB of mesh.
+pub const DEFAULT_MAX_ADDED: usize = 10_000_000;
+
+/// A run may flip at most this many times [`Options::max_added`]: settings
+/// that split next to a vertex every time make flips grow quadratically
+/// while the mesh stays small.
+pub const FLIPS_PER_ADDED: usize = 3;
+
+impl Options {
+    /// The given data structure, score and median rule, with the default
+    /// vertex limit.
+    pub fn new(worklist: Worklist, score: Score, median: bool) -> Self {
+        Options {
+            worklist,
+            score,
+            median,
+            max_added: DEFAULT_MAX_ADDED,
+        }
+    }
 }
 
 impl Default for Options {
     /// The report's best overall: stack, score 2, median.
     fn default() -> Self {
-        Options {
-            worklist: Worklist::Stack,
-            score: Score::AlwaysCenter,
-            median: true,
-        }
+        Options::new(Worklist::Stack, Score::AlwaysCenter, true)
     }
 }
 
@@ -180,6 +200,14 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         run.stats.passes += 1;
         while let Some(e) = ds.pop() {
             run.process(e, &mut ds);
+            if run.stats.splits >= options.max_added || run.stats.flips / FLIPS_PER_ADDED >= options.max_added {
+                let (splits, flips) = (run.stats.splits, run.stats.flips);
+                return Err(Error::WorkLimit {
+                    splits,
+                    flips,
+                    limit: options.max_added,
+                });
+            }
         }
         // Verification pass: anything missed goes back into DS.
         let mut missed = false;

@@ -301,3 +301,132 @@ fn check_rejects_a_non_delaunay_output() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stdout).contains("FAIL"));
 }
+
+#[test]
+fn every_format_in_and_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    // OBJ in, each format out; then each format in, OBJ out, checked.
+    for ext in ["ply", "off", "stl"] {
+        let out = dir.path().join(format!("c.{ext}"));
+        delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(&cube)
+            .arg("-o")
+            .arg(&out)
+            .assert()
+            .success();
+        let back = dir.path().join(format!("from-{ext}.obj"));
+        delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(&out)
+            .arg("-o")
+            .arg(&back)
+            .assert()
+            .success();
+        if ext != "stl" {
+            // f64 formats keep every coordinate: the result is still exact.
+            check_passes(&cube, &back);
+        }
+    }
+    // gzip-compressed input, recognised through the .gz.
+    let gz = dir.path().join("cube.obj.gz");
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut enc, &std::fs::read(&cube).unwrap()).unwrap();
+    std::fs::write(&gz, enc.finish().unwrap()).unwrap();
+    let out = dir.path().join("gz.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&gz)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    check_passes(&cube, &out);
+    // ... which cannot be rewritten in place.
+    let o = delmesh().arg("-i").arg(&gz).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    // A file without extension is recognised by content.
+    let bare = dir.path().join("mesh");
+    std::fs::copy(dir.path().join("c.ply"), &bare).unwrap();
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bare)
+        .arg("-o")
+        .arg(dir.path().join("bare.obj"))
+        .assert()
+        .success();
+}
+
+#[test]
+fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two fans sharing only vertex 1 (a bow tie), a duplicated position
+    // (vertex 8 = vertex 5), and a face that repeats a vertex.
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0.5\nv -1 -1 0.5\nv 0 -1 0.5\nv -1 0 0.5\n\
+                f 1 2 3\nf 1 3 4\nf 1 8 6\nf 1 6 7\nf 1 2 2\n";
+    let input = dir.path().join("bow.obj");
+    std::fs::write(&input, text).unwrap();
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("x.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--repair would fix this"));
+    let repaired = dir.path().join("bow-repaired.obj");
+    let output = dir.path().join("bow-dm.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("repair  welded 1 vertex"), "{stdout}");
+    assert!(
+        stdout.contains("repair  removed 1 face with a repeated vertex"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("repair  split 1 non-manifold vertex"), "{stdout}");
+    check_passes(&repaired, &output);
+}
+
+#[test]
+fn repair_makes_the_shipped_teapot_usable() {
+    let teapot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/nonmanifold/teapot.obj");
+    if !teapot.exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let repaired = dir.path().join("teapot-repaired.obj");
+    let output = dir.path().join("teapot-dm.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(&teapot)
+        .arg("-o")
+        .arg(&output)
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("welded 263 vertices") && stdout.contains("split 1 non-manifold vertex"),
+        "{stdout}"
+    );
+    check_passes(&repaired, &output);
+}

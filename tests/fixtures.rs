@@ -13,11 +13,7 @@ fn combinations() -> Vec<Options> {
     for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
         for score in [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter] {
             for median in [true, false] {
-                v.push(Options {
-                    worklist,
-                    score,
-                    median,
-                });
+                v.push(Options::new(worklist, score, median));
             }
         }
     }

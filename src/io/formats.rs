@@ -1,0 +1,1709 @@
+//! Readers and writers for OFF, PLY and STL meshes, and gzip input.
+//!
+//! # Why hand-written parsers
+//! No format crate is used. `ply-rs` is unmaintained since 2020, builds a
+//! property map per element (slow on million-face scans) and trusts header
+//! counts; STL crates read coordinates as `f32` and weld vertices themselves.
+//! The parsers here are small, work on an in-memory byte slice, keep the
+//! origin of every vertex and face for error messages, and are written so that
+//! hostile input cannot make them panic, hang or allocate without bound:
+//!
+//! - a header count is never trusted for allocation: before an element is read,
+//!   its declared count is checked against the bytes actually left (at least one
+//!   byte per binary property, two per ASCII value), so a PLY header claiming
+//!   2^40 vertices is refused at once, and reservations are bounded by the input;
+//! - every list length is checked against the bytes left before it is read;
+//! - elements without properties are skipped in O(1), so no loop runs more times
+//!   than there are bytes in the input; nothing recurses;
+//! - truncated data, non-numbers, non-finite coordinates (NaN, inf, or decimal
+//!   text that overflows `f64`), faces with fewer than 3 vertices, negative and
+//!   out-of-range indices are all errors naming the element (and the line, for
+//!   text); trailing bytes after the last element are ignored.
+//!
+//! Dependencies: `flate2` (default pure-Rust `miniz_oxide` backend) for `.gz`
+//! input and `ryu` for shortest round-trip formatting of `f64`, so that
+//! positions survive OFF and ASCII PLY round trips bit for bit.
+//!
+//! # Numbers in messages
+//! Vertices, faces and facets are numbered from 0, as PLY and OFF indices are;
+//! lines are numbered from 1. Text coordinates are parsed as `f64` exactly as
+//! written, even when a PLY header types them `float`.
+
+use std::borrow::Cow;
+use std::fmt;
+use std::io::{self, BufWriter, Read, Write};
+
+/// A mesh as read from a file, before welding and triangulation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RawMesh {
+    /// Vertex positions, in file order (for STL: three per facet).
+    pub positions: Vec<[f64; 3]>,
+    /// Polygons, flattened: face f is `indices[face_start[f] as usize .. face_start[f+1] as usize]`;
+    /// `face_start.len() == faces + 1` (or empty when no faces).
+    pub face_start: Vec<u32>,
+    /// Vertex indices of all faces, 0-based, each `< positions.len()` (checked by the reader).
+    pub indices: Vec<u32>,
+    /// Optional per-vertex colour (PLY red/green/blue, as read, u8 or scaled to u8), None if absent.
+    pub colors: Option<Vec<[u8; 3]>>,
+    /// Where each face came from: for text formats the 1-based line, for binary formats the 0-based record number.
+    pub face_origin: Vec<u32>,
+    /// Where each vertex came from: for text formats the 1-based line, for binary formats the 0-based
+    /// record number (for binary STL, the facet's record number).
+    pub vertex_origin: Vec<u32>,
+    /// Whether `face_origin` and `vertex_origin` hold lines or record numbers.
+    pub origin_kind: OriginKind,
+}
+
+/// What the origins of a [`RawMesh`] count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OriginKind {
+    /// 1-based line numbers (text formats).
+    #[default]
+    Line,
+    /// 0-based record numbers (binary formats).
+    Record,
+}
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (read elsewhere).
+    Obj,
+    /// Object File Format (Geomview).
+    Off,
+    /// Polygon File Format (Stanford).
+    Ply,
+    /// Stereolithography, ASCII or binary.
+    Stl,
+}
+
+/// Why a file could not be read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FormatError {
+    /// The 1-based line for text formats, None otherwise.
+    pub line: Option<u64>,
+    /// One human sentence naming the element, record or property at fault.
+    pub what: String,
+}
+
+impl FormatError {
+    fn new(what: impl Into<String>) -> Self {
+        FormatError {
+            line: None,
+            what: what.into(),
+        }
+    }
+
+    fn at(line: u64, what: impl Into<String>) -> Self {
+        FormatError {
+            line: Some(line),
+            what: what.into(),
+        }
+    }
+
+    fn maybe_at(line: Option<u64>, what: impl Into<String>) -> Self {
+        FormatError {
+            line,
+            what: what.into(),
+        }
+    }
+}
+
+impl fmt::Display for FormatError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "line {line}: {}", self.what),
+            None => f.write_str(&self.what),
+        }
+    }
+}
+
+impl std::error::Error for FormatError {}
+
+// ---------------------------------------------------------------------------
+// Format detection and gzip
+// ---------------------------------------------------------------------------
+
+/// Decompresses if the bytes start with the gzip magic (1f 8b); limit the decompressed size to `max_bytes`
+/// (error if larger). Concatenated gzip members are decompressed one after the other. Other bytes are
+/// returned as they are.
+pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, FormatError> {
+    if !bytes.starts_with(&[0x1f, 0x8b]) {
+        return Ok(Cow::Borrowed(bytes));
+    }
+    let guess = (bytes.len() as u64).saturating_mul(4).min(max_bytes).min(1 << 30);
+    let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
+    let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
+    decoder
+        .read_to_end(&mut out)
+        .map_err(|e| FormatError::new(format!("the gzip data is corrupt or truncated ({e})")))?;
+    if out.len() as u64 > max_bytes {
+        return Err(FormatError::new(format!(
+            "the gzip data decompresses to more than the limit of {max_bytes} bytes"
+        )));
+    }
+    Ok(Cow::Owned(out))
+}
+
+/// The format from a file name: .obj .off .ply .stl (case-insensitive), looking through a trailing .gz;
+/// None when the extension says nothing.
+pub fn format_from_name(name: &str) -> Option<Format> {
+    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    let lower = base.to_ascii_lowercase();
+    let stem = lower.strip_suffix(".gz").unwrap_or(&lower);
+    let (_, ext) = stem.rsplit_once('.')?;
+    match ext {
+        "obj" => Some(Format::Obj),
+        "off" => Some(Format::Off),
+        "ply" => Some(Format::Ply),
+        "stl" => Some(Format::Stl),
+        _ => None,
+    }
+}
+
+/// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, "solid " +
+/// "facet" for ASCII STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
+/// (including gzip data: decompress first with [`maybe_gunzip`]).
+pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
+    if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+        return Some(Format::Ply);
+    }
+    let text = strip_bom(bytes);
+    let window = &text[..text.len().min(SNIFF_WINDOW)];
+    if let Some((_, line)) = Lines::new(window).next_meaningful() {
+        if words(line).next().and_then(off_keyword).is_some() {
+            return Some(Format::Off);
+        }
+    }
+    if starts_with_solid(text) && (contains_ignore_case(window, b"facet") || contains_ignore_case(window, b"endsolid"))
+    {
+        return Some(Format::Stl);
+    }
+    if binary_stl_size(bytes).is_some_and(|(_, need)| need == bytes.len() as u64) {
+        return Some(Format::Stl);
+    }
+    if looks_like_obj(text) {
+        return Some(Format::Obj);
+    }
+    None
+}
+
+/// How many bytes of a file the text sniffers look at.
+const SNIFF_WINDOW: usize = 64 * 1024;
+
+fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
+fn contains_ignore_case(hay: &[u8], needle: &[u8]) -> bool {
+    hay.windows(needle.len()).any(|w| w.eq_ignore_ascii_case(needle))
+}
+
+/// Whether the complete lines of the first [`SNIFF_WINDOW`] bytes are OBJ statements, at least one a
+/// `v` or `f` line.
+fn looks_like_obj(text: &[u8]) -> bool {
+    let mut window = &text[..text.len().min(SNIFF_WINDOW)];
+    if window.len() < text.len() {
+        // Only complete lines: the last one may be cut.
+        match window.iter().rposition(|&c| c == b'\n') {
+            Some(end) => window = &window[..end],
+            None => return false,
+        }
+    }
+    if window.contains(&0) {
+        return false;
+    }
+    const KEYWORDS: &[&[u8]] = &[
+        b"v", b"vn", b"vt", b"vp", b"f", b"o", b"g", b"s", b"l", b"p", b"mtllib", b"usemtl", b"cstype", b"deg",
+        b"curv", b"curv2", b"surf", b"parm", b"trim", b"hole", b"end", b"call", b"csh", b"bmat", b"step",
+    ];
+    let mut lines = Lines::new(window);
+    let mut found = false;
+    while let Some((_, line)) = lines.next_meaningful() {
+        let Some(keyword) = words(line).next() else { continue };
+        if !KEYWORDS.contains(&keyword) {
+            return false;
+        }
+        found |= keyword == b"v" || keyword == b"f";
+    }
+    found
+}
+
+// ---------------------------------------------------------------------------
+// Shared building blocks
+// ---------------------------------------------------------------------------
+
+/// Builds a [`RawMesh`], keeping `face_start`/`face_origin` consistent.
+struct Builder {
+    m: RawMesh,
+}
+
+impl Builder {
+    fn new(kind: OriginKind) -> Self {
+        Builder {
+            m: RawMesh {
+                origin_kind: kind,
+                ..RawMesh::default()
+            },
+        }
+    }
+
+    fn line_of(&self, origin: u64) -> Option<u64> {
+        (self.m.origin_kind == OriginKind::Line).then_some(origin)
+    }
+
+    fn reserve_vertices(&mut self, n: usize) {
+        self.m.positions.reserve(n);
+        self.m.vertex_origin.reserve(n);
+        if let Some(colors) = &mut self.m.colors {
+            colors.reserve(n);
+        }
+    }
+
+    fn reserve_faces(&mut self, faces: usize, indices: usize) {
+        self.m.face_start.reserve(faces.saturating_add(1));
+        self.m.face_origin.reserve(faces);
+        self.m.indices.reserve(indices);
+    }
+
+    /// Adds a vertex after checking that it is finite; `name` is how messages call it ("vertex 3").
+    fn vertex(&mut self, p: [f64; 3], origin: u64, name: impl FnOnce() -> String) -> Result<(), FormatError> {
+        if !p.iter().all(|c| c.is_finite()) {
+            return Err(FormatError::maybe_at(
+                self.line_of(origin),
+                format!("{} has a non-finite coordinate", name()),
+            ));
+        }
+        if self.m.positions.len() >= u32::MAX as usize {
+            return Err(FormatError::maybe_at(
+                self.line_of(origin),
+                "the file has more than 2^32 - 1 vertices",
+            ));
+        }
+        self.m.positions.push(p);
+        self.m.vertex_origin.push(origin32(origin));
+        Ok(())
+    }
+
+    fn start_face(&mut self) {
+        if self.m.face_start.is_empty() {
+            self.m.face_start.push(0);
+        }
+    }
+
+    fn index(&mut self, i: u32) {
+        self.m.indices.push(i);
+    }
+
+    fn end_face(&mut self, origin: u64) -> Result<(), FormatError> {
+        let end = u32::try_from(self.m.indices.len()).map_err(|_| {
+            FormatError::maybe_at(self.line_of(origin), "the faces have more than 2^32 - 1 indices in all")
+        })?;
+        self.m.face_start.push(end);
+        self.m.face_origin.push(origin32(origin));
+        Ok(())
+    }
+
+    /// Checks every index against the vertex count and returns the mesh.
+    fn finish(self) -> Result<RawMesh, FormatError> {
+        let m = self.m;
+        let n = m.positions.len();
+        if m.indices.iter().all(|&i| (i as usize) < n) {
+            return Ok(m);
+        }
+        for (f, range) in m.face_start.windows(2).enumerate() {
+            let face = m.indices.get(range[0] as usize..range[1] as usize).unwrap_or(&[]);
+            if let Some(&bad) = face.iter().find(|&&i| i as usize >= n) {
+                let origin = m.face_origin.get(f).copied().unwrap_or(0);
+                let line = (m.origin_kind == OriginKind::Line).then_some(u64::from(origin));
+                return Err(FormatError::maybe_at(
+                    line,
+                    format!("face {f} index {bad} is out of range ({n} vertices)"),
+                ));
+            }
+        }
+        Err(FormatError::new(format!("a face index is out of range ({n} vertices)")))
+    }
+}
+
+fn origin32(origin: u64) -> u32 {
+    u32::try_from(origin).unwrap_or(u32::MAX)
+}
+
+/// Whitespace of the text formats (a newline is whitespace too).
+fn is_space(c: u8) -> bool {
+    matches!(c, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
+}
+
+/// A token as it can be shown in a message: lossy UTF-8, at most 40 characters.
+fn show(tok: &[u8]) -> String {
+    let s = String::from_utf8_lossy(tok);
+    if s.chars().count() > 40 {
+        let mut cut: String = s.chars().take(40).collect();
+        cut.push('…');
+        cut
+    } else {
+        s.into_owned()
+    }
+}
+
+fn parse_f64(tok: &[u8]) -> Option<f64> {
+    std::str::from_utf8(tok).ok()?.parse().ok()
+}
+
+/// An integer, also written as an integral decimal ("3.0").
+fn parse_int(tok: &[u8]) -> Option<i64> {
+    let s = std::str::from_utf8(tok).ok()?;
+    if let Ok(v) = s.parse::<i64>() {
+        return Some(v);
+    }
+    let f: f64 = s.parse().ok()?;
+    (f.is_finite() && f.fract() == 0.0 && f.abs() < 9.0e15).then_some(f as i64)
+}
+
+/// A whitespace-separated token reader over text that keeps the line number.
+struct Tokens<'a> {
+    data: &'a [u8],
+    pos: usize,
+    /// The 1-based line of `pos`.
+    line: u64,
+}
+
+impl<'a> Tokens<'a> {
+    fn new(data: &'a [u8], pos: usize, line: u64) -> Self {
+        Tokens {
+            data,
+            pos: pos.min(data.len()),
+            line,
+        }
+    }
+
+    /// The next token and its line, or None at the end.
+    fn next(&mut self) -> Option<(&'a [u8], u64)> {
+        let d = self.data;
+        let mut p = self.pos;
+        while p < d.len() {
+            match d[p] {
+                b'\n' => self.line += 1,
+                b' ' | b'\t' | b'\r' | 0x0b | 0x0c => {}
+                _ => break,
+            }
+            p += 1;
+        }
+        let start = p;
+        while p < d.len() && !is_space(d[p]) {
+            p += 1;
+        }
+        self.pos = p;
+        (p > start).then(|| (&d[start..p], self.line))
+    }
+
+    /// Skips past the end of the current line.
+    fn skip_line(&mut self) {
+        match self.data[self.pos..].iter().position(|&c| c == b'\n') {
+            Some(i) => {
+                self.pos += i + 1;
+                self.line += 1;
+            }
+            None => self.pos = self.data.len(),
+        }
+    }
+
+    fn remaining(&self) -> usize {
+        self.data.len() - self.pos
+    }
+}
+
+/// A line reader for OFF (and sniffing): strips `#` comments and skips blank lines.
+struct Lines<'a> {
+    data: &'a [u8],
+    pos: usize,
+    /// Lines read so far (the 1-based number of the last one).
+    line: u64,
+}
+
+impl<'a> Lines<'a> {
+    fn new(data: &'a [u8]) -> Self {
+        Lines { data, pos: 0, line: 0 }
+    }
+
+    /// The next line with something other than whitespace and comments, and its number.
+    fn next_meaningful(&mut self) -> Option<(u64, &'a [u8])> {
+        while self.pos < self.data.len() {
+            let rest = &self.data[self.pos..];
+            let end = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
+            self.pos += (end + 1).min(rest.len());
+            self.line += 1;
+            let mut line = &rest[..end];
+            if let Some(hash) = line.iter().position(|&c| c == b'#') {
+                line = &line[..hash];
+            }
+            if !line.iter().all(|&c| is_space(c)) {
+                return Some((self.line, line));
+            }
+        }
+        None
+    }
+
+    fn remaining(&self) -> usize {
+        self.data.len() - self.pos
+    }
+}
+
+fn words(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(|&c| is_space(c)).filter(|w| !w.is_empty())
+}
+
+// ---------------------------------------------------------------------------
+// OFF
+// ---------------------------------------------------------------------------
+
+/// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`).
+#[derive(Clone, Copy)]
+struct OffKeyword {
+    four: bool,
+    ndim: bool,
+}
+
+fn off_keyword(tok: &[u8]) -> Option<OffKeyword> {
+    if tok == b"off" {
+        return Some(OffKeyword {
+            four: false,
+            ndim: false,
+        });
+    }
+    let mut rest = tok.strip_suffix(b"OFF")?;
+    let mut kw = OffKeyword {
+        four: false,
+        ndim: false,
+    };
+    let (mut st, mut c, mut n) = (false, false, false);
+    while !rest.is_empty() {
+        let (flag, len) = if rest.starts_with(b"ST") {
+            (&mut st, 2)
+        } else {
+            match rest[0] {
+                b'C' => (&mut c, 1),
+                b'N' => (&mut n, 1),
+                b'4' => (&mut kw.four, 1),
+                b'n' => (&mut kw.ndim, 1),
+                _ => return None,
+            }
+        };
+        if *flag {
+            return None;
+        }
+        *flag = true;
+        rest = &rest[len..];
+    }
+    Some(kw)
+}
+
+/// Reads an OFF file (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`... and headerless files starting with the
+/// counts). Vertex lines give x y z first; whatever follows (normals, colour, texture coordinates) is
+/// skipped. Face lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are
+/// refused.
+pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    let mut lines = Lines::new(strip_bom(bytes));
+    let Some((first_line, first)) = lines.next_meaningful() else {
+        return Err(FormatError::new("the file is empty (no OFF header)"));
+    };
+    let mut first_words = words(first);
+    let head = first_words.next().unwrap_or(b"");
+    let (counts_line, counts): (u64, Vec<&[u8]>) = if let Some(kw) = off_keyword(head) {
+        if kw.four || kw.ndim {
+            return Err(FormatError::at(
+                first_line,
+                format!(
+                    "OFF variant `{}` (4D or n-dimensional vertices) is not supported",
+                    show(head)
+                ),
+            ));
+        }
+        let rest: Vec<&[u8]> = first_words.take(4).collect();
+        if rest.first().is_some_and(|w| w.eq_ignore_ascii_case(b"BINARY")) {
+            return Err(FormatError::at(first_line, "binary OFF is not supported"));
+        }
+        if rest.is_empty() {
+            match lines.next_meaningful() {
+                Some((line, text)) => (line, words(text).take(4).collect()),
+                None => return Err(FormatError::at(first_line, "the OFF file ends before its counts line")),
+            }
+        } else {
+            (first_line, rest)
+        }
+    } else if parse_int(head).is_some() {
+        (first_line, words(first).take(4).collect())
+    } else {
+        return Err(FormatError::at(
+            first_line,
+            format!("not an OFF file: it starts with `{}`", show(head)),
+        ));
+    };
+    if !(2..=3).contains(&counts.len()) {
+        return Err(FormatError::at(
+            counts_line,
+            "the OFF counts line must be `vertices faces edges`",
+        ));
+    }
+    let count = |i: usize, what: &str| -> Result<u64, FormatError> {
+        let w = counts[i];
+        std::str::from_utf8(w)
+            .ok()
+            .and_then(|s| s.parse::<u64>().ok())
+            .ok_or_else(|| {
+                FormatError::at(
+                    counts_line,
+                    format!("the OFF {what} count `{}` is not a non-negative integer", show(w)),
+                )
+            })
+    };
+    let (nv, nf) = (count(0, "vertex")?, count(1, "face")?);
+    if counts.len() == 3 {
+        count(2, "edge")?;
+    }
+
+    // Every vertex or face takes a line of at least two bytes: refuse absurd counts at once. Reservations
+    // assume the shortest real lines: 6 bytes for a vertex ("0 0 0\n"), 8 for a face ("3 0 1 2\n").
+    let remaining = lines.remaining() as u64;
+    if nv.saturating_add(nf).saturating_mul(2) > remaining.saturating_add(1) {
+        return Err(FormatError::at(
+            counts_line,
+            format!("the OFF header declares {nv} vertices and {nf} faces but only {remaining} bytes follow"),
+        ));
+    }
+    // Both counts are now bounded by the input size.
+    let (nv, nf) = (nv as usize, nf as usize);
+    let mut b = Builder::new(OriginKind::Line);
+    b.reserve_vertices(nv.min(remaining as usize / 6));
+    b.reserve_faces(
+        nf.min(remaining as usize / 8),
+        nf.saturating_mul(3).min(remaining as usize / 2),
+    );
+
+    for i in 0..nv {
+        let Some((line, text)) = lines.next_meaningful() else {
+            return Err(FormatError::at(
+                lines.line,
+                format!("the OFF file ends after {i} of {nv} vertices"),
+            ));
+        };
+        let mut p = [0.0; 3];
+        let mut ws = words(text);
+        for (k, c) in p.iter_mut().enumerate() {
+            let w = ws
+                .next()
+                .ok_or_else(|| FormatError::at(line, format!("vertex {i} has {k} coordinates (3 needed)")))?;
+            *c = parse_f64(w)
+                .ok_or_else(|| FormatError::at(line, format!("vertex {i} coordinate `{}` is not a number", show(w))))?;
+        }
+        b.vertex(p, line, || format!("vertex {i}"))?;
+    }
+
+    for f in 0..nf {
+        let Some((line, text)) = lines.next_meaningful() else {
+            return Err(FormatError::at(
+                lines.line,
+                format!("the OFF file ends after {f} of {nf} faces"),
+            ));
+        };
+        let mut ws = words(text);
+        let head = ws.next().unwrap_or(b"");
+        let n = parse_int(head).ok_or_else(|| {
+            FormatError::at(
+                line,
+                format!("face {f} vertex count `{}` is not an integer", show(head)),
+            )
+        })?;
+        if n < 3 {
+            return Err(FormatError::at(
+                line,
+                format!("face {f} has {n} vertices (at least 3 needed)"),
+            ));
+        }
+        b.start_face();
+        for k in 0..n {
+            let Some(w) = ws.next() else {
+                return Err(FormatError::at(
+                    line,
+                    format!("face {f} declares {n} vertices but its line has only {k} indices"),
+                ));
+            };
+            let i = parse_int(w)
+                .ok_or_else(|| FormatError::at(line, format!("face {f} index `{}` is not an integer", show(w))))?;
+            b.index(checked_index(i, f, Some(line), nv)?);
+        }
+        b.end_face(line)?;
+    }
+    b.finish()
+}
+
+/// An index read from a file as u32: negative or too large is an error naming face `f`.
+fn checked_index(i: i64, f: usize, line: Option<u64>, vertices: usize) -> Result<u32, FormatError> {
+    if i < 0 {
+        return Err(FormatError::maybe_at(line, format!("face {f} index {i} is negative")));
+    }
+    u32::try_from(i).map_err(|_| {
+        FormatError::maybe_at(
+            line,
+            format!("face {f} index {i} is out of range ({vertices} vertices)"),
+        )
+    })
+}
+
+// ---------------------------------------------------------------------------
+// PLY
+// ---------------------------------------------------------------------------
+
+/// A PLY scalar type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn from_name(name: &str) -> Option<Scalar> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "char" | "int8" => Scalar::I8,
+            "uchar" | "uint8" => Scalar::U8,
+            "short" | "int16" => Scalar::I16,
+            "ushort" | "uint16" => Scalar::U16,
+            "int" | "int32" => Scalar::I32,
+            "uint" | "uint32" => Scalar::U32,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_float(self) -> bool {
+        matches!(self, Scalar::F32 | Scalar::F64)
+    }
+}
+
+/// Reads `N` bytes (`s.len()` must be `N`, which the callers guarantee) in the given byte order.
+macro_rules! decode {
+    ($ty:ty, $s:expr, $big:expr) => {{
+        let mut a = [0u8; std::mem::size_of::<$ty>()];
+        a.copy_from_slice($s);
+        if $big {
+            <$ty>::from_be_bytes(a)
+        } else {
+            <$ty>::from_le_bytes(a)
+        }
+    }};
+}
+
+/// A binary scalar as f64; `s.len() == t.size()`.
+fn get_f64(t: Scalar, s: &[u8], big: bool) -> f64 {
+    match t {
+        Scalar::F32 => f64::from(decode!(f32, s, big)),
+        Scalar::F64 => decode!(f64, s, big),
+        _ => get_int(t, s, big) as f64,
+    }
+}
+
+/// A binary scalar as i64 (floats truncated); `s.len() == t.size()`.
+fn get_int(t: Scalar, s: &[u8], big: bool) -> i64 {
+    match t {
+        Scalar::I8 => i64::from(decode!(i8, s, big)),
+        Scalar::U8 => i64::from(decode!(u8, s, big)),
+        Scalar::I16 => i64::from(decode!(i16, s, big)),
+        Scalar::U16 => i64::from(decode!(u16, s, big)),
+        Scalar::I32 => i64::from(decode!(i32, s, big)),
+        Scalar::U32 => i64::from(decode!(u32, s, big)),
+        Scalar::F32 => decode!(f32, s, big) as i64,
+        Scalar::F64 => decode!(f64, s, big) as i64,
+    }
+}
+
+/// A colour channel: integers as read (clamped; 16-bit scaled), floats 0..1 scaled to 0..255.
+fn color_channel(v: f64, t: Scalar) -> u8 {
+    let v = match t {
+        Scalar::F32 | Scalar::F64 => v * 255.0,
+        Scalar::U16 => v / 257.0,
+        _ => v,
+    };
+    // `as` saturates and maps NaN to 0.
+    v.round().clamp(0.0, 255.0) as u8
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PropType {
+    Scalar(Scalar),
+    List { count: Scalar, item: Scalar },
+}
+
+#[derive(Debug)]
+struct PlyProperty {
+    name: String,
+    ty: PropType,
+}
+
+#[derive(Debug)]
+struct PlyElement {
+    name: String,
+    count: u64,
+    props: Vec<PlyProperty>,
+    line: u64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PlyEncoding {
+    Ascii,
+    Binary { big: bool },
+}
+
+struct PlyHeader {
+    encoding: PlyEncoding,
+    elements: Vec<PlyElement>,
+    /// Offset of the first data byte.
+    data_start: usize,
+    /// Line of the first data byte.
+    data_line: u64,
+}
+
+/// What a property is read for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    Skip,
+    Coord(usize),
+    Color(usize),
+    Indices,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ElementKind {
+    Vertex,
+    Face,
+    Other,
+}
+
+/// The first word of a header line, before it must be text.
+fn first_word(line: &[u8]) -> &[u8] {
+    words(line).next().unwrap_or(b"")
+}
+
+fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
+    let mut pos = 0usize;
+    let mut line = 0u64;
+    let mut encoding = None;
+    let mut elements: Vec<PlyElement> = Vec::new();
+    let (mut seen_vertex, mut seen_face) = (false, false);
+    loop {
+        if pos >= bytes.len() {
+            return Err(FormatError::at(line, "the PLY header has no end_header line"));
+        }
+        let rest = &bytes[pos..];
+        let end = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
+        let raw = &rest[..end];
+        pos += (end + 1).min(rest.len());
+        line += 1;
+        if line == 1 {
+            if raw.strip_suffix(b"\r").unwrap_or(raw) != b"ply" {
+                return Err(FormatError::at(1, "not a PLY file: the first line is not `ply`"));
+            }
+            continue;
+        }
+        let keyword = first_word(raw);
+        if keyword == b"comment" || keyword == b"obj_info" || keyword.is_empty() {
+            continue;
+        }
+        let text = std::str::from_utf8(raw)
+            .map_err(|_| FormatError::at(line, "the PLY header line is not text (missing end_header?)"))?;
+        let mut ws = text
+            .split(|c: char| u8::try_from(c).is_ok_and(is_space))
+            .filter(|w| !w.is_empty())
+            .skip(1);
+        let mut word = |what: &str| {
+            ws.next()
+                .ok_or_else(|| FormatError::at(line, format!("the PLY header line lacks the {what}")))
+        };
+        match keyword {
+            b"format" => {
+                let name = word("format name")?;
+                encoding = Some(match name {
+                    "ascii" => PlyEncoding::Ascii,
+                    "binary_little_endian" => PlyEncoding::Binary { big: false },
+                    "binary_big_endian" => PlyEncoding::Binary { big: true },
+                    other => {
+                        return Err(FormatError::at(
+                            line,
+                            format!("unknown PLY format `{}`", show(other.as_bytes())),
+                        ));
+                    }
+                });
+            }
+            b"element" => {
+                let name = word("element name")?.to_owned();
+                let count = word("element count")?;
+                let count = count.parse::<u64>().map_err(|_| {
+                    FormatError::at(
+                        line,
+                        format!(
+                            "PLY element {} count `{}` is not a non-negative integer",
+                            show(name.as_bytes()),
+                            show(count.as_bytes())
+                        ),
+                    )
+                })?;
+                let twice = match name.as_str() {
+                    "vertex" => std::mem::replace(&mut seen_vertex, true),
+                    "face" => std::mem::replace(&mut seen_face, true),
+                    _ => false,
+                };
+                if twice {
+                    return Err(FormatError::at(
+                        line,
+                        format!("the PLY header declares element {name} twice"),
+                    ));
+                }
+                elements.push(PlyElement {
+                    name,
+                    count,
+                    props: Vec::new(),
+                    line,
+                });
+            }
+            b"property" => {
+                let ty_name = word("property type")?;
+                let ty = if ty_name == "list" {
+                    let count = word("list count type")?;
+                    let item = word("list item type")?;
+                    let count = scalar_type(count, line)?;
+                    if count.is_float() {
+                        return Err(FormatError::at(line, "a PLY list count type must be an integer type"));
+                    }
+                    PropType::List {
+                        count,
+                        item: scalar_type(item, line)?,
+                    }
+                } else {
+                    PropType::Scalar(scalar_type(ty_name, line)?)
+                };
+                let name = word("property name")?.to_owned();
+                let Some(element) = elements.last_mut() else {
+                    return Err(FormatError::at(line, "a PLY property comes before any element"));
+                };
+                element.props.push(PlyProperty { name, ty });
+            }
+            b"end_header" => break,
+            other => {
+                return Err(FormatError::at(
+                    line,
+                    format!("unknown PLY header keyword `{}`", show(other)),
+                ));
+            }
+        }
+    }
+    let encoding = encoding.ok_or_else(|| FormatError::at(line, "the PLY header has no format line"))?;
+    Ok(PlyHeader {
+        encoding,
+        elements,
+        data_start: pos,
+        data_line: line + 1,
+    })
+}
+
+fn scalar_type(name: &str, line: u64) -> Result<Scalar, FormatError> {
+    Scalar::from_name(name)
+        .ok_or_else(|| FormatError::at(line, format!("unknown PLY property type `{}`", show(name.as_bytes()))))
+}
+
+/// What each property of an element is read for.
+fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatError> {
+    let mut roles = vec![Role::Skip; el.props.len()];
+    match el.name.as_str() {
+        "vertex" => {
+            let mut found = [None; 6];
+            for (i, p) in el.props.iter().enumerate() {
+                let slot = match p.name.as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    "red" | "diffuse_red" => 3,
+                    "green" | "diffuse_green" => 4,
+                    "blue" | "diffuse_blue" => 5,
+                    _ => continue,
+                };
+                if found[slot].is_some() {
+                    continue;
+                }
+                if matches!(p.ty, PropType::List { .. }) {
+                    if slot < 3 {
+                        return Err(FormatError::at(
+                            el.line,
+                            format!("PLY vertex property {} is a list", p.name),
+                        ));
+                    }
+                    continue;
+                }
+                found[slot] = Some(i);
+            }
+            for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+                match found[axis] {
+                    Some(i) => roles[i] = Role::Coord(axis),
+                    None => {
+                        return Err(FormatError::at(
+                            el.line,
+                            format!("the PLY vertex element has no `{name}` property"),
+                        ));
+                    }
+                }
+            }
+            if let [Some(r), Some(g), Some(b)] = [found[3], found[4], found[5]] {
+                roles[r] = Role::Color(0);
+                roles[g] = Role::Color(1);
+                roles[b] = Role::Color(2);
+            }
+            Ok((ElementKind::Vertex, roles))
+        }
+        "face" => {
+            let list = el.props.iter().position(|p| {
+                matches!(p.ty, PropType::List { .. }) && (p.name == "vertex_indices" || p.name == "vertex_index")
+            });
+            match list {
+                Some(i) => {
+                    if let PropType::List { item, .. } = el.props[i].ty {
+                        if item.is_float() {
+                            return Err(FormatError::at(
+                                el.line,
+                                format!("PLY face property {} has a non-integer item type", el.props[i].name),
+                            ));
+                        }
+                    }
+                    roles[i] = Role::Indices;
+                    Ok((ElementKind::Face, roles))
+                }
+                None if el.count == 0 => Ok((ElementKind::Other, roles)),
+                None => Err(FormatError::at(
+                    el.line,
+                    "the PLY face element has no vertex_indices list property",
+                )),
+            }
+        }
+        "tristrips" if el.count > 0 => Err(FormatError::at(
+            el.line,
+            "PLY triangle strips (element tristrips) are not supported",
+        )),
+        _ => Ok((ElementKind::Other, roles)),
+    }
+}
+
+/// How messages call the instances of an element ("vertices", "faces", "`edge` elements").
+fn plural(name: &str) -> String {
+    match name {
+        "vertex" => "vertices".to_owned(),
+        "face" => "faces".to_owned(),
+        other => format!("`{}` elements", show(other.as_bytes())),
+    }
+}
+
+fn too_many(el: &PlyElement, remaining: usize) -> FormatError {
+    FormatError::at(
+        el.line,
+        format!(
+            "PLY header declares {} {} but the file has only {remaining} bytes of data left for them",
+            el.count,
+            plural(&el.name)
+        ),
+    )
+}
+
+/// Reads a PLY file: ASCII, binary little or big endian, any scalar types, x/y/z anywhere among other
+/// vertex properties, optional red/green/blue, faces from the `vertex_indices` (or `vertex_index`) list;
+/// other elements and properties are skipped. For ASCII data, a record's origin is the line of its first
+/// value.
+pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    if bytes.is_empty() {
+        return Err(FormatError::new("the file is empty (no PLY header)"));
+    }
+    let header = parse_ply_header(bytes)?;
+    let mut plans = Vec::with_capacity(header.elements.len());
+    let mut has_vertex = false;
+    let mut has_colors = false;
+    for el in &header.elements {
+        let (kind, roles) = element_roles(el)?;
+        has_vertex |= kind == ElementKind::Vertex;
+        has_colors |= roles.iter().any(|r| matches!(r, Role::Color(_)));
+        plans.push((kind, roles));
+    }
+    if !has_vertex {
+        return Err(FormatError::new("the PLY header declares no vertex element"));
+    }
+    let ascii = header.encoding == PlyEncoding::Ascii;
+    let mut b = Builder::new(if ascii { OriginKind::Line } else { OriginKind::Record });
+    if has_colors {
+        b.m.colors = Some(Vec::new());
+    }
+    match header.encoding {
+        PlyEncoding::Ascii => {
+            let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
+            for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
+                read_ascii_element(&mut tokens, el, roles, *kind, &mut b)?;
+            }
+        }
+        PlyEncoding::Binary { big } => {
+            let mut reader = BinReader {
+                data: bytes,
+                pos: header.data_start,
+                big,
+            };
+            for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
+                read_binary_element(&mut reader, el, roles, *kind, &mut b)?;
+            }
+        }
+    }
+    b.finish()
+}
+
+/// The values of one vertex record.
+#[derive(Default)]
+struct VertexValues {
+    p: [f64; 3],
+    rgb: [u8; 3],
+}
+
+fn finish_record(
+    b: &mut Builder,
+    kind: ElementKind,
+    v: &VertexValues,
+    i: usize,
+    origin: u64,
+) -> Result<(), FormatError> {
+    match kind {
+        ElementKind::Vertex => {
+            b.vertex(v.p, origin, || format!("vertex {i}"))?;
+            if let Some(colors) = &mut b.m.colors {
+                colors.push(v.rgb);
+            }
+            Ok(())
+        }
+        ElementKind::Face => b.end_face(origin),
+        ElementKind::Other => Ok(()),
+    }
+}
+
+fn read_ascii_element(
+    t: &mut Tokens,
+    el: &PlyElement,
+    roles: &[Role],
+    kind: ElementKind,
+    b: &mut Builder,
+) -> Result<(), FormatError> {
+    if el.count == 0 || el.props.is_empty() {
+        return Ok(());
+    }
+    // Every value takes at least one character and one separator.
+    let remaining = t.remaining();
+    let per_record = 2 * el.props.len() as u64;
+    if el.count > (remaining as u64 + 1) / per_record {
+        return Err(too_many(el, remaining));
+    }
+    let count = el.count as usize;
+    // Reserve for the shortest real records: "0 0 0\n" and "3 0 1 2\n".
+    match kind {
+        ElementKind::Vertex => b.reserve_vertices(count.min(remaining / 6 + 1)),
+        ElementKind::Face => b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2)),
+        ElementKind::Other => {}
+    }
+    let name = &el.name;
+    for i in 0..count {
+        let mut v = VertexValues::default();
+        let mut origin = t.line;
+        for (k, (p, role)) in el.props.iter().zip(roles).enumerate() {
+            let truncated =
+                |line| FormatError::at(line, format!("the PLY data ends inside {name} {i} (truncated file?)"));
+            let Some((tok, line)) = t.next() else {
+                return Err(truncated(t.line));
+            };
+            if k == 0 {
+                origin = line;
+            }
+            match p.ty {
+                PropType::Scalar(ty) => {
+                    let value = |tok: &[u8]| {
+                        parse_f64(tok).ok_or_else(|| {
+                            FormatError::at(
+                                line,
+                                format!("{name} {i} property {}: `{}` is not a number", p.name, show(tok)),
+                            )
+                        })
+                    };
+                    match *role {
+                        Role::Coord(axis) => v.p[axis] = value(tok)?,
+                        Role::Color(c) => v.rgb[c] = color_channel(value(tok)?, ty),
+                        _ => {}
+                    }
+                }
+                PropType::List { .. } => {
+                    let n = parse_int(tok).ok_or_else(|| {
+                        FormatError::at(
+                            line,
+                            format!("{name} {i} list {} length `{}` is not an integer", p.name, show(tok)),
+                        )
+                    })?;
+                    if n < 0 || n as u64 > (t.remaining() as u64).div_ceil(2) {
+                        return Err(FormatError::at(
+                            line,
+                            format!(
+                                "{name} {i} list {} claims {n} entries but only {} bytes of data remain",
+                                p.name,
+                                t.remaining()
+                            ),
+                        ));
+                    }
+                    if *role == Role::Indices {
+                        if n < 3 {
+                            return Err(FormatError::at(
+                                line,
+                                format!("face {i} has {n} vertices (at least 3 needed)"),
+                            ));
+                        }
+                        b.start_face();
+                        for _ in 0..n {
+                            let Some((tok, line)) = t.next() else {
+                                return Err(truncated(t.line));
+                            };
+                            let index = parse_int(tok).ok_or_else(|| {
+                                FormatError::at(line, format!("face {i} index `{}` is not an integer", show(tok)))
+                            })?;
+                            b.index(checked_index(index, i, Some(line), b.m.positions.len())?);
+                        }
+                    } else {
+                        for _ in 0..n {
+                            if t.next().is_none() {
+                                return Err(truncated(t.line));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        finish_record(b, kind, &v, i, origin)?;
+    }
+    Ok(())
+}
+
+/// A cursor over binary PLY data.
+struct BinReader<'a> {
+    data: &'a [u8],
+    pos: usize,
+    big: bool,
+}
+
+impl<'a> BinReader<'a> {
+    fn remaining(&self) -> usize {
+        self.data.len().saturating_sub(self.pos)
+    }
+
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        let end = self.pos.checked_add(n)?;
+        let s = self.data.get(self.pos..end)?;
+        self.pos = end;
+        Some(s)
+    }
+}
+
+fn read_binary_element(
+    r: &mut BinReader,
+    el: &PlyElement,
+    roles: &[Role],
+    kind: ElementKind,
+    b: &mut Builder,
+) -> Result<(), FormatError> {
+    if el.count == 0 || el.props.is_empty() {
+        return Ok(());
+    }
+    let min_size: u64 = el
+        .props
+        .iter()
+        .map(|p| match p.ty {
+            PropType::Scalar(t) => t.size() as u64,
+            PropType::List { count, .. } => count.size() as u64,
+        })
+        .sum();
+    let remaining = r.remaining();
+    if el.count > remaining as u64 / min_size {
+        return Err(too_many(el, remaining));
+    }
+    // The count is now bounded by the input size.
+    let count = el.count as usize;
+    let has_list = el.props.iter().any(|p| matches!(p.ty, PropType::List { .. }));
+    if kind == ElementKind::Other && !has_list {
+        r.pos += count * min_size as usize;
+        return Ok(());
+    }
+    match kind {
+        ElementKind::Vertex => b.reserve_vertices(count),
+        ElementKind::Face => {
+            let item = el.props.iter().zip(roles).find_map(|(p, role)| match (p.ty, role) {
+                (PropType::List { item, .. }, Role::Indices) => Some(item.size()),
+                _ => None,
+            });
+            b.reserve_faces(count, count.saturating_mul(3).min(remaining / item.unwrap_or(1)));
+        }
+        ElementKind::Other => {}
+    }
+    let name = &el.name;
+    let big = r.big;
+    let truncated = |i: usize| FormatError::new(format!("the PLY data ends inside {name} {i} (truncated file?)"));
+    for i in 0..count {
+        let mut v = VertexValues::default();
+        for (p, role) in el.props.iter().zip(roles) {
+            match p.ty {
+                PropType::Scalar(ty) => {
+                    let s = r.take(ty.size()).ok_or_else(|| truncated(i))?;
+                    match *role {
+                        Role::Coord(axis) => v.p[axis] = get_f64(ty, s, big),
+                        Role::Color(c) => v.rgb[c] = color_channel(get_f64(ty, s, big), ty),
+                        _ => {}
+                    }
+                }
+                PropType::List { count: count_ty, item } => {
+                    let s = r.take(count_ty.size()).ok_or_else(|| truncated(i))?;
+                    let n = get_int(count_ty, s, big);
+                    let bytes = u64::try_from(n).ok().and_then(|n| n.checked_mul(item.size() as u64));
+                    let Some(s) = bytes
+                        .and_then(|len| usize::try_from(len).ok())
+                        .and_then(|len| r.take(len))
+                    else {
+                        return Err(FormatError::new(format!(
+                            "{name} {i} list {} claims {n} entries but only {} bytes of data remain",
+                            p.name,
+                            r.remaining()
+                        )));
+                    };
+                    if *role == Role::Indices {
+                        if n < 3 {
+                            return Err(FormatError::new(format!(
+                                "face {i} has {n} vertices (at least 3 needed)"
+                            )));
+                        }
+                        b.start_face();
+                        for chunk in s.chunks_exact(item.size()) {
+                            let index = get_int(item, chunk, big);
+                            b.index(checked_index(index, i, None, b.m.positions.len())?);
+                        }
+                    }
+                }
+            }
+        }
+        finish_record(b, kind, &v, i, i as u64)?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// STL
+// ---------------------------------------------------------------------------
+
+/// Whether the text starts (after whitespace) with the word `solid`.
+fn starts_with_solid(bytes: &[u8]) -> bool {
+    let start = bytes.iter().position(|&c| !is_space(c)).unwrap_or(bytes.len());
+    let rest = &bytes[start..];
+    rest.len() >= 5 && rest[..5].eq_ignore_ascii_case(b"solid") && rest.get(5).is_none_or(|&c| is_space(c))
+}
+
+/// For a binary STL: the facet count and the file size it implies, or None if shorter than 84 bytes.
+fn binary_stl_size(bytes: &[u8]) -> Option<(u32, u64)> {
+    let n = u32::from_le_bytes(bytes.get(80..84)?.try_into().ok()?);
+    Some((n, 84 + 50 * u64::from(n)))
+}
+
+/// Reads an STL file, ASCII or binary, decided by content: a file that starts with `solid` is read as
+/// ASCII, unless that fails (or leaves non-whitespace behind) and its size fits a binary STL with the
+/// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". Bytes after the
+/// last facet are ignored. STL has no shared vertices: each facet gives 3 positions (more for an ASCII
+/// `outer loop` with more vertices). Binary origins are facet record numbers.
+pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    if bytes.is_empty() {
+        return Err(FormatError::new("the file is empty"));
+    }
+    let size = binary_stl_size(bytes);
+    let fits_binary = size.is_some_and(|(_, need)| need <= bytes.len() as u64);
+    let text = strip_bom(bytes);
+    if starts_with_solid(text) {
+        match read_stl_ascii(text) {
+            Ok((mesh, end)) => {
+                let exact_binary = size.is_some_and(|(_, need)| need == bytes.len() as u64);
+                let clean_end = text.get(end..).unwrap_or(&[]).iter().all(|&c| is_space(c));
+                if !exact_binary || clean_end {
+                    return Ok(mesh);
+                }
+            }
+            Err(e) if !fits_binary => return Err(e),
+            Err(_) => {}
+        }
+    }
+    read_stl_binary(bytes)
+}
+
+fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    let Some((n, need)) = binary_stl_size(bytes) else {
+        return Err(FormatError::new(format!(
+            "the file has {} bytes: too short for a binary STL (84 at least) and it does not start with `solid`",
+            bytes.len()
+        )));
+    };
+    if need > bytes.len() as u64 {
+        return Err(FormatError::new(format!(
+            "the binary STL header declares {n} facets ({need} bytes) but the file has only {} bytes",
+            bytes.len()
+        )));
+    }
+    let n = n as usize;
+    if n > u32::MAX as usize / 3 {
+        return Err(FormatError::new(format!(
+            "the binary STL has {n} facets, more than 2^32 vertices"
+        )));
+    }
+    let mut b = Builder::new(OriginKind::Record);
+    b.reserve_vertices(3 * n);
+    b.reserve_faces(n, 3 * n);
+    for (f, rec) in bytes[84..].chunks_exact(50).take(n).enumerate() {
+        b.start_face();
+        for k in 0..3 {
+            let mut p = [0.0; 3];
+            for (axis, c) in p.iter_mut().enumerate() {
+                let at = 12 + 12 * k + 4 * axis;
+                *c = f64::from(decode!(f32, &rec[at..at + 4], false));
+            }
+            b.vertex(p, f as u64, || format!("facet {f} vertex {k}"))?;
+            b.index((3 * f + k) as u32);
+        }
+        b.end_face(f as u64)?;
+    }
+    b.finish()
+}
+
+/// Reads ASCII STL; returns the mesh and the offset just after the last `endsolid` line.
+fn read_stl_ascii(bytes: &[u8]) -> Result<(RawMesh, usize), FormatError> {
+    let mut t = Tokens::new(bytes, 0, 1);
+    let mut b = Builder::new(OriginKind::Line);
+    let mut end = 0;
+    let mut facet = 0usize;
+    let is = |tok: &[u8], kw: &str| tok.eq_ignore_ascii_case(kw.as_bytes());
+    while let Some((tok, line)) = t.next() {
+        if !is(tok, "solid") {
+            if end > 0 {
+                break; // Trailing bytes after the last solid are ignored.
+            }
+            return Err(FormatError::at(
+                line,
+                format!("expected `solid`, found `{}`", show(tok)),
+            ));
+        }
+        t.skip_line(); // The solid's name.
+        loop {
+            let Some((tok, facet_line)) = t.next() else {
+                return Err(FormatError::at(
+                    t.line,
+                    "the ASCII STL ends without `endsolid` (truncated file?)",
+                ));
+            };
+            if is(tok, "endsolid") {
+                t.skip_line();
+                end = t.pos;
+                break;
+            }
+            if !is(tok, "facet") {
+                return Err(FormatError::at(
+                    facet_line,
+                    format!("expected `facet` or `endsolid`, found `{}`", show(tok)),
+                ));
+            }
+            let mut next = |what: &str| {
+                t.next().ok_or_else(|| {
+                    FormatError::at(
+                        facet_line,
+                        format!("the ASCII STL ends inside facet {facet} (expected {what})"),
+                    )
+                })
+            };
+            let (mut tok, mut line) = next("`normal` or `outer`")?;
+            if is(tok, "normal") {
+                // Up to three numbers; their values do not matter.
+                let mut numbers = 0;
+                loop {
+                    (tok, line) = next("`outer`")?;
+                    if numbers == 3 || parse_f64(tok).is_none() {
+                        break;
+                    }
+                    numbers += 1;
+                }
+            }
+            if !is(tok, "outer") {
+                return Err(FormatError::at(
+                    line,
+                    format!("facet {facet}: expected `outer loop`, found `{}`", show(tok)),
+                ));
+            }
+            let (tok, line) = next("`loop`")?;
+            if !is(tok, "loop") {
+                return Err(FormatError::at(
+                    line,
+                    format!("facet {facet}: expected `loop`, found `{}`", show(tok)),
+                ));
+            }
+            b.start_face();
+            let mut k = 0usize;
+            loop {
+                let (tok, line) = next("`vertex` or `endloop`")?;
+                if is(tok, "endloop") {
+                    break;
+                }
+                if !is(tok, "vertex") {
+                    return Err(FormatError::at(
+                        line,
+                        format!("facet {facet}: expected `vertex` or `endloop`, found `{}`", show(tok)),
+                    ));
+                }
+                let mut p = [0.0; 3];
+                for c in &mut p {
+                    let (tok, _) = next("a coordinate")?;
+                    *c = parse_f64(tok).ok_or_else(|| {
+                        FormatError::at(
+                            line,
+                            format!("facet {facet} vertex {k} coordinate `{}` is not a number", show(tok)),
+                        )
+                    })?;
+                }
+                let index = b.m.positions.len() as u32;
+                b.vertex(p, line, || format!("facet {facet} vertex {k}"))?;
+                b.index(index);
+                k += 1;
+            }
+            if k < 3 {
+                return Err(FormatError::at(
+                    facet_line,
+                    format!("facet {facet} has {k} vertices (at least 3 needed)"),
+                ));
+            }
+            let (tok, line) = next("`endfacet`")?;
+            if !is(tok, "endfacet") {
+                return Err(FormatError::at(
+                    line,
+                    format!("facet {facet}: expected `endfacet`, found `{}`", show(tok)),
+                ));
+            }
+            b.end_face(facet_line)?;
+            facet += 1;
+        }
+    }
+    if end == 0 {
+        return Err(FormatError::at(t.line, "the ASCII STL has no `solid`"));
+    }
+    Ok((b.finish()?, end))
+}
+
+// ---------------------------------------------------------------------------
+// Writers
+// ---------------------------------------------------------------------------
+
+fn invalid(what: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, what)
+}
+
+/// Refuses what no reader would take back: non-finite positions, out-of-range indices, a colour count
+/// that is not the vertex count.
+fn check_for_writing(positions: &[[f64; 3]], triangles: &[[u32; 3]], colors: Option<&[[u8; 3]]>) -> io::Result<()> {
+    if let Some(i) = positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        return Err(invalid(format!("vertex {i} has a non-finite coordinate")));
+    }
+    let n = positions.len();
+    if n > u32::MAX as usize {
+        return Err(invalid(format!(
+            "{n} vertices are more than 32-bit indices can address"
+        )));
+    }
+    if let Some(f) = triangles.iter().position(|t| t.iter().any(|&i| i as usize >= n)) {
+        return Err(invalid(format!(
+            "triangle {f} has an index out of range ({n} vertices)"
+        )));
+    }
+    if let Some(c) = colors {
+        if c.len() != n {
+            return Err(invalid(format!("{} colours for {n} vertices", c.len())));
+        }
+    }
+    Ok(())
+}
+
+/// Writes an OFF file; coordinates in shortest round-trip form, so that [`read_off`] gives them back bit
+/// for bit. Non-finite coordinates and out-of-range indices are refused (`InvalidInput`).
+pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    let mut w = BufWriter::new(w);
+    let mut num = ryu::Buffer::new();
+    writeln!(w, "OFF\n{} {} 0", positions.len(), triangles.len())?;
+    for p in positions {
+        write_xyz(&mut w, &mut num, p)?;
+        w.write_all(b"\n")?;
+    }
+    for t in triangles {
+        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+    }
+    w.flush()
+}
+
+/// Writes "x y z" in shortest round-trip form (the coordinates are finite).
+fn write_xyz(w: &mut dyn Write, num: &mut ryu::Buffer, p: &[f64; 3]) -> io::Result<()> {
+    for (k, &c) in p.iter().enumerate() {
+        if k > 0 {
+            w.write_all(b" ")?;
+        }
+        w.write_all(num.format_finite(c).as_bytes())?;
+    }
+    Ok(())
+}
+
+fn ply_header(w: &mut dyn Write, format: &str, vertices: usize, triangles: usize, colors: bool) -> io::Result<()> {
+    write!(
+        w,
+        "ply\nformat {format} 1.0\ncomment written by delmesh\nelement vertex {vertices}\n"
+    )?;
+    w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
+    if colors {
+        w.write_all(b"property uchar red\nproperty uchar green\nproperty uchar blue\n")?;
+    }
+    write!(
+        w,
+        "element face {triangles}\nproperty list uchar uint vertex_indices\nend_header\n"
+    )
+}
+
+/// Writes a binary little-endian PLY 1.0: double x y z, optional uchar red green blue, face list uchar
+/// uint vertex_indices. Positions are exact. Non-finite coordinates, out-of-range indices and a colour
+/// count other than the vertex count are refused (`InvalidInput`).
+pub fn write_ply_binary(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    colors: Option<&[[u8; 3]]>,
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, colors)?;
+    let mut w = BufWriter::new(w);
+    ply_header(
+        &mut w,
+        "binary_little_endian",
+        positions.len(),
+        triangles.len(),
+        colors.is_some(),
+    )?;
+    let mut record = Vec::with_capacity(27);
+    for (i, p) in positions.iter().enumerate() {
+        record.clear();
+        for c in p {
+            record.extend_from_slice(&c.to_le_bytes());
+        }
+        if let Some(rgb) = colors.and_then(|c| c.get(i)) {
+            record.extend_from_slice(rgb);
+        }
+        w.write_all(&record)?;
+    }
+    for t in triangles {
+        record.clear();
+        record.push(3);
+        for i in t {
+            record.extend_from_slice(&i.to_le_bytes());
+        }
+        w.write_all(&record)?;
+    }
+    w.flush()
+}
+
+/// Writes an ASCII PLY 1.0 with the same properties as [`write_ply_binary`]; coordinates in shortest
+/// round-trip form, so that [`read_ply`] gives them back bit for bit.
+pub fn write_ply_ascii(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    colors: Option<&[[u8; 3]]>,
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, colors)?;
+    let mut w = BufWriter::new(w);
+    ply_header(&mut w, "ascii", positions.len(), triangles.len(), colors.is_some())?;
+    let mut num = ryu::Buffer::new();
+    for (i, p) in positions.iter().enumerate() {
+        write_xyz(&mut w, &mut num, p)?;
+        if let Some([r, g, b]) = colors.and_then(|c| c.get(i)) {
+            write!(w, " {r} {g} {b}")?;
+        }
+        w.write_all(b"\n")?;
+    }
+    for t in triangles {
+        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+    }
+    w.flush()
+}
+
+/// Writes a binary STL. The format stores `f32`, so positions lose their `f64` precision (and a
+/// coordinate beyond the `f32` range is refused with `InvalidInput`); vertices are not shared. Each facet
+/// normal is computed from its vertices (zero for a degenerate facet). The 80-byte header does not start
+/// with "solid".
+pub fn write_stl_binary(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    if let Some(i) = positions
+        .iter()
+        .position(|p| !p.iter().all(|&c| (c as f32).is_finite()))
+    {
+        return Err(invalid(format!(
+            "vertex {i} has a coordinate beyond the f32 range of STL"
+        )));
+    }
+    let count = u32::try_from(triangles.len()).map_err(|_| {
+        invalid(format!(
+            "{} triangles are more than binary STL can hold",
+            triangles.len()
+        ))
+    })?;
+    let mut w = BufWriter::new(w);
+    let mut header = [b' '; 80];
+    let text = b"binary STL written by delmesh (f32 coordinates)";
+    header[..text.len()].copy_from_slice(text);
+    w.write_all(&header)?;
+    w.write_all(&count.to_le_bytes())?;
+    let mut record = Vec::with_capacity(50);
+    for t in triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let n = if len > 0.0 && len.is_finite() {
+            n.map(|x| x / len)
+        } else {
+            [0.0; 3]
+        };
+        record.clear();
+        for p in [n, a, b, c] {
+            for x in p {
+                record.extend_from_slice(&(x as f32).to_le_bytes());
+            }
+        }
+        record.extend_from_slice(&[0, 0]);
+        w.write_all(&record)?;
+    }
+    w.flush()
+}

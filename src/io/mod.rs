@@ -1,0 +1,561 @@
+//! Reading and writing meshes.
+//!
+//! Formats: OBJ (delmesh's own reader, [`obj`]), OFF, PLY (ASCII and binary,
+//! either endianness) and STL (ASCII and binary) ([`formats`]), chosen by the
+//! file's extension or, where that says nothing, by its content; any of them
+//! may be gzip-compressed. Every reader produces a [`RawMesh`] of polygons;
+//! [`finish`] turns it into the [`InputMesh`] the algorithm takes: polygons
+//! fan-triangulated, bit-identical positions welded, unused vertices dropped,
+//! and every refusal of SPEC §6 naming the file and the offending line, face
+//! or vertex. With `--repair` ([`crate::repair`]) the refusable defects are
+//! fixed instead.
+//!
+//! Writing is atomic: a temporary file in the target's directory, renamed
+//! over the target only once it is complete.
+
+pub mod formats;
+pub mod obj;
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+pub use formats::{Format, FormatError, OriginKind, RawMesh};
+
+use crate::error::{Error, Result};
+use crate::geometry;
+use crate::mesh::{Surface, TopologyError};
+use crate::repair::{self, RepairOptions, RepairReport};
+
+/// The largest decompressed size accepted from a `.gz` input (16 GiB).
+const MAX_DECOMPRESSED: u64 = 16 << 30;
+
+/// Appended to refusals that `--repair` would fix.
+const REPAIR_HINT: &str = " (--repair would fix this)";
+
+/// A mesh as read from a file, ready for [`build_surface`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InputMesh {
+    /// Vertex positions: welded, each used by some face, in file order.
+    pub positions: Vec<DVec3>,
+    /// Triangles (polygons fan-triangulated), indices into `positions`.
+    pub triangles: Vec<[u32; 3]>,
+    /// Where the face of each triangle is in the file: a 1-based line for
+    /// text formats, a record number for binary ones (see `origin_kind`).
+    pub triangle_origin: Vec<u32>,
+    /// 1-based number of each vertex in the file (its first definition).
+    pub vertex_number: Vec<u32>,
+    /// How `triangle_origin` counts.
+    pub origin_kind: OriginKind,
+    /// Faces in the file (before triangulation).
+    pub faces_in_file: usize,
+    /// Vertices merged into an earlier one at the bit-identical position.
+    pub welded: usize,
+    /// Vertices no face uses (dropped).
+    pub unreferenced: usize,
+    /// What `--repair` fixed, if it ran.
+    pub repair: Option<RepairReport>,
+}
+
+/// How to read an input.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReadOptions {
+    /// Repair instead of refusing defects (`--repair`).
+    pub repair: Option<RepairOptions>,
+}
+
+/// A fast hasher for bit patterns of coordinates (FxHash's mixing step):
+/// the welding map is built once per vertex, and SipHash would dominate it.
+#[derive(Default)]
+struct FxHasher(u64);
+
+impl Hasher for FxHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type FxMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
+
+/// The format of `path`: by extension (looking through `.gz`), else by content.
+pub fn detect_format(path: &Path, bytes: &[u8]) -> Option<Format> {
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .and_then(formats::format_from_name)
+        .or_else(|| formats::sniff_format(bytes))
+}
+
+/// Reads a mesh file of any supported format with default options (no repair).
+pub fn read_obj(path: &Path) -> Result<InputMesh> {
+    read_mesh(path, &ReadOptions::default())
+}
+
+/// Reads a mesh file of any supported format.
+pub fn read_mesh(path: &Path, options: &ReadOptions) -> Result<InputMesh> {
+    let raw = read_raw(path)?;
+    finish(raw, path, options)
+}
+
+/// Reads a mesh file into polygons, without welding or validation.
+pub fn read_raw(path: &Path) -> Result<RawMesh> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    let bytes = formats::maybe_gunzip(&bytes, MAX_DECOMPRESSED).map_err(|e| format_error(path, e))?;
+    let format = detect_format(path, &bytes).unwrap_or(Format::Obj);
+    let raw = match format {
+        Format::Obj => obj::parse_obj(&bytes),
+        Format::Off => formats::read_off(&bytes),
+        Format::Ply => formats::read_ply(&bytes),
+        Format::Stl => formats::read_stl(&bytes),
+    };
+    raw.map_err(|e| format_error(path, e))
+}
+
+/// Parses OBJ text; `path` only names the file in errors.
+pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<InputMesh> {
+    let raw = obj::parse_obj(bytes).map_err(|e| format_error(path, e))?;
+    finish(raw, path, &ReadOptions::default())
+}
+
+fn format_error(path: &Path, e: FormatError) -> Error {
+    match e.line {
+        Some(line) => Error::Syntax {
+            path: path.to_owned(),
+            line: line as usize,
+            what: e.what,
+        },
+        None => Error::Mesh {
+            path: path.to_owned(),
+            what: e.what,
+        },
+    }
+}
+
+/// Error about face `f` of `raw`, located by line or record.
+fn face_error(path: &Path, raw: &RawMesh, f: usize, what: String) -> Error {
+    let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
+    match raw.origin_kind {
+        OriginKind::Line => Error::Syntax {
+            path: path.to_owned(),
+            line: origin as usize,
+            what,
+        },
+        OriginKind::Record => Error::Mesh {
+            path: path.to_owned(),
+            what: format!("face record {origin}: {what}"),
+        },
+    }
+}
+
+/// Turns polygons into the algorithm's input: see the module documentation.
+pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputMesh> {
+    let n_faces = raw.face_start.len().saturating_sub(1);
+    if n_faces == 0 {
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: "no faces".into(),
+        });
+    }
+    let poly = |f: usize| &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+    if let Some(repair_options) = options.repair {
+        return finish_repaired(&raw, path, &repair_options);
+    }
+    // Weld bit-identical positions onto their first occurrence.
+    let mut first: FxMap<[u64; 3], u32> = FxMap::default();
+    first.reserve(raw.positions.len());
+    let welded_to: Vec<u32> = (0..raw.positions.len())
+        .map(|i| *first.entry(raw.positions[i].map(f64::to_bits)).or_insert(i as u32))
+        .collect();
+    let welded = raw.positions.len() - first.len();
+    drop(first);
+    // Keep used vertices, in file order.
+    let mut used = vec![false; raw.positions.len()];
+    for &c in &raw.indices {
+        used[welded_to[c as usize] as usize] = true;
+    }
+    let mut new_index = vec![u32::MAX; raw.positions.len()];
+    let mut positions = Vec::new();
+    let mut vertex_number = Vec::new();
+    for (i, p) in raw.positions.iter().enumerate() {
+        if used[i] {
+            new_index[i] = positions.len() as u32;
+            positions.push(DVec3::from_array(*p));
+            vertex_number.push(i as u32 + 1);
+        }
+    }
+    let unreferenced = raw.positions.len() - welded - positions.len();
+    // Fan-triangulate, refusing repeated vertices and zero-area triangles.
+    let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
+    let mut triangle_origin = Vec::with_capacity(triangles.capacity());
+    for f in 0..n_faces {
+        let p = poly(f);
+        let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
+        for (i, &v) in p.iter().enumerate() {
+            let w = welded_to[v as usize];
+            if p[..i].iter().any(|&u| welded_to[u as usize] == w) {
+                let what = format!(
+                    "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
+                    f + 1,
+                    w + 1
+                );
+                return Err(face_error(path, &raw, f, what));
+            }
+        }
+        for i in 1..p.len() - 1 {
+            let t = [p[0], p[i], p[i + 1]].map(|v| new_index[welded_to[v as usize] as usize]);
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            if geometry::collinear(a, b, c) {
+                return Err(face_error(
+                    path,
+                    &raw,
+                    f,
+                    format!("face {} has zero area{REPAIR_HINT}", f + 1),
+                ));
+            }
+            triangles.push(t);
+            triangle_origin.push(origin);
+        }
+    }
+    Ok(InputMesh {
+        positions,
+        triangles,
+        triangle_origin,
+        vertex_number,
+        origin_kind: raw.origin_kind,
+        faces_in_file: n_faces,
+        welded,
+        unreferenced,
+        repair: None,
+    })
+}
+
+/// `finish` with `--repair`: triangulate everything, then let
+/// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
+fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
+    let n_faces = raw.face_start.len() - 1;
+    let mut triangles = Vec::new();
+    let mut triangle_face = Vec::new();
+    for f in 0..n_faces {
+        let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+        for i in 1..p.len() - 1 {
+            triangles.push([p[0], p[i], p[i + 1]]);
+            triangle_face.push(f);
+        }
+    }
+    let fixed = repair::repair(&raw.positions, &triangles, options);
+    if fixed.triangles.is_empty() {
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: "no faces left after repair".into(),
+        });
+    }
+    let origin_of = |f: usize| raw.face_origin.get(f).copied().unwrap_or(f as u32);
+    Ok(InputMesh {
+        positions: fixed.positions.iter().map(|p| DVec3::from_array(*p)).collect(),
+        triangle_origin: fixed
+            .source_triangle
+            .iter()
+            .map(|&t| origin_of(triangle_face[t as usize]))
+            .collect(),
+        vertex_number: fixed.source_vertex.iter().map(|&v| v + 1).collect(),
+        triangles: fixed.triangles,
+        origin_kind: raw.origin_kind,
+        faces_in_file: n_faces,
+        welded: fixed.report.welded_vertices,
+        unreferenced: fixed.report.unreferenced_vertices,
+        repair: Some(fixed.report),
+    })
+}
+
+/// Builds the refinable mesh of an input, turning topology errors into
+/// messages that name the file, line and vertices.
+pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
+    Surface::new(input.positions.clone(), &input.triangles).map_err(|e| {
+        let at = |face: usize| {
+            let origin = input.triangle_origin.get(face).copied().unwrap_or(0);
+            match input.origin_kind {
+                OriginKind::Line => format!("line {origin}"),
+                OriginKind::Record => format!("face record {origin}"),
+            }
+        };
+        let v = |i: u32| input.vertex_number.get(i as usize).copied().unwrap_or(i + 1);
+        let what = match e {
+            TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => format!(
+                "{}: edge between vertices {} and {} has more than two faces (non-manifold edge){REPAIR_HINT}",
+                at(face),
+                v(a),
+                v(b)
+            ),
+            TopologyError::InconsistentOrientation { face, a, b } => format!(
+                "{}: face runs along edge {} -> {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
+                at(face),
+                v(a),
+                v(b)
+            ),
+            TopologyError::NonManifoldVertex { vertex } => format!(
+                "vertex {}: its faces form more than one fan (non-manifold vertex){REPAIR_HINT}",
+                v(vertex)
+            ),
+            TopologyError::IndexOutOfRange { face, index } => {
+                format!("{}: vertex index {} out of range", at(face), index as u64 + 1)
+            }
+            TopologyError::RepeatedVertex { face, vertex } => {
+                format!("{}: face repeats vertex {}{REPAIR_HINT}", at(face), v(vertex))
+            }
+        };
+        Error::Mesh { path: path.to_owned(), what }
+    })
+}
+
+/// Writes what `fill` produces to `path` atomically: into a temporary file
+/// in the same directory, renamed over `path` only when complete. On any
+/// error `path` is untouched and the temporary file removed.
+pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    let err = |source| Error::Write {
+        path: path.to_owned(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".delmesh-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(err)?;
+    {
+        let mut w = BufWriter::with_capacity(1 << 20, tmp.as_file_mut());
+        fill(&mut w).map_err(err)?;
+        w.flush().map_err(err)?;
+    }
+    tmp.as_file().sync_all().map_err(err)?;
+    // Keep the permissions of a file being replaced; a new file gets 0644.
+    let perms = match std::fs::metadata(path) {
+        Ok(m) => m.permissions(),
+        Err(_) => default_permissions(&dir),
+    };
+    tmp.as_file().set_permissions(perms).map_err(err)?;
+    tmp.persist(path).map_err(|e| err(e.error))?;
+    Ok(())
+}
+
+#[cfg(unix)]
+fn default_permissions(_dir: &Path) -> std::fs::Permissions {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::Permissions::from_mode(0o644)
+}
+
+#[cfg(not(unix))]
+fn default_permissions(dir: &Path) -> std::fs::Permissions {
+    let mut p = std::fs::metadata(dir)
+        .map(|m| m.permissions())
+        .unwrap_or_else(|_| unreachable!());
+    p.set_readonly(false);
+    p
+}
+
+/// The output format for `path`, by extension; OBJ when it says nothing.
+pub fn output_format(path: &Path) -> Format {
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .and_then(formats::format_from_name)
+        .unwrap_or(Format::Obj)
+}
+
+/// Writes a triangle mesh atomically, in the format of `path`'s extension
+/// (OBJ, OFF, PLY binary, STL binary; OBJ when the extension says nothing).
+pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
+    let positions: &[[f64; 3]] = bytemuck_positions(positions);
+    let format = output_format(path);
+    write_atomic(path, |w| match format {
+        Format::Obj => obj::write_obj(w, positions, triangles),
+        Format::Off => formats::write_off(w, positions, triangles),
+        Format::Ply => formats::write_ply_binary(w, positions, triangles, None),
+        Format::Stl => formats::write_stl_binary(w, positions, triangles),
+    })
+}
+
+/// Writes a triangle mesh as OBJ, atomically.
+pub fn write_obj(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
+    write_atomic(path, |w| obj::write_obj(w, bytemuck_positions(positions), triangles))
+}
+
+/// Writes OBJ text to any writer.
+pub fn write_obj_to(w: &mut dyn Write, positions: &[DVec3], triangles: &[[u32; 3]]) -> std::io::Result<()> {
+    obj::write_obj(w, bytemuck_positions(positions), triangles)
+}
+
+/// Views positions as plain arrays without copying.
+fn bytemuck_positions(p: &[DVec3]) -> &[[f64; 3]] {
+    bytemuck::cast_slice(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<InputMesh> {
+        parse_obj(text.as_bytes(), Path::new("t.obj"))
+    }
+
+    #[test]
+    fn reads_polygons_groups_and_relative_indices() {
+        let m = parse(
+            "# a quad and a triangle\no a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\ng x\nf 1/1 2/1 3/1 4/1\nv 2 0 0\nf -4 -1 -3\n",
+        )
+        .unwrap();
+        assert_eq!(m.positions.len(), 5);
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [1, 4, 2]]);
+        assert_eq!(m.triangle_origin, vec![9, 9, 11]);
+        assert_eq!(m.faces_in_file, 2);
+    }
+
+    #[test]
+    fn welds_bit_identical_positions_and_drops_unused() {
+        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 5 6 3\n").unwrap();
+        assert_eq!(m.welded, 1);
+        assert_eq!(m.unreferenced, 1);
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.triangles, vec![[0, 1, 2], [1, 3, 2]]);
+        assert_eq!(m.vertex_number, vec![1, 2, 3, 6]);
+    }
+
+    #[test]
+    fn refuses_bad_input_naming_the_line() {
+        let cases = [
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
+            (
+                "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+                ":1: vertex 1 has a non-finite",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+                ":4: face index 4 is out of range",
+            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", ":4: face index 0"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n", ":4: face 1 repeats vertex 2"),
+            ("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", ":4: face 1 has zero area"),
+            ("ply\nformat ascii 1.0\n", ":1: unknown statement 'ply'"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 4 2 3 1\n",
+                ":6: face 2 repeats vertex 1",
+            ),
+            ("v 0 x 0\n", ":1: vertex coordinate 'x'"),
+        ];
+        for (text, expected) in cases {
+            let msg = parse(text).unwrap_err().to_string();
+            assert!(msg.contains(expected), "{text:?}: {msg}");
+        }
+        let msg = parse_obj(b"v 0 0 0\n\xff\xfe\n", Path::new("t.obj"))
+            .unwrap_err()
+            .to_string();
+        assert!(msg.contains(":2: not text"), "{msg}");
+    }
+
+    #[test]
+    fn topology_errors_name_lines_and_vertices() {
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n";
+        let m = parse(&format!("{tri}f 1 2 3\nf 1 2 4\n")).unwrap();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        assert!(
+            msg.contains("line 7") && msg.contains("inconsistent orientation"),
+            "{msg}"
+        );
+        assert!(msg.contains("--repair would fix this"), "{msg}");
+        let m = parse(&format!("{tri}f 1 2 3\nf 2 1 4\nf 1 2 5\n")).unwrap();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        assert!(msg.contains("more than two faces"), "{msg}");
+        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n").unwrap();
+        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        assert!(
+            msg.contains("vertex 1:") && msg.contains("non-manifold vertex"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn repair_fixes_what_is_refused() {
+        let bowtie = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nv 1 0 0\nf 1 2 3\nf 1 4 5\nf 1 1 2\n";
+        let raw = obj::parse_obj(bowtie.as_bytes()).unwrap();
+        let opts = ReadOptions {
+            repair: Some(RepairOptions::default()),
+        };
+        let m = finish(raw, Path::new("t.obj"), &opts).unwrap();
+        let report = m.repair.clone().unwrap();
+        assert_eq!(report.non_manifold_vertices, 1);
+        assert_eq!(report.welded_vertices, 1);
+        assert!(report.repeated_vertex_faces >= 1);
+        let s = build_surface(&m, Path::new("t.obj")).unwrap();
+        s.validate().unwrap();
+        assert_eq!(s.topo.n_faces(), 2);
+    }
+
+    #[test]
+    fn writes_shortest_round_trip_floats() {
+        let p = vec![
+            DVec3::new(0.1, -0.0, 1e-300),
+            DVec3::new(1.0 / 3.0, 2.5, 1e22),
+            DVec3::new(7.0, 8.0, 9.0),
+        ];
+        let mut out = Vec::new();
+        write_obj_to(&mut out, &p, &[[0, 1, 2]]).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let back = parse(&text).unwrap();
+        assert_eq!(back.positions, p);
+        assert!(text.starts_with("v 0.1 -0.0 1e-300\n"), "{text}");
+        assert!(text.ends_with("f 1 2 3\n"));
+    }
+
+    #[test]
+    fn every_output_format_reads_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = vec![
+            DVec3::new(0.1, 0.2, 0.3),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 1.0 / 3.0),
+        ];
+        for ext in ["obj", "off", "ply", "stl"] {
+            let path = dir.path().join(format!("m.{ext}"));
+            write_mesh(&path, &p, &[[0, 1, 2]]).unwrap();
+            let back = read_obj(&path).unwrap();
+            assert_eq!(back.triangles.len(), 1, "{ext}");
+            if ext != "stl" {
+                assert_eq!(back.positions, p, "{ext}");
+            }
+        }
+    }
+
+    #[test]
+    fn atomic_write_leaves_target_alone_on_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.obj");
+        std::fs::write(&target, "old").unwrap();
+        let r = write_atomic(&target, |w| {
+            w.write_all(b"partial")?;
+            Err(std::io::Error::other("disk full"))
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "temporary file left behind"
+        );
+        write_atomic(&target, |w| w.write_all(b"new")).unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+    }
+}

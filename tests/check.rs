@@ -1,0 +1,614 @@
+//! Tests of the independent checker (`check` module): valid results pass, every kind of
+//! invalid result is reported, and the Delaunay count agrees with a brute-force count.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use delmesh::check::{check_files, check_meshes, CheckError, CheckReport, Mesh3};
+use glam::DVec3;
+use tempfile::TempDir;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+// ---------------------------------------------------------------------------------------------
+
+/// OBJ text of a mesh with 0-based faces.
+fn obj(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> String {
+    let mut text = String::new();
+    for v in vertices {
+        text.push_str(&format!("v {:?} {:?} {:?}\n", v[0], v[1], v[2]));
+    }
+    for f in faces {
+        text.push_str(&format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1));
+    }
+    text
+}
+
+/// Writes `text` to `dir/name` and returns the path.
+fn write(dir: &TempDir, name: &str, text: &str) -> PathBuf {
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).expect("write test file");
+    path
+}
+
+/// Checks output text against input text through files.
+fn check_texts(input: &str, output: &str) -> CheckReport {
+    let dir = TempDir::new().expect("tempdir");
+    let input = write(&dir, "input.obj", input);
+    let output = write(&dir, "output.obj", output);
+    check_files(&input, &output).expect("both files are valid meshes")
+}
+
+/// True iff some failure line contains `needle`.
+fn has(report: &CheckReport, needle: &str) -> bool {
+    report.failures.iter().any(|line| line.contains(needle))
+}
+
+/// Asserts that some failure line contains `needle`, showing the report otherwise.
+fn assert_failure(report: &CheckReport, needle: &str) {
+    assert!(
+        has(report, needle),
+        "expected a failure containing {needle:?}, got:\n{report}"
+    );
+}
+
+fn assert_passes(report: &CheckReport) {
+    assert!(report.passed(), "expected a pass, got:\n{report}");
+}
+
+/// A small deterministic random generator (SplitMix64) giving floats in [0, 1).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+
+    fn vec(&mut self, scale: f64) -> DVec3 {
+        DVec3::new(
+            self.range(-scale, scale),
+            self.range(-scale, scale),
+            self.range(-scale, scale),
+        )
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Test meshes
+// ---------------------------------------------------------------------------------------------
+
+const OCTA_V: [[f64; 3]; 6] = [
+    [1.0, 0.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [0.0, 0.0, -1.0],
+];
+const OCTA_F: [[u32; 3]; 8] = [
+    [0, 2, 4],
+    [2, 1, 4],
+    [1, 3, 4],
+    [3, 0, 4],
+    [2, 0, 5],
+    [1, 2, 5],
+    [3, 1, 5],
+    [0, 3, 5],
+];
+
+fn octahedron() -> String {
+    obj(&OCTA_V, &OCTA_F)
+}
+
+const TETRA_V: [[f64; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+const TETRA_F: [[u32; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+
+/// a, b, c, d of the kite: edge ab is long, c above it, d below it (flat) or folded up.
+fn kite(folded: bool) -> [[f64; 3]; 4] {
+    let dz = if folded { 0.5 } else { 0.0 };
+    [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [2.0, 0.3, 0.0], [2.0, -0.3, dz]]
+}
+
+/// The two kite faces sharing the long (non-Delaunay) edge ab.
+const KITE_F: [[u32; 3]; 2] = [[0, 1, 2], [1, 0, 3]];
+
+/// The folded kite with edge ab split at `m` (vertex 5): four faces.
+fn split_kite(m: [f64; 3]) -> String {
+    let mut v = kite(true).to_vec();
+    v.push(m);
+    obj(&v, &[[0, 4, 2], [4, 1, 2], [1, 4, 3], [4, 0, 3]])
+}
+
+// ---------------------------------------------------------------------------------------------
+// Valid results pass
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn delaunay_closed_meshes_pass_against_themselves() {
+    for text in [octahedron(), obj(&TETRA_V, &TETRA_F)] {
+        let report = check_texts(&text, &text);
+        assert_passes(&report);
+        assert_eq!(report.added_vertices, 0);
+        assert_eq!(report.non_delaunay_edges, 0);
+        assert_eq!(report.interior_edges, report.input_faces * 3 / 2);
+        assert!(report.max_excess < 0.0);
+    }
+}
+
+#[test]
+fn cocircular_square_passes_within_tolerance() {
+    let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let text = obj(&v, &[[0, 1, 2], [0, 2, 3]]);
+    let report = check_texts(&text, &text);
+    assert_passes(&report);
+    assert_eq!(report.interior_edges, 1);
+    assert!(report.max_excess.abs() < 1e-12);
+}
+
+#[test]
+fn flat_kite_fixed_by_flipping_passes() {
+    let input = obj(&kite(false), &KITE_F);
+    let output = obj(&kite(false), &[[0, 3, 2], [3, 1, 2]]);
+    let report = check_texts(&input, &output);
+    assert_passes(&report);
+    assert_eq!(report.input_regions, 1);
+    assert_eq!(report.non_delaunay_edges, 0);
+}
+
+#[test]
+fn folded_kite_fixed_by_splitting_passes() {
+    let input = obj(&kite(true), &KITE_F);
+    let report = check_texts(&input, &split_kite([2.0, 0.0, 0.0]));
+    assert_passes(&report);
+    assert_eq!(report.input_regions, 2);
+    assert_eq!(report.added_vertices, 1);
+    assert_eq!(report.interior_edges, 4);
+}
+
+#[test]
+fn folded_back_coplanar_faces_are_separate_regions() {
+    // Both faces in z = 0, but d is on the same side of ab as c: the surface folds back.
+    let v = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [2.0, 1.0, 0.0], [2.0, 0.5, 0.0]];
+    let text = obj(&v, &KITE_F);
+    let report = check_texts(&text, &text);
+    assert_eq!(report.input_regions, 2);
+    let flat = obj(&kite(false), &KITE_F);
+    assert_eq!(check_texts(&flat, &flat).input_regions, 1);
+}
+
+#[test]
+fn points_computed_on_edges_are_accepted_and_points_off_edges_refused() {
+    let mut rng = Rng(7);
+    for i in 0..2000 {
+        let scale = 10f64.powf(rng.range(-3.0, 6.0));
+        let offset = if i % 2 == 0 { rng.vec(scale * 10.0) } else { DVec3::ZERO };
+        let [a, b, c, d] = [0; 4].map(|_| rng.vec(scale) + offset);
+        let input = Mesh3 {
+            positions: vec![a, b, c, d],
+            triangles: KITE_F.to_vec(),
+        };
+        let t = rng.range(0.001, 0.999);
+        let on = a + t * (b - a);
+        let split = |m: DVec3| Mesh3 {
+            positions: vec![a, b, c, d, m],
+            triangles: vec![[0, 4, 2], [4, 1, 2], [1, 4, 3], [4, 0, 3]],
+        };
+        let report = check_meshes(&input, &split(on));
+        assert!(!has(&report, "neither"), "case {i}: point on edge refused:\n{report}");
+        let largest = a.abs().max(b.abs()).max_element();
+        let normal = (b - a).cross(c - a).normalize();
+        let off = on + normal * (1e-9 * largest);
+        let report = check_meshes(&input, &split(off));
+        assert!(has(&report, "output vertex 5"), "case {i}: point off edge accepted");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Invalid results are reported
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn non_delaunay_output_is_reported() {
+    let input = obj(&kite(true), &KITE_F);
+    let report = check_texts(&input, &input);
+    assert_eq!(report.non_delaunay_edges, 1);
+    assert_eq!(report.failures.len(), 1, "{report}");
+    assert_failure(&report, "non-Delaunay edge (v1, v2): alpha+beta-pi = ");
+    assert!(report.max_excess > 2.0);
+}
+
+#[test]
+fn moved_input_vertex_is_reported() {
+    let mut v = OCTA_V;
+    v[0][0] += 1e-6;
+    let report = check_texts(&octahedron(), &obj(&v, &OCTA_F));
+    assert_failure(&report, "input vertex 1 (1, 0, 0) missing from output");
+    assert_failure(
+        &report,
+        "output vertex 1 (1.000001, 0, 0) is neither an input vertex nor on an input edge",
+    );
+}
+
+#[test]
+fn added_vertex_off_its_edge_is_reported() {
+    let input = obj(&kite(true), &KITE_F);
+    for y in [1e-7, 4e-9] {
+        let report = check_texts(&input, &split_kite([2.0, y, 0.0]));
+        assert_failure(&report, "output vertex 5 (2, ");
+        assert_failure(&report, "is neither an input vertex nor on an input edge");
+    }
+}
+
+#[test]
+fn missing_input_vertex_is_reported() {
+    let v = [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
+    let input = obj(&v, &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]);
+    let output = obj(&v, &[[0, 1, 2], [0, 2, 3]]); // vertex 5 no longer used
+    let report = check_texts(&input, &output);
+    assert_eq!(
+        report.failures,
+        vec!["input vertex 5 (1, 1, 0) missing from output".to_string()]
+    );
+}
+
+#[test]
+fn removed_face_is_reported() {
+    let report = check_texts(&octahedron(), &obj(&OCTA_V, &OCTA_F[..7]));
+    assert_failure(&report, "region 8 (containing input face 8) area ");
+    assert_failure(&report, "became 0");
+    assert_failure(&report, "Euler characteristic 2 became 1");
+    assert_failure(&report, "number of boundary loops 0 became 1");
+}
+
+#[test]
+fn edge_flipped_across_a_crease_is_reported() {
+    let input = obj(&kite(true), &KITE_F);
+    let output = obj(&kite(true), &[[0, 3, 2], [3, 1, 2]]);
+    let report = check_texts(&input, &output);
+    assert_failure(&report, "does not lie inside one planar region of the input");
+    assert_failure(&report, "area");
+}
+
+#[test]
+fn reversed_face_is_reported() {
+    let mut faces = OCTA_F;
+    faces[0] = [0, 4, 2];
+    let report = check_texts(&octahedron(), &obj(&OCTA_V, &faces));
+    assert_failure(&report, "in the same direction (inconsistent orientation)");
+    assert_failure(&report, "output face 1 (v1, v5, v3) is reversed");
+}
+
+#[test]
+fn extra_disconnected_triangle_is_reported() {
+    let mut v = OCTA_V.to_vec();
+    v.extend([[10.0, 10.0, 10.0], [11.0, 10.0, 10.0], [10.0, 11.0, 10.0]]);
+    let mut f = OCTA_F.to_vec();
+    f.push([6, 7, 8]);
+    let report = check_texts(&octahedron(), &obj(&v, &f));
+    assert_failure(&report, "number of connected components 1 became 2");
+}
+
+#[test]
+fn bad_output_meshes_give_failures_not_panics() {
+    let input = Mesh3 {
+        positions: OCTA_V.iter().map(|p| DVec3::from_array(*p)).collect(),
+        triangles: OCTA_F.to_vec(),
+    };
+    let mut nan = input.clone();
+    nan.positions[2].y = f64::NAN;
+    assert!(has(&check_meshes(&input, &nan), "output vertex 3"));
+    let mut out_of_range = input.clone();
+    out_of_range.triangles[0][1] = 99;
+    assert!(has(&check_meshes(&input, &out_of_range), "refers to vertex 100"));
+    let mut degenerate = input.clone();
+    degenerate.triangles[0] = [0, 0, 4];
+    assert!(has(&check_meshes(&input, &degenerate), "repeats a vertex"));
+    let empty = Mesh3::default();
+    assert!(!check_meshes(&input, &empty).passed());
+    let report = check_meshes(&empty, &input);
+    assert_eq!(report.failures, vec!["input mesh is invalid: the mesh has no faces"]);
+    let report = check_meshes(&input, &nan.clone());
+    assert!(!report.passed());
+    let report = check_meshes(&nan, &input);
+    assert!(has(&report, "input mesh is invalid: input vertex 3"));
+}
+
+#[test]
+fn random_garbage_meshes_never_panic() {
+    let mut rng = Rng(99);
+    let values = [
+        0.0,
+        -0.0,
+        1.0,
+        0.5,
+        2.0,
+        5e-324,
+        1e300,
+        -f64::MAX,
+        f64::MAX,
+        f64::NAN,
+        f64::INFINITY,
+    ];
+    let random_mesh = |rng: &mut Rng| {
+        let n = 1 + (rng.next() * 8.0) as usize;
+        let pick = |rng: &mut Rng| values[(rng.next() * values.len() as f64) as usize % values.len()];
+        let positions = (0..n)
+            .map(|_| {
+                if rng.next() < 0.8 {
+                    DVec3::new(rng.next().round(), rng.next().round(), (rng.next() * 2.0).round())
+                } else {
+                    DVec3::new(pick(rng), pick(rng), pick(rng))
+                }
+            })
+            .collect();
+        let faces = (0..(rng.next() * 10.0) as usize)
+            .map(|_| [0; 3].map(|_| (rng.next() * (n as f64 + 0.3)) as u32))
+            .collect();
+        Mesh3 {
+            positions,
+            triangles: faces,
+        }
+    };
+    let octa = Mesh3 {
+        positions: OCTA_V.iter().map(|p| DVec3::from_array(*p)).collect(),
+        triangles: OCTA_F.to_vec(),
+    };
+    for _ in 0..3000 {
+        let a = random_mesh(&mut rng);
+        let b = random_mesh(&mut rng);
+        let _ = check_meshes(&a, &b);
+        let report = check_meshes(&octa, &b);
+        assert!(!report.passed() || b.triangles.len() >= 8);
+        let _ = check_meshes(&a, &a);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Invalid inputs and files
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn non_manifold_input_is_an_error_naming_the_file() {
+    let dir = TempDir::new().expect("tempdir");
+    // Two triangles sharing only vertex 1: a bow tie reads as two fans, each with its own
+    // copy of the pinch vertex (the rule that lets repaired meshes be checked).
+    let bowtie = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n";
+    let input = write(&dir, "bowtie.obj", bowtie);
+    let mesh = Mesh3::read_obj(&input).expect("readable");
+    assert_eq!(mesh.positions.len(), 6);
+    assert_eq!(mesh.positions[5], mesh.positions[0]);
+    let report = check_files(&input, &input).expect("a pinch is read as two fans");
+    assert!(report.passed(), "{report}");
+    // Three faces on one edge.
+    let fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    let input = write(&dir, "fin.obj", fin);
+    let err = check_files(&input, &input).expect_err("fin is not a valid input");
+    assert!(err.to_string().contains("is shared by 3 faces"), "{err}");
+}
+
+#[test]
+fn unreadable_files_are_errors() {
+    let dir = TempDir::new().expect("tempdir");
+    let good = write(&dir, "good.obj", &octahedron());
+    let cases = [
+        ("empty.obj", ""),
+        ("points.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"),
+        ("garbage.obj", "v 1 2 x\nf 1 1 1\n"),
+        ("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
+        ("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"),
+        ("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("inf.obj", "v inf 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("binary.obj", "\u{0}\u{1}\u{2}\u{ff}v\n"),
+    ];
+    for (name, text) in cases {
+        let bad = write(&dir, name, text);
+        for (input, output) in [(&bad, &good), (&good, &bad)] {
+            let err = check_files(input, output).expect_err(name);
+            assert!(err.to_string().contains(name), "{name}: {err}");
+        }
+    }
+    let missing = dir.path().join("missing.obj");
+    let err = check_files(&missing, &good).expect_err("missing file");
+    assert!(matches!(err, CheckError::Io { .. }), "{err}");
+    assert!(matches!(
+        Mesh3::read_obj(write(&dir, "e.obj", "")),
+        Err(CheckError::NoFaces { .. })
+    ));
+}
+
+#[test]
+fn reading_merges_objects_welds_and_numbers_by_v_lines() {
+    let dir = TempDir::new().expect("tempdir");
+    let text = "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\no quad\nf 4 5 2 3\n\
+                o tri\nv 1 1 0\nv 2 1 0\nf 3 7 6\n";
+    let mesh = Mesh3::read_obj(write(&dir, "m.obj", text)).expect("valid");
+    let expected: Vec<DVec3> = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [2., 1., 0.]]
+        .iter()
+        .map(|p| DVec3::from_array(*p))
+        .collect();
+    assert_eq!(mesh.positions, expected);
+    assert_eq!(mesh.triangles, vec![[2, 3, 0], [2, 0, 1], [1, 4, 2]]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Larger sanity test
+// ---------------------------------------------------------------------------------------------
+
+/// A closed icosphere subdivided `levels` times, with vertices randomly perturbed.
+fn perturbed_icosphere(levels: usize, rng: &mut Rng) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let g = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<DVec3> = [
+        [-1.0, g, 0.0],
+        [1.0, g, 0.0],
+        [-1.0, -g, 0.0],
+        [1.0, -g, 0.0],
+        [0.0, -1.0, g],
+        [0.0, 1.0, g],
+        [0.0, -1.0, -g],
+        [0.0, 1.0, -g],
+        [g, 0.0, -1.0],
+        [g, 0.0, 1.0],
+        [-g, 0.0, -1.0],
+        [-g, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|p| DVec3::from_array(*p).normalize())
+    .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut next = Vec::new();
+        for [a, b, c] in f {
+            let mut m = |x: u32, y: u32| {
+                *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
+                    v.push(((v[x as usize] + v[y as usize]) / 2.0).normalize());
+                    v.len() as u32 - 1
+                })
+            };
+            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        f = next;
+    }
+    let edge = (v[f[0][0] as usize] - v[f[0][1] as usize]).length();
+    for p in &mut v {
+        *p = *p * rng.range(0.97, 1.03) + rng.vec(0.2 * edge);
+    }
+    (v, f)
+}
+
+/// Brute-force count of interior edges with alpha + beta > pi + 1e-9, with acos angles.
+fn brute_force_non_delaunay(v: &[DVec3], f: &[[u32; 3]]) -> usize {
+    let mut opposite: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in f {
+        for k in 0..3 {
+            opposite.insert((t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+        }
+    }
+    let angle = |apex: u32, x: u32, y: u32| {
+        let (u, w) = (v[x as usize] - v[apex as usize], v[y as usize] - v[apex as usize]);
+        (u.dot(w) / (u.length() * w.length())).clamp(-1.0, 1.0).acos()
+    };
+    opposite
+        .iter()
+        .filter(|((a, b), _)| a < b)
+        .filter(|((a, b), c)| {
+            let d = opposite[&(*b, *a)];
+            angle(**c, *a, *b) + angle(d, *a, *b) > PI + 1e-9
+        })
+        .count()
+}
+
+#[test]
+fn perturbed_icosphere_count_matches_brute_force() {
+    let mut rng = Rng(2024);
+    let (v, f) = perturbed_icosphere(4, &mut rng);
+    let points: Vec<[f64; 3]> = v.iter().map(|p| p.to_array()).collect();
+    let text = obj(&points, &f);
+    let report = check_texts(&text, &text);
+    let expected = brute_force_non_delaunay(&v, &f);
+    assert!(expected > 20, "the perturbation should make non-Delaunay edges");
+    assert_eq!(report.non_delaunay_edges, expected);
+    assert_eq!(report.interior_edges, f.len() * 3 / 2);
+    assert_eq!(report.input_regions, f.len());
+    assert_eq!(report.output_vertices, v.len());
+    // Only Delaunay failures, capped at 20 lines plus a summary line.
+    assert_eq!(report.failures.len(), 21, "{report}");
+    assert!(report.failures[..20].iter().all(|l| l.starts_with("non-Delaunay edge")));
+    assert_eq!(
+        report.failures[20],
+        format!("... and {} more non-Delaunay edge failures", expected - 20)
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Real meshes (skipped when the shared meshes are absent)
+// ---------------------------------------------------------------------------------------------
+
+fn shared_mesh(name: &str) -> Option<PathBuf> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes")
+        .join(name);
+    if path.exists() {
+        Some(path)
+    } else {
+        eprintln!("skipping: {} not found", path.display());
+        None
+    }
+}
+
+#[test]
+fn real_meshes_against_themselves_fail_only_on_delaunay() {
+    for name in [
+        "knot.obj",
+        "fandisk.obj",
+        "anchor.obj",
+        "mpi_triang.obj",
+        "nefertiti.obj",
+    ] {
+        let Some(path) = shared_mesh(name) else {
+            continue;
+        };
+        let report = check_files(&path, &path).expect("valid mesh");
+        assert_eq!(report.added_vertices, 0);
+        let other = report
+            .failures
+            .iter()
+            .filter(|l| !l.starts_with("non-Delaunay edge") && !l.starts_with("... and"));
+        assert_eq!(other.count(), 0, "{name}: {report}");
+        assert_eq!(report.passed(), report.non_delaunay_edges == 0);
+        if name == "knot.obj" {
+            assert_passes(&report);
+        }
+    }
+}
+
+#[test]
+fn real_pinched_mesh_reads_as_separate_fans() {
+    // Welded, the teapot has one vertex where two fans meet: read as two vertices, the mesh
+    // is a valid input, and checked against itself only Delaunay failures can remain.
+    if let Some(path) = shared_mesh("nonmanifold/teapot.obj") {
+        let report = check_files(&path, &path).expect("the teapot reads as a manifold");
+        let other = report
+            .failures
+            .iter()
+            .filter(|l| !l.starts_with("non-Delaunay edge") && !l.starts_with("... and"));
+        assert_eq!(other.count(), 0, "{report}");
+    }
+}
