@@ -10,6 +10,23 @@ use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 
 use delmesh::io;
+
+/// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
+/// not turn a finished run into a crash.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` that never panics, for the same reason.
+macro_rules! complain {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
 use delmesh::mesh::Surface;
 use delmesh::refine::{self, Options, Stats, Worklist};
 use delmesh::samples::Score;
@@ -178,7 +195,7 @@ pub fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("delmesh: {}", one_line(&e));
+            complain!("delmesh: {}", one_line(&e));
             ExitCode::from(1)
         }
     }
@@ -247,6 +264,14 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
     if path.is_dir() {
         bail!("{}: output is a folder, not a file", path.display());
     }
+    // Writable? Probe with the same kind of temporary file the atomic write uses.
+    if let Err(e) = tempfile::Builder::new()
+        .prefix(".delmesh-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+    {
+        bail!("{}: cannot write in folder {}: {e}", path.display(), dir.display());
+    }
     Ok(())
 }
 
@@ -302,7 +327,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let build_s = t_build.elapsed().as_secs_f64();
     let figures = surface.input_figures;
     if !args.quiet {
-        println!(
+        say!(
             "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
             input_path.display(),
             input.positions.len(),
@@ -314,13 +339,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         );
         if let Some(report) = &input.repair {
             if report.is_clean() {
-                println!("repair  nothing to repair");
+                say!("repair  nothing to repair");
             }
             for line in report.lines() {
-                println!("repair  {line}");
+                say!("repair  {line}");
             }
         } else if input.welded > 0 || input.unreferenced > 0 {
-            println!(
+            say!(
                 "        welded {} duplicate vertices, dropped {} unused vertices",
                 input.welded, input.unreferenced
             );
@@ -329,7 +354,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if let Some(repaired) = &args.repaired {
         io::write_mesh(repaired, &input.positions, &input.triangles)?;
         if !args.quiet {
-            println!("        repaired input written to {}", repaired.display());
+            say!("        repaired input written to {}", repaired.display());
         }
     }
     if args.all {
@@ -344,25 +369,25 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
-        println!(
+        say!(
             "run     {}, {}, {}",
             ds_name(options.worklist),
             score_name(options.score),
             if options.median { "median" } else { "no median" }
         );
-        println!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
-        println!(
+        say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
+        say!(
             "output  {}: {} vertices, {} faces, {} added vertices",
             output.display(),
             out.surface.positions.len(),
             out.surface.topo.n_faces(),
             out.surface.positions.len() - out.surface.n_input_vertices
         );
-        println!(
+        say!(
             "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
             s.splits, s.flips, s.non_delaunay_before, s.non_delaunay_after
         );
-        println!(
+        say!(
             "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
             t0.elapsed().as_secs_f64(),
             read_s,
@@ -486,7 +511,7 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
     });
     let failed = rows.iter().filter(|r| r.result.is_err()).count();
     if !args.quiet {
-        println!(
+        say!(
             "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9}  file",
             "data structure", "weight", "median", "faces", "vertices", "added", "splits", "flips", "seconds"
         );
@@ -499,16 +524,16 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
                 if r.options.median { "yes" } else { "no" }
             );
             match &r.result {
-                Ok(f) => println!(
+                Ok(f) => say!(
                     "{head} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9.4}  {name}",
                     f.faces, f.vertices, f.added, f.stats.splits, f.stats.flips, f.seconds
                 ),
-                Err(e) => println!("{head} {:>9}  not written: {}", "failed", one_line(e)),
+                Err(e) => say!("{head} {:>9}  not written: {}", "failed", one_line(e)),
             }
         }
     }
     if failed > 0 {
-        eprintln!(
+        complain!(
             "delmesh: {failed} of {} combinations failed (see the table); the others were written",
             rows.len()
         );
@@ -519,7 +544,7 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
 
 fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     let report = delmesh::check::check_files(input, output)?;
-    println!(
+    say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {:.3e} rad)",
         report.output_vertices,
         report.added_vertices,
@@ -529,17 +554,17 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         report.max_excess
     );
     for f in &report.failures {
-        println!("FAIL    {f}");
+        say!("FAIL    {f}");
     }
     if report.passed() {
-        println!(
+        say!(
             "PASS    {} is a Delaunay mesh with the geometry of {}",
             output.display(),
             input.display()
         );
         Ok(ExitCode::SUCCESS)
     } else {
-        println!("FAILED  {} failure(s)", report.failures.len());
+        say!("FAILED  {} failure(s)", report.failures.len());
         Ok(ExitCode::from(1))
     }
 }

@@ -185,6 +185,9 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         stuck: Vec::new(),
     };
     run.stats.constants = Some(constants);
+    // Room for as many splits as the mesh has edges: untouched capacity costs
+    // no memory, and typical runs then never copy their arrays.
+    run.s.reserve_splits(run.s.topo.n_edges().min(options.max_added));
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
     for e in 0..run.s.topo.n_edges() {

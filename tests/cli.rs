@@ -269,6 +269,36 @@ fn unreadable_input_and_bad_output_paths() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
+    // An output in a folder nobody can write to (/proc refuses new files, even for root).
+    let before = std::fs::read(&input).unwrap();
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg("/proc/delmesh-out.obj")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("cannot write in folder /proc"), "{stderr}");
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    // -all whose file names would fall on the input.
+    let trap = dir.path().join("x-s-0-m.obj");
+    copy_fixture("cube.obj", &trap);
+    let out = delmesh()
+        .arg("-i")
+        .arg(&trap)
+        .arg("-o")
+        .arg(dir.path().join("x.obj"))
+        .arg("-all")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("would overwrite the input"));
+    assert!(
+        !dir.path().join("x-q-0-m.obj").exists(),
+        "work started before the check"
+    );
 }
 
 #[test]
@@ -429,4 +459,27 @@ fn repair_makes_the_shipped_teapot_usable() {
         "{stdout}"
     );
     check_passes(&repaired, &output);
+}
+
+#[test]
+fn a_closed_stdout_is_not_a_crash() {
+    // `delmesh ... | head -1`: stdout closes after the first line.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.obj");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(&out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // close the read end at once
+    let status = child.wait().unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(status.success(), "{stderr}");
+    assert!(out.exists());
 }

@@ -226,6 +226,16 @@ impl Surface {
         [self.positions[a as usize], self.positions[b as usize]]
     }
 
+    /// Reserves room for `splits` more splits, so that the main loop does not
+    /// regrow (copy) its arrays. Reserved memory is not touched until used.
+    pub fn reserve_splits(&mut self, splits: usize) {
+        self.topo.reserve_splits(splits);
+        self.positions.reserve(splits);
+        self.carriers.reserve(splits);
+        self.edge_input.reserve(3 * splits);
+        self.face_region.reserve(2 * splits);
+    }
+
     /// Flips edge `e` (which must be flippable). See [`Topology::flip`].
     pub fn flip(&mut self, e: EdgeId) {
         self.topo.flip(e);
@@ -252,17 +262,40 @@ impl Surface {
 
     /// Smallest angle and extreme edge lengths.
     pub fn figures(&self) -> InputFigures {
-        let mut min_angle = f64::INFINITY;
+        // The smallest angle of a triangle is opposite its shortest side and
+        // is acute, where tan = |u × v| / (u · v) grows with the angle: keep
+        // the smallest tangent, and take one atan2 at the end.
+        let (mut best_sin, mut best_cos) = (1.0f64, 0.0f64);
         for f in 0..self.topo.n_faces() {
             let [a, b, c] = self
                 .topo
                 .face_vertices(FaceId(f as u32))
                 .map(|v| self.positions[v.idx()]);
-            min_angle = min_angle
-                .min(geometry::corner_angle(b, c, a))
-                .min(geometry::corner_angle(c, a, b))
-                .min(geometry::corner_angle(a, b, c));
+            let (ab, bc, ca) = (
+                (b - a).length_squared(),
+                (c - b).length_squared(),
+                (a - c).length_squared(),
+            );
+            // The corner opposite the shortest side: (apex, one end, other end).
+            let (apex, p, q) = if ab <= bc && ab <= ca {
+                (c, a, b)
+            } else if bc <= ca {
+                (a, b, c)
+            } else {
+                (b, c, a)
+            };
+            let (u, v) = (p - apex, q - apex);
+            let (sin, cos) = (u.cross(v).length(), u.dot(v));
+            // sin/cos < best_sin/best_cos without dividing (cosines are ≥ 0).
+            if sin * best_cos < best_sin * cos {
+                (best_sin, best_cos) = (sin, cos);
+            }
         }
+        let min_angle = if self.topo.n_faces() == 0 {
+            f64::INFINITY
+        } else {
+            best_sin.atan2(best_cos)
+        };
         let (mut min_edge, mut max_edge) = (f64::INFINITY, 0.0f64);
         for e in 0..self.topo.n_edges() {
             let l = self.edge_length(EdgeId(e as u32));

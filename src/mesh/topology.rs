@@ -138,7 +138,8 @@ impl Topology {
         let n_corners = triangles.len() * 3;
         let origin = |c: usize| triangles[c / 3][c % 3];
         let dest = |c: usize| triangles[c / 3][(c % 3 + 1) % 3];
-        // Outgoing corners per vertex, compressed (counting sort).
+        // Outgoing corners per vertex, compressed (counting sort), each with
+        // its destination so that scanning a vertex's list reads one block.
         let mut start = vec![0u32; n_vertices + 1];
         for c in 0..n_corners {
             start[origin(c) as usize + 1] += 1;
@@ -147,12 +148,13 @@ impl Topology {
             start[v + 1] += start[v];
         }
         let mut fill = start.clone();
-        let mut out = vec![0u32; n_corners];
+        let mut out = vec![(0u32, 0u32); n_corners]; // (destination, corner)
         for c in 0..n_corners {
             let v = origin(c) as usize;
-            out[fill[v] as usize] = c as u32;
+            out[fill[v] as usize] = (dest(c), c as u32);
             fill[v] += 1;
         }
+        drop(fill);
         let outgoing = |v: u32| &out[start[v as usize] as usize..start[v as usize + 1] as usize];
 
         // Pair corners into edges.
@@ -164,16 +166,11 @@ impl Topology {
                 continue;
             }
             let (u, v) = (origin(c), dest(c));
-            let mut same = 0;
-            for &o in outgoing(u) {
-                if dest(o as usize) == v {
-                    same += 1;
-                }
-            }
+            let same = outgoing(u).iter().filter(|o| o.0 == v).count();
             let mut twin = None;
             let mut opposite = 0;
-            for &o in outgoing(v) {
-                if dest(o as usize) == u {
+            for &(d, o) in outgoing(v) {
+                if d == u {
                     opposite += 1;
                     twin = Some(o as usize);
                 }
@@ -188,8 +185,8 @@ impl Topology {
             if same > 1 {
                 let second = outgoing(u)
                     .iter()
-                    .map(|&o| o as usize)
-                    .filter(|&o| dest(o) == v)
+                    .filter(|o| o.0 == v)
+                    .map(|o| o.1 as usize)
                     .max()
                     .unwrap_or(c);
                 return Err(TopologyError::InconsistentOrientation {
@@ -201,12 +198,9 @@ impl Topology {
             let h = he_origin.len() as u32;
             corner_he[c] = h;
             he_origin.push(VertexId(u));
-            match twin {
-                Some(t) => {
-                    corner_he[t] = h + 1;
-                    he_origin.push(VertexId(v));
-                }
-                None => he_origin.push(VertexId(v)),
+            he_origin.push(VertexId(v));
+            if let Some(t) = twin {
+                corner_he[t] = h + 1;
             }
         }
         let n_he = he_origin.len();

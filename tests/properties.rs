@@ -1,0 +1,892 @@
+//! Property tests: random meshes of several families through all 18
+//! combinations (3 worklists × 3 scores × median on/off).
+//!
+//! For every mesh and combination: `Surface::new` → `make_delaunay` →
+//! `validate()`, zero non-Delaunay edges at the acceptance tolerance, the
+//! input vertices first and bit-identical, the same run twice gives the same
+//! mesh, and the independent checker (`check_meshes`) passes. A few meshes
+//! also go through written files (OBJ, PLY, OFF) and `check_files`.
+//!
+//! Families (each from a fixed seed):
+//! - perturbed spheres: subdivided icosahedron with radial noise (closed, genus 0);
+//! - perturbed tori: a grid on a torus with noise and random diagonals (closed, genus 1);
+//! - height fields: z = noise on a jittered grid (one boundary loop);
+//! - exactly coplanar patches: voxel solids (cube, L-, U-prisms, boxes) whose
+//!   faces are subdivided with dyadic, exactly representable coordinates, some
+//!   cells fanned around an interior point (large planar regions: flips);
+//!   one variant without jitter (exactly cocircular grids);
+//! - needles and caps: vertices moved very close to an edge or a vertex, a fan
+//!   with a tiny angle, a height field with a very narrow column;
+//! - several components (disjoint and nested) in one mesh.
+//!
+//! With the first best sample instead of the median (`-nomedian`), tiny
+//! angles can need very many vertices: such runs stop with `WorkLimit`, a
+//! documented limit, counted but tolerated on the needle family only. The
+//! median combinations must always succeed.
+
+mod common;
+
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use common::Rng;
+use delmesh::check::{check_files, check_meshes, Mesh3};
+use delmesh::io::{self, ReadOptions};
+use delmesh::mesh::Surface;
+use delmesh::refine::{make_delaunay, Options, Worklist};
+use delmesh::samples::Score;
+use delmesh::Error;
+use glam::DVec3;
+
+/// The work limit of every run here: far above what the median rule needs on
+/// these meshes, low enough that a pathological no-median run stops quickly.
+const MAX_ADDED: usize = 50_000;
+
+// ---------------------------------------------------------------------------
+// Mesh building
+// ---------------------------------------------------------------------------
+
+/// A triangle mesh under construction: vertices shared by bit-identical
+/// position.
+#[derive(Default, Clone)]
+struct MeshBuilder {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    index: HashMap<[u64; 3], u32>,
+}
+
+impl MeshBuilder {
+    fn vertex(&mut self, p: DVec3) -> u32 {
+        assert!(p.is_finite(), "generator made a non-finite point");
+        let key = p.to_array().map(f64::to_bits);
+        let n = self.positions.len() as u32;
+        *self.index.entry(key).or_insert_with(|| {
+            self.positions.push(p);
+            n
+        })
+    }
+
+    fn triangle(&mut self, a: DVec3, b: DVec3, c: DVec3) {
+        let t = [self.vertex(a), self.vertex(b), self.vertex(c)];
+        self.triangles.push(t);
+    }
+
+    /// Adds a whole mesh, moved by `offset` (exactly representable offsets
+    /// keep exact coplanarity).
+    fn append(&mut self, other: &Mesh, offset: DVec3) {
+        for t in &other.triangles {
+            let [a, b, c] = t.map(|v| other.positions[v as usize] + offset);
+            self.triangle(a, b, c);
+        }
+    }
+
+    fn build(self) -> Mesh {
+        Mesh {
+            positions: self.positions,
+            triangles: self.triangles,
+        }
+    }
+}
+
+/// A generated input mesh.
+#[derive(Clone, Debug)]
+struct Mesh {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// A named input and whether `WorkLimit` is tolerated for no-median runs.
+struct Case {
+    name: String,
+    mesh: Mesh,
+    needle: bool,
+}
+
+fn case(name: impl Into<String>, mesh: Mesh) -> Case {
+    Case {
+        name: name.into(),
+        mesh,
+        needle: false,
+    }
+}
+
+fn needle_case(name: impl Into<String>, mesh: Mesh) -> Case {
+    Case {
+        name: name.into(),
+        mesh,
+        needle: true,
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Generators
+// ---------------------------------------------------------------------------
+
+/// An icosahedron subdivided `levels` times, its vertices at radius
+/// `1 + amplitude·u`, u uniform in [−1/2, 1/2).
+fn sphere(rng: &mut Rng, levels: u32, amplitude: f64) -> Mesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut p: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut midpoint = |a: u32, b: u32, p: &mut Vec<DVec3>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                p.push(((p[a as usize] + p[b as usize]) / 2.0).normalize());
+                p.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(tris.len() * 4);
+        for &[a, b, c] in &tris {
+            let (ab, bc, ca) = (midpoint(a, b, &mut p), midpoint(b, c, &mut p), midpoint(c, a, &mut p));
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        tris = next;
+    }
+    for q in &mut p {
+        *q *= 1.0 + amplitude * (rng.f64() - 0.5);
+    }
+    Mesh {
+        positions: p,
+        triangles: tris,
+    }
+}
+
+/// A grid of `nu × nv` quads on a torus (radii about 2 and 0.7), angles and
+/// radii jittered, each quad split along a random diagonal.
+fn torus(rng: &mut Rng, nu: usize, nv: usize, noise: f64) -> Mesh {
+    let mut positions = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let u = TAU * (i as f64 + noise * rng.range(-0.3, 0.3)) / nu as f64;
+            let v = TAU * (j as f64 + noise * rng.range(-0.3, 0.3)) / nv as f64;
+            let r = 0.7 * (1.0 + noise * rng.range(-0.2, 0.2));
+            let big = 2.0 + r * v.cos();
+            positions.push(DVec3::new(big * u.cos(), big * u.sin(), r * v.sin()));
+        }
+    }
+    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let mut triangles = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if rng.f64() < 0.5 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    Mesh { positions, triangles }
+}
+
+/// A jittered `nx × ny` grid of quads over the unit square with heights
+/// `z = amplitude·noise`, random diagonals. `columns` maps the grid column
+/// i in 0..=nx to x (so that columns can be squeezed).
+fn height_field_with(
+    rng: &mut Rng,
+    nx: usize,
+    ny: usize,
+    noise: f64,
+    smooth: f64,
+    columns: &dyn Fn(usize) -> f64,
+) -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let (jx, jy) = if i == 0 || i == nx || j == 0 || j == ny {
+                (0.0, 0.0)
+            } else {
+                (rng.range(-0.2, 0.2), rng.range(-0.2, 0.2))
+            };
+            let x0 = columns(i);
+            let dx = if i < nx {
+                columns(i + 1) - x0
+            } else {
+                x0 - columns(i - 1)
+            };
+            let x = x0 + jx * dx;
+            let y = (j as f64 + jy) / ny as f64;
+            let z = noise * (rng.f64() - 0.5) + smooth * (3.0 * x).sin() * (2.0 * y).cos();
+            positions.push(DVec3::new(x, y, z));
+        }
+    }
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if rng.f64() < 0.5 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    Mesh { positions, triangles }
+}
+
+fn height_field(rng: &mut Rng, nx: usize, ny: usize, amplitude: f64) -> Mesh {
+    height_field_with(rng, nx, ny, amplitude, 0.3 * amplitude, &|i| i as f64 / nx as f64)
+}
+
+/// A hash of integers to a value in [0, 1): the jitter of a lattice point
+/// must not depend on which face asks for it.
+fn hash01(seed: u64, key: [i64; 4]) -> f64 {
+    let mut h = seed ^ 0x9E37_79B9_7F4A_7C15;
+    for k in key {
+        h ^= k as u64;
+        h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        h ^= h >> 31;
+    }
+    h = h.wrapping_mul(0x94D0_49BB_1331_11EB);
+    h ^= h >> 29;
+    (h >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// The boundary of a union of unit voxels, each voxel face divided into
+/// `k × k` cells (`k` a power of two), lattice points jittered by multiples of
+/// 1/64 of a cell along the axes on which they are free (not on a voxel
+/// plane), coordinates scaled per axis by powers of two. Every coordinate is
+/// a dyadic rational with few bits, so every voxel face stays exactly planar.
+/// Each cell is split along a random diagonal or fanned around its centroid.
+fn voxel_solid(rng: &mut Rng, voxels: &[[i64; 3]], k: i64, jitter: bool, scale: DVec3) -> Mesh {
+    let seed = (rng.f64() * (1u64 << 52) as f64) as u64;
+    let solid = |v: [i64; 3]| voxels.contains(&v);
+    let point = |l: [i64; 3]| -> DVec3 {
+        let mut c = [0.0; 3];
+        for axis in 0..3 {
+            let free = l[axis].rem_euclid(k) != 0;
+            let m = if jitter && free {
+                (hash01(seed, [l[0], l[1], l[2], axis as i64]) * 39.0).floor() - 19.0
+            // -19..=19
+            } else {
+                0.0
+            };
+            c[axis] = (l[axis] as f64 + m / 64.0) / k as f64;
+        }
+        DVec3::from_array(c) * scale
+    };
+    let mut b = MeshBuilder::default();
+    for &v in voxels {
+        for axis in 0..3 {
+            for dir in [1i64, -1] {
+                let mut n = v;
+                n[axis] += dir;
+                if solid(n) {
+                    continue;
+                }
+                let (u_axis, w_axis) = ((axis + 1) % 3, (axis + 2) % 3);
+                let plane = if dir > 0 { v[axis] + 1 } else { v[axis] } * k;
+                for i in 0..k {
+                    for j in 0..k {
+                        let lattice = |di: i64, dj: i64| {
+                            let mut l = [0; 3];
+                            l[axis] = plane;
+                            l[u_axis] = v[u_axis] * k + i + di;
+                            l[w_axis] = v[w_axis] * k + j + dj;
+                            point(l)
+                        };
+                        // Counter-clockwise seen from outside.
+                        let mut q = [lattice(0, 0), lattice(1, 0), lattice(1, 1), lattice(0, 1)];
+                        if dir < 0 {
+                            q.reverse();
+                        }
+                        match (rng.f64() * 3.0) as u32 {
+                            0 => {
+                                b.triangle(q[0], q[1], q[2]);
+                                b.triangle(q[0], q[2], q[3]);
+                            }
+                            1 => {
+                                b.triangle(q[0], q[1], q[3]);
+                                b.triangle(q[1], q[2], q[3]);
+                            }
+                            _ => {
+                                // Exact: a sum of four dyadic rationals with few bits.
+                                let c = (q[0] + q[1] + q[2] + q[3]) / 4.0;
+                                for e in 0..4 {
+                                    b.triangle(q[e], q[(e + 1) % 4], c);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    b.build()
+}
+
+/// A disc fan around a center at height `h`: `n` rim vertices at random
+/// heights, one angular gap of only `tiny` radians (a needle at the center).
+fn tiny_angle_fan(rng: &mut Rng, n: usize, tiny: f64, h: f64) -> Mesh {
+    let mut b = MeshBuilder::default();
+    let center = DVec3::new(0.0, 0.0, h);
+    let mut angles = vec![0.0, tiny];
+    for i in 1..n - 1 {
+        angles.push(tiny + (TAU - tiny) * i as f64 / (n - 1) as f64 + rng.range(-0.1, 0.1));
+    }
+    // The two rim vertices of the needle at the same radius and height, so
+    // that the angle at the center really is about `tiny`.
+    let (r0, z0) = (rng.range(0.8, 1.2), rng.range(-0.2, 0.2));
+    let rim: Vec<DVec3> = angles
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| {
+            let (r, z) = if i < 2 {
+                (r0, z0)
+            } else {
+                (rng.range(0.8, 1.2), rng.range(-0.2, 0.2))
+            };
+            DVec3::new(r * a.cos(), r * a.sin(), z)
+        })
+        .collect();
+    for i in 0..n {
+        b.triangle(center, rim[i], rim[(i + 1) % n]);
+    }
+    b.build()
+}
+
+/// A height field in which `count` triangles get an extra vertex very close
+/// to one of their edges (a cap: angle near π) or to one of their corners (a
+/// needle), lifted slightly out of the plane.
+fn height_field_with_caps(rng: &mut Rng, nx: usize, count: usize, eps: f64, near_corner: bool) -> Mesh {
+    let base = height_field(rng, nx, nx, 0.3);
+    let mut triangles = base.triangles.clone();
+    let mut positions = base.positions.clone();
+    let mut done = std::collections::HashSet::new();
+    for _ in 0..count {
+        let f = rng.below(triangles.len() as u64) as usize;
+        if !done.insert(f) {
+            continue;
+        }
+        let [a, b, c] = triangles[f];
+        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
+        let normal = (pb - pa).cross(pc - pa).normalize();
+        let p = if near_corner {
+            // Just inside the corner at a.
+            pa + eps * ((pb - pa) + (pc - pa)) + eps * 0.5 * normal
+        } else {
+            // Just inside the edge (a, b), near its middle.
+            let m = pa + rng.range(0.3, 0.7) * (pb - pa);
+            m + eps * (pc - m) + eps * normal
+        };
+        positions.push(p);
+        let v = positions.len() as u32 - 1;
+        triangles[f] = [a, b, v];
+        triangles.push([b, c, v]);
+        triangles.push([c, a, v]);
+    }
+    Mesh { positions, triangles }
+}
+
+fn translated(m: &Mesh, offset: DVec3) -> MeshBuilder {
+    let mut b = MeshBuilder::default();
+    b.append(m, offset);
+    b
+}
+
+fn l_prism() -> Vec<[i64; 3]> {
+    vec![[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+}
+
+fn u_prism() -> Vec<[i64; 3]> {
+    vec![
+        [0, 0, 0],
+        [1, 0, 0],
+        [2, 0, 0],
+        [0, 1, 0],
+        [2, 1, 0],
+        [0, 0, 1],
+        [0, 1, 1],
+    ]
+}
+
+// ---------------------------------------------------------------------------
+// The families
+// ---------------------------------------------------------------------------
+
+fn sphere_cases() -> Vec<Case> {
+    let mut rng = Rng::new(101);
+    vec![
+        case("sphere l2 exact", sphere(&mut rng, 2, 0.0)),
+        case("sphere l2 noise 0.05", sphere(&mut rng, 2, 0.05)),
+        case("sphere l2 noise 0.3", sphere(&mut rng, 2, 0.3)),
+        case("sphere l1 noise 0.8", sphere(&mut rng, 1, 0.8)),
+    ]
+}
+
+fn torus_cases() -> Vec<Case> {
+    let mut rng = Rng::new(202);
+    vec![
+        case("torus 16x8 smooth", torus(&mut rng, 16, 8, 0.0)),
+        case("torus 16x8 noise", torus(&mut rng, 16, 8, 1.0)),
+        case("torus 24x6 noise", torus(&mut rng, 24, 6, 1.0)),
+        case("torus 7x5 noise", torus(&mut rng, 7, 5, 1.0)),
+    ]
+}
+
+fn height_field_cases() -> Vec<Case> {
+    let mut rng = Rng::new(303);
+    vec![
+        case("height field 10x10 amp 0.1", height_field(&mut rng, 10, 10, 0.1)),
+        case("height field 10x10 amp 1", height_field(&mut rng, 10, 10, 1.0)),
+        case("height field 14x5 amp 0.5", height_field(&mut rng, 14, 5, 0.5)),
+        case("height field 6x12 amp 3", height_field(&mut rng, 6, 12, 3.0)),
+    ]
+}
+
+fn coplanar_cases() -> Vec<Case> {
+    let mut rng = Rng::new(404);
+    let s = DVec3::ONE;
+    vec![
+        case("cube k4 jitter", voxel_solid(&mut rng, &[[0, 0, 0]], 4, true, s)),
+        case("cube k4 regular", voxel_solid(&mut rng, &[[0, 0, 0]], 4, false, s)),
+        case(
+            "cube k4 stretched",
+            voxel_solid(&mut rng, &[[0, 0, 0]], 4, true, DVec3::new(4.0, 0.25, 1.0)),
+        ),
+        case("L prism k2 jitter", voxel_solid(&mut rng, &l_prism(), 2, true, s)),
+        case(
+            "L prism k2 flat",
+            voxel_solid(&mut rng, &l_prism(), 2, true, DVec3::new(1.0, 1.0, 0.125)),
+        ),
+        case("U prism k2 jitter", voxel_solid(&mut rng, &u_prism(), 2, true, s)),
+        case(
+            "box 3x1x1 k2",
+            voxel_solid(
+                &mut rng,
+                &[[0, 0, 0], [1, 0, 0], [2, 0, 0]],
+                2,
+                true,
+                DVec3::new(2.0, 0.5, 0.5),
+            ),
+        ),
+    ]
+}
+
+fn needle_cases() -> Vec<Case> {
+    let mut rng = Rng::new(505);
+    let squeezed = |nx: usize, width: f64| {
+        move |i: usize| {
+            let w = 1.0 / nx as f64;
+            match i {
+                0..=4 => i as f64 * w,
+                _ => 4.0 * w + width + (i - 5) as f64 * w,
+            }
+        }
+    };
+    vec![
+        needle_case("fan angle 1e-2", tiny_angle_fan(&mut rng, 12, 1e-2, 0.3)),
+        needle_case("fan angle 1e-4", tiny_angle_fan(&mut rng, 12, 1e-4, 0.3)),
+        needle_case("fan angle 1e-6 flat-ish", tiny_angle_fan(&mut rng, 9, 1e-6, 0.05)),
+        needle_case("caps eps 1e-3", height_field_with_caps(&mut rng, 8, 10, 1e-3, false)),
+        needle_case("caps eps 1e-6", height_field_with_caps(&mut rng, 8, 6, 1e-6, false)),
+        needle_case("needles eps 1e-3", height_field_with_caps(&mut rng, 8, 10, 1e-3, true)),
+        needle_case("needles eps 1e-5", height_field_with_caps(&mut rng, 8, 6, 1e-5, true)),
+        needle_case(
+            "squeezed column 1e-3",
+            height_field_with(&mut rng, 10, 8, 0.0, 0.3, &squeezed(10, 1e-3)),
+        ),
+    ]
+}
+
+fn multi_component_cases() -> Vec<Case> {
+    let mut rng = Rng::new(606);
+    let mut b = translated(&sphere(&mut rng, 1, 0.3), DVec3::new(-3.0, 0.0, 0.0));
+    b.append(&torus(&mut rng, 10, 6, 1.0), DVec3::new(4.0, 0.0, 0.0));
+    b.append(&height_field(&mut rng, 6, 6, 0.5), DVec3::new(0.0, 5.0, 0.0));
+    b.append(
+        &voxel_solid(&mut rng, &l_prism(), 2, true, DVec3::ONE),
+        DVec3::new(0.0, -6.0, 0.0),
+    );
+    let four = b.build();
+    // Nested spheres and a cube through the middle of them (the components
+    // intersect in space, never in the mesh).
+    let mut b = translated(&sphere(&mut rng, 1, 0.2), DVec3::ZERO);
+    b.append(&sphere(&mut rng, 1, 0.1), DVec3::ZERO);
+    let inner = sphere(&mut rng, 1, 0.1);
+    let inner = Mesh {
+        positions: inner.positions.iter().map(|&p| p * 0.5).collect(),
+        triangles: inner.triangles,
+    };
+    b.append(&inner, DVec3::ZERO);
+    b.append(
+        &voxel_solid(&mut rng, &[[0, 0, 0]], 2, true, DVec3::splat(0.5)),
+        DVec3::new(0.5, 0.5, 0.5),
+    );
+    let nested = b.build();
+    // Two coplanar, disjoint flat pieces in the same plane z = 0 (one region
+    // each: regions are joined across edges, not by plane).
+    let mut b = MeshBuilder::default();
+    for (ox, oy) in [(0.0, 0.0), (2.0, 0.0)] {
+        for i in 0..4 {
+            for j in 0..4 {
+                let p = |di: f64, dj: f64| DVec3::new(ox + (i as f64 + di) * 0.25, oy + (j as f64 + dj) * 0.125, 0.0);
+                b.triangle(p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0));
+                b.triangle(p(0.0, 0.0), p(1.0, 1.0), p(0.0, 1.0));
+            }
+        }
+    }
+    let flat_pair = b.build();
+    vec![
+        case("four components", four),
+        case("nested spheres and cube", nested),
+        case("two flat pieces in one plane", flat_pair),
+    ]
+}
+
+// ---------------------------------------------------------------------------
+// The properties
+// ---------------------------------------------------------------------------
+
+fn combinations() -> Vec<Options> {
+    let mut v = Vec::new();
+    for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+        for score in [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter] {
+            for median in [true, false] {
+                let mut o = Options::new(worklist, score, median);
+                o.max_added = MAX_ADDED;
+                v.push(o);
+            }
+        }
+    }
+    v
+}
+
+fn bits(p: &[DVec3]) -> Vec<[u64; 3]> {
+    p.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
+}
+
+/// What happened to one family.
+#[derive(Default, Debug)]
+struct Tally {
+    runs: usize,
+    work_limits: usize,
+    failures: Vec<String>,
+    /// One line per case, printed with `PROPERTIES_VERBOSE=1`.
+    lines: Vec<String>,
+}
+
+/// Every combination on `case`; failures are collected, not raised.
+fn run_case(c: &Case, tally: &mut Tally) {
+    let m = &c.mesh;
+    let input = Mesh3 {
+        positions: m.positions.clone(),
+        triangles: m.triangles.clone(),
+    };
+    let mut fail = |options: Option<&Options>, what: String| {
+        tally.failures.push(format!("{}: {options:?}: {what}", c.name));
+    };
+    // The input itself is valid for both the construction and the checker.
+    let base = match Surface::new(m.positions.clone(), &m.triangles) {
+        Ok(s) => s,
+        Err(e) => return fail(None, format!("generator made an invalid mesh: {e:?}")),
+    };
+    if let Err(e) = base.validate() {
+        return fail(None, format!("input does not validate: {e}"));
+    }
+    // Against itself, the input fails at most the Delaunay test.
+    let identity = check_meshes(&input, &input);
+    let other: Vec<&String> = identity
+        .failures
+        .iter()
+        .filter(|f| !f.contains("non-Delaunay edge"))
+        .collect();
+    if !other.is_empty() {
+        return fail(None, format!("the input does not check against itself: {other:?}"));
+    }
+    let n = m.positions.len();
+    let started = std::time::Instant::now();
+    let (mut max_splits, mut max_flips, mut limits) = (0, 0, 0);
+    for options in combinations() {
+        tally.runs += 1;
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            let mut s = base.clone();
+            let r = make_delaunay(&mut s, &options);
+            (s, r)
+        }));
+        let (s, stats) = match outcome {
+            Err(panic) => {
+                let msg = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_default();
+                fail(Some(&options), format!("make_delaunay panicked: {msg}"));
+                continue;
+            }
+            Ok((_, Err(Error::WorkLimit { splits, flips, .. }))) => {
+                tally.work_limits += 1;
+                limits += 1;
+                if options.median || (!c.needle && std::env::var_os("TOLERATE").is_none()) {
+                    fail(
+                        Some(&options),
+                        format!("WorkLimit after {splits} splits, {flips} flips"),
+                    );
+                }
+                continue;
+            }
+            Ok((_, Err(e))) => {
+                fail(Some(&options), format!("make_delaunay failed: {e}"));
+                continue;
+            }
+            Ok((s, Ok(stats))) => (s, stats),
+        };
+        max_splits = max_splits.max(stats.splits);
+        max_flips = max_flips.max(stats.flips);
+        if let Err(e) = s.validate() {
+            fail(Some(&options), format!("validate: {e}"));
+            continue;
+        }
+        let (after, worst) = s.count_non_delaunay(1e-9);
+        if after != 0 || stats.non_delaunay_after != 0 {
+            fail(
+                Some(&options),
+                format!(
+                    "{after} non-Delaunay edges left (stats {}), worst {worst:e}",
+                    stats.non_delaunay_after
+                ),
+            );
+        }
+        if s.positions.len() != n + stats.splits {
+            fail(
+                Some(&options),
+                format!("{} vertices, expected {n} + {} splits", s.positions.len(), stats.splits),
+            );
+        }
+        if s.positions.len() < n || bits(&s.positions[..n]) != bits(&m.positions) {
+            fail(Some(&options), "input vertices changed or moved".into());
+        }
+        let output = Mesh3 {
+            positions: s.positions.clone(),
+            triangles: s.triangles(),
+        };
+        let report = check_meshes(&input, &output);
+        if !report.passed() {
+            fail(Some(&options), format!("check failed: {:?}", report.failures));
+        }
+        if report.non_delaunay_edges != 0 || report.added_vertices != stats.splits {
+            fail(
+                Some(&options),
+                format!(
+                    "check counts: {} non-Delaunay, {} added (splits {})",
+                    report.non_delaunay_edges, report.added_vertices, stats.splits
+                ),
+            );
+        }
+        // Deterministic: the same run again gives the same mesh.
+        if options == combinations()[0] {
+            let mut again = base.clone();
+            match make_delaunay(&mut again, &options) {
+                Ok(_) if bits(&again.positions) == bits(&s.positions) && again.triangles() == output.triangles => {}
+                _ => fail(Some(&options), "a second run differs".into()),
+            }
+        }
+    }
+    tally.lines.push(format!(
+        "  {:<32} {:>4} faces, min angle {:.2e}, most splits {max_splits:>6}, most flips {max_flips:>6}, \
+         WorkLimit {limits:>2}, {:.2} s",
+        c.name,
+        m.triangles.len(),
+        base.input_figures.min_angle,
+        started.elapsed().as_secs_f64()
+    ));
+}
+
+fn run_family(family: &str, cases: Vec<Case>) -> Tally {
+    let mut tally = Tally::default();
+    for c in &cases {
+        run_case(c, &mut tally);
+    }
+    assert!(
+        tally.failures.is_empty(),
+        "{family}: {} failure(s) in {} runs:\n{}",
+        tally.failures.len(),
+        tally.runs,
+        tally.failures.join("\n")
+    );
+    assert_eq!(tally.runs, cases.len() * 18);
+    if std::env::var_os("PROPERTIES_VERBOSE").is_some() {
+        let faces: Vec<usize> = cases.iter().map(|c| c.mesh.triangles.len()).collect();
+        eprintln!(
+            "{family}: {} meshes (faces {faces:?}) x 18 = {} runs, {} WorkLimit\n{}",
+            cases.len(),
+            tally.runs,
+            tally.work_limits,
+            tally.lines.join("\n")
+        );
+    }
+    tally
+}
+
+#[test]
+fn perturbed_spheres() {
+    let t = run_family("spheres", sphere_cases());
+    assert_eq!(t.work_limits, 0);
+}
+
+#[test]
+fn perturbed_tori() {
+    let t = run_family("tori", torus_cases());
+    assert_eq!(t.work_limits, 0);
+}
+
+#[test]
+fn height_fields_with_boundary() {
+    let t = run_family("height fields", height_field_cases());
+    assert_eq!(t.work_limits, 0);
+}
+
+#[test]
+fn exactly_coplanar_patches() {
+    let cases = coplanar_cases();
+    // The patches really are exactly planar: the cube has six regions.
+    let cube = Surface::new(cases[0].mesh.positions.clone(), &cases[0].mesh.triangles).unwrap();
+    assert_eq!(cube.n_regions, 6);
+    let l = Surface::new(cases[3].mesh.positions.clone(), &cases[3].mesh.triangles).unwrap();
+    assert_eq!(l.n_regions, 8);
+    let t = run_family("coplanar", cases);
+    assert_eq!(t.work_limits, 0);
+}
+
+#[test]
+fn needles_and_caps() {
+    let cases = needle_cases();
+    // The generators really make tiny angles.
+    for c in &cases {
+        let s = Surface::new(c.mesh.positions.clone(), &c.mesh.triangles).unwrap();
+        assert!(
+            s.input_figures.min_angle < 0.02,
+            "{}: {}",
+            c.name,
+            s.input_figures.min_angle
+        );
+    }
+    run_family("needles", cases);
+}
+
+#[test]
+fn several_components() {
+    let t = run_family("components", multi_component_cases());
+    assert_eq!(t.work_limits, 0);
+}
+
+/// Some meshes of each family written as OBJ, PLY and OFF, read back bit for
+/// bit, refined with the defaults, written in the same format and accepted by
+/// `check_files`.
+#[test]
+fn round_trip_through_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = Rng::new(707);
+    let meshes = [
+        ("sphere", sphere(&mut rng, 2, 0.3)),
+        ("torus", torus(&mut rng, 12, 6, 1.0)),
+        ("height", height_field(&mut rng, 8, 8, 0.5)),
+        ("L prism", voxel_solid(&mut rng, &l_prism(), 2, true, DVec3::ONE)),
+        ("caps", height_field_with_caps(&mut rng, 6, 5, 1e-4, false)),
+        ("fan", tiny_angle_fan(&mut rng, 10, 1e-3, 0.3)),
+    ];
+    let mut failures = Vec::new();
+    for (i, (name, m)) in meshes.iter().enumerate() {
+        for ext in ["obj", "ply", "off"] {
+            let what = format!("{name} ({i}) as .{ext}");
+            let in_path = dir.path().join(format!("in{i}.{ext}"));
+            let out_path = dir.path().join(format!("out{i}.{ext}"));
+            io::write_mesh(&in_path, &m.positions, &m.triangles).unwrap();
+            let input = io::read_mesh(&in_path, &ReadOptions::default()).unwrap();
+            if bits(&input.positions) != bits(&m.positions) || input.triangles != m.triangles {
+                failures.push(format!("{what}: does not read back as written"));
+                continue;
+            }
+            let mut s = io::build_surface(&input, &in_path).unwrap();
+            let stats = match make_delaunay(&mut s, &Options::default()) {
+                Ok(stats) => stats,
+                Err(e) => {
+                    failures.push(format!("{what}: {e}"));
+                    continue;
+                }
+            };
+            io::write_mesh(&out_path, &s.positions, &s.triangles()).unwrap();
+            let back = io::read_mesh(&out_path, &ReadOptions::default()).unwrap();
+            if bits(&back.positions) != bits(&s.positions) {
+                failures.push(format!("{what}: output does not read back bit for bit"));
+            }
+            match check_files(&in_path, &out_path) {
+                Ok(r) if r.passed() && r.added_vertices == stats.splits && r.non_delaunay_edges == 0 => {}
+                Ok(r) => failures.push(format!("{what}: check: {r}")),
+                Err(e) => failures.push(format!("{what}: check error: {e}")),
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The generators themselves: sizes and shapes as intended.
+#[test]
+fn generators_make_what_they_claim() {
+    let mut rng = Rng::new(1);
+    let s = sphere(&mut rng, 2, 0.1);
+    assert_eq!((s.positions.len(), s.triangles.len()), (162, 320));
+    let t = torus(&mut rng, 8, 5, 1.0);
+    let st = Surface::new(t.positions.clone(), &t.triangles).unwrap();
+    // Closed genus 1: V - E + F = 0.
+    assert_eq!(
+        st.topo.n_vertices() as i64 - st.topo.n_edges() as i64 + st.topo.n_faces() as i64,
+        0
+    );
+    let h = height_field(&mut rng, 4, 3, 1.0);
+    assert_eq!((h.positions.len(), h.triangles.len()), (20, 24));
+    let f = tiny_angle_fan(&mut rng, 8, 1e-4, 0.3);
+    let sf = Surface::new(f.positions.clone(), &f.triangles).unwrap();
+    assert!(
+        sf.input_figures.min_angle <= 1e-4 && sf.input_figures.min_angle > 0.5e-4,
+        "{}",
+        sf.input_figures.min_angle
+    );
+    // Voxel coordinates are exact dyadic rationals: times 4·64·k, integers.
+    let v = voxel_solid(&mut rng, &u_prism(), 2, true, DVec3::ONE);
+    for p in &v.positions {
+        for c in p.to_array() {
+            assert_eq!((c * 512.0).fract(), 0.0, "{c}");
+        }
+    }
+}
