@@ -347,7 +347,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         } else if input.welded > 0 || input.unreferenced > 0 {
             say!(
                 "        welded {} duplicate vertices, dropped {} unused vertices",
-                input.welded, input.unreferenced
+                input.welded,
+                input.unreferenced
             );
         }
     }
@@ -385,7 +386,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         );
         say!(
             "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
-            s.splits, s.flips, s.non_delaunay_before, s.non_delaunay_after
+            s.splits,
+            s.flips,
+            s.non_delaunay_before,
+            s.non_delaunay_after
         );
         say!(
             "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
@@ -513,7 +517,15 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
     if !args.quiet {
         say!(
             "{:<15} {:<16} {:<6} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9}  file",
-            "data structure", "weight", "median", "faces", "vertices", "added", "splits", "flips", "seconds"
+            "data structure",
+            "weight",
+            "median",
+            "faces",
+            "vertices",
+            "added",
+            "splits",
+            "flips",
+            "seconds"
         );
         for r in &rows {
             let name = r.file.file_name().map(|f| f.to_string_lossy()).unwrap_or_default();
@@ -526,7 +538,12 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
             match &r.result {
                 Ok(f) => say!(
                     "{head} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9.4}  {name}",
-                    f.faces, f.vertices, f.added, f.stats.splits, f.stats.flips, f.seconds
+                    f.faces,
+                    f.vertices,
+                    f.added,
+                    f.stats.splits,
+                    f.stats.flips,
+                    f.seconds
                 ),
                 Err(e) => say!("{head} {:>9}  not written: {}", "failed", one_line(e)),
             }
