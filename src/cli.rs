@@ -81,8 +81,9 @@ struct RunArgs {
     ds: DsArg,
 
     /// Score of a sample: 0 all equal (the paper's), 1 weighted center,
-    /// 2 always center.
-    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2"], value_name = "N")]
+    /// 2 always center (the report's), 3 split-aware (delmesh's: as 2, but
+    /// outer edges that can be flipped cost nothing).
+    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3"], value_name = "N")]
     score: String,
 
     /// Take the first best sample from the edge's start instead of the median
@@ -124,6 +125,16 @@ struct RunArgs {
     /// check` should compare the output with.
     #[arg(long = "repaired", value_name = "FILE", requires = "repair")]
     repaired: Option<PathBuf>,
+
+    /// With -all: how many combinations run at once (default: one per core).
+    #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    jobs: Option<u16>,
+
+    /// Only read (and repair) and write: no refinement, the output is NOT made
+    /// Delaunay. For format conversion, repair alone, and measuring the I/O
+    /// floor.
+    #[arg(long = "no-refine", conflicts_with = "all")]
+    no_refine: bool,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -232,7 +243,8 @@ fn score_of(s: &str) -> Score {
     match s {
         "0" => Score::AllEqual,
         "1" => Score::WeightedCenter,
-        _ => Score::AlwaysCenter,
+        "2" => Score::AlwaysCenter,
+        _ => Score::SplitAware,
     }
 }
 
@@ -241,6 +253,7 @@ fn score_name(s: Score) -> &'static str {
         Score::AllEqual => "all equal",
         Score::WeightedCenter => "weighted center",
         Score::AlwaysCenter => "always center",
+        Score::SplitAware => "split-aware",
     }
 }
 
@@ -361,6 +374,26 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if args.all {
         return run_all(&surface, input_path, &output, args);
     }
+    if args.no_refine {
+        let t1 = Instant::now();
+        io::write_mesh(&output, &surface.positions, &surface.triangles())?;
+        if !args.quiet {
+            say!(
+                "output  {}: {} vertices, {} faces (not refined: --no-refine)",
+                output.display(),
+                surface.positions.len(),
+                surface.topo.n_faces()
+            );
+            say!(
+                "seconds {:.4} total (read {:.4}, build {:.4}, write {:.4})",
+                t0.elapsed().as_secs_f64(),
+                read_s,
+                build_s,
+                t1.elapsed().as_secs_f64()
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut options = Options::new(args.ds.into(), score_of(&args.score), !args.nomedian);
     options.max_added = args.max_added;
     let out = refine_once(surface, input_path, &options)?;
@@ -431,6 +464,7 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Score::AllEqual => 0,
         Score::WeightedCenter => 1,
         Score::AlwaysCenter => 2,
+        Score::SplitAware => 3,
     };
     let ext = output
         .extension()

@@ -327,6 +327,7 @@ impl Run<'_> {
             pos_b: quad[1],
             halves,
             outer,
+            outer_flippable: [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge())),
             score: self.options.score,
             median: self.options.median,
         };

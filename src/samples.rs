@@ -123,6 +123,10 @@ pub enum Score {
     /// `-s 2`, "always center": +5 if both halves are Delaunay (else +1 per
     /// Delaunay half), +1 per Delaunay outer edge.
     AlwaysCenter,
+    /// `-s 3`, "split-aware" (delmesh's own): as always center, but an outer
+    /// edge that can be flipped counts as Delaunay either way — if it turns
+    /// non-Delaunay it costs a flip, never a vertex.
+    SplitAware,
 }
 
 impl Score {
@@ -133,8 +137,8 @@ impl Score {
         match self {
             Score::AllEqual => 2 * h + outer,
             Score::WeightedCenter => 3 * h + outer,
-            Score::AlwaysCenter if h == 2 => 10 + outer,
-            Score::AlwaysCenter => 2 * h + outer,
+            Score::AlwaysCenter | Score::SplitAware if h == 2 => 10 + outer,
+            Score::AlwaysCenter | Score::SplitAware => 2 * h + outer,
         }
     }
 }
@@ -191,10 +195,20 @@ pub struct SplitQuery<'a> {
     pub halves: [Condition; 2],
     /// The conditions for the four outer edges.
     pub outer: [Condition; 4],
+    /// Which outer edges can be flipped (used by [`Score::SplitAware`]).
+    pub outer_flippable: [bool; 4],
     /// The score.
     pub score: Score,
     /// Median of the best samples (`true`) or the first one from `a`.
     pub median: bool,
+}
+
+impl SplitQuery<'_> {
+    /// Whether outer edge `i` counts as Delaunay whatever the split point.
+    #[inline]
+    fn free_outer(&self, i: usize) -> bool {
+        self.score == Score::SplitAware && self.outer_flippable[i]
+    }
 }
 
 /// The chosen sample: its index on the input edge and its parameter.
@@ -369,7 +383,7 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
         Side::AtLeast => j >= cuts[i],
     };
     let piece_score = |j: u64| {
-        let outer = (2..6).filter(|&i| holds(i, j)).count() as u32;
+        let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i, j)).count() as u32;
         q.score.doubled([holds(0, j), holds(1, j)], outer)
     };
     let pieces = bounds
@@ -420,7 +434,7 @@ pub fn choose_by_enumeration(q: &SplitQuery, holds: impl Fn(usize, f64) -> bool)
         .iter()
         .map(|&k| {
             let x = (s.t(k) - q.t_a).abs() * s.len;
-            let outer = (2..6).filter(|&i| holds(i, x)).count() as u32;
+            let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i, x)).count() as u32;
             (k, q.score.doubled([holds(0, x), holds(1, x)], outer))
         })
         .collect();

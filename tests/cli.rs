@@ -483,3 +483,32 @@ fn a_closed_stdout_is_not_a_crash() {
     assert!(status.success(), "{stderr}");
     assert!(out.exists());
 }
+
+#[test]
+fn parallel_all_writes_the_same_bytes_as_sequential() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("bunny.obj");
+    for (sub, jobs) in [("one", "1"), ("many", "4")] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+        delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(&input)
+            .arg("-o")
+            .arg(dir.path().join(sub).join("b.obj"))
+            .args(["-all", "--jobs", jobs])
+            .assert()
+            .success();
+    }
+    let mut names: Vec<_> = std::fs::read_dir(dir.path().join("one"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 18);
+    for name in names {
+        let a = std::fs::read(dir.path().join("one").join(&name)).unwrap();
+        let b = std::fs::read(dir.path().join("many").join(&name)).unwrap();
+        assert!(a == b, "{name:?} differs between --jobs 1 and --jobs 4");
+    }
+}

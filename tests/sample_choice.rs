@@ -130,7 +130,13 @@ fn interval_choice_matches_enumeration() {
     for _ in 0..3000 {
         let cfg = random_config(&mut rng);
         let (halves, outer) = split_conditions(cfg.quad, cfg.beyond);
-        for score in [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter] {
+        let flippable = [0, 1, 2, 3].map(|_| rng.below(2) == 0);
+        for score in [
+            Score::AllEqual,
+            Score::WeightedCenter,
+            Score::AlwaysCenter,
+            Score::SplitAware,
+        ] {
             for median in [true, false] {
                 let q = SplitQuery {
                     samples: &cfg.samples,
@@ -141,6 +147,7 @@ fn interval_choice_matches_enumeration() {
                     pos_b: cfg.pos[1],
                     halves,
                     outer,
+                    outer_flippable: flippable,
                     score,
                     median,
                 };
@@ -200,6 +207,7 @@ fn chosen_sample_lies_strictly_inside_even_with_1e16_samples() {
             pos_b: pos[1],
             halves,
             outer,
+            outer_flippable: [false; 4],
             score: Score::AlwaysCenter,
             median: true,
         };

@@ -297,7 +297,11 @@ mod tests {
                 Some("f") => {
                     for tok in t {
                         let i: i64 = tok.split('/').next().unwrap().parse().unwrap();
-                        idx.push(if i > 0 { i as u32 - 1 } else { (pos.len() as i64 + i) as u32 });
+                        idx.push(if i > 0 {
+                            i as u32 - 1
+                        } else {
+                            (pos.len() as i64 + i) as u32
+                        });
                     }
                     starts.push(idx.len() as u32);
                     lines.push(n as u32 + 1);

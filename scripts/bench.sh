@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# End-to-end benchmark of the release binary, rerunnable by anyone:
+#   scripts/bench.sh [RUNS]        (default 5 runs per measurement)
+# Meshes: armadillo (../shared/meshes, 52k faces), the dragon at ~202k faces
+# and the full dragon (871k faces), both fetched by scripts/fetch-dragon.sh
+# and read with --repair (they are real scans with defects). Per mesh it
+# prints the faces, the median seconds of each phase as delmesh reports them,
+# the median end-to-end wall time (hyperfine if installed, else a loop), the
+# peak memory (/usr/bin/time -v), and the I/O floor: the same command with
+# --no-refine (read, validate, write). Also `-all` on armadillo, parallel
+# against sequential (taskset to one core). Timings are never asserted.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-5}
+cargo build --release --quiet
+bin=$PWD/target/release/delmesh
+data=$(scripts/fetch-dragon.sh 2>/dev/null || true)
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+median() { sort -g | awk '{a[NR]=$1} END {print (NR%2==1) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
+
+wall() { # median wall seconds of a command
+  if command -v hyperfine >/dev/null; then
+    hyperfine -N --warmup 1 --runs "$runs" --export-json "$out/h.json" "$*" >/dev/null 2>&1
+    python3 -c "import json;print('%.4f' % json.load(open('$out/h.json'))['results'][0]['median'])"
+  else
+    for _ in $(seq "$runs"); do
+      s=$(date +%s.%N); "$@" >/dev/null; e=$(date +%s.%N)
+      echo "$e - $s" | bc -l
+    done | median
+  fi
+}
+
+bench_mesh() { # name path [flags...]
+  local name=$1 path=$2; shift 2
+  [ -f "$path" ] || { echo "$name: $path missing, skipped"; return; }
+  local cmd=("$bin" -i "$path" -o "$out/o.obj" "$@")
+  for _ in $(seq "$runs"); do "${cmd[@]}" | grep '^seconds'; done > "$out/phases"
+  local faces
+  faces=$("${cmd[@]}" | sed -n 's/^input .* vertices, \([0-9]*\) faces.*/\1/p')
+  local phase
+  printf '%-12s %8s faces' "$name" "$faces"
+  for phase in read build refine write; do
+    printf '  %s %s' "$phase" "$(sed -n "s/.*$phase \([0-9.]*\).*/\1/p" "$out/phases" | median)"
+  done
+  local total floor mem
+  total=$(wall "${cmd[@]}")
+  floor=$(wall "${cmd[@]}" --no-refine)
+  mem=$(/usr/bin/time -v "${cmd[@]}" 2>&1 >/dev/null | sed -n 's/.*Maximum resident set size (kbytes): //p')
+  printf '  | total %s s  I/O floor %s s  (x%.2f)  peak %s MB  %.2f us/face\n' "$total" "$floor" \
+    "$(echo "$total / $floor" | bc -l)" "$((mem / 1024))" "$(echo "$total * 1000000 / $faces" | bc -l)"
+}
+
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); median of $runs runs"
+bench_mesh armadillo ../shared/meshes/armadillo.obj
+bench_mesh dragon-202k "$data/dragon_vrip_res2.ply.gz" --repair
+bench_mesh dragon-871k "$data/dragon_vrip.ply.gz" --repair
+
+mkdir -p "$out/all"
+par=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all)
+seq1=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all --jobs 1)
+printf -- '-all armadillo: %s s with one job per core, %s s with --jobs 1 (x%.2f)\n' "$par" "$seq1" "$(echo "$seq1 / $par" | bc -l)"

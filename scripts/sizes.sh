@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Output size, the way the project tracks it: for every mesh of a folder
+# (default ../shared/meshes), the input vertices and the vertices added by
+# each of the 18 DelMesh combinations and by -s 3, the best of them, and the
+# best public tool's figure from ../shared/reference/peers.md.
+# Output format (stable; one line per mesh, space-separated key=value):
+#   mesh=NAME input=V s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C peer=N ratio=R
+# A combination stopped by the work limit prints "limit".
+set -uo pipefail
+cd "$(dirname "$0")/.."
+dir=${1:-../shared/meshes}
+peers=${PEERS:-../shared/reference/peers.md}
+cargo build --release --quiet || exit 1
+bin=target/release/delmesh
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+peer_of() { # best public figure for a mesh: smaller of the two tools' "added" columns that are numbers
+  awk -F'|' -v m="$1" '$2 ~ "^ *"m"( |$)" {
+      best = ""
+      for (i = 3; i <= NF; i++) if (i == 4 || i == 7) { v = $i; gsub(/ /, "", v); if (v ~ /^[0-9]+$/ && (best == "" || v + 0 < best + 0)) best = v }
+      print best }' "$peers" 2>/dev/null | head -1
+}
+
+for mesh in "$dir"/*.obj; do
+  name=$(basename "$mesh" .obj)
+  line="mesh=$name"
+  "$bin" -i "$mesh" -o "$out/$name.obj" -all --max-added 2000000 > "$out/table" 2>/dev/null
+  input=$(sed -n 's/^input .*: \([0-9]*\) vertices.*/\1/p' "$out/table")
+  line="$line input=$input"
+  best="" best_combo=""
+  for ds in s q p; do for s in 0 1 2; do for m in -m ""; do
+    key="$ds-$s$m"
+    row=$(grep " $name-$key.obj\$" "$out/table")
+    if [ -n "$row" ]; then n=$(echo "$row" | awk '{print $(NF-4)}'); else n=limit; fi
+    line="$line $key=$n"
+    if [ "$n" != limit ] && { [ -z "$best" ] || [ "$n" -lt "$best" ]; }; then best=$n best_combo=$key; fi
+  done; done; done
+  for ds in stack queue pqueue; do
+    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 2>/dev/null | sed -n 's/.* \([0-9]*\) added vertices/\1/p')
+    [ -n "$n" ] || n=limit
+    key="s3-${ds:0:1}-m"
+    line="$line $key=$n"
+    if [ "$n" != limit ] && [ "$n" -lt "$best" ]; then best=$n best_combo=$key; fi
+  done
+  peer=$(peer_of "$name")
+  ratio=NA
+  if [ -n "$peer" ] && [ "$peer" -gt 0 ]; then ratio=$(awk -v a="$best" -v b="$peer" 'BEGIN { printf "%.2f", a / b }'); fi
+  echo "$line best=$best best_combo=$best_combo peer=${peer:-NA} ratio=$ratio"
+done
