@@ -36,8 +36,11 @@ pub fn corner_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// the decision is made.
 #[inline]
 pub fn excess_sin_cos(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, f64) {
-    let (u1, v1) = (a - c, b - c);
-    let (u2, v2) = (a - d, b - d);
+    // Scaled by 1/|ab|: products of four coordinates neither overflow nor
+    // underflow, whatever the mesh's scale.
+    let k = 1.0 / (b - a).length();
+    let (u1, v1) = ((a - c) * k, (b - c) * k);
+    let (u2, v2) = ((a - d) * k, (b - d) * k);
     let (s1, c1) = (u1.cross(v1).length(), u1.dot(v1));
     let (s2, c2) = (u2.cross(v2).length(), u2.dot(v2));
     (-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2)
@@ -70,8 +73,8 @@ pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -
     if c1 >= 0.0 && c2 >= 0.0 {
         return false;
     }
-    let (s1, s2) = (u1.cross(v1).length(), u2.cross(v2).length());
-    exceeds(-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2, tolerance)
+    let (y, x) = excess_sin_cos(a, b, c, d);
+    exceeds(y, x, tolerance)
 }
 
 /// Positions of a triangle pair unfolded into the plane of the edge (a, b):

@@ -255,6 +255,14 @@ impl Run<'_> {
         self.stuck.get(e.idx()).copied().unwrap_or(false)
     }
 
+    /// Remembers that `e` can be neither flipped nor split.
+    fn mark_stuck(&mut self, e: EdgeId) {
+        if self.stuck.len() <= e.idx() {
+            self.stuck.resize(self.s.topo.n_edges(), false);
+        }
+        self.stuck[e.idx()] = true;
+    }
+
     fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {
         if !self.is_stuck(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
             ds.push(e, self.s.edge_length(e));
@@ -272,6 +280,12 @@ impl Run<'_> {
         let (h2, t2) = (topo.next(h1), topo.next(t1));
         let around = [h2.edge(), h1.edge(), t2.edge(), t1.edge()];
         if self.s.is_flippable(e) {
+            if !self.s.flip_is_valid(e) {
+                // A numerically degenerate quad: leave the edge (it cannot be
+                // split either: it lies on no input edge) for the final count.
+                self.mark_stuck(e);
+                return;
+            }
             self.s.flip(e);
             self.stats.flips += 1;
             for x in around {
@@ -288,12 +302,7 @@ impl Run<'_> {
                     self.push_if_bad(ds, x);
                 }
             }
-            None => {
-                if self.stuck.len() <= e.idx() {
-                    self.stuck.resize(self.s.topo.n_edges(), false);
-                }
-                self.stuck[e.idx()] = true;
-            }
+            None => self.mark_stuck(e),
         }
     }
 

@@ -33,6 +33,13 @@ use crate::repair::{self, RepairOptions, RepairReport};
 /// The largest decompressed size accepted from a `.gz` input (16 GiB).
 const MAX_DECOMPRESSED: u64 = 16 << 30;
 
+/// The largest coordinate magnitude accepted: beyond it, the products of four
+/// coordinates that the geometry computes would overflow an f64.
+pub const MAX_COORDINATE: f64 = 1e75;
+
+/// The shortest edge accepted: below it, those products would underflow.
+pub const MIN_EDGE: f64 = 1e-75;
+
 /// Appended to refusals that `--repair` would fix.
 const REPAIR_HINT: &str = " (--repair would fix this)";
 
@@ -160,6 +167,23 @@ fn face_error(path: &Path, raw: &RawMesh, f: usize, what: String) -> Error {
     }
 }
 
+/// The first vertex that occurs twice in `ids`, if any: a linear scan for
+/// small polygons, sorting for large ones (a face may have millions of
+/// vertices in a hostile file).
+fn repeated_vertex(ids: impl ExactSizeIterator<Item = u32>, scratch: &mut Vec<u32>) -> Option<u32> {
+    scratch.clear();
+    scratch.extend(ids);
+    if scratch.len() <= 16 {
+        return scratch
+            .iter()
+            .enumerate()
+            .find(|(i, w)| scratch[..*i].contains(w))
+            .map(|(_, &w)| w);
+    }
+    scratch.sort_unstable();
+    scratch.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+}
+
 /// Turns polygons into the algorithm's input: see the module documentation.
 pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputMesh> {
     let n_faces = raw.face_start.len().saturating_sub(1);
@@ -167,6 +191,28 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         return Err(Error::Mesh {
             path: path.to_owned(),
             what: "no faces".into(),
+        });
+    }
+    if let Some(v) = raw
+        .positions
+        .iter()
+        .position(|p| p.iter().any(|c| c.abs() > MAX_COORDINATE))
+    {
+        let what = format!(
+            "vertex {} has a coordinate beyond ±{MAX_COORDINATE:e}, the supported range",
+            v + 1
+        );
+        let origin = raw.vertex_origin.get(v).copied().unwrap_or(0);
+        return Err(match raw.origin_kind {
+            OriginKind::Line => Error::Syntax {
+                path: path.to_owned(),
+                line: origin as usize,
+                what,
+            },
+            OriginKind::Record => Error::Mesh {
+                path: path.to_owned(),
+                what,
+            },
         });
     }
     let poly = |f: usize| &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
@@ -200,23 +246,34 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
+    let mut scratch = Vec::new();
     for f in 0..n_faces {
         let p = poly(f);
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
-        for (i, &v) in p.iter().enumerate() {
-            let w = welded_to[v as usize];
-            if p[..i].iter().any(|&u| welded_to[u as usize] == w) {
-                let what = format!(
-                    "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
-                    f + 1,
-                    w + 1
-                );
-                return Err(face_error(path, &raw, f, what));
-            }
+        if let Some(w) = repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch) {
+            let what = format!(
+                "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
+                f + 1,
+                w + 1
+            );
+            return Err(face_error(path, &raw, f, what));
         }
         for i in 1..p.len() - 1 {
             let t = [p[0], p[i], p[i + 1]].map(|v| new_index[welded_to[v as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
+            // Below the supported scale first: the exact predicates themselves
+            // underflow on triangles of size ~1e-170.
+            let shortest = (b - a)
+                .length_squared()
+                .min((c - b).length_squared())
+                .min((a - c).length_squared());
+            if shortest < MIN_EDGE * MIN_EDGE {
+                let what = format!(
+                    "face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
+                    f + 1
+                );
+                return Err(face_error(path, &raw, f, what));
+            }
             if geometry::collinear(a, b, c) {
                 return Err(face_error(
                     path,
@@ -261,6 +318,15 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             path: path.to_owned(),
             what: "no faces left after repair".into(),
         });
+    }
+    for (i, t) in fixed.triangles.iter().enumerate() {
+        let [a, b, c] = t.map(|v| DVec3::from_array(fixed.positions[v as usize]));
+        let shortest = (b - a).length_squared().min((c - b).length_squared()).min((a - c).length_squared());
+        if shortest < MIN_EDGE * MIN_EDGE {
+            let f = triangle_face[fixed.source_triangle[i] as usize];
+            let what = format!("face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale", f + 1);
+            return Err(face_error(path, raw, f, what));
+        }
     }
     let origin_of = |f: usize| raw.face_origin.get(f).copied().unwrap_or(f as u32);
     Ok(InputMesh {

@@ -330,6 +330,26 @@ impl Topology {
         }
     }
 
+    /// Whether an edge joins `u` and `v` (walks the fan of `u`).
+    pub fn are_adjacent(&self, u: VertexId, v: VertexId) -> bool {
+        let first = self.vertex_he[u.idx()];
+        let mut h = first;
+        loop {
+            if self.dest(h) == v {
+                return true;
+            }
+            let n = self.rotate_ccw(h);
+            if n.is_none() {
+                // Boundary vertex: the last edge of the fan is the one before the gap.
+                return self.dest(self.next(h)) == v;
+            }
+            if n == first {
+                return false;
+            }
+            h = n;
+        }
+    }
+
     /// Number of faces met walking the fan of `v` from its stored half-edge.
     fn fan_len(&self, v: VertexId) -> usize {
         let first = self.vertex_he[v.idx()];
