@@ -30,6 +30,7 @@
 pub mod check;
 pub mod error;
 pub mod geometry;
+pub mod hash;
 pub mod io;
 pub mod mesh;
 pub mod refine;

@@ -43,7 +43,7 @@
 //! faces of the Stanford dragon in release mode.
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hash, Hasher};
+use std::hash::{Hash, Hasher};
 
 /// "No partner" / "not assigned" marker for index arrays. Corner and face-edge indices are below
 /// `3 * triangles.len() <= u32::MAX`, so it is never a valid index.
@@ -232,45 +232,7 @@ impl Hash for PositionKey {
     }
 }
 
-/// FxHash-style hasher with a final avalanche, for integer keys (no external crate).
-#[derive(Default, Clone, Copy)]
-struct FastHasher {
-    hash: u64,
-}
-
-impl FastHasher {
-    const SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
-
-    fn add(&mut self, word: u64) {
-        self.hash = (self.hash.rotate_left(5) ^ word).wrapping_mul(Self::SEED);
-    }
-}
-
-impl Hasher for FastHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(word));
-        }
-    }
-
-    fn write_u64(&mut self, value: u64) {
-        self.add(value);
-    }
-
-    fn finish(&self) -> u64 {
-        // murmur3 fmix64: spreads the weak low bits of the multiplicative hash.
-        let mut h = self.hash;
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-        h ^ (h >> 33)
-    }
-}
-
-type FastBuild = BuildHasherDefault<FastHasher>;
+type FastBuild = crate::hash::FastBuild;
 
 /// Index conversion; `repair` checked that all vertex, corner and face-edge indices fit in `u32`.
 fn ix(i: usize) -> u32 {

@@ -16,8 +16,6 @@
 pub mod formats;
 pub mod obj;
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -74,26 +72,7 @@ pub struct ReadOptions {
     pub repair: Option<RepairOptions>,
 }
 
-/// A fast hasher for bit patterns of coordinates (FxHash's mixing step):
-/// the welding map is built once per vertex, and SipHash would dominate it.
-#[derive(Default)]
-struct FxHasher(u64);
-
-impl Hasher for FxHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-}
-
-type FxMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
+type FxMap<K, V> = crate::hash::FastMap<K, V>;
 
 /// The format of `path`: by extension (looking through `.gz`), else by content.
 pub fn detect_format(path: &Path, bytes: &[u8]) -> Option<Format> {
@@ -321,10 +300,16 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     }
     for (i, t) in fixed.triangles.iter().enumerate() {
         let [a, b, c] = t.map(|v| DVec3::from_array(fixed.positions[v as usize]));
-        let shortest = (b - a).length_squared().min((c - b).length_squared()).min((a - c).length_squared());
+        let shortest = (b - a)
+            .length_squared()
+            .min((c - b).length_squared())
+            .min((a - c).length_squared());
         if shortest < MIN_EDGE * MIN_EDGE {
             let f = triangle_face[fixed.source_triangle[i] as usize];
-            let what = format!("face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale", f + 1);
+            let what = format!(
+                "face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
+                f + 1
+            );
             return Err(face_error(path, raw, f, what));
         }
     }
