@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 
+use crate::stats_json;
 use delmesh::io;
 
 /// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
@@ -129,6 +130,11 @@ struct RunArgs {
     /// With -all: how many combinations run at once (default: one per core).
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
+
+    /// Also write every figure of the run (with -all: of every combination),
+    /// the sample constants, seconds per phase and peak memory, as JSON.
+    #[arg(long = "stats-json", value_name = "FILE")]
+    stats_json: Option<PathBuf>,
 
     /// Only read (and repair) and write: no refinement, the output is NOT made
     /// Delaunay. For format conversion, repair alone, and measuring the I/O
@@ -320,6 +326,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    if let Some(j) = &args.stats_json {
+        check_output_dir(j)?;
+    }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if args.output.is_none() && compressed {
         bail!(
@@ -372,7 +381,34 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if args.all {
-        return run_all(&surface, input_path, &output, args);
+        let (code, rows) = run_all(&surface, input_path, &output, args)?;
+        if let Some(json) = &args.stats_json {
+            let inv = stats_json::Invocation {
+                input_path,
+                input: &input,
+                figures,
+                seconds_read: read_s,
+                seconds_build: build_s,
+                seconds_total: t0.elapsed().as_secs_f64(),
+            };
+            let runs: Vec<stats_json::RunRecord> = rows
+                .into_iter()
+                .map(|r| stats_json::RunRecord {
+                    options: r.options,
+                    output: r.file.display().to_string(),
+                    result: r.result.map_err(|e| one_line(&e)).map(|f| stats_json::RunFigures {
+                        vertices: f.vertices,
+                        faces: f.faces,
+                        stats: f.stats,
+                        seconds_refine: f.seconds,
+                        seconds_write: f.seconds_write,
+                    }),
+                })
+                .collect();
+            let doc = stats_json::document(&inv, refine::sample_constants(&surface), &runs);
+            io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+        }
+        return Ok(code);
     }
     if args.no_refine {
         let t1 = Instant::now();
@@ -400,6 +436,29 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let t1 = Instant::now();
     io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
     let write_s = t1.elapsed().as_secs_f64();
+    if let Some(json) = &args.stats_json {
+        let inv = stats_json::Invocation {
+            input_path,
+            input: &input,
+            figures,
+            seconds_read: read_s,
+            seconds_build: build_s,
+            seconds_total: t0.elapsed().as_secs_f64(),
+        };
+        let run = stats_json::RunRecord {
+            options,
+            output: output.display().to_string(),
+            result: Ok(stats_json::RunFigures {
+                vertices: out.surface.positions.len(),
+                faces: out.surface.topo.n_faces(),
+                stats: out.stats,
+                seconds_refine: out.seconds,
+                seconds_write: write_s,
+            }),
+        };
+        let doc = stats_json::document(&inv, refine::sample_constants(&out.surface), &[run]);
+        io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+    }
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
@@ -487,22 +546,31 @@ struct RowFigures {
     added: usize,
     stats: Stats,
     seconds: f64,
+    seconds_write: f64,
 }
 
 /// Refines one combination and writes its file (atomically).
 fn run_combination(surface: &Surface, input_path: &Path, options: &Options, file: &Path) -> anyhow::Result<RowFigures> {
     let out = refine_once(surface.clone(), input_path, options)?;
+    let t = Instant::now();
     io::write_mesh(file, &out.surface.positions, &out.surface.triangles())?;
+    let seconds_write = t.elapsed().as_secs_f64();
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
         vertices: out.surface.positions.len(),
         added: out.surface.positions.len() - out.surface.n_input_vertices,
         stats: out.stats,
         seconds: out.seconds,
+        seconds_write,
     })
 }
 
-fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) -> anyhow::Result<ExitCode> {
+fn run_all(
+    surface: &Surface,
+    input_path: &Path,
+    output: &Path,
+    args: &RunArgs,
+) -> anyhow::Result<(ExitCode, Vec<Row>)> {
     let combos: Vec<Options> = all_combinations()
         .into_iter()
         .map(|o| Options {
@@ -588,9 +656,9 @@ fn run_all(surface: &Surface, input_path: &Path, output: &Path, args: &RunArgs) 
             "delmesh: {failed} of {} combinations failed (see the table); the others were written",
             rows.len()
         );
-        return Ok(ExitCode::from(1));
+        return Ok((ExitCode::from(1), rows));
     }
-    Ok(ExitCode::SUCCESS)
+    Ok((ExitCode::SUCCESS, rows))
 }
 
 fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {

@@ -512,3 +512,82 @@ fn parallel_all_writes_the_same_bytes_as_sequential() {
         assert!(a == b, "{name:?} differs between --jobs 1 and --jobs 4");
     }
 }
+
+#[test]
+fn stats_json_has_the_documented_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("stats.json");
+    let out = delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .arg("--stats-json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let num = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"));
+    for key in [
+        "vertices",
+        "faces",
+        "triangles",
+        "welded_vertices",
+        "unreferenced_vertices",
+        "min_angle_rad",
+        "min_edge",
+        "max_edge",
+    ] {
+        num(&doc["input"][key]);
+    }
+    for key in ["theta_min", "l_min", "rho_v", "rho_e"] {
+        assert!(num(&doc["constants"][key]) > 0.0);
+    }
+    for key in ["read", "build", "total"] {
+        num(&doc["seconds"][key]);
+    }
+    assert!(doc["peak_memory_bytes"].is_u64() || doc["peak_memory_bytes"].is_null());
+    assert!(doc["repair"].is_null());
+    let runs = doc["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 1);
+    let r = &runs[0];
+    assert_eq!(r["data_structure"], "stack");
+    assert_eq!(r["score"], 2);
+    assert_eq!(r["median"], true);
+    assert_eq!(r["ok"], true);
+    assert!(r["error"].is_null());
+    // The same figures as the printed summary.
+    let added = r["added_vertices"].as_u64().unwrap();
+    let splits = r["splits"].as_u64().unwrap();
+    assert_eq!(added, splits);
+    assert!(stdout.contains(&format!("{added} added vertices")), "{stdout}");
+    assert!(stdout.contains(&format!("{} flips", r["flips"])), "{stdout}");
+    assert_eq!(r["non_delaunay_after"], 0);
+    for key in [
+        "vertices",
+        "faces",
+        "non_delaunay_before",
+        "passes",
+        "seconds_refine",
+        "seconds_write",
+    ] {
+        num(&r[key]);
+    }
+    // -all: 18 runs.
+    std::fs::create_dir(dir.path().join("all")).unwrap();
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(dir.path().join("all/c.obj"))
+        .arg("-all")
+        .arg("--stats-json")
+        .arg(&json)
+        .assert()
+        .success();
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["runs"].as_array().unwrap().len(), 18);
+}
