@@ -149,6 +149,14 @@ struct RunArgs {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell)
+    /// to standard output.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+    /// Print the man page (roff) to standard output.
+    Man,
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
     /// reading the two files only. Exits 0 if it is, 1 if not.
     Check {
@@ -207,6 +215,19 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse_from(legacy_args(std::env::args_os()));
     let result = match cli.command {
         Some(Command::Check { input, output }) => run_check(&input, &output),
+        Some(Command::Completions { shell }) => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            let mut buf = Vec::new();
+            clap_complete::generate(shell, &mut cmd, "delmesh", &mut buf);
+            print_bytes(&buf)
+        }
+        Some(Command::Man) => {
+            let mut buf = Vec::new();
+            match clap_mangen::Man::new(<Cli as clap::CommandFactory>::command()).render(&mut buf) {
+                Ok(()) => print_bytes(&buf),
+                Err(e) => Err(e.into()),
+            }
+        }
         None => run(&cli.run),
     };
     match result {
@@ -216,6 +237,13 @@ pub fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// Writes generated text to stdout (a closed stdout is not an error).
+fn print_bytes(bytes: &[u8]) -> anyhow::Result<ExitCode> {
+    use std::io::Write as _;
+    let _ = std::io::stdout().write_all(bytes);
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The error and its causes on one line.

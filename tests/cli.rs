@@ -591,3 +591,15 @@ fn stats_json_has_the_documented_fields() {
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(doc["runs"].as_array().unwrap().len(), 18);
 }
+
+#[test]
+fn completions_and_man_page_are_generated() {
+    let out = delmesh().args(["completions", "bash"]).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("--stats-json") && text.contains("delmesh"), "{text}");
+    let out = delmesh().arg("man").output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains(".TH delmesh") && text.contains("repair"), "{text}");
+}
