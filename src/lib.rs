@@ -5,26 +5,35 @@
 //! *Efficient Construction and Simplification of Delaunay Meshes* (ACM TOG
 //! 2015), with the sample-choice heuristics of the DelMesh tool.
 //!
+//! The library is what the command line is built on: read a mesh
+//! ([`io::read_mesh`]), build the refinable [`Surface`]
+//! ([`io::build_surface`]), run [`make_delaunay`], write the result
+//! ([`io::write_mesh`]), and verify it independently ([`check`]).
+//!
 //! ```
-//! use delmesh::{io::InputMesh, refine::Options, mesh::Surface};
+//! use delmesh::{make_delaunay, Options, Surface};
 //! use glam::DVec3;
 //!
 //! // A thin rhombus folded along its long diagonal: that diagonal is not
 //! // Delaunay and, the two faces not being coplanar, must be split.
-//! let input = InputMesh {
-//!     positions: vec![
-//!         DVec3::new(-2.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0),
-//!         DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.0, -0.4, 0.3),
-//!     ],
-//!     triangles: vec![[0, 1, 2], [1, 0, 3]],
-//!     ..Default::default()
-//! };
-//! let mut surface = Surface::new(input.positions.clone(), &input.triangles).unwrap();
-//! let stats = delmesh::refine::make_delaunay(&mut surface, &Options::default()).unwrap();
+//! let positions = vec![
+//!     DVec3::new(-2.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0),
+//!     DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.0, -0.4, 0.3),
+//! ];
+//! let triangles = [[0, 1, 2], [1, 0, 3]];
+//! let mut surface = Surface::new(positions.clone(), &triangles).unwrap();
+//! let stats = make_delaunay(&mut surface, &Options::default()).unwrap();
 //! assert_eq!(stats.non_delaunay_after, 0);
 //! assert!(stats.splits >= 1);
-//! // Input vertices first and untouched; added ones lie on input edges.
-//! assert_eq!(&surface.positions[..4], &input.positions[..]);
+//! surface.validate().unwrap();
+//!
+//! // Input vertices first and untouched; the output passes the judge.
+//! assert_eq!(&surface.positions[..4], &positions[..]);
+//! let report = delmesh::check::check_meshes(
+//!     &delmesh::check::Mesh3 { positions, triangles: triangles.to_vec() },
+//!     &delmesh::check::Mesh3 { positions: surface.positions.clone(), triangles: surface.triangles() },
+//! );
+//! assert!(report.passed());
 //! ```
 
 pub mod check;
@@ -38,3 +47,6 @@ pub mod repair;
 pub mod samples;
 
 pub use error::{Error, Result};
+pub use mesh::Surface;
+pub use refine::{make_delaunay, Options, Stats, Worklist};
+pub use samples::Score;
