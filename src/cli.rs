@@ -157,6 +157,27 @@ enum Command {
     },
     /// Print the man page (roff) to standard output.
     Man,
+    /// Draw MESH as SVG: non-Delaunay edges in red; with --input, the
+    /// vertices MESH adds to it (and their edges) in blue.
+    Render {
+        /// The mesh to draw.
+        mesh: PathBuf,
+        /// The SVG file to write.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: PathBuf,
+        /// The original mesh, to mark added vertices.
+        #[arg(short = 'i', long = "input", value_name = "FILE")]
+        input: Option<PathBuf>,
+        /// View direction: degrees around the vertical axis.
+        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+        azimuth: f64,
+        /// View direction: degrees above the horizon.
+        #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+        elevation: f64,
+        /// Picture size in pixels.
+        #[arg(long, default_value_t = 800)]
+        size: u32,
+    },
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
     /// reading the two files only. Exits 0 if it is, 1 if not.
     Check {
@@ -221,6 +242,23 @@ pub fn main() -> ExitCode {
             clap_complete::generate(shell, &mut cmd, "delmesh", &mut buf);
             print_bytes(&buf)
         }
+        Some(Command::Render {
+            mesh,
+            output,
+            input,
+            azimuth,
+            elevation,
+            size,
+        }) => run_render(
+            &mesh,
+            &output,
+            input.as_deref(),
+            delmesh::render::View {
+                azimuth,
+                elevation,
+                size,
+            },
+        ),
         Some(Command::Man) => {
             let mut buf = Vec::new();
             match clap_mangen::Man::new(<Cli as clap::CommandFactory>::command()).render(&mut buf) {
@@ -687,6 +725,34 @@ fn run_all(
         return Ok((ExitCode::from(1), rows));
     }
     Ok((ExitCode::SUCCESS, rows))
+}
+
+fn run_render(
+    mesh: &Path,
+    output: &Path,
+    input: Option<&Path>,
+    view: delmesh::render::View,
+) -> anyhow::Result<ExitCode> {
+    check_output_dir(output)?;
+    let m = io::read_mesh(mesh, &io::ReadOptions::default())?;
+    let original = input
+        .map(|p| io::read_mesh(p, &io::ReadOptions::default()))
+        .transpose()?;
+    let (svg, drawn) = delmesh::render::render_svg(
+        &m.positions,
+        &m.triangles,
+        original.as_ref().map(|o| &o.positions[..]),
+        &view,
+    );
+    io::write_atomic(output, |w| w.write_all(svg.as_bytes()))?;
+    say!(
+        "render  {}: {} faces drawn, {} non-Delaunay edges (red), {} added vertices (blue)",
+        output.display(),
+        drawn.faces,
+        drawn.non_delaunay_edges,
+        drawn.added_vertices
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {

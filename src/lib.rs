@@ -43,6 +43,7 @@ pub mod hash;
 pub mod io;
 pub mod mesh;
 pub mod refine;
+pub mod render;
 pub mod repair;
 pub mod samples;
 

@@ -603,3 +603,52 @@ fn completions_and_man_page_are_generated() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains(".TH delmesh") && text.contains("repair"), "{text}");
 }
+
+#[test]
+fn render_draws_before_and_after() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let out = dir.path().join("c.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let before = dir.path().join("before.svg");
+    let o = delmesh()
+        .arg("render")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&before)
+        .args(["--elevation", "-60"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The cube fixture has 6 non-Delaunay edges.
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("6 non-Delaunay edges"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let svg = std::fs::read_to_string(&before).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("<polygon"));
+    let after = dir.path().join("after.svg");
+    let o = delmesh()
+        .arg("render")
+        .arg(&out)
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&after)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(
+        stdout.contains("0 non-Delaunay edges") && stdout.contains("5 added vertices"),
+        "{stdout}"
+    );
+}
