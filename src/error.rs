@@ -35,9 +35,10 @@ pub enum Error {
         /// What is wrong, naming the line, face, edge or vertex.
         what: String,
     },
-    /// Some non-Delaunay sub-edge has no sample left strictly inside it, so the
+    /// Some non-Delaunay edge can be neither split (no sample left strictly
+    /// inside it) nor flipped (its quad is numerically degenerate), so the
     /// algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) cannot be split: no sample point left inside them (worst: alpha+beta-pi = {worst_excess:.3e} rad)")]
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a numerically degenerate quad); worst: alpha+beta-pi = {worst_excess:.3e} rad")]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
