@@ -330,24 +330,26 @@ impl Topology {
         }
     }
 
-    /// Whether an edge joins `u` and `v` (walks the fan of `u`).
-    pub fn are_adjacent(&self, u: VertexId, v: VertexId) -> bool {
+    /// Whether an edge joins `u` and `v`, walking at most `cap` edges of the
+    /// fan of `u`; `None` if the fan is longer than that.
+    pub fn are_adjacent_within(&self, u: VertexId, v: VertexId, cap: usize) -> Option<bool> {
         let first = self.vertex_he[u.idx()];
         let mut h = first;
-        loop {
+        for _ in 0..cap {
             if self.dest(h) == v {
-                return true;
+                return Some(true);
             }
             let n = self.rotate_ccw(h);
             if n.is_none() {
                 // Boundary vertex: the last edge of the fan is the one before the gap.
-                return self.dest(self.next(h)) == v;
+                return Some(self.dest(self.next(h)) == v);
             }
             if n == first {
-                return false;
+                return Some(false);
             }
             h = n;
         }
+        None
     }
 
     /// Number of faces met walking the fan of `v` from its stored half-edge.
