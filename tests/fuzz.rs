@@ -2020,3 +2020,18 @@ fn saved_fuzz_inputs_pass() {
         }
     }
 }
+
+/// Open finding of `fuzz_pipeline` (FUZZ_SEED=20261122, final code of the
+/// first session): a non-planar pentagon with coordinates near 4e9 beside
+/// features of 1e-3, fan-triangulated; with pqueue, score 0, median, `check`
+/// reports region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
+/// relative, tolerance 1e-9). Not yet known whether the construction or the
+/// checker's area sum (cancellation at this coordinate magnitude) is wrong.
+#[test]
+#[ignore = "open finding: region area drift at coordinates ~4e9 (see doc comment)"]
+fn regression_pipeline_area_huge_coordinates() {
+    let bytes = std::fs::read(regression_file("open-pipeline-area-huge-coordinates.obj")).unwrap();
+    if let Err(e) = target_pipeline(&bytes) {
+        panic!("{e}");
+    }
+}
