@@ -269,8 +269,10 @@ impl Surface {
         }
         let [a3, b3, c3, d3] = self.edge_quad(e);
         let normal = self.region_normal[self.face_region[self.topo.face(h).idx()] as usize];
-        // After the flip: (d, c, a) and (c, d, b).
-        if (c3 - d3).cross(a3 - d3).dot(normal) <= 0.0 || (d3 - c3).cross(b3 - c3).dot(normal) <= 0.0 {
+        // After the flip: (d, c, a) and (c, d, b). Refuse clearly inverted
+        // faces only: on needles, rounding tilts good faces by ~1e-16.
+        let inverted = |n: DVec3| n.dot(normal) < -1e-6 * n.length();
+        if inverted((c3 - d3).cross(a3 - d3)) || inverted((d3 - c3).cross(b3 - c3)) {
             return false;
         }
         const CAP: usize = 64;
