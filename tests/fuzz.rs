@@ -2085,10 +2085,19 @@ fn saved_fuzz_inputs_pass() {
 /// first session): a non-planar pentagon with coordinates near 4e9 beside
 /// features of 1e-3, fan-triangulated; with pqueue, score 0, median, `check`
 /// reports region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
-/// relative, tolerance 1e-9). Not yet known whether the construction or the
-/// checker's area sum (cancellation at this coordinate magnitude) is wrong.
+/// relative, tolerance 1e-9).
+///
+/// Triage: the checker is wrong, the construction is right. Summing the
+/// region's triangle areas with the origin of each cross product at the
+/// vertex opposite the longest edge gives 1759805666.7749999 before and
+/// 1759805666.775 after (1.4e-16 relative), and every added vertex lies on
+/// its input edge (distance 0 as computed); the naive `(b - a) x (c - a)`
+/// that the checker's `face_normal` (src/check.rs) uses gives the reported
+/// 3.5e-8 drift (cancellation: coordinates near 4e9, faces a few units
+/// wide). Same root cause as `regression_checker_needle_faces`: taking the
+/// origin at the vertex opposite the longest edge fixes both.
 #[test]
-#[ignore = "open finding: region area drift at coordinates ~4e9 (see doc comment)"]
+#[ignore = "delmesh bug (checker): face areas/normals from (b - a) x (c - a) cancel at coordinates ~4e9"]
 fn regression_pipeline_area_huge_coordinates() {
     let bytes = std::fs::read(regression_file("open-pipeline-area-huge-coordinates.obj")).unwrap();
     if let Err(e) = target_pipeline(&bytes) {
