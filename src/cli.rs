@@ -29,6 +29,7 @@ macro_rules! complain {
     }};
 }
 use delmesh::mesh::Surface;
+use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
 use delmesh::samples::Score;
 
@@ -141,6 +142,12 @@ struct RunArgs {
     /// floor.
     #[arg(long = "no-refine", conflicts_with = "all")]
     no_refine: bool,
+
+    /// After the construction, remove again every added vertex whose removal
+    /// (with flips around it) keeps the mesh Delaunay. Fewer added vertices,
+    /// same exact geometry; with -all, every combination is pruned.
+    #[arg(long = "prune")]
+    prune: bool,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -364,15 +371,19 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
 struct Outcome {
     surface: Surface,
     stats: Stats,
+    /// With --prune: what pruning removed.
+    pruned: Option<PruneStats>,
     seconds: f64,
 }
 
-fn refine_once(mut surface: Surface, path: &Path, options: &Options) -> anyhow::Result<Outcome> {
+fn refine_once(mut surface: Surface, path: &Path, options: &Options, prune: bool) -> anyhow::Result<Outcome> {
     let start = Instant::now();
     let stats = refine::make_delaunay(&mut surface, options).with_context(|| path.display().to_string())?;
+    let pruned = prune.then(|| delmesh::prune::prune(&mut surface, options));
     Ok(Outcome {
         surface,
         stats,
+        pruned,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -498,7 +509,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     }
     let mut options = Options::new(args.ds.into(), score_of(&args.score), !args.nomedian);
     options.max_added = args.max_added;
-    let out = refine_once(surface, input_path, &options)?;
+    let out = refine_once(surface, input_path, &options, args.prune)?;
     let t1 = Instant::now();
     io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
     let write_s = t1.elapsed().as_secs_f64();
@@ -549,6 +560,16 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             s.non_delaunay_before,
             s.non_delaunay_after
         );
+        if let Some(p) = &out.pruned {
+            say!(
+                "prune   removed {} of {} added vertices ({} tried, {} flips, {} passes)",
+                p.removed,
+                s.splits,
+                p.tried,
+                p.flips,
+                p.passes
+            );
+        }
         say!(
             "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
             t0.elapsed().as_secs_f64(),
@@ -616,8 +637,14 @@ struct RowFigures {
 }
 
 /// Refines one combination and writes its file (atomically).
-fn run_combination(surface: &Surface, input_path: &Path, options: &Options, file: &Path) -> anyhow::Result<RowFigures> {
-    let out = refine_once(surface.clone(), input_path, options)?;
+fn run_combination(
+    surface: &Surface,
+    input_path: &Path,
+    options: &Options,
+    prune: bool,
+    file: &Path,
+) -> anyhow::Result<RowFigures> {
+    let out = refine_once(surface.clone(), input_path, options, prune)?;
     let t = Instant::now();
     io::write_mesh(file, &out.surface.positions, &out.surface.triangles())?;
     let seconds_write = t.elapsed().as_secs_f64();
@@ -664,7 +691,7 @@ fn run_all(
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(options) = combos.get(i) else { break };
                 let file = combination_path(output, options);
-                let result = run_combination(surface, input_path, options, &file);
+                let result = run_combination(surface, input_path, options, args.prune, &file);
                 rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                     options: *options,
                     file,

@@ -42,6 +42,7 @@ pub mod geometry;
 pub mod hash;
 pub mod io;
 pub mod mesh;
+pub mod prune;
 pub mod refine;
 pub mod render;
 pub mod repair;

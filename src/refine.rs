@@ -199,6 +199,7 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
             }
         }
     }
+    let mut work_at_last_pass = usize::MAX;
     loop {
         run.stats.passes += 1;
         while let Some(e) = ds.pop() {
@@ -212,11 +213,19 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
                 });
             }
         }
-        // Verification pass: anything missed goes back into DS.
+        // Verification pass: anything missed goes back into DS. Edges found
+        // stuck get another chance when the last round changed the mesh:
+        // their neighbourhood may have moved since.
+        let work = run.stats.splits + run.stats.flips;
+        if work == work_at_last_pass {
+            break;
+        }
+        work_at_last_pass = work;
+        run.stuck.clear();
         let mut missed = false;
         for e in 0..run.s.topo.n_edges() {
             let e = EdgeId(e as u32);
-            if !run.is_stuck(e) && run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
+            if run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
                 ds.push(e, run.s.edge_length(e));
                 missed = true;
             }
@@ -308,38 +317,48 @@ impl Run<'_> {
 
     /// The sample at which to split the non-flippable edge `e`.
     fn choose_sample(&self, e: EdgeId) -> Option<samples::Choice> {
-        let s = &*self.s;
-        let input = s.edge_input[e.idx()];
-        if input == NO_INPUT_EDGE {
-            return None; // cannot happen: such edges lie inside a region
-        }
-        let topo = &s.topo;
-        let h = e.halfedge();
-        let (a, b) = (topo.origin(h), topo.dest(h));
-        let quad = s.edge_quad(e);
-        let t = h.twin();
-        let (h1, t1) = (topo.next(h), topo.next(t));
-        let (h2, t2) = (topo.next(h1), topo.next(t1));
-        let apex = |x: crate::mesh::HalfEdgeId| {
-            let v = topo.apex(x.twin());
-            (!v.is_none()).then(|| s.positions[v.idx()])
-        };
-        let (halves, outer) = split_conditions(quad, [apex(h2), apex(h1), apex(t2), apex(t1)]);
-        let ends = s.input_edge_ends(input);
-        let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), &self.constants);
-        let query = SplitQuery {
-            samples: &edge_samples,
-            edge_ends: ends,
-            t_a: s.param_on(a, input),
-            t_b: s.param_on(b, input),
-            pos_a: quad[0],
-            pos_b: quad[1],
-            halves,
-            outer,
-            outer_flippable: [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge())),
-            score: self.options.score,
-            median: self.options.median,
-        };
-        samples::choose(&query)
+        choose_sample(self.s, &self.constants, &self.options, e)
     }
+}
+
+/// The sample at which Algorithm 2 splits the non-flippable, non-Delaunay
+/// edge `e` of `s` with these settings (`None`: no sample left in it).
+pub(crate) fn choose_sample(
+    s: &Surface,
+    constants: &SampleConstants,
+    options: &Options,
+    e: EdgeId,
+) -> Option<samples::Choice> {
+    let input = s.edge_input[e.idx()];
+    if input == NO_INPUT_EDGE {
+        return None; // cannot happen: such edges lie inside a region
+    }
+    let topo = &s.topo;
+    let h = e.halfedge();
+    let (a, b) = (topo.origin(h), topo.dest(h));
+    let quad = s.edge_quad(e);
+    let t = h.twin();
+    let (h1, t1) = (topo.next(h), topo.next(t));
+    let (h2, t2) = (topo.next(h1), topo.next(t1));
+    let apex = |x: crate::mesh::HalfEdgeId| {
+        let v = topo.apex(x.twin());
+        (!v.is_none()).then(|| s.positions[v.idx()])
+    };
+    let (halves, outer) = split_conditions(quad, [apex(h2), apex(h1), apex(t2), apex(t1)]);
+    let ends = s.input_edge_ends(input);
+    let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), constants);
+    let query = SplitQuery {
+        samples: &edge_samples,
+        edge_ends: ends,
+        t_a: s.param_on(a, input),
+        t_b: s.param_on(b, input),
+        pos_a: quad[0],
+        pos_b: quad[1],
+        halves,
+        outer,
+        outer_flippable: [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge())),
+        score: options.score,
+        median: options.median,
+    };
+    samples::choose(&query)
 }

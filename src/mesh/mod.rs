@@ -9,9 +9,9 @@
 
 mod topology;
 
-pub use topology::{EdgeId, FaceId, HalfEdgeId, Topology, TopologyError, VertexId};
+pub use topology::{EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
 
-use crate::geometry;
+use crate::geometry::{self, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
 use glam::DVec3;
 
@@ -269,10 +269,23 @@ impl Surface {
         }
         let [a3, b3, c3, d3] = self.edge_quad(e);
         let normal = self.region_normal[self.face_region[self.topo.face(h).idx()] as usize];
-        // After the flip: (d, c, a) and (c, d, b). Refuse clearly inverted
-        // faces only: on needles, rounding tilts good faces by ~1e-16.
-        let inverted = |n: DVec3| n.dot(normal) < -1e-6 * n.length();
+        // After the flip: (d, c, a) and (c, d, b). Refuse a face that is
+        // inverted by more than rounding the positions can explain: its apex
+        // lies on the wrong side of the new edge's line by more than a few
+        // ulps of the coordinates.
+        let scale = [a3, b3, c3, d3]
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        let slack = 64.0 * f64::EPSILON * scale * (c3 - d3).length();
+        let inverted = |n: DVec3| n.dot(normal) < -slack * normal.length();
         if inverted((c3 - d3).cross(a3 - d3)) || inverted((d3 - c3).cross(b3 - c3)) {
+            return false;
+        }
+        // The new edge must itself be Delaunay: on a quad that is degenerate
+        // to rounding, both diagonals can look non-Delaunay, and flipping
+        // would then go back and forth for ever.
+        if geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE) {
             return false;
         }
         const CAP: usize = 64;
@@ -306,6 +319,26 @@ impl Surface {
         let (r1, r2) = (self.face_region[f1.idx()], self.face_region[f2.idx()]);
         self.face_region.extend_from_slice(&[r1, r2]);
         p
+    }
+
+    /// Drops the vertices, edges and faces that [`Topology::unsplit`] left
+    /// dead, renumbering the others in order (input vertices keep their ids).
+    pub fn compact(&mut self) {
+        let (vmap, emap, fmap) = self.topo.compact();
+        fn keep<T: Copy, I: Copy>(values: &mut Vec<T>, map: &[I], is_none: fn(I) -> bool) {
+            let mut w = 0;
+            for i in 0..values.len() {
+                if !is_none(map[i]) {
+                    values[w] = values[i];
+                    w += 1;
+                }
+            }
+            values.truncate(w);
+        }
+        keep(&mut self.positions, &vmap, VertexId::is_none);
+        keep(&mut self.carriers, &vmap, VertexId::is_none);
+        keep(&mut self.edge_input, &emap, EdgeId::is_none);
+        keep(&mut self.face_region, &fmap, FaceId::is_none);
     }
 
     /// Smallest angle and extreme edge lengths.

@@ -104,6 +104,20 @@ pub enum TopologyError {
     RepeatedVertex { face: usize, vertex: u32 },
 }
 
+/// One saved entry of a [`Topology`], for undoing local changes.
+#[derive(Clone, Copy, Debug)]
+pub enum Saved {
+    /// A half-edge's origin, next and face.
+    HalfEdge(HalfEdgeId, VertexId, HalfEdgeId, FaceId),
+    /// A face's half-edge.
+    Face(FaceId, HalfEdgeId),
+    /// A vertex's outgoing half-edge.
+    Vertex(VertexId, HalfEdgeId),
+    /// The numbers of half-edges, faces and vertices before a split: undoing
+    /// truncates the arrays back to them.
+    Lengths(usize, usize, usize),
+}
+
 /// Half-edge connectivity. See the module documentation for the layout.
 #[derive(Clone, Debug, Default)]
 pub struct Topology {
@@ -247,6 +261,11 @@ impl Topology {
             }
         }
         Ok(topo)
+    }
+
+    /// One half-edge leaving `v`.
+    pub fn vertex_he(&self, v: VertexId) -> HalfEdgeId {
+        self.vertex_he[v.idx()]
     }
 
     /// Number of vertices.
@@ -465,6 +484,176 @@ impl Topology {
         p
     }
 
+    /// Undoes [`Topology::split`] on a vertex of degree four: `hu` runs from
+    /// `u` to the vertex `p` to remove, which must have exactly the four
+    /// neighbours u, x, w, y (x and y opposite the two halves). Edge `hu`
+    /// becomes (u, w); the edges p–w, p–x, p–y, the two faces beside p–w and
+    /// p itself are left dead (no origin, face or next) until
+    /// [`Topology::compact`]. Returns the dead edges and faces, or `None`
+    /// (nothing changed) if `p` does not have that shape.
+    ///
+    /// ```text
+    ///         x                       x
+    ///       / | \                   /       ///      /F1|F3\                 / F1      ///     u --p-- w     ==>       u ----- w
+    ///      \F2|F4/                 \ F2  /
+    ///       \ | /                   \   /
+    ///         y                       y
+    /// ```
+    pub fn unsplit(&mut self, hu: HalfEdgeId) -> Option<([EdgeId; 3], [FaceId; 2])> {
+        let tu = hu.twin(); // p→u
+        let (k, t1) = (self.next(hu), self.next(tu)); // p→x, u→y
+        if k.is_none() || t1.is_none() {
+            return None;
+        }
+        let (h2, m_t) = (self.next(k), self.next(t1)); // x→u, y→p
+        let m = m_t.twin(); // p→y
+        let t2 = self.next(m); // y→w
+        if t2.is_none() {
+            return None;
+        }
+        let g_t = self.next(t2); // w→p
+        let g = g_t.twin(); // p→w
+        let gw = self.next(g); // w→x
+        if gw.is_none() || self.next(gw) != k.twin() {
+            return None;
+        }
+        // The faces F1, F2, F4, F3 close up around p: it has degree four.
+        let (u, w) = (self.origin(hu), self.origin(g_t));
+        let (x, y) = (self.origin(h2), self.origin(t2));
+        if u == w || x == y {
+            return None;
+        }
+        let p = self.origin(tu);
+        let (f1, f2, f3, f4) = (self.face(hu), self.face(tu), self.face(g), self.face(g_t));
+        self.he_origin[tu.idx()] = w;
+        self.link(f1, [hu, gw, h2]);
+        self.link(f2, [tu, t1, t2]);
+        for v in [u, w, x, y] {
+            let vh = self.vertex_he[v.idx()];
+            if vh == g_t {
+                self.vertex_he[v.idx()] = tu;
+            } else if vh == k.twin() {
+                self.vertex_he[v.idx()] = h2;
+            } else if vh == m_t {
+                self.vertex_he[v.idx()] = t2;
+            }
+        }
+        for h in [g, g_t, k, k.twin(), m, m_t] {
+            self.he_origin[h.idx()] = VertexId::NONE;
+            self.he_next[h.idx()] = HalfEdgeId::NONE;
+            self.he_face[h.idx()] = FaceId::NONE;
+        }
+        for f in [f3, f4] {
+            self.face_he[f.idx()] = HalfEdgeId::NONE;
+        }
+        self.vertex_he[p.idx()] = HalfEdgeId::NONE;
+        Some(([g.edge(), k.edge(), m.edge()], [f3, f4]))
+    }
+
+    /// Saves the entries of the given elements that [`Topology::flip`] or
+    /// [`Topology::unsplit`] may write, for [`Topology::restore`].
+    pub fn save(&self, hes: &[HalfEdgeId], faces: &[FaceId], verts: &[VertexId], out: &mut Vec<Saved>) {
+        for &h in hes {
+            let i = h.idx();
+            out.push(Saved::HalfEdge(h, self.he_origin[i], self.he_next[i], self.he_face[i]));
+        }
+        out.extend(faces.iter().map(|&f| Saved::Face(f, self.face_he[f.idx()])));
+        out.extend(verts.iter().map(|&v| Saved::Vertex(v, self.vertex_he[v.idx()])));
+    }
+
+    /// Writes back entries saved by [`Topology::save`], newest first.
+    pub fn restore(&mut self, saved: &[Saved]) {
+        for s in saved.iter().rev() {
+            match *s {
+                Saved::HalfEdge(h, o, n, f) => {
+                    self.he_origin[h.idx()] = o;
+                    self.he_next[h.idx()] = n;
+                    self.he_face[h.idx()] = f;
+                }
+                Saved::Face(f, h) => self.face_he[f.idx()] = h,
+                Saved::Vertex(v, h) => self.vertex_he[v.idx()] = h,
+                Saved::Lengths(hes, faces, verts) => {
+                    self.he_origin.truncate(hes);
+                    self.he_next.truncate(hes);
+                    self.he_face.truncate(hes);
+                    self.face_he.truncate(faces);
+                    self.vertex_he.truncate(verts);
+                }
+            }
+        }
+    }
+
+    /// The entry that undoes the growth of the arrays by later splits.
+    pub fn lengths(&self) -> Saved {
+        Saved::Lengths(self.he_origin.len(), self.face_he.len(), self.vertex_he.len())
+    }
+
+    /// Whether `e` was removed by [`Topology::unsplit`].
+    pub fn is_dead_edge(&self, e: EdgeId) -> bool {
+        self.he_origin[e.halfedge().idx()].is_none()
+    }
+
+    /// Whether `v` was removed by [`Topology::unsplit`].
+    pub fn is_dead_vertex(&self, v: VertexId) -> bool {
+        self.vertex_he[v.idx()].is_none()
+    }
+
+    /// Drops the elements left dead by [`Topology::unsplit`], keeping the
+    /// others in order. Returns the new id of every old vertex, edge and
+    /// face (`NONE` for dead ones).
+    pub fn compact(&mut self) -> (Vec<VertexId>, Vec<EdgeId>, Vec<FaceId>) {
+        fn renumber<T: Copy>(alive: impl Iterator<Item = bool>, make: fn(u32) -> T, none: T) -> Vec<T> {
+            let mut next = 0;
+            alive
+                .map(|a| {
+                    if a {
+                        next += 1;
+                        make(next - 1)
+                    } else {
+                        none
+                    }
+                })
+                .collect()
+        }
+        let vmap = renumber(self.vertex_he.iter().map(|h| !h.is_none()), VertexId, VertexId::NONE);
+        let emap = renumber(
+            (0..self.n_edges()).map(|e| !self.he_origin[2 * e].is_none()),
+            EdgeId,
+            EdgeId::NONE,
+        );
+        let fmap = renumber(self.face_he.iter().map(|h| !h.is_none()), FaceId, FaceId::NONE);
+        let hmap = |h: HalfEdgeId| {
+            if h.is_none() {
+                h
+            } else {
+                HalfEdgeId(emap[h.edge().idx()].0 * 2 + (h.0 & 1))
+            }
+        };
+        let mut w = 0;
+        for i in 0..self.he_origin.len() {
+            if emap[i / 2].is_none() {
+                continue;
+            }
+            let o = self.he_origin[i];
+            self.he_origin[w] = vmap[o.idx()];
+            self.he_next[w] = hmap(self.he_next[i]);
+            let f = self.he_face[i];
+            self.he_face[w] = if f.is_none() { f } else { fmap[f.idx()] };
+            w += 1;
+        }
+        self.he_origin.truncate(w);
+        self.he_next.truncate(w);
+        self.he_face.truncate(w);
+        self.face_he = self.face_he.iter().filter(|h| !h.is_none()).map(|&h| hmap(h)).collect();
+        self.vertex_he = self
+            .vertex_he
+            .iter()
+            .filter(|h| !h.is_none())
+            .map(|&h| hmap(h))
+            .collect();
+        (vmap, emap, fmap)
+    }
+
     fn link(&mut self, f: FaceId, hs: [HalfEdgeId; 3]) {
         for i in 0..3 {
             self.he_next[hs[i].idx()] = hs[(i + 1) % 3];
@@ -676,6 +865,98 @@ mod tests {
             v
         };
         assert_eq!(sorted(t.triangles()), sorted(before));
+    }
+
+    #[test]
+    fn unsplit_undoes_split_and_compact_renumbers() {
+        // Split every edge of the octahedron once, then merge the new vertices
+        // back in reverse order: the faces are the octahedron's again.
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        let mut added = Vec::new();
+        for e in 0..t.n_edges() as u32 {
+            let a = t.origin(EdgeId(e).halfedge());
+            added.push((t.split(EdgeId(e)), a));
+        }
+        t.validate().unwrap();
+        for i in (0..added.len()).rev() {
+            let (p, a) = added[i];
+            // The half-edge a→p: p's neighbours are a, b and the two apexes.
+            let mut h = t.vertex_he(p);
+            while t.dest(h) != a {
+                h = t.rotate_ccw(h);
+            }
+            let (dead_edges, dead_faces) = t.unsplit(h.twin()).expect("degree four");
+            assert!(t.is_dead_vertex(p));
+            assert!(dead_edges.iter().all(|&e| t.is_dead_edge(e)));
+            assert_eq!(dead_faces.len(), 2);
+            if i % 4 == 0 {
+                // Compacting midway keeps the structure valid.
+                let (vmap, _, _) = t.compact();
+                t.validate().unwrap();
+                assert!(vmap[..6].iter().enumerate().all(|(i, v)| v.idx() == i));
+                for (q, b) in added[..i].iter_mut() {
+                    (*q, *b) = (vmap[q.idx()], vmap[b.idx()]);
+                }
+            }
+        }
+        t.compact();
+        t.validate().unwrap();
+        assert_eq!((t.n_vertices(), t.n_edges(), t.n_faces()), (6, 12, 8));
+        let canon = |f: [u32; 3]| {
+            let m = (0..3).min_by_key(|&i| f[i]).unwrap();
+            [f[m], f[(m + 1) % 3], f[(m + 2) % 3]]
+        };
+        let mut got: Vec<_> = t.triangles().into_iter().map(canon).collect();
+        let mut want: Vec<_> = octahedron().into_iter().map(canon).collect();
+        got.sort();
+        want.sort();
+        assert_eq!(got, want);
+        // A vertex of degree five is refused and left untouched.
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        let e = EdgeId(0);
+        let a = t.origin(e.halfedge());
+        let bc = t.next(e.halfedge()).edge(); // b→c of the face (a, b, c)
+        let p = t.split(e);
+        t.flip(bc); // (p, b, c) + (c, b, z) → p gains z
+        t.validate().unwrap();
+        let before = t.triangles();
+        let mut h = t.vertex_he(p);
+        while t.dest(h) != a {
+            h = t.rotate_ccw(h);
+        }
+        assert!(t.unsplit(h.twin()).is_none());
+        assert_eq!(t.triangles(), before);
+        t.validate().unwrap();
+    }
+
+    #[test]
+    fn save_and_restore_undo_flips_and_splits() {
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        let before = t.triangles();
+        let mut log = Vec::new();
+        for e in [0u32, 3, 5] {
+            let e = EdgeId(e);
+            let h = e.halfedge();
+            let tw = h.twin();
+            let (h1, t1) = (t.next(h), t.next(tw));
+            let (h2, t2) = (t.next(h1), t.next(t1));
+            let faces = [t.face(h), t.face(tw)];
+            let verts = [t.origin(h), t.origin(tw)];
+            if e.0 != 0 {
+                log.push(t.lengths());
+                t.save(&[h, tw, h1, h2, t1, t2], &faces, &verts[1..], &mut log);
+                t.split(e);
+            } else {
+                t.save(&[h, tw, h1, h2, t1, t2], &faces, &verts, &mut log);
+                t.flip(e);
+            }
+            t.validate().unwrap();
+        }
+        assert_ne!(t.triangles(), before);
+        t.restore(&log);
+        t.validate().unwrap();
+        assert_eq!(t.triangles(), before);
+        assert_eq!((t.n_vertices(), t.n_edges()), (6, 12));
     }
 
     #[test]

@@ -1,0 +1,504 @@
+//! `--prune`: removing added vertices again where the mesh stays Delaunay
+//! without them.
+//!
+//! Algorithm 2 splits greedily: a vertex added early may no longer be needed
+//! once later splits and flips have changed its neighbourhood. For each added
+//! vertex p, on input edge E between its neighbours u and w along E, pruning
+//!
+//! 1. flips the edges from p into each of its two sides, one "ear" at a time,
+//!    until p has a single neighbour x (resp. y) on each side;
+//! 2. merges the two sub-edges u–p and p–w back into one (undoing a split);
+//! 3. flips the flat regions around back to Delaunay (Lawson);
+//!
+//! and keeps the result only if every edge it touched is Delaunay; otherwise
+//! every change is undone from a journal. When removing p alone fails,
+//! pruning tries to replace p and the next one or two added vertices along E
+//! by one vertex fewer: it removes them all, then runs Algorithm 2 locally
+//! (same sample choice) with a budget of that many splits. Only added vertices
+//! are ever removed, and new ones are samples of input edges, so the geometry
+//! stays exactly the input's.
+//!
+//! ```text
+//!        x1   x2                 x1---x2              x
+//!         \   /                   \   /             /   \
+//!     u----p----w   ==>   u-------p----w   ==>   u-------w
+//!         /  \                     /  \            \   /
+//!       y1    y2                 y1----y2            y
+//! ```
+
+use glam::DVec3;
+
+use crate::geometry::ALGORITHM_TOLERANCE;
+use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
+use crate::refine::{self, Options};
+use crate::samples::{SampleConstants, Score};
+
+/// What pruning did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PruneStats {
+    /// Added vertices removed.
+    pub removed: usize,
+    /// Removals tried (including the undone ones).
+    pub tried: usize,
+    /// Flips kept.
+    pub flips: usize,
+    /// Passes over the added vertices.
+    pub passes: usize,
+}
+
+/// Flips allowed in one removal attempt before it is given up.
+const MAX_FLIPS_PER_TRY: usize = 4096;
+/// At most this many consecutive added vertices of one input edge are
+/// replaced by one fewer.
+const MAX_GROUP: usize = 3;
+/// The sample choices tried, in turn, for the one vertex that replaces two.
+const PAIR_VARIANTS: [(Score, bool); 8] = [
+    (Score::AlwaysCenter, true),
+    (Score::SplitAware, true),
+    (Score::AllEqual, true),
+    (Score::WeightedCenter, true),
+    (Score::AlwaysCenter, false),
+    (Score::SplitAware, false),
+    (Score::AllEqual, false),
+    (Score::WeightedCenter, false),
+];
+/// Passes over all added vertices at most (each pass after the first only
+/// finds what earlier removals made possible).
+const MAX_PASSES: usize = 8;
+
+/// Removes added vertices of the Delaunay mesh `surface` wherever it stays
+/// Delaunay with fewer, and compacts the mesh (the remaining vertices keep
+/// their order). `surface` must be the result of a successful
+/// [`crate::make_delaunay`]; `options` choose the samples of the local
+/// re-refinements (their work limit is not used).
+pub fn prune(surface: &mut Surface, options: &Options) -> PruneStats {
+    let constants = refine::sample_constants(surface);
+    let mut run = Pruner {
+        constants,
+        options: *options,
+        s: surface,
+        journal: Vec::new(),
+        inputs: Vec::new(),
+        touched: Vec::new(),
+        stack: Vec::new(),
+        stats: PruneStats::default(),
+        flips: 0,
+        splits: 0,
+        detached: 0,
+        dirty: Vec::new(),
+    };
+    let first_added = run.s.n_input_vertices;
+    // After the first pass, only vertices near a kept change can have become
+    // removable.
+    run.dirty = vec![true; run.s.topo.n_vertices()];
+    while run.stats.passes < MAX_PASSES {
+        run.stats.passes += 1;
+        let before = run.stats.removed;
+        // Newest first: a vertex added late was placed knowing the others.
+        for v in (first_added..run.s.topo.n_vertices()).rev() {
+            let v = VertexId(v as u32);
+            if run.dirty.get(v.idx()).copied().unwrap_or(true) && !run.s.topo.is_dead_vertex(v) {
+                run.dirty[v.idx()] = false;
+                run.try_remove(v);
+            }
+        }
+        if run.stats.removed == before {
+            break;
+        }
+    }
+    run.s.compact();
+    run.stats
+}
+
+struct Pruner<'a> {
+    s: &'a mut Surface,
+    constants: SampleConstants,
+    options: Options,
+    /// Topology entries to restore if the current attempt fails.
+    journal: Vec<Saved>,
+    /// Input-edge labels to restore (flips clear them).
+    inputs: Vec<(EdgeId, u32)>,
+    /// Edges whose Delaunay status the attempt may have changed.
+    touched: Vec<EdgeId>,
+    stack: Vec<EdgeId>,
+    stats: PruneStats,
+    /// Flips of the current attempt.
+    flips: usize,
+    /// Splits of the current attempt.
+    splits: usize,
+    /// Vertices removed by the current attempt.
+    detached: usize,
+    /// Vertices worth trying (again) in the next pass.
+    dirty: Vec<bool>,
+}
+
+impl Pruner<'_> {
+    /// Tries to remove `p` alone, then to replace it and the next added
+    /// vertices along its input edge, or it and one added neighbour, by one
+    /// vertex fewer; keeps the first attempt that succeeds.
+    fn try_remove(&mut self, p: VertexId) {
+        let Carrier::Edge { edge: input, .. } = self.s.carriers[p.idx()] else {
+            return;
+        };
+        for group in 1..=MAX_GROUP {
+            match self.attempt(|me| me.replace(p, input, group)) {
+                Attempt::Kept => return,
+                Attempt::Failed => {}
+                Attempt::NoGroup => break,
+            }
+        }
+        // Pairs: p and an added neighbour (often a vertex that a split at p
+        // made necessary) replaced by one vertex, placed by each score in turn.
+        let base = self.options;
+        for q in self.added_neighbours(p) {
+            let Carrier::Edge { edge: q_input, .. } = self.s.carriers[q.idx()] else {
+                continue;
+            };
+            let r = self.attempt(|me| {
+                if !me.detach(p, input) || !me.detach(q, q_input) {
+                    return Attempt::Failed;
+                }
+                let mark = me.mark();
+                for options in PAIR_VARIANTS.map(|(score, median)| Options { score, median, ..base }) {
+                    me.options = options;
+                    let kept = me.refine_locally(1);
+                    me.options = base;
+                    if kept {
+                        return Attempt::Kept;
+                    }
+                    me.undo_to(mark);
+                }
+                Attempt::Failed
+            });
+            if matches!(r, Attempt::Kept) {
+                return;
+            }
+        }
+    }
+
+    /// The added vertices joined to `p` by an edge.
+    fn added_neighbours(&self, p: VertexId) -> Vec<VertexId> {
+        let topo = &self.s.topo;
+        let first = topo.vertex_he(p);
+        let mut h = first;
+        let mut out = Vec::new();
+        loop {
+            let v = topo.dest(h);
+            if v.idx() >= self.s.n_input_vertices {
+                out.push(v);
+            }
+            h = topo.rotate_ccw(h);
+            if h.is_none() || h == first {
+                return out;
+            }
+        }
+    }
+
+    /// Runs one attempt from a clean journal; keeps it or undoes it.
+    fn attempt(&mut self, f: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
+        self.journal.clear();
+        self.inputs.clear();
+        self.touched.clear();
+        self.flips = 0;
+        self.splits = 0;
+        self.stats.tried += 1;
+        let r = f(self);
+        if let Attempt::Kept = r {
+            self.stats.removed += self.detached - self.splits;
+            self.stats.flips += self.flips;
+            self.dirty.resize(self.s.topo.n_vertices(), true);
+            for i in 0..self.touched.len() {
+                let e = self.touched[i];
+                if self.s.topo.is_dead_edge(e) {
+                    continue;
+                }
+                let h = e.halfedge();
+                for v in [self.s.topo.origin(h), self.s.topo.dest(h)] {
+                    self.dirty[v.idx()] = true;
+                    for w in self.added_neighbours(v) {
+                        self.dirty[w.idx()] = true;
+                    }
+                }
+            }
+        } else {
+            self.undo_to(Mark::default());
+        }
+        self.detached = 0;
+        r
+    }
+
+    /// Where the current attempt stands, to undo back to.
+    fn mark(&self) -> Mark {
+        Mark {
+            journal: self.journal.len(),
+            inputs: self.inputs.len(),
+            touched: self.touched.len(),
+            splits: self.splits,
+            flips: self.flips,
+        }
+    }
+
+    /// Undoes every change of the current attempt made after `mark`.
+    fn undo_to(&mut self, mark: Mark) {
+        self.s.topo.restore(&self.journal[mark.journal..]);
+        for &(e, label) in self.inputs[mark.inputs..].iter().rev() {
+            self.s.edge_input[e.idx()] = label;
+        }
+        self.journal.truncate(mark.journal);
+        self.inputs.truncate(mark.inputs);
+        self.touched.truncate(mark.touched);
+        self.splits = mark.splits;
+        self.flips = mark.flips;
+        let topo = &self.s.topo;
+        let (nv, ne, nf) = (topo.n_vertices(), topo.n_edges(), topo.n_faces());
+        self.s.positions.truncate(nv);
+        self.s.carriers.truncate(nv);
+        self.s.edge_input.truncate(ne);
+        self.s.face_region.truncate(nf);
+    }
+
+    /// Removes `p` and the `group - 1` added vertices after it along `input`,
+    /// then refines locally with at most `group - 1` splits.
+    fn replace(&mut self, p: VertexId, input: u32, group: usize) -> Attempt {
+        let mut v = p;
+        for i in 0..group {
+            let Some([_, to_w]) = self.along_input(v, input) else {
+                return Attempt::NoGroup;
+            };
+            let next = self.s.topo.dest(to_w);
+            if !self.detach(v, input) {
+                return Attempt::Failed;
+            }
+            if i + 1 < group {
+                if !matches!(self.s.carriers[next.idx()], Carrier::Edge { edge, .. } if edge == input) {
+                    return Attempt::NoGroup;
+                }
+                v = next;
+            }
+        }
+        if self.refine_locally(group - 1) {
+            Attempt::Kept
+        } else {
+            Attempt::Failed
+        }
+    }
+
+    /// Flips `p` down to degree four and merges its two sub-edges, saving
+    /// every change; `false` if that cannot be done.
+    fn detach(&mut self, p: VertexId, input: u32) -> bool {
+        let Some([to_u, to_w]) = self.along_input(p, input) else {
+            return false;
+        };
+        for side_start in [to_u, to_w] {
+            if !self.reduce_side(p, input, side_start) {
+                return false;
+            }
+        }
+        let (u, w) = (self.s.topo.dest(to_u), self.s.topo.dest(to_w));
+        if self.s.topo.are_adjacent_within(u, w, 64) != Some(false) {
+            return false;
+        }
+        // Save what unsplit writes: the twelve half-edges around p, its four
+        // faces and its five vertices.
+        let topo = &self.s.topo;
+        let hu = to_u.twin();
+        let mut hes = Vec::with_capacity(12);
+        let mut h = to_u;
+        for _ in 0..4 {
+            let n = topo.next(h);
+            hes.extend([h, n, topo.next(n)]);
+            h = topo.rotate_ccw(h);
+        }
+        let faces = [hes[0], hes[3], hes[6], hes[9]].map(|h| topo.face(h));
+        let verts = [p, u, w, topo.dest(topo.next(to_u)), topo.dest(topo.next(to_w))];
+        topo.save(&hes, &faces, &verts, &mut self.journal);
+        if self.s.topo.unsplit(hu).is_none() {
+            return false;
+        }
+        self.detached += 1;
+        // The two merged faces: (u, w, x) on hu's side, (w, u, y) on its twin's.
+        for h in [hu, hu.twin()] {
+            let n = self.s.topo.next(h);
+            self.touched.extend([h.edge(), n.edge(), self.s.topo.next(n).edge()]);
+        }
+        true
+    }
+
+    /// The two outgoing half-edges of `p` that lie on `input`, in the order
+    /// where the first one's counter-clockwise side is the first side.
+    fn along_input(&self, p: VertexId, input: u32) -> Option<[HalfEdgeId; 2]> {
+        let topo = &self.s.topo;
+        let first = topo.vertex_he(p);
+        let mut found = Vec::with_capacity(2);
+        let mut h = first;
+        loop {
+            if self.s.edge_input[h.edge().idx()] == input {
+                found.push(h);
+            }
+            h = topo.rotate_ccw(h);
+            if h.is_none() {
+                return None; // p is on the boundary: never split there
+            }
+            if h == first {
+                break;
+            }
+        }
+        (found.len() == 2).then(|| [found[0], found[1]])
+    }
+
+    /// Flips edges out of p, counter-clockwise after `start` up to the next
+    /// edge on the input edge, until one neighbour is left between them.
+    fn reduce_side(&mut self, p: VertexId, input: u32, start: HalfEdgeId) -> bool {
+        loop {
+            // The interior neighbours' half-edges, in order.
+            let mut fan = Vec::new();
+            let mut h = self.s.topo.rotate_ccw(start);
+            while self.s.edge_input[h.edge().idx()] != input {
+                fan.push(h);
+                h = self.s.topo.rotate_ccw(h);
+                if fan.len() > 4096 {
+                    return false;
+                }
+            }
+            debug_assert_eq!(self.s.topo.origin(h), p);
+            if fan.is_empty() {
+                return false;
+            }
+            if fan.len() == 1 {
+                return true;
+            }
+            // Flip the ear whose new edge is shortest: any ear would do, the
+            // Lawson pass after the merge fixes the rest.
+            let best = fan.iter().filter(|h| self.ear_flip_is_valid(h.edge())).min_by(|a, b| {
+                let la = self.new_edge_length(a.edge());
+                let lb = self.new_edge_length(b.edge());
+                la.total_cmp(&lb)
+            });
+            let Some(&h) = best else {
+                return false;
+            };
+            if !self.flip(h.edge()) {
+                return false;
+            }
+        }
+    }
+
+    fn new_edge_length(&self, e: EdgeId) -> f64 {
+        let [_, _, c, d] = self.s.edge_quad(e);
+        (c - d).length()
+    }
+
+    /// Whether flipping `e` keeps both new faces strictly on their region's
+    /// side (the quad is convex) and makes no duplicate edge.
+    fn ear_flip_is_valid(&self, e: EdgeId) -> bool {
+        let s = &*self.s;
+        let h = e.halfedge();
+        let [a3, b3, c3, d3] = s.edge_quad(e);
+        let normal = s.region_normal[s.face_region[s.topo.face(h).idx()] as usize];
+        let positive = |x: DVec3, y: DVec3, z: DVec3| {
+            let n = (y - x).cross(z - x);
+            n.dot(normal) > 1e-12 * (y - x).length() * (z - x).length()
+        };
+        if !positive(d3, c3, a3) || !positive(c3, d3, b3) {
+            return false;
+        }
+        let (c, d) = (s.topo.apex(h), s.topo.apex(h.twin()));
+        s.topo.are_adjacent_within(c, d, 64) == Some(false)
+    }
+
+    /// Flips `e`, saving what it changes; `false` past the flip budget.
+    fn flip(&mut self, e: EdgeId) -> bool {
+        if self.flips >= MAX_FLIPS_PER_TRY {
+            return false;
+        }
+        let topo = &self.s.topo;
+        let h = e.halfedge();
+        let t = h.twin();
+        let (h1, t1) = (topo.next(h), topo.next(t));
+        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let faces = [topo.face(h), topo.face(t)];
+        let verts = [topo.origin(h), topo.origin(t)];
+        topo.save(&[h, t, h1, h2, t1, t2], &faces, &verts, &mut self.journal);
+        self.inputs.push((e, self.s.edge_input[e.idx()]));
+        self.s.flip(e);
+        self.flips += 1;
+        self.touched.extend([e, h1.edge(), h2.edge(), t1.edge(), t2.edge()]);
+        true
+    }
+
+    /// Splits `e` at parameter `t` of its input edge, saving what it changes.
+    fn split(&mut self, e: EdgeId, t: f64) {
+        let topo = &self.s.topo;
+        let h = e.halfedge();
+        let tw = h.twin();
+        let (h1, t1) = (topo.next(h), topo.next(tw));
+        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let faces = [topo.face(h), topo.face(tw)];
+        let verts = [topo.origin(tw)];
+        // Lengths first: undone last, after the entries below.
+        self.journal.push(topo.lengths());
+        topo.save(&[h, tw, h1, h2, t1, t2], &faces, &verts, &mut self.journal);
+        let n = topo.n_edges() as u32;
+        self.s.split(e, t);
+        self.splits += 1;
+        self.touched.extend([e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]);
+        self.touched.extend([h1.edge(), h2.edge(), t1.edge(), t2.edge()]);
+    }
+
+    /// Algorithm 2 on the touched edges, with at most `budget` splits; `true`
+    /// if every touched edge ends Delaunay. A non-flippable edge may be bad
+    /// for a while: a later flip can give it a better opposite vertex, so
+    /// splits wait until no flip is left to do.
+    fn refine_locally(&mut self, budget: usize) -> bool {
+        loop {
+            self.stack.clear();
+            self.stack.extend_from_slice(&self.touched);
+            while let Some(e) = self.stack.pop() {
+                if self.s.topo.is_dead_edge(e)
+                    || !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
+                    || !self.s.is_flippable(e)
+                    || !self.s.flip_is_valid(e)
+                {
+                    continue;
+                }
+                let before = self.touched.len();
+                if !self.flip(e) {
+                    return false;
+                }
+                self.stack.extend_from_slice(&self.touched[before + 1..]);
+            }
+            let Some(bad) = (self.touched.iter().copied())
+                .find(|&e| !self.s.topo.is_dead_edge(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
+            else {
+                return true;
+            };
+            if self.splits >= budget || self.s.is_flippable(bad) {
+                return false;
+            }
+            let Some(choice) = refine::choose_sample(self.s, &self.constants, &self.options, bad) else {
+                return false;
+            };
+            self.split(bad, choice.t);
+        }
+    }
+}
+
+/// A point of the current attempt's journal.
+#[derive(Clone, Copy, Default)]
+struct Mark {
+    journal: usize,
+    inputs: usize,
+    touched: usize,
+    splits: usize,
+    flips: usize,
+}
+
+/// How one removal attempt ended.
+enum Attempt {
+    /// Kept: the mesh is Delaunay with fewer vertices.
+    Kept,
+    /// Undo it; a larger group may still work.
+    Failed,
+    /// Undo it; there is no larger group to try.
+    NoGroup,
+}
