@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
 # Output size, the way the project tracks it: for every mesh of a folder
 # (default ../shared/meshes), the input vertices and the vertices added by
-# each of the 18 DelMesh combinations and by -s 3, the best of them, and the
-# best public tool's figure from ../shared/reference/peers.md.
+# each of the 18 DelMesh combinations and by -s 3, the best of them, the
+# same with --prune (keys prefixed "P:"), and the best public tool's figure
+# from ../shared/reference/peers.md (tools whose output is not a Delaunay
+# mesh do not count). "lb" is a proven lower bound for any method that keeps
+# the geometry: the input's non-Delaunay edges between two single-face
+# planar regions, each of which needs a vertex on it.
 # Output format (stable; one line per mesh, space-separated key=value):
-#   mesh=NAME input=V s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C peer=N ratio=R
+#   mesh=NAME input=V lb=L s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C
+#     P:s-0-m=N ... P:s3-p-m=N pbest=N pbest_combo=C peer=N ratio=R pratio=R
 # A combination stopped by the work limit prints "limit".
 set -uo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-../shared/meshes}
 peers=${PEERS:-../shared/reference/peers.md}
 cargo build --release --quiet || exit 1
-bin=target/release/delmesh
+bin=${DELMESH:-target/release/delmesh}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
@@ -22,29 +27,43 @@ peer_of() { # best public figure for a mesh: smaller of the two tools' "added" c
       print best }' "$peers" 2>/dev/null | head -1
 }
 
-for mesh in "$dir"/*.obj; do
-  name=$(basename "$mesh" .obj)
-  line="mesh=$name"
-  "$bin" -i "$mesh" -o "$out/$name.obj" -all --max-added 2000000 > "$out/table" 2>/dev/null
-  input=$(sed -n 's/^input .*: \([0-9]*\) vertices.*/\1/p' "$out/table")
-  line="$line input=$input"
-  best="" best_combo=""
+# sweep FLAGS...: appends the 21 keys (prefixed with $prefix) to $line and
+# sets $sbest/$sbest_combo.
+sweep() {
+  "$bin" -i "$mesh" -o "$out/$name.obj" -all --max-added 2000000 "$@" > "$out/table" 2>/dev/null
+  sbest="" sbest_combo=""
   for ds in s q p; do for s in 0 1 2; do for m in -m ""; do
     key="$ds-$s$m"
     row=$(grep " $name-$key.obj\$" "$out/table")
     if [ -n "$row" ]; then n=$(echo "$row" | awk '{print $(NF-4)}'); else n=limit; fi
-    line="$line $key=$n"
-    if [ "$n" != limit ] && { [ -z "$best" ] || [ "$n" -lt "$best" ]; }; then best=$n best_combo=$key; fi
+    line="$line $prefix$key=$n"
+    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
   done; done; done
   for ds in stack queue pqueue; do
-    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 2>/dev/null | sed -n 's/.* \([0-9]*\) added vertices/\1/p')
+    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/.* \([0-9]*\) added vertices/\1/p')
     [ -n "$n" ] || n=limit
     key="s3-${ds:0:1}-m"
-    line="$line $key=$n"
-    if [ "$n" != limit ] && [ "$n" -lt "$best" ]; then best=$n best_combo=$key; fi
+    line="$line $prefix$key=$n"
+    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
   done
+}
+
+ratio_of() { # best peer
+  if [ -n "$2" ] && [ -n "$1" ] && [ "$2" -gt 0 ]; then awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; else echo NA; fi
+}
+
+for mesh in "$dir"/*.obj; do
+  name=$(basename "$mesh" .obj)
+  line="mesh=$name"
+  "$bin" -i "$mesh" -o "$out/x.obj" --no-refine > "$out/info" 2>/dev/null
+  input=$(sed -n 's/^input .*: \([0-9]*\) vertices.*/\1/p' "$out/info")
+  lb=$(sed -n 's/^bound .* \([0-9]*\) added vertices.*/\1/p' "$out/info")
+  line="$line input=$input lb=${lb:-NA}"
+  prefix="" ; sweep
+  best=$sbest best_combo=$sbest_combo
+  line="$line best=$best best_combo=$best_combo"
+  prefix="P:" ; sweep --prune
+  line="$line pbest=$sbest pbest_combo=$sbest_combo"
   peer=$(peer_of "$name")
-  ratio=NA
-  if [ -n "$peer" ] && [ "$peer" -gt 0 ]; then ratio=$(awk -v a="$best" -v b="$peer" 'BEGIN { printf "%.2f", a / b }'); fi
-  echo "$line best=$best best_combo=$best_combo peer=${peer:-NA} ratio=$ratio"
+  echo "$line peer=${peer:-NA} ratio=$(ratio_of "$best" "$peer") pratio=$(ratio_of "$sbest" "$peer")"
 done

@@ -436,6 +436,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sig(figures.min_edge),
             sig(figures.max_edge)
         );
+        say!(
+            "bound   any Delaunay mesh with this geometry adds at least {} vertices",
+            surface.added_vertex_lower_bound()
+        );
         if let Some(report) = &input.repair {
             if report.is_clean() {
                 say!("repair  nothing to repair");

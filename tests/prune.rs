@@ -23,6 +23,7 @@ const SCORES: [Score; 4] = [
 fn refine_prune_check(path: &std::path::Path, options: &Options, dir: &std::path::Path) -> (usize, usize) {
     let input = io::read_mesh(path, &io::ReadOptions::default()).unwrap();
     let mut surface = io::build_surface(&input, path).unwrap();
+    let bound = surface.added_vertex_lower_bound();
     let stats = make_delaunay(&mut surface, options).unwrap_or_else(|e| panic!("{}: {options:?}: {e}", path.display()));
     let pruned = prune(&mut surface, options);
     let what = format!("{}: {options:?}: {pruned:?}", path.display());
@@ -36,6 +37,7 @@ fn refine_prune_check(path: &std::path::Path, options: &Options, dir: &std::path
     assert_eq!(&surface.positions[..n_input], &input.positions[..], "{what}");
     let added = surface.positions.len() - n_input;
     assert_eq!(added + pruned.removed, stats.splits, "{what}");
+    assert!(added >= bound, "{what}: {added} added, below the lower bound {bound}");
     let out = dir.join("pruned.obj");
     io::write_obj(&out, &surface.positions, &surface.triangles()).unwrap();
     let report = delmesh::check::check_files(path, &out).unwrap();
@@ -56,6 +58,41 @@ fn every_fixture_every_combination_pruned_passes_check() {
             }
         }
     }
+}
+
+#[test]
+fn lower_bound_counts_creases_between_single_faces_only() {
+    use delmesh::Surface;
+    use glam::DVec3;
+    // A thin rhombus folded along its long diagonal (two single-face regions):
+    // the diagonal must be split.
+    let folded = vec![
+        DVec3::new(-2.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 0.5, 0.0),
+        DVec3::new(0.0, -0.4, 0.3),
+    ];
+    let triangles = [[0, 1, 2], [1, 0, 3]];
+    assert_eq!(Surface::new(folded, &triangles).unwrap().added_vertex_lower_bound(), 1);
+    // The same rhombus flat: one region, the diagonal is flipped instead.
+    let flat = vec![
+        DVec3::new(-2.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 0.5, 0.0),
+        DVec3::new(0.0, -0.4, 0.0),
+    ];
+    let mut surface = Surface::new(flat, &triangles).unwrap();
+    assert_eq!(surface.added_vertex_lower_bound(), 0);
+    let stats = make_delaunay(&mut surface, &Options::default()).unwrap();
+    assert_eq!((stats.splits, stats.flips), (0, 1));
+    // Folded the other way round (Delaunay already): nothing needed.
+    let open = vec![
+        DVec3::new(-1.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(0.0, 2.0, 0.0),
+        DVec3::new(0.0, -1.5, 1.0),
+    ];
+    assert_eq!(Surface::new(open, &triangles).unwrap().added_vertex_lower_bound(), 0);
 }
 
 #[test]

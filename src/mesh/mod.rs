@@ -405,6 +405,31 @@ impl Surface {
         (count, worst)
     }
 
+    /// A lower bound on the vertices that any method keeping the geometry
+    /// must add: the interior edges, non-Delaunay by more than twice the
+    /// acceptance tolerance, whose two sides are planar regions of a single
+    /// face each. Inside such a face every possible opposite vertex (a point
+    /// of the face) sees the edge under at least the angle its own apex
+    /// does, so the edge stays non-Delaunay until a vertex is added on it.
+    /// Computed on the input (before any refinement).
+    pub fn added_vertex_lower_bound(&self) -> usize {
+        let mut region_faces = vec![0u32; self.n_regions];
+        for &r in &self.face_region {
+            region_faces[r as usize] = region_faces[r as usize].saturating_add(1);
+        }
+        let single = |f: FaceId| region_faces[self.face_region[f.idx()] as usize] == 1;
+        (0..self.topo.n_edges() as u32)
+            .map(EdgeId)
+            .filter(|&e| {
+                let h = e.halfedge();
+                self.topo.is_interior(e)
+                    && single(self.topo.face(h))
+                    && single(self.topo.face(h.twin()))
+                    && self.is_non_delaunay(e, 2.0 * geometry::ACCEPT_TOLERANCE)
+            })
+            .count()
+    }
+
     /// The faces as vertex triples.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.topo.triangles()
