@@ -12,9 +12,10 @@
 //!
 //! and keeps the result only if every edge it touched is Delaunay; otherwise
 //! every change is undone from a journal. When removing p alone fails,
-//! pruning tries to replace p and the next one or two added vertices along E
-//! by one vertex fewer: it removes them all, then runs Algorithm 2 locally
-//! (same sample choice) with a budget of that many splits. Only added vertices
+//! pruning tries to replace p and the next one or two added vertices along E,
+//! or p and one or two added neighbours, by one vertex fewer: it removes them
+//! all, then runs Algorithm 2 locally (several sample choices in turn) with a
+//! budget of one split fewer than it removed. Only added vertices
 //! are ever removed, and new ones are samples of input edges, so the geometry
 //! stays exactly the input's.
 //!
@@ -172,6 +173,39 @@ impl Pruner<'_> {
             });
             if matches!(r, Attempt::Kept) {
                 return;
+            }
+        }
+        // Triples: p and two added neighbours replaced by two vertices.
+        let neighbours = self.added_neighbours(p);
+        for (i, &q1) in neighbours.iter().enumerate() {
+            for &q2 in &neighbours[i + 1..] {
+                let (Carrier::Edge { edge: e1, .. }, Carrier::Edge { edge: e2, .. }) =
+                    (self.s.carriers[q1.idx()], self.s.carriers[q2.idx()])
+                else {
+                    continue;
+                };
+                let r = self.attempt(|me| {
+                    if !me.detach(p, input) || !me.detach(q1, e1) || !me.detach(q2, e2) {
+                        return Attempt::Failed;
+                    }
+                    let mark = me.mark();
+                    for options in PAIR_VARIANTS[..2]
+                        .iter()
+                        .map(|&(score, median)| Options { score, median, ..base })
+                    {
+                        me.options = options;
+                        let kept = me.refine_locally(2);
+                        me.options = base;
+                        if kept {
+                            return Attempt::Kept;
+                        }
+                        me.undo_to(mark);
+                    }
+                    Attempt::Failed
+                });
+                if matches!(r, Attempt::Kept) {
+                    return;
+                }
             }
         }
     }
@@ -367,13 +401,9 @@ impl Pruner<'_> {
             if fan.len() == 1 {
                 return true;
             }
-            // Flip the ear whose new edge is shortest: any ear would do, the
-            // Lawson pass after the merge fixes the rest.
-            let best = fan.iter().filter(|h| self.ear_flip_is_valid(h.edge())).min_by(|a, b| {
-                let la = self.new_edge_length(a.edge());
-                let lb = self.new_edge_length(b.edge());
-                la.total_cmp(&lb)
-            });
+            // Flip the first ear: any ear would do, the Lawson pass after the
+            // merge makes the region Delaunay again.
+            let best = fan.iter().find(|h| self.ear_flip_is_valid(h.edge()));
             let Some(&h) = best else {
                 return false;
             };
@@ -381,11 +411,6 @@ impl Pruner<'_> {
                 return false;
             }
         }
-    }
-
-    fn new_edge_length(&self, e: EdgeId) -> f64 {
-        let [_, _, c, d] = self.s.edge_quad(e);
-        (c - d).length()
     }
 
     /// Whether flipping `e` keeps both new faces strictly on their region's
