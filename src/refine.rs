@@ -36,7 +36,7 @@ pub struct Options {
     /// flipping [`FLIPS_PER_ADDED`] times as many edges).
     pub max_added: usize,
     /// Called every [`PROGRESS_INTERVAL`] edges taken from DS; `None` costs
-    /// nothing. Ignored by `==` and `Hash`: it does not change the result.
+    /// nothing. It does not change the result: any two hooks compare equal.
     pub progress: Option<ProgressHook>,
 }
 
