@@ -140,8 +140,11 @@ pub fn start(enabled: bool) -> Guard {
         .name("progress".into())
         .spawn(move || {
             while !stop2.load(Relaxed) {
-                std::thread::sleep(Duration::from_millis(100));
-                tick();
+                // Woken early when the guard drops: no wait at exit.
+                std::thread::park_timeout(Duration::from_millis(100));
+                if !stop2.load(Relaxed) {
+                    tick();
+                }
             }
         })
         .ok();
@@ -159,6 +162,7 @@ impl Drop for Guard {
     fn drop(&mut self) {
         if let Some((stop, t)) = self.ticker.take() {
             stop.store(true, Relaxed);
+            t.thread().unpark();
             let _ = t.join();
             ENABLED.store(false, Relaxed);
             let mut st = state();
