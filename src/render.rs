@@ -231,7 +231,8 @@ pub struct Bar {
 }
 
 /// A horizontal bar chart: a title, then one row per bar, top to bottom,
-/// with a light grid. `legend` entries are drawn under the title.
+/// with a light grid. Labels are left-aligned (pad them to make columns).
+/// `legend` entries are drawn under the title.
 pub fn bar_chart(title: &str, bars: &[Bar], legend: &[(String, Rgb)]) -> Canvas {
     let text = Rgb(0x22, 0x22, 0x22);
     let faint = Rgb(0x88, 0x88, 0x88);
@@ -272,7 +273,7 @@ pub fn bar_chart(title: &str, bars: &[Bar], legend: &[(String, Rgb)]) -> Canvas 
         .filter_map(|b| b.value)
         .filter(|v| v.is_finite())
         .fold(0.0, f64::max);
-    let step = nice_step(max / 4.0);
+    let step = nice_step(max / 5.0);
     let top_value = if step > 0.0 { (max / step).ceil() * step } else { 1.0 };
     let x0 = pad + label_w + 12.0;
     let bottom = top + row * bars.len() as f64;
@@ -298,10 +299,10 @@ pub fn bar_chart(title: &str, bars: &[Bar], legend: &[(String, Rgb)]) -> Canvas 
     for (i, b) in bars.iter().enumerate() {
         let y = top + row * (i as f64 + 0.5);
         c.push(Shape::Text {
-            at: DVec2::new(x0 - 12.0, y),
+            at: DVec2::new(pad, y),
             scale: 1,
             color: text,
-            anchor: Anchor::End,
+            anchor: Anchor::Start,
             text: b.label.clone(),
         });
         let len = b
