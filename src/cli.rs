@@ -9,15 +9,22 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 
+use crate::progress::{self, Phase};
 use crate::stats_json;
+use delmesh::draw::{Format, Rgb};
 use delmesh::io;
 
 /// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
-/// not turn a finished run into a crash.
+/// not turn a finished run into a crash. The progress line, if any, is
+/// cleared first.
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        crate::progress::suspend(|| {
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out, $($arg)*);
+            let _ = out.flush();
+        });
     }};
 }
 
@@ -25,7 +32,9 @@ macro_rules! say {
 macro_rules! complain {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), $($arg)*);
+        crate::progress::suspend(|| {
+            let _ = writeln!(std::io::stderr(), $($arg)*);
+        });
     }};
 }
 use delmesh::mesh::Surface;
@@ -137,6 +146,22 @@ struct RunArgs {
     #[arg(long = "stats-json", value_name = "FILE")]
     stats_json: Option<PathBuf>,
 
+    /// Also write the figures of each run (18 rows with -all) as CSV, one
+    /// row per run, with the column names of the JSON run records.
+    #[arg(long = "stats-csv", visible_alias = "sweep-csv", value_name = "FILE")]
+    stats_csv: Option<PathBuf>,
+
+    /// With -all: draw the added vertices of every combination as a bar
+    /// chart, in the table's order (SVG, or PNG for a .png name).
+    #[arg(long = "chart", value_name = "FILE", requires = "all")]
+    chart: Option<PathBuf>,
+
+    /// Progress line on stderr (phase, counts, seconds) for work longer than
+    /// about a second: auto draws it only when stderr is a terminal; -q
+    /// turns it off.
+    #[arg(long = "progress", value_enum, default_value = "auto", value_name = "WHEN")]
+    progress: progress::When,
+
     /// Only read (and repair) and write: no refinement, the output is NOT made
     /// Delaunay. For format conversion, repair alone, and measuring the I/O
     /// floor.
@@ -164,12 +189,12 @@ enum Command {
     },
     /// Print the man page (roff) to standard output.
     Man,
-    /// Draw MESH as SVG: non-Delaunay edges in red; with --input, the
-    /// vertices MESH adds to it (and their edges) in blue.
+    /// Draw MESH as SVG or PNG: non-Delaunay edges in red; with --input,
+    /// the vertices MESH adds to it (and their edges) in blue.
     Render {
         /// The mesh to draw.
         mesh: PathBuf,
-        /// The SVG file to write.
+        /// The picture to write: PNG for a .png name, SVG otherwise.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: PathBuf,
         /// The original mesh, to mark added vertices.
@@ -181,8 +206,8 @@ enum Command {
         /// View direction: degrees above the horizon.
         #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
         elevation: f64,
-        /// Picture size in pixels.
-        #[arg(long, default_value_t = 800)]
+        /// Picture width and height in pixels.
+        #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
         size: u32,
     },
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
@@ -388,6 +413,63 @@ fn refine_once(mut surface: Surface, path: &Path, options: &Options, prune: bool
     })
 }
 
+/// The file name of `path`, for the progress line.
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// A short name for why a run failed (`error_kind` in the JSON and CSV).
+fn error_kind(e: &anyhow::Error) -> &'static str {
+    match e.downcast_ref::<delmesh::Error>() {
+        Some(delmesh::Error::WorkLimit { .. }) => "work_limit",
+        Some(delmesh::Error::Unsplittable { .. }) => "unsplittable",
+        Some(delmesh::Error::Write { .. }) => "write",
+        _ => "other",
+    }
+}
+
+/// What `--stats-json` and `--stats-csv` need besides the runs.
+struct Report<'a> {
+    args: &'a RunArgs,
+    input_path: &'a Path,
+    input: &'a io::InputMesh,
+    figures: delmesh::mesh::InputFigures,
+    constants: delmesh::samples::SampleConstants,
+    output: &'a Path,
+    t0: Instant,
+    read_s: f64,
+    build_s: f64,
+}
+
+impl Report<'_> {
+    /// Writes the JSON and CSV files asked for; returns the total seconds
+    /// they give (the summary prints the same).
+    fn write(&self, runs: &[stats_json::RunRecord], refined: bool) -> anyhow::Result<f64> {
+        let total = self.t0.elapsed().as_secs_f64();
+        if let Some(json) = &self.args.stats_json {
+            let inv = stats_json::Invocation {
+                input_path: self.input_path,
+                input: self.input,
+                figures: self.figures,
+                output: self.output,
+                repaired: self.args.repaired.as_deref(),
+                refined,
+                seconds_read: self.read_s,
+                seconds_build: self.build_s,
+                seconds_total: total,
+            };
+            let doc = stats_json::document(&inv, self.constants, runs);
+            io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+        }
+        if let Some(csv) = &self.args.stats_csv {
+            let table = stats_json::csv(self.input_path, runs);
+            io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
+        }
+        Ok(total)
+    }
+}
+
 fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let Some(input_path) = args.input.as_deref() else {
         bail!("no input: give one with -i FILE")
@@ -403,8 +485,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    if let Some(j) = &args.stats_json {
-        check_output_dir(j)?;
+    for extra in [&args.stats_json, &args.stats_csv, &args.chart].into_iter().flatten() {
+        check_output_dir(extra)?;
+        if extra == input_path {
+            bail!("{}: would overwrite the input", extra.display());
+        }
     }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if args.output.is_none() && compressed {
@@ -413,17 +498,26 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             input_path.display()
         );
     }
+    let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
     let t0 = Instant::now();
     let read_options = io::ReadOptions {
         repair: args.repair.then_some(delmesh::repair::RepairOptions {
             weld_tolerance: args.weld_tolerance,
         }),
     };
+    progress::phase(Phase::Read {
+        name: file_name(input_path),
+        size: std::fs::metadata(input_path).ok().map(|m| m.len()),
+    });
     let input = io::read_mesh(input_path, &read_options)?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
+    progress::phase(Phase::Build {
+        faces: input.triangles.len(),
+    });
     let surface = io::build_surface(&input, input_path)?;
     let build_s = t_build.elapsed().as_secs_f64();
+    progress::phase(Phase::Idle);
     let figures = surface.input_figures;
     if !args.quiet {
         say!(
@@ -456,44 +550,76 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if let Some(repaired) = &args.repaired {
+        progress::phase(Phase::Write {
+            name: file_name(repaired),
+        });
         io::write_mesh(repaired, &input.positions, &input.triangles)?;
+        progress::phase(Phase::Idle);
         if !args.quiet {
             say!("        repaired input written to {}", repaired.display());
         }
     }
+    let report = Report {
+        args,
+        input_path,
+        input: &input,
+        figures,
+        constants: refine::sample_constants(&surface),
+        output: &output,
+        t0,
+        read_s,
+        build_s,
+    };
     if args.all {
         let (code, rows) = run_all(&surface, input_path, &output, args)?;
-        if let Some(json) = &args.stats_json {
-            let inv = stats_json::Invocation {
-                input_path,
-                input: &input,
-                figures,
-                seconds_read: read_s,
-                seconds_build: build_s,
-                seconds_total: t0.elapsed().as_secs_f64(),
-            };
-            let runs: Vec<stats_json::RunRecord> = rows
-                .into_iter()
-                .map(|r| stats_json::RunRecord {
-                    options: r.options,
-                    output: r.file.display().to_string(),
-                    result: r.result.map_err(|e| one_line(&e)).map(|f| stats_json::RunFigures {
+        let runs: Vec<stats_json::RunRecord> = rows
+            .iter()
+            .map(|r| stats_json::RunRecord {
+                options: Some(r.options),
+                output: r.file.display().to_string(),
+                result: match &r.result {
+                    Ok(f) => Ok(stats_json::RunFigures {
                         vertices: f.vertices,
                         faces: f.faces,
-                        stats: f.stats,
+                        added_vertices: f.added,
+                        stats: Some(f.stats),
                         seconds_refine: f.seconds,
                         seconds_write: f.seconds_write,
                     }),
-                })
-                .collect();
-            let doc = stats_json::document(&inv, refine::sample_constants(&surface), &runs);
-            io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+                    Err(e) => Err((error_kind(e), one_line(e))),
+                },
+            })
+            .collect();
+        report.write(&runs, true)?;
+        if let Some(chart) = &args.chart {
+            draw_chart(chart, input_path, &rows)?;
+            if !args.quiet {
+                say!("chart   {}", chart.display());
+            }
         }
         return Ok(code);
     }
     if args.no_refine {
         let t1 = Instant::now();
+        progress::phase(Phase::Write {
+            name: file_name(&output),
+        });
         io::write_mesh(&output, &surface.positions, &surface.triangles())?;
+        let write_s = t1.elapsed().as_secs_f64();
+        progress::phase(Phase::Idle);
+        let run = stats_json::RunRecord {
+            options: None,
+            output: output.display().to_string(),
+            result: Ok(stats_json::RunFigures {
+                vertices: surface.positions.len(),
+                faces: surface.topo.n_faces(),
+                added_vertices: 0,
+                stats: None,
+                seconds_refine: 0.0,
+                seconds_write: write_s,
+            }),
+        };
+        let total = report.write(&[run], false)?;
         if !args.quiet {
             say!(
                 "output  {}: {} vertices, {} faces (not refined: --no-refine)",
@@ -503,43 +629,52 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             );
             say!(
                 "seconds {:.4} total (read {:.4}, build {:.4}, write {:.4})",
-                t0.elapsed().as_secs_f64(),
+                total,
                 read_s,
                 build_s,
-                t1.elapsed().as_secs_f64()
+                write_s
             );
         }
         return Ok(ExitCode::SUCCESS);
     }
     let mut options = Options::new(args.ds.into(), score_of(&args.score), !args.nomedian);
     options.max_added = args.max_added;
-    let out = refine_once(surface, input_path, &options, args.prune)?;
+    options.progress = progress::refine_hook();
+    progress::phase(Phase::Refine);
+    let out = match refine_once(surface, input_path, &options, args.prune) {
+        Ok(out) => out,
+        Err(e) => {
+            progress::phase(Phase::Idle);
+            let run = stats_json::RunRecord {
+                options: Some(options),
+                output: output.display().to_string(),
+                result: Err((error_kind(&e), one_line(&e))),
+            };
+            report.write(&[run], true)?;
+            return Err(e);
+        }
+    };
     let t1 = Instant::now();
+    progress::phase(Phase::Write {
+        name: file_name(&output),
+    });
     io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
     let write_s = t1.elapsed().as_secs_f64();
-    if let Some(json) = &args.stats_json {
-        let inv = stats_json::Invocation {
-            input_path,
-            input: &input,
-            figures,
-            seconds_read: read_s,
-            seconds_build: build_s,
-            seconds_total: t0.elapsed().as_secs_f64(),
-        };
-        let run = stats_json::RunRecord {
-            options,
-            output: output.display().to_string(),
-            result: Ok(stats_json::RunFigures {
-                vertices: out.surface.positions.len(),
-                faces: out.surface.topo.n_faces(),
-                stats: out.stats,
-                seconds_refine: out.seconds,
-                seconds_write: write_s,
-            }),
-        };
-        let doc = stats_json::document(&inv, refine::sample_constants(&out.surface), &[run]);
-        io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
-    }
+    progress::phase(Phase::Idle);
+    let added = out.surface.positions.len() - out.surface.n_input_vertices;
+    let run = stats_json::RunRecord {
+        options: Some(options),
+        output: output.display().to_string(),
+        result: Ok(stats_json::RunFigures {
+            vertices: out.surface.positions.len(),
+            faces: out.surface.topo.n_faces(),
+            added_vertices: added,
+            stats: Some(out.stats),
+            seconds_refine: out.seconds,
+            seconds_write: write_s,
+        }),
+    };
+    let total = report.write(&[run], true)?;
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
@@ -555,7 +690,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             output.display(),
             out.surface.positions.len(),
             out.surface.topo.n_faces(),
-            out.surface.positions.len() - out.surface.n_input_vertices
+            added
         );
         say!(
             "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
@@ -576,7 +711,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
         say!(
             "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
-            t0.elapsed().as_secs_f64(),
+            total,
             read_s,
             build_s,
             out.seconds,
@@ -672,6 +807,7 @@ fn run_all(
         .into_iter()
         .map(|o| Options {
             max_added: args.max_added,
+            progress: progress::refine_hook(),
             ..o
         })
         .collect();
@@ -687,23 +823,34 @@ fn run_all(
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(combos.len());
+    let threads = match args.jobs {
+        Some(j) => usize::from(j).min(combos.len()),
+        None => threads,
+    };
     let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
+    progress::phase(Phase::Sweep { total: combos.len() });
     std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(options) = combos.get(i) else { break };
-                let file = combination_path(output, options);
-                let result = run_combination(surface, input_path, options, args.prune, &file);
-                rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
-                    options: *options,
-                    file,
-                    result,
-                });
+        for worker in 0..threads {
+            let (next, rows, combos) = (&next, &rows, &combos);
+            scope.spawn(move || {
+                progress::use_slot(worker);
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(options) = combos.get(i) else { break };
+                    let file = combination_path(output, options);
+                    let result = run_combination(surface, input_path, options, args.prune, &file);
+                    progress::run_done();
+                    rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
+                        options: *options,
+                        file,
+                        result,
+                    });
+                }
             });
         }
     });
+    progress::phase(Phase::Idle);
     let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
     // Sorted by faces as the report's tables; failed runs last.
     rows.sort_by_key(|r| {
@@ -758,6 +905,74 @@ fn run_all(
     Ok((ExitCode::SUCCESS, rows))
 }
 
+/// The colour of a score's bars in the `-all` chart; lighter without median.
+fn chart_color(o: &Options) -> Rgb {
+    let (r, g, b) = match o.score {
+        Score::AllEqual => (0x4c, 0x72, 0xb0),
+        Score::WeightedCenter => (0xdd, 0x84, 0x52),
+        Score::AlwaysCenter | Score::SplitAware => (0x55, 0xa8, 0x68),
+    };
+    if o.median {
+        Rgb(r, g, b)
+    } else {
+        let light = |c: u8| ((c as u16 + 2 * 255) / 3) as u8;
+        Rgb(light(r), light(g), light(b))
+    }
+}
+
+/// `--chart`: the added vertices of each `-all` combination, in the table's order.
+fn draw_chart(path: &Path, input_path: &Path, rows: &[Row]) -> anyhow::Result<()> {
+    let bars: Vec<delmesh::render::Bar> = rows
+        .iter()
+        .map(|r| {
+            let o = &r.options;
+            let label = format!(
+                "{:<6} -s {} {}",
+                stats_json::ds_key(o.worklist),
+                stats_json::score_key(o.score),
+                if o.median { "median" } else { "no median" }
+            );
+            let (value, note) = match &r.result {
+                Ok(f) => (Some(f.added as f64), f.added.to_string()),
+                Err(e) => (
+                    None,
+                    match e.downcast_ref::<delmesh::Error>() {
+                        Some(delmesh::Error::WorkLimit { .. }) => "failed: work limit".to_string(),
+                        Some(delmesh::Error::Unsplittable { count, .. }) => {
+                            format!("failed: {count} edges can't be split")
+                        }
+                        _ => "failed".to_string(),
+                    },
+                ),
+            };
+            delmesh::render::Bar {
+                label,
+                value,
+                color: chart_color(o),
+                note,
+            }
+        })
+        .collect();
+    let legend: Vec<(String, Rgb)> = [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter]
+        .into_iter()
+        .map(|score| {
+            let o = Options::new(Worklist::Stack, score, true);
+            (format!("-s {}", stats_json::score_key(score)), chart_color(&o))
+        })
+        .chain(std::iter::once((
+            "lighter: no median".to_string(),
+            chart_color(&Options::new(Worklist::Stack, Score::AlwaysCenter, false)),
+        )))
+        .collect();
+    let title = format!("{}: added vertices, -all (fewest first)", file_name(input_path));
+    let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
+    let bytes = canvas
+        .encode(Format::of_path(path))
+        .with_context(|| path.display().to_string())?;
+    io::write_atomic(path, |w| w.write_all(&bytes))?;
+    Ok(())
+}
+
 fn run_render(
     mesh: &Path,
     output: &Path,
@@ -769,13 +984,16 @@ fn run_render(
     let original = input
         .map(|p| io::read_mesh(p, &io::ReadOptions::default()))
         .transpose()?;
-    let (svg, drawn) = delmesh::render::render_svg(
+    let (canvas, drawn) = delmesh::render::render(
         &m.positions,
         &m.triangles,
         original.as_ref().map(|o| &o.positions[..]),
         &view,
     );
-    io::write_atomic(output, |w| w.write_all(svg.as_bytes()))?;
+    let bytes = canvas
+        .encode(Format::of_path(output))
+        .with_context(|| output.display().to_string())?;
+    io::write_atomic(output, |w| w.write_all(&bytes))?;
     say!(
         "render  {}: {} faces drawn, {} non-Delaunay edges (red), {} added vertices (blue)",
         output.display(),

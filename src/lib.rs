@@ -37,6 +37,7 @@
 //! ```
 
 pub mod check;
+pub mod draw;
 pub mod error;
 pub mod geometry;
 pub mod hash;

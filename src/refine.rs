@@ -35,6 +35,36 @@ pub struct Options {
     /// Stop with [`Error::WorkLimit`] after adding this many vertices (or
     /// flipping [`FLIPS_PER_ADDED`] times as many edges).
     pub max_added: usize,
+    /// Called every [`PROGRESS_INTERVAL`] edges taken from DS; `None` costs
+    /// nothing. It does not change the result: any two hooks compare equal.
+    pub progress: Option<ProgressHook>,
+}
+
+/// How many edges are taken from DS between two calls of [`Options::progress`].
+pub const PROGRESS_INTERVAL: u64 = 1 << 16;
+
+/// A progress callback: given the figures so far and the number of edges
+/// waiting in DS. `'static` so that [`Options`] stays `Copy`: pass a `fn`
+/// item (`ProgressHook(&my_fn)`) or a leaked closure.
+#[derive(Clone, Copy)]
+pub struct ProgressHook(pub &'static (dyn Fn(&Stats, usize) + Sync));
+
+impl std::fmt::Debug for ProgressHook {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("ProgressHook")
+    }
+}
+
+impl PartialEq for ProgressHook {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Eq for ProgressHook {}
+
+impl std::hash::Hash for ProgressHook {
+    fn hash<H: std::hash::Hasher>(&self, _: &mut H) {}
 }
 
 /// The default of [`Options::max_added`]: about 1.5 GB of mesh.
@@ -54,6 +84,7 @@ impl Options {
             score,
             median,
             max_added: DEFAULT_MAX_ADDED,
+            progress: None,
         }
     }
 }
@@ -123,6 +154,10 @@ impl Ds {
         }?;
         self.queued[e.idx()] = false;
         Some(e)
+    }
+
+    fn len(&self) -> usize {
+        self.list.len() + self.heap.len()
     }
 }
 
@@ -200,10 +235,17 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         }
     }
     let mut work_at_last_pass = usize::MAX;
+    let mut taken: u64 = 0;
     loop {
         run.stats.passes += 1;
         while let Some(e) = ds.pop() {
             run.process(e, &mut ds);
+            taken += 1;
+            if taken % PROGRESS_INTERVAL == 0 {
+                if let Some(ProgressHook(hook)) = options.progress {
+                    hook(&run.stats, ds.len());
+                }
+            }
             if run.stats.splits >= options.max_added || run.stats.flips / FLIPS_PER_ADDED >= options.max_added {
                 let (splits, flips) = (run.stats.splits, run.stats.flips);
                 return Err(Error::WorkLimit {

@@ -1,7 +1,12 @@
-//! `--stats-json FILE`: every figure a run prints, plus the sample constants,
-//! per-phase seconds and peak memory, as one JSON object with stable field
-//! names (documented in README.md). Written by hand: the values are flat
-//! numbers, strings, booleans and nulls.
+//! `--stats-json FILE` and `--stats-csv FILE`: every figure a run prints,
+//! plus the sample constants, per-phase seconds and peak memory, with stable
+//! field names (documented, field by field, in README.md; a test checks the
+//! two agree). JSON: one object for the invocation with one record per run
+//! (18 with `-all`); CSV: one row per run, its columns the run record's.
+//!
+//! Written by hand, without serde: the values are flat numbers, strings,
+//! booleans and nulls, and serde's derive would add a proc-macro crate to the
+//! build for this one file.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -13,25 +18,27 @@ use delmesh::samples::{SampleConstants, Score};
 
 /// One refinement's figures (one per combination with `-all`).
 pub struct RunRecord {
-    /// Settings of the run.
-    pub options: Options,
+    /// Settings of the run; `None` with `--no-refine`.
+    pub options: Option<Options>,
     /// The file written (or that would have been).
     pub output: String,
-    /// `Err(message)` if the run failed.
-    pub result: Result<RunFigures, String>,
+    /// `Err((kind, message))` if the run failed.
+    pub result: Result<RunFigures, (&'static str, String)>,
 }
 
 /// The figures of a successful run.
 pub struct RunFigures {
-    /// Output vertices and faces.
+    /// Output vertices.
     pub vertices: usize,
     /// Output faces.
     pub faces: usize,
-    /// Work done.
-    pub stats: Stats,
-    /// Seconds spent refining and writing.
+    /// Vertices not in the input.
+    pub added_vertices: usize,
+    /// Work done; `None` with `--no-refine`.
+    pub stats: Option<Stats>,
+    /// Seconds spent refining.
     pub seconds_refine: f64,
-    /// See `seconds_refine`.
+    /// Seconds spent writing the output.
     pub seconds_write: f64,
 }
 
@@ -43,12 +50,96 @@ pub struct Invocation<'a> {
     pub input: &'a InputMesh,
     /// Its smallest angle and edge lengths.
     pub figures: InputFigures,
-    /// Seconds reading and building.
+    /// `-o` (the input when rewritten in place).
+    pub output: &'a Path,
+    /// `--repaired`, if given.
+    pub repaired: Option<&'a Path>,
+    /// False with `--no-refine`.
+    pub refined: bool,
+    /// Seconds reading (and repairing).
     pub seconds_read: f64,
-    /// See `seconds_read`.
+    /// Seconds building the half-edge mesh.
     pub seconds_build: f64,
     /// Seconds for everything.
     pub seconds_total: f64,
+}
+
+/// A JSON value.
+enum Json {
+    Null,
+    Bool(bool),
+    Int(u64),
+    Num(f64),
+    Str(String),
+    Arr(Vec<Json>),
+    Obj(Vec<(&'static str, Json)>),
+}
+
+impl Json {
+    fn opt_int(x: Option<usize>) -> Json {
+        x.map_or(Json::Null, |x| Json::Int(x as u64))
+    }
+
+    fn write(&self, out: &mut String, indent: usize) {
+        match self {
+            Json::Null => out.push_str("null"),
+            Json::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
+            Json::Int(i) => {
+                let _ = write!(out, "{i}");
+            }
+            Json::Num(x) => out.push_str(&num(*x)),
+            Json::Str(s) => out.push_str(&string(s)),
+            Json::Arr(items) => {
+                if items.is_empty() {
+                    out.push_str("[]");
+                    return;
+                }
+                out.push('[');
+                for (k, item) in items.iter().enumerate() {
+                    out.push_str(if k == 0 { "\n" } else { ",\n" });
+                    out.push_str(&" ".repeat(indent + 2));
+                    item.write(out, indent + 2);
+                }
+                out.push('\n');
+                out.push_str(&" ".repeat(indent));
+                out.push(']');
+            }
+            Json::Obj(fields) => {
+                // Objects of scalars on one line; others one field a line.
+                let flat = fields.iter().all(|(_, v)| !matches!(v, Json::Arr(_) | Json::Obj(_)));
+                out.push('{');
+                for (k, (name, value)) in fields.iter().enumerate() {
+                    if flat {
+                        out.push_str(if k == 0 { "" } else { ", " });
+                    } else {
+                        out.push_str(if k == 0 { "\n" } else { ",\n" });
+                        out.push_str(&" ".repeat(indent + 2));
+                    }
+                    out.push_str(&string(name));
+                    out.push_str(": ");
+                    value.write(out, indent + 2);
+                }
+                if !flat {
+                    out.push('\n');
+                    out.push_str(&" ".repeat(indent));
+                }
+                out.push('}');
+            }
+        }
+    }
+
+    /// The value as a CSV cell (empty for null).
+    fn csv_cell(&self) -> String {
+        match self {
+            Json::Null | Json::Arr(_) | Json::Obj(_) => String::new(),
+            Json::Bool(b) => b.to_string(),
+            Json::Int(i) => i.to_string(),
+            Json::Num(x) if x.is_finite() => num(*x),
+            Json::Num(_) => String::new(),
+            Json::Str(s) if s.contains([',', '"', '\n', '\r']) => format!("\"{}\"", s.replace('"', "\"\"")),
+            Json::Str(s) => s.clone(),
+        }
+    }
 }
 
 fn num(x: f64) -> String {
@@ -84,7 +175,8 @@ pub fn peak_memory_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-fn ds_key(w: Worklist) -> &'static str {
+/// `stack`, `queue` or `pqueue`, as `-ds` spells them.
+pub fn ds_key(w: Worklist) -> &'static str {
     match w {
         Worklist::Stack => "stack",
         Worklist::Queue => "queue",
@@ -92,7 +184,8 @@ fn ds_key(w: Worklist) -> &'static str {
     }
 }
 
-fn score_key(s: Score) -> u32 {
+/// The `-s` number of a score.
+pub fn score_key(s: Score) -> u32 {
     match s {
         Score::AllEqual => 0,
         Score::WeightedCenter => 1,
@@ -101,88 +194,181 @@ fn score_key(s: Score) -> u32 {
     }
 }
 
+/// The fields of a run record, in order: also the CSV columns after `input`.
+pub const RUN_FIELDS: [&str; 17] = [
+    "data_structure",
+    "score",
+    "median",
+    "output",
+    "ok",
+    "error_kind",
+    "error",
+    "vertices",
+    "faces",
+    "added_vertices",
+    "splits",
+    "flips",
+    "non_delaunay_before",
+    "non_delaunay_after",
+    "passes",
+    "seconds_refine",
+    "seconds_write",
+];
+
+fn run_object(r: &RunRecord) -> Json {
+    let o = r.options.as_ref();
+    let mut fields = vec![
+        (
+            "data_structure",
+            o.map_or(Json::Null, |o| Json::Str(ds_key(o.worklist).into())),
+        ),
+        ("score", o.map_or(Json::Null, |o| Json::Int(score_key(o.score).into()))),
+        ("median", o.map_or(Json::Null, |o| Json::Bool(o.median))),
+        ("output", Json::Str(r.output.clone())),
+        ("ok", Json::Bool(r.result.is_ok())),
+        (
+            "error_kind",
+            r.result.as_ref().err().map_or(Json::Null, |e| Json::Str(e.0.into())),
+        ),
+        (
+            "error",
+            r.result.as_ref().err().map_or(Json::Null, |e| Json::Str(e.1.clone())),
+        ),
+    ];
+    let f = r.result.as_ref().ok();
+    let st = f.and_then(|f| f.stats);
+    let done = f.map(|f| f.stats.unwrap_or_default());
+    fields.extend([
+        ("vertices", Json::opt_int(f.map(|f| f.vertices))),
+        ("faces", Json::opt_int(f.map(|f| f.faces))),
+        ("added_vertices", Json::opt_int(f.map(|f| f.added_vertices))),
+        ("splits", Json::opt_int(done.map(|s| s.splits))),
+        ("flips", Json::opt_int(done.map(|s| s.flips))),
+        ("non_delaunay_before", Json::opt_int(st.map(|s| s.non_delaunay_before))),
+        ("non_delaunay_after", Json::opt_int(st.map(|s| s.non_delaunay_after))),
+        ("passes", Json::opt_int(done.map(|s| s.passes))),
+        ("seconds_refine", f.map_or(Json::Null, |f| Json::Num(f.seconds_refine))),
+        ("seconds_write", f.map_or(Json::Null, |f| Json::Num(f.seconds_write))),
+    ]);
+    Json::Obj(fields)
+}
+
 /// The JSON document for an invocation and its runs.
 pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]) -> String {
     let i = inv.input;
     let f = inv.figures;
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        "{{\n  \"delmesh_version\": {},\n  \"input\": {{\"path\": {}, \"vertices\": {}, \"faces\": {}, \"triangles\": {}, \
-         \"welded_vertices\": {}, \"unreferenced_vertices\": {}, \"min_angle_rad\": {}, \"min_edge\": {}, \"max_edge\": {}}},\n",
-        string(env!("CARGO_PKG_VERSION")),
-        string(&inv.input_path.display().to_string()),
-        i.positions.len(),
-        i.faces_in_file,
-        i.triangles.len(),
-        i.welded,
-        i.unreferenced,
-        num(f.min_angle),
-        num(f.min_edge),
-        num(f.max_edge)
-    );
-    let repair = match &i.repair {
-        None => "null".to_string(),
-        Some(r) => format!(
-            "[{}]",
-            r.lines().iter().map(|l| string(l)).collect::<Vec<_>>().join(", ")
+    let seconds_of = |g: fn(&RunFigures) -> f64| runs.iter().filter_map(|r| r.result.as_ref().ok()).map(g).sum();
+    let doc = Json::Obj(vec![
+        ("delmesh_version", Json::Str(env!("CARGO_PKG_VERSION").into())),
+        (
+            "input",
+            Json::Obj(vec![
+                ("path", Json::Str(inv.input_path.display().to_string())),
+                ("vertices", Json::Int(i.positions.len() as u64)),
+                ("faces", Json::Int(i.faces_in_file as u64)),
+                ("triangles", Json::Int(i.triangles.len() as u64)),
+                ("welded_vertices", Json::Int(i.welded as u64)),
+                ("unreferenced_vertices", Json::Int(i.unreferenced as u64)),
+                ("min_angle_rad", Json::Num(f.min_angle)),
+                ("min_edge", Json::Num(f.min_edge)),
+                ("max_edge", Json::Num(f.max_edge)),
+            ]),
         ),
-    };
-    let _ = writeln!(s, "  \"repair\": {repair},");
-    let _ = writeln!(
-        s,
-        "  \"constants\": {{\"theta_min\": {}, \"l_min\": {}, \"rho_v\": {}, \"rho_e\": {}}},",
-        num(constants.theta_min),
-        num(constants.l_min),
-        num(constants.rho_v),
-        num(constants.rho_e)
-    );
-    let _ = writeln!(
-        s,
-        "  \"seconds\": {{\"read\": {}, \"build\": {}, \"total\": {}}},",
-        num(inv.seconds_read),
-        num(inv.seconds_build),
-        num(inv.seconds_total)
-    );
-    let peak = peak_memory_bytes().map_or("null".to_string(), |b| b.to_string());
-    let _ = writeln!(s, "  \"peak_memory_bytes\": {peak},");
-    s.push_str("  \"runs\": [");
-    for (k, r) in runs.iter().enumerate() {
-        s.push_str(if k == 0 { "\n" } else { ",\n" });
-        let o = &r.options;
-        let _ = write!(
-            s,
-            "    {{\"data_structure\": {}, \"score\": {}, \"median\": {}, \"output\": {}, ",
-            string(ds_key(o.worklist)),
-            score_key(o.score),
-            o.median,
-            string(&r.output)
-        );
-        match &r.result {
-            Ok(x) => {
-                let st = &x.stats;
-                let _ = write!(
-                    s,
-                    "\"ok\": true, \"error\": null, \"vertices\": {}, \"faces\": {}, \"added_vertices\": {}, \"splits\": {}, \
-                     \"flips\": {}, \"non_delaunay_before\": {}, \"non_delaunay_after\": {}, \"passes\": {}, \
-                     \"seconds_refine\": {}, \"seconds_write\": {}}}",
-                    x.vertices,
-                    x.faces,
-                    x.vertices - i.positions.len(),
-                    st.splits,
-                    st.flips,
-                    st.non_delaunay_before,
-                    st.non_delaunay_after,
-                    st.passes,
-                    num(x.seconds_refine),
-                    num(x.seconds_write)
-                );
-            }
-            Err(e) => {
-                let _ = write!(s, "\"ok\": false, \"error\": {}}}", string(e));
-            }
-        }
-    }
-    s.push_str("\n  ]\n}\n");
+        (
+            "repair",
+            i.repair.as_ref().map_or(Json::Null, |r| {
+                Json::Arr(r.lines().into_iter().map(|l| Json::Str(l.to_string())).collect())
+            }),
+        ),
+        (
+            "repaired",
+            inv.repaired.map_or(Json::Null, |p| Json::Str(p.display().to_string())),
+        ),
+        ("output", Json::Str(inv.output.display().to_string())),
+        ("refined", Json::Bool(inv.refined)),
+        (
+            "constants",
+            Json::Obj(vec![
+                ("theta_min", Json::Num(constants.theta_min)),
+                ("l_min", Json::Num(constants.l_min)),
+                ("rho_v", Json::Num(constants.rho_v)),
+                ("rho_e", Json::Num(constants.rho_e)),
+            ]),
+        ),
+        (
+            "seconds",
+            Json::Obj(vec![
+                ("read", Json::Num(inv.seconds_read)),
+                ("build", Json::Num(inv.seconds_build)),
+                ("refine", Json::Num(seconds_of(|f| f.seconds_refine))),
+                ("write", Json::Num(seconds_of(|f| f.seconds_write))),
+                ("total", Json::Num(inv.seconds_total)),
+            ]),
+        ),
+        ("peak_memory_bytes", peak_memory_bytes().map_or(Json::Null, Json::Int)),
+        ("runs", Json::Arr(runs.iter().map(run_object).collect())),
+    ]);
+    let mut s = String::new();
+    doc.write(&mut s, 0);
+    s.push('\n');
     s
+}
+
+/// The CSV table of the runs: a header, then one row per run; the columns
+/// are `input` (the input path) and the fields of a run record.
+pub fn csv(input_path: &Path, runs: &[RunRecord]) -> String {
+    let mut s = format!("input,{}\n", RUN_FIELDS.join(","));
+    let input = Json::Str(input_path.display().to_string()).csv_cell();
+    for r in runs {
+        let Json::Obj(fields) = run_object(r) else { continue };
+        let cells: Vec<String> = fields.iter().map(|(_, v)| v.csv_cell()).collect();
+        let _ = writeln!(s, "{input},{}", cells.join(","));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_records_have_the_csv_columns_in_order() {
+        let ok = RunRecord {
+            options: Some(Options::default()),
+            output: "a,\"b\".obj".into(),
+            result: Ok(RunFigures {
+                vertices: 5,
+                faces: 6,
+                added_vertices: 1,
+                stats: Some(Stats::default()),
+                seconds_refine: 0.5,
+                seconds_write: f64::NAN,
+            }),
+        };
+        let failed = RunRecord {
+            options: None,
+            output: "c.obj".into(),
+            result: Err(("work_limit", "stopped".into())),
+        };
+        for r in [&ok, &failed] {
+            let Json::Obj(fields) = run_object(r) else { panic!() };
+            let names: Vec<&str> = fields.iter().map(|(n, _)| *n).collect();
+            assert_eq!(names, RUN_FIELDS);
+        }
+        let table = csv(Path::new("in.obj"), &[ok, failed]);
+        let lines: Vec<&str> = table.lines().collect();
+        assert_eq!(lines.len(), 3);
+        assert!(
+            lines[1].starts_with("in.obj,stack,2,true,\"a,\"\"b\"\".obj\",true,,,5,6,1,"),
+            "{}",
+            lines[1]
+        );
+        assert!(lines[1].ends_with(",0.5,"), "{}", lines[1]);
+        assert!(
+            lines[2].starts_with("in.obj,,,,c.obj,false,work_limit,stopped,,"),
+            "{}",
+            lines[2]
+        );
+        assert_eq!(csv(Path::new("x"), &[]).lines().count(), 1);
+    }
 }

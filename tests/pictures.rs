@@ -1,0 +1,157 @@
+//! `delmesh render` to PNG and SVG, and the `-all --chart` bar chart: the
+//! files decode, have the asked size, and show the marks they should.
+
+mod common;
+
+use std::path::Path;
+
+use assert_cmd::Command;
+
+fn delmesh() -> Command {
+    Command::cargo_bin("delmesh").unwrap()
+}
+
+/// Width, height and RGB pixels of a PNG file.
+fn decode_png(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let px = buf[..info.buffer_size()]
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    (info.width, info.height, px)
+}
+
+/// Runs a command that must succeed; its stdout.
+fn stdout_of(cmd: &mut Command) -> String {
+    let out = cmd.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Pixels close to `color` (fully covered by a mark).
+fn count_near(px: &[[u8; 3]], color: [u8; 3]) -> usize {
+    px.iter()
+        .filter(|p| p.iter().zip(color).all(|(&a, b)| a.abs_diff(b) < 24))
+        .count()
+}
+
+const RED: [u8; 3] = [0xd6, 0x20, 0x20];
+const BLUE: [u8; 3] = [0x1f, 0x5f, 0xd6];
+
+#[test]
+fn render_png_shows_red_before_and_blue_after() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("b.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let before = dir.path().join("before.png");
+    let stdout = stdout_of(delmesh().arg("render").arg(&bunny).arg("-o").arg(&before).args([
+        "--azimuth",
+        "20",
+        "--elevation",
+        "10",
+        "--size",
+        "300",
+    ]));
+    assert!(stdout.contains("236 non-Delaunay edges (red)"), "{stdout}");
+    let (w, h, px) = decode_png(&before);
+    assert_eq!((w, h), (300, 300));
+    assert!(count_near(&px, RED) > 50, "{} red pixels", count_near(&px, RED));
+    assert_eq!(count_near(&px, BLUE), 0);
+    let after = dir.path().join("AFTER.PNG");
+    let stdout = stdout_of(
+        delmesh()
+            .arg("render")
+            .arg(&out)
+            .arg("-i")
+            .arg(&bunny)
+            .arg("-o")
+            .arg(&after)
+            .args(["--azimuth", "20", "--elevation", "10", "--size", "300"]),
+    );
+    assert!(
+        stdout.contains("0 non-Delaunay edges") && stdout.contains("315 added"),
+        "{stdout}"
+    );
+    let (_, _, px) = decode_png(&after);
+    assert_eq!(count_near(&px, RED), 0);
+    assert!(count_near(&px, BLUE) > 50, "{} blue pixels", count_near(&px, BLUE));
+    // The same picture as SVG.
+    let svg = dir.path().join("after.svg");
+    delmesh()
+        .arg("render")
+        .arg(&out)
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&svg)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("#1f5fd6") && !text.contains("#d62020"));
+    // Sizes out of range are refused by the parser.
+    delmesh()
+        .arg("render")
+        .arg(&out)
+        .arg("-o")
+        .arg(&svg)
+        .args(["--size", "10"])
+        .assert()
+        .failure();
+}
+
+#[test]
+fn sweep_chart_has_a_bar_per_combination() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let (svg, png) = (dir.path().join("chart.svg"), dir.path().join("chart.png"));
+    for chart in [&svg, &png] {
+        delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(&cube)
+            .arg("-o")
+            .arg(dir.path().join("c.obj"))
+            .arg("-all")
+            .arg("--chart")
+            .arg(chart)
+            .assert()
+            .success();
+    }
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for ds in [">stack  -s ", ">queue  -s ", ">pqueue -s "] {
+        assert_eq!(text.matches(ds).count(), 6, "{ds}: {text}");
+    }
+    let no_median = text
+        .lines()
+        .filter(|l| l.contains(" -s ") && l.ends_with(" no median</text>"))
+        .count();
+    assert_eq!(no_median, 9, "{text}");
+    assert!(text.contains("cube.obj: added vertices"));
+    let (w, h, px) = decode_png(&png);
+    assert!(w > 300 && h > 18 * 20, "{w} x {h}");
+    assert!(px.iter().any(|p| p != &[255, 255, 255]));
+    // Only with -all.
+    let out = delmesh()
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .arg("--chart")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--all"));
+}

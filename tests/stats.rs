@@ -1,0 +1,423 @@
+//! `--stats-json` and `--stats-csv` against the field table of README.md:
+//! every documented field is in the output with the documented type, every
+//! field of the output is documented, and the CSV's columns are the run
+//! fields in the documented order.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+fn delmesh() -> Command {
+    let mut c = Command::cargo_bin("delmesh").unwrap();
+    c.env_remove("DELMESH_PROGRESS_DELAY_MS");
+    c
+}
+
+/// The README's JSON field table: path (`runs[].faces`) → type
+/// (`integer or null`), in order.
+fn documented_fields() -> Vec<(String, String)> {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let begin = readme
+        .find("<!-- json-fields:begin -->")
+        .expect("README has the field table");
+    let end = readme.find("<!-- json-fields:end -->").expect("the field table ends");
+    let mut fields = Vec::new();
+    for line in readme[begin..end].lines() {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // "| `path` | type | meaning |" → ["", "`path`", "type", "meaning", ""]
+        if cells.len() >= 4 && cells[1].starts_with('`') {
+            fields.push((cells[1].trim_matches('`').to_string(), cells[2].to_string()));
+        }
+    }
+    assert!(fields.len() > 30, "{fields:?}");
+    fields
+}
+
+/// Whether `v` is of the documented type `ty` (`T` or `T or null`).
+fn has_type(v: &Value, ty: &str) -> bool {
+    let (base, nullable) = match ty.strip_suffix(" or null") {
+        Some(b) => (b, true),
+        None => (ty, false),
+    };
+    if v.is_null() {
+        return nullable;
+    }
+    match base {
+        "string" => v.is_string(),
+        "integer" => v.is_u64(),
+        "number" => v.is_number(),
+        "boolean" => v.is_boolean(),
+        "object" => v.is_object(),
+        "array of strings" => v.as_array().is_some_and(|a| a.iter().all(Value::is_string)),
+        "array of objects" => v.as_array().is_some_and(|a| a.iter().all(Value::is_object)),
+        other => panic!("README uses an unknown type {other:?}"),
+    }
+}
+
+/// Every path in `v`: objects' fields by name, arrays' elements as `[]`;
+/// arrays of scalars are leaves.
+fn paths(v: &Value, prefix: &str, out: &mut Vec<String>) {
+    match v {
+        Value::Object(map) => {
+            for (k, x) in map {
+                let p = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                out.push(p.clone());
+                paths(x, &p, out);
+            }
+        }
+        Value::Array(items) => {
+            for x in items.iter().filter(|x| x.is_object()) {
+                paths(x, &format!("{prefix}[]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The values at a documented path (several under `runs[]`).
+fn lookup<'a>(v: &'a Value, path: &str) -> Vec<&'a Value> {
+    let mut current = vec![v];
+    for part in path.split('.') {
+        let (name, each) = match part.strip_suffix("[]") {
+            Some(n) => (n, true),
+            None => (part, false),
+        };
+        let mut next = Vec::new();
+        for c in current {
+            let x = c
+                .get(name)
+                .unwrap_or_else(|| panic!("{path}: no field {name:?} in {c}"));
+            if each {
+                next.extend(x.as_array().unwrap_or_else(|| panic!("{path}: {name} is not an array")));
+            } else {
+                next.push(x);
+            }
+        }
+        current = next;
+    }
+    current
+}
+
+/// Checks a document against the README both ways.
+fn validate(doc: &Value) {
+    let fields = documented_fields();
+    for (path, ty) in &fields {
+        for v in lookup(doc, path) {
+            assert!(has_type(v, ty), "{path}: {v} is not {ty}");
+        }
+    }
+    let mut found = Vec::new();
+    paths(doc, "", &mut found);
+    for p in found {
+        assert!(
+            fields.iter().any(|(f, _)| *f == p),
+            "{p} is in the JSON but not in README's table"
+        );
+    }
+}
+
+/// The CSV rows as header → cell maps, after checking the header.
+fn read_csv(text: &str) -> Vec<BTreeMap<String, String>> {
+    let mut lines = text.lines();
+    let header: Vec<String> = split_csv(lines.next().expect("a header"));
+    let mut expected = vec!["input".to_string()];
+    expected.extend(
+        documented_fields()
+            .into_iter()
+            .filter_map(|(p, _)| p.strip_prefix("runs[].").map(str::to_string)),
+    );
+    assert_eq!(
+        header, expected,
+        "CSV columns are `input` and the documented run fields"
+    );
+    lines
+        .map(|l| {
+            let cells = split_csv(l);
+            assert_eq!(cells.len(), header.len(), "{l}");
+            header.iter().cloned().zip(cells).collect()
+        })
+        .collect()
+}
+
+/// Splits one CSV line (RFC 4180 quoting).
+fn split_csv(line: &str) -> Vec<String> {
+    let mut cells = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                cells.last_mut().unwrap().push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => cells.push(String::new()),
+            c => cells.last_mut().unwrap().push(c),
+        }
+    }
+    cells
+}
+
+/// The CSV cell a JSON value becomes.
+fn cell_of(v: &Value) -> String {
+    match v {
+        Value::Null => String::new(),
+        Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// Checks that each CSV row holds its JSON run record.
+fn csv_matches_json(rows: &[BTreeMap<String, String>], doc: &Value) {
+    let runs = doc["runs"].as_array().unwrap();
+    assert_eq!(rows.len(), runs.len());
+    for (row, run) in rows.iter().zip(runs) {
+        assert_eq!(row["input"], doc["input"]["path"].as_str().unwrap());
+        for (k, v) in run.as_object().unwrap() {
+            let cell = &row[k];
+            match v {
+                Value::Number(n) if !n.is_u64() => {
+                    let x: f64 = cell.parse().unwrap();
+                    assert_eq!(x, n.as_f64().unwrap(), "{k}");
+                }
+                _ => assert_eq!(*cell, cell_of(v), "{k}"),
+            }
+        }
+    }
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn single_run_json_and_csv_match_the_readme_and_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, csv) = (dir.path().join("s.json"), dir.path().join("s.csv"));
+    let out = delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("bunny.obj"))
+        .arg("-o")
+        .arg(dir.path().join("b.obj"))
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("--stats-csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let doc = read_json(&json);
+    validate(&doc);
+    csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
+    // Every figure of the printed summary is in the JSON.
+    let input = &doc["input"];
+    let run = &doc["runs"][0];
+    let sig = |x: &Value| {
+        // The summary prints six significant digits.
+        let x = x.as_f64().unwrap();
+        let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    };
+    let c = &doc["constants"];
+    let s = &doc["seconds"];
+    for expected in [
+        format!(
+            "{} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
+            input["vertices"],
+            input["faces"],
+            input["triangles"],
+            sig(&input["min_angle_rad"]),
+            sig(&input["min_edge"]),
+            sig(&input["max_edge"])
+        ),
+        "run     stack, always center, median".to_string(),
+        format!("samples rho_v {}, rho_e {}", sig(&c["rho_v"]), sig(&c["rho_e"])),
+        format!(
+            "{} vertices, {} faces, {} added vertices",
+            run["vertices"], run["faces"], run["added_vertices"]
+        ),
+        format!(
+            "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
+            run["splits"], run["flips"], run["non_delaunay_before"], run["non_delaunay_after"]
+        ),
+        format!(
+            "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
+            s["total"].as_f64().unwrap(),
+            s["read"].as_f64().unwrap(),
+            s["build"].as_f64().unwrap(),
+            s["refine"].as_f64().unwrap(),
+            s["write"].as_f64().unwrap()
+        ),
+    ] {
+        assert!(stdout.contains(&expected), "missing {expected:?} in\n{stdout}");
+    }
+    assert_eq!(s["refine"], run["seconds_refine"]);
+    assert_eq!(doc["refined"], true);
+    assert!(doc["repair"].is_null() && doc["repaired"].is_null());
+    if cfg!(target_os = "linux") {
+        assert!(doc["peak_memory_bytes"].as_u64().unwrap() > 1_000_000);
+    }
+}
+
+#[test]
+fn sweep_json_and_csv_have_the_18_runs_of_the_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, csv) = (dir.path().join("s.json"), dir.path().join("sweep.csv"));
+    let out = delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .arg("-all")
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("--sweep-csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let doc = read_json(&json);
+    validate(&doc);
+    let rows = read_csv(&std::fs::read_to_string(&csv).unwrap());
+    csv_matches_json(&rows, &doc);
+    let runs = doc["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 18);
+    // In the printed table's order, each row's figures as printed.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let table: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.ends_with(".obj") && !l.starts_with("input"))
+        .collect();
+    assert_eq!(table.len(), 18);
+    for (line, run) in table.iter().zip(runs) {
+        let file = Path::new(run["output"].as_str().unwrap()).file_name().unwrap();
+        assert!(line.ends_with(file.to_str().unwrap()), "{line} vs {run}");
+        let numbers: Vec<&str> = line.split_whitespace().collect();
+        let n = numbers.len();
+        assert_eq!(numbers[n - 7], run["faces"].to_string(), "{line}");
+        assert_eq!(numbers[n - 6], run["vertices"].to_string(), "{line}");
+        assert_eq!(numbers[n - 5], run["added_vertices"].to_string(), "{line}");
+        assert_eq!(numbers[n - 4], run["splits"].to_string(), "{line}");
+        assert_eq!(numbers[n - 3], run["flips"].to_string(), "{line}");
+    }
+    let mut combos: Vec<String> = runs
+        .iter()
+        .map(|r| format!("{}{}{}", r["data_structure"], r["score"], r["median"]))
+        .collect();
+    combos.sort();
+    combos.dedup();
+    assert_eq!(combos.len(), 18);
+}
+
+#[test]
+fn no_refine_repair_and_failed_runs_are_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    // --no-refine: one record without settings.
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(dir.path().join("c.off"))
+        .arg("--no-refine")
+        .arg("--stats-json")
+        .arg(&json)
+        .assert()
+        .success();
+    let doc = read_json(&json);
+    validate(&doc);
+    assert_eq!(doc["refined"], false);
+    let r = &doc["runs"][0];
+    assert!(r["data_structure"].is_null() && r["non_delaunay_before"].is_null());
+    assert_eq!(r["added_vertices"], 0);
+    // --repair: the repair lines.
+    let obj = dir.path().join("dirty.obj");
+    let cube = std::fs::read_to_string(common::data_dir().join("cube.obj")).unwrap();
+    std::fs::write(&obj, format!("{cube}\nf 1 1 2\n")).unwrap();
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&obj)
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(dir.path().join("r.obj"))
+        .arg("--stats-json")
+        .arg(&json)
+        .assert()
+        .success();
+    let doc = read_json(&json);
+    validate(&doc);
+    assert!(!doc["repair"].as_array().unwrap().is_empty(), "{}", doc["repair"]);
+    assert!(doc["repaired"].as_str().unwrap().ends_with("r.obj"));
+    // A run that stops at the work limit: exit 1, no mesh, a record that says why.
+    let csv = dir.path().join("s.csv");
+    let out = dir.path().join("never.obj");
+    let o = delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("bunny.obj"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--max-added", "3"])
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("--stats-csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!out.exists());
+    let doc = read_json(&json);
+    validate(&doc);
+    let r = &doc["runs"][0];
+    assert_eq!(r["ok"], false);
+    assert_eq!(r["error_kind"], "work_limit");
+    assert!(r["error"].as_str().unwrap().contains("work limit"));
+    assert!(r["vertices"].is_null());
+    csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
+    // A refused input writes neither.
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\n").unwrap();
+    std::fs::remove_file(&json).unwrap();
+    delmesh()
+        .arg("-i")
+        .arg(&bad)
+        .arg("-o")
+        .arg(dir.path().join("x.obj"))
+        .arg("--stats-json")
+        .arg(&json)
+        .assert()
+        .code(1);
+    assert!(!json.exists());
+}
+
+#[test]
+fn readme_types_are_the_known_ones() {
+    for (path, ty) in documented_fields() {
+        let base = ty.strip_suffix(" or null").unwrap_or(&ty);
+        assert!(
+            [
+                "string",
+                "integer",
+                "number",
+                "boolean",
+                "object",
+                "array of strings",
+                "array of objects"
+            ]
+            .contains(&base),
+            "{path}: {ty}"
+        );
+    }
+}
