@@ -28,6 +28,7 @@ macro_rules! complain {
         let _ = writeln!(std::io::stderr(), $($arg)*);
     }};
 }
+use delmesh::attributes::{Attributes, Transfer};
 use delmesh::mesh::Surface;
 use delmesh::refine::{self, Options, Stats, Worklist};
 use delmesh::samples::Score;
@@ -141,6 +142,13 @@ struct RunArgs {
     /// floor.
     #[arg(long = "no-refine", conflicts_with = "all")]
     no_refine: bool,
+
+    /// Ignore the input's texture coordinates, normals, colours, groups and
+    /// materials: write positions only, and let planar regions ignore seams
+    /// (they are kept by default, and regions cut where a flip would
+    /// distort them).
+    #[arg(long = "drop-attributes")]
+    drop_attributes: bool,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -408,10 +416,16 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             weld_tolerance: args.weld_tolerance,
         }),
     };
-    let input = io::read_mesh(input_path, &read_options)?;
+    let mut input = io::read_mesh(input_path, &read_options)?;
+    if args.drop_attributes {
+        input.attributes = Default::default();
+        input.notes.clear();
+    }
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     let surface = io::build_surface(&input, input_path)?;
+    let transfer =
+        (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     let figures = surface.input_figures;
     if !args.quiet {
@@ -439,6 +453,12 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 input.unreferenced
             );
         }
+        if let Some(t) = &transfer {
+            say!("        attributes: {}", describe_attributes(t.input()));
+        }
+        for note in &input.notes {
+            say!("note    {note}");
+        }
     }
     if let Some(repaired) = &args.repaired {
         io::write_mesh(repaired, &input.positions, &input.triangles)?;
@@ -447,7 +467,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if args.all {
-        let (code, rows) = run_all(&surface, input_path, &output, args)?;
+        let (code, rows) = run_all(&surface, transfer.as_ref(), input_path, &output, args)?;
         if let Some(json) = &args.stats_json {
             let inv = stats_json::Invocation {
                 input_path,
@@ -478,8 +498,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     }
     if args.no_refine {
         let t1 = Instant::now();
-        io::write_mesh(&output, &surface.positions, &surface.triangles())?;
+        let notes = write_output(&output, &surface, transfer.as_ref())?;
         if !args.quiet {
+            for note in &notes {
+                say!("note    {note}");
+            }
             say!(
                 "output  {}: {} vertices, {} faces (not refined: --no-refine)",
                 output.display(),
@@ -500,7 +523,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     options.max_added = args.max_added;
     let out = refine_once(surface, input_path, &options)?;
     let t1 = Instant::now();
-    io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
+    let notes = write_output(&output, &out.surface, transfer.as_ref())?;
     let write_s = t1.elapsed().as_secs_f64();
     if let Some(json) = &args.stats_json {
         let inv = stats_json::Invocation {
@@ -535,6 +558,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             if options.median { "median" } else { "no median" }
         );
         say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
+        for note in &notes {
+            say!("note    {note}");
+        }
         say!(
             "output  {}: {} vertices, {} faces, {} added vertices",
             output.display(),
@@ -615,11 +641,42 @@ struct RowFigures {
     seconds_write: f64,
 }
 
+/// Writes a refined (or not) surface, with the input's attributes carried
+/// by `transfer` if there are any; returns notes on attributes not written.
+fn write_output(path: &Path, surface: &Surface, transfer: Option<&Transfer>) -> anyhow::Result<Vec<String>> {
+    let triangles = surface.triangles();
+    Ok(match transfer {
+        None => {
+            io::write_mesh(path, &surface.positions, &triangles)?;
+            Vec::new()
+        }
+        Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
+    })
+}
+
+/// What attributes an input has, for the printout.
+fn describe_attributes(a: &Attributes) -> String {
+    let mut parts: Vec<String> = a.channels().map(|(k, _)| k.name().to_string()).collect();
+    if !a.groups.is_empty() {
+        parts.push(format!("{} groups/materials", a.groups.len()));
+    }
+    if !a.mtllib.is_empty() {
+        parts.push("mtllib".into());
+    }
+    parts.join(", ")
+}
+
 /// Refines one combination and writes its file (atomically).
-fn run_combination(surface: &Surface, input_path: &Path, options: &Options, file: &Path) -> anyhow::Result<RowFigures> {
+fn run_combination(
+    surface: &Surface,
+    transfer: Option<&Transfer>,
+    input_path: &Path,
+    options: &Options,
+    file: &Path,
+) -> anyhow::Result<RowFigures> {
     let out = refine_once(surface.clone(), input_path, options)?;
     let t = Instant::now();
-    io::write_mesh(file, &out.surface.positions, &out.surface.triangles())?;
+    write_output(file, &out.surface, transfer)?;
     let seconds_write = t.elapsed().as_secs_f64();
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
@@ -633,6 +690,7 @@ fn run_combination(surface: &Surface, input_path: &Path, options: &Options, file
 
 fn run_all(
     surface: &Surface,
+    transfer: Option<&Transfer>,
     input_path: &Path,
     output: &Path,
     args: &RunArgs,
@@ -664,7 +722,7 @@ fn run_all(
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(options) = combos.get(i) else { break };
                 let file = combination_path(output, options);
-                let result = run_combination(surface, input_path, options, &file);
+                let result = run_combination(surface, transfer, input_path, options, &file);
                 rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                     options: *options,
                     file,

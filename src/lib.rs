@@ -36,6 +36,7 @@
 //! assert!(report.passed());
 //! ```
 
+pub mod attributes;
 pub mod check;
 pub mod error;
 pub mod geometry;

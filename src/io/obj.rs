@@ -2,24 +2,23 @@
 //! face, exact `f64` parsing) and writer (shortest round-trip floats).
 //!
 //! Every object and group of the file goes into one mesh; texture
-//! coordinates, normals, groups and materials are read past.
+//! coordinates (`vt`), normals (`vn`), colours (`v x y z r g b`), the `o`,
+//! `g` and `usemtl` of each face and the `mtllib` statements are kept as
+//! [`Attributes`]. A defect in them (a bad number, an index out of range)
+//! never refuses the file: that attribute is dropped, with a note.
 
 use std::io::Write;
 
 use super::formats::{FormatError, OriginKind, RawMesh};
+use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
+use crate::hash::FastMap;
 
 /// Statements of the OBJ format that carry nothing delmesh needs.
 const IGNORED: &[&str] = &[
-    "vt",
-    "vn",
     "vp",
     "l",
     "p",
-    "o",
-    "g",
     "s",
-    "usemtl",
-    "mtllib",
     "cstype",
     "deg",
     "bmat",
@@ -85,6 +84,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     raw.indices.reserve(bytes.len() / 24);
     let mut line_no = 0usize;
     let mut tokens = Tokens { s: text, i: 0 };
+    let mut extra = Extras::default();
     while tokens.i < text.len() {
         line_no += 1;
         let Some(keyword) = tokens.next() else { continue };
@@ -108,7 +108,12 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 }
                 raw.positions.push(xyz);
                 raw.vertex_origin.push(line_no as u32);
+                extra.vertex_color(&mut tokens, line_no);
             }
+            "vt" => extra.value(Kind::TexCoord, &mut tokens, line_no),
+            "vn" => extra.value(Kind::Normal, &mut tokens, line_no),
+            "o" | "g" | "usemtl" => extra.group_statement(keyword, tokens.rest_of_line(), raw.face_origin.len()),
+            "mtllib" => extra.mtllib.push(tokens.rest_of_line().to_owned()),
             "f" => {
                 if raw.face_start.is_empty() {
                     raw.face_start.push(0);
@@ -126,6 +131,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                         return Err(error(line_no, format!("face index {value} is out of range")));
                     }
                     raw.indices.push(resolved as u32);
+                    extra.corner(tok, raw.indices.len() - 1, line_no);
                 }
                 let count = raw.indices.len() - start;
                 if count < 3 {
@@ -133,6 +139,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 }
                 raw.face_start.push(raw.indices.len() as u32);
                 raw.face_origin.push(line_no as u32);
+                extra.face();
             }
             k if IGNORED.contains(&k) => {}
             k => {
@@ -157,7 +164,244 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             return Err(error(raw.face_origin[f] as usize, what));
         }
     }
+    (raw.attributes, raw.notes) = extra.finish(raw.positions.len(), &raw.indices);
     Ok(raw)
+}
+
+/// What an OBJ file says besides positions and faces, gathered while it is
+/// read: see the module documentation.
+#[derive(Default)]
+struct Extras {
+    /// `vt` values (3 numbers each, missing ones 0) and the most numbers a
+    /// `vt` line gave.
+    texcoords: Vec<f64>,
+    texcoord_dim: usize,
+    /// `vn` values, 3 numbers each.
+    normals: Vec<f64>,
+    /// Colours of the `v` lines that give one, and how many do.
+    colors: Vec<f64>,
+    colored: usize,
+    vertices: usize,
+    /// Per face corner: its `vt` and `vn` (0-based, unchecked; NO_VALUE when
+    /// absent). Empty until a corner gives one.
+    texcoord_corners: Vec<u32>,
+    normal_corners: Vec<u32>,
+    /// The first defect of texture coordinates, normals and colours.
+    defect: [Option<String>; 3],
+    /// The current `o`, `g`, `usemtl`, the distinct groups and each face's.
+    current: Group,
+    groups: FastMap<Group, u32>,
+    face_group: Vec<u32>,
+    /// Whether an `o`, `g` or `usemtl` came before a face.
+    grouped: bool,
+    faces: usize,
+    mtllib: Vec<String>,
+}
+
+fn slot(kind: Kind) -> usize {
+    match kind {
+        Kind::TexCoord => 0,
+        Kind::Normal => 1,
+        Kind::Color => 2,
+    }
+}
+
+impl Extras {
+    fn note(&mut self, kind: Kind, line: usize, what: impl FnOnce() -> String) {
+        let d = &mut self.defect[slot(kind)];
+        if d.is_none() {
+            let at = if line > 0 {
+                format!("line {line}: ")
+            } else {
+                String::new()
+            };
+            *d = Some(format!("{} dropped: {at}{}", kind.name(), what()));
+        }
+    }
+
+    /// Reads the numbers of a `vt` (1 to 3) or `vn` (3) line.
+    fn value(&mut self, kind: Kind, tokens: &mut Tokens, line: usize) {
+        let (min, max) = if kind == Kind::TexCoord { (1, 3) } else { (3, 3) };
+        let mut v = [0.0f64; 3];
+        let mut n = 0;
+        while let Some(tok) = tokens.next() {
+            if n == max {
+                break;
+            }
+            match tok.parse::<f64>() {
+                Ok(x) if x.is_finite() => v[n] = x,
+                _ => self.note(kind, line, || format!("'{}' is not a finite number", shown(tok))),
+            }
+            n += 1;
+        }
+        if n < min {
+            self.note(kind, line, || format!("{n} numbers, needs {min}"));
+        }
+        if kind == Kind::TexCoord {
+            self.texcoords.extend_from_slice(&v);
+            self.texcoord_dim = self.texcoord_dim.max(n);
+        } else {
+            self.normals.extend_from_slice(&v);
+        }
+    }
+
+    /// The colour of a `v` line, if it gives exactly three more numbers.
+    fn vertex_color(&mut self, tokens: &mut Tokens, line: usize) {
+        self.vertices += 1;
+        let rest: Vec<&str> = std::iter::from_fn(|| tokens.next()).take(4).collect();
+        if rest.len() != 3 {
+            return;
+        }
+        for tok in rest {
+            match tok.parse::<f64>() {
+                Ok(x) if x.is_finite() => self.colors.push(x),
+                _ => {
+                    self.note(Kind::Color, line, || format!("'{}' is not a finite number", shown(tok)));
+                    self.colors.push(0.0);
+                }
+            }
+        }
+        self.colored += 1;
+        if self.colored != self.vertices {
+            self.note(Kind::Color, line, || "only some vertices have a colour".into());
+        }
+    }
+
+    /// The `vt` and `vn` of face corner `tok` (`v`, `v/vt`, `v//vn`,
+    /// `v/vt/vn`), the `corner`-th of the file.
+    fn corner(&mut self, tok: &str, corner: usize, line: usize) {
+        let mut parts = tok.split('/').skip(1);
+        for (kind, part) in [Kind::TexCoord, Kind::Normal]
+            .into_iter()
+            .zip([parts.next(), parts.next()])
+        {
+            let count = if kind == Kind::TexCoord {
+                self.texcoords.len() / 3
+            } else {
+                self.normals.len() / 3
+            };
+            let index = match part {
+                None | Some("") => NO_VALUE,
+                Some(p) => match parse_index(p) {
+                    Some(i) if i > 0 && i <= u32::MAX as i64 => (i - 1) as u32,
+                    Some(i) if i < 0 && -i <= count as i64 => (count as i64 + i) as u32,
+                    _ => {
+                        self.note(kind, line, || format!("face index '{}' is out of range", shown(p)));
+                        NO_VALUE
+                    }
+                },
+            };
+            let corners = if kind == Kind::TexCoord {
+                &mut self.texcoord_corners
+            } else {
+                &mut self.normal_corners
+            };
+            // Backfill the corners before the first one with a value.
+            if index != NO_VALUE || !corners.is_empty() {
+                corners.resize(corner, NO_VALUE);
+                corners.push(index);
+            }
+        }
+    }
+
+    /// An `o`, `g` or `usemtl` statement, after `faces` faces.
+    fn group_statement(&mut self, keyword: &str, rest: &str, faces: usize) {
+        let value = (!rest.is_empty()).then(|| rest.to_owned());
+        match keyword {
+            "o" => self.current.object = value,
+            "g" => self.current.group = value,
+            _ => self.current.material = value,
+        }
+        if !self.grouped {
+            self.grouped = true;
+            self.face_group.resize(faces, 0);
+            self.groups.insert(Group::default(), 0);
+        }
+    }
+
+    /// A face ended.
+    fn face(&mut self) {
+        self.faces += 1;
+        if self.grouped {
+            let next = self.groups.len() as u32;
+            let g = *self.groups.entry(self.current.clone()).or_insert(next);
+            self.face_group.push(g);
+        }
+    }
+
+    /// The attributes and notes of a file with `vertices` vertices and the
+    /// face corners `indices`.
+    fn finish(mut self, vertices: usize, indices: &[u32]) -> (Attributes, Vec<String>) {
+        let mut a = Attributes {
+            mtllib: std::mem::take(&mut self.mtllib),
+            ..Attributes::default()
+        };
+        if self.grouped && self.groups.len() > 1 {
+            let mut groups = vec![Group::default(); self.groups.len()];
+            for (g, i) in std::mem::take(&mut self.groups) {
+                groups[i as usize] = g;
+            }
+            // Number groups by first use (group 0, "none", may be unused).
+            let mut order = vec![u32::MAX; groups.len()];
+            let mut used = Vec::new();
+            for g in &mut self.face_group {
+                if order[*g as usize] == u32::MAX {
+                    order[*g as usize] = used.len() as u32;
+                    used.push(std::mem::take(&mut groups[*g as usize]));
+                }
+                *g = order[*g as usize];
+            }
+            if used.len() > 1 || used.first().is_some_and(|g| *g != Group::default()) {
+                a.face_group = std::mem::take(&mut self.face_group);
+                a.groups = used;
+            }
+        }
+        let texcoord_dim = self.texcoord_dim.max(1);
+        let color_corners = if self.colored == vertices {
+            indices.to_vec()
+        } else {
+            Vec::new()
+        };
+        let channels = [
+            (
+                Kind::TexCoord,
+                std::mem::take(&mut self.texcoords),
+                texcoord_dim,
+                std::mem::take(&mut self.texcoord_corners),
+            ),
+            (
+                Kind::Normal,
+                std::mem::take(&mut self.normals),
+                3,
+                std::mem::take(&mut self.normal_corners),
+            ),
+            (Kind::Color, std::mem::take(&mut self.colors), 3, color_corners),
+        ];
+        for (kind, values, dim, mut corners) in channels {
+            if corners.is_empty() {
+                continue;
+            }
+            // Values are stored with 3 numbers each.
+            let n = values.len() / 3;
+            if let Some(&bad) = corners.iter().find(|&&i| i != NO_VALUE && i as usize >= n) {
+                self.note(kind, 0, || {
+                    format!("a face refers to number {} (the file has {n})", bad as u64 + 1)
+                });
+            }
+            if self.defect[slot(kind)].is_some() {
+                continue;
+            }
+            corners.resize(indices.len(), NO_VALUE);
+            let values = values.chunks_exact(3).flat_map(|v| v[..dim].iter().copied()).collect();
+            *a.channel_mut(kind) = Some(Channel { dim, values, corners });
+        }
+        (a, self.defect.into_iter().flatten().collect())
+    }
+}
+
+/// At most 20 characters of `tok`, for messages.
+fn shown(tok: &str) -> String {
+    tok.chars().take(20).collect()
 }
 
 /// Blank-separated tokens of the current line of `s` (blank: space, tab,
@@ -175,6 +419,19 @@ impl<'a> Tokens<'a> {
         while self.i > 0 && self.i < b.len() && b[self.i - 1] != b'\n' {
             self.i += 1;
         }
+    }
+
+    /// The rest of the current line up to a `#`, blanks trimmed; the cursor
+    /// then rests at its end.
+    fn rest_of_line(&mut self) -> &'a str {
+        let b = self.s.as_bytes();
+        let start = self.i;
+        while self.i < b.len() && b[self.i] != b'\n' {
+            self.i += 1;
+        }
+        let line = self.s.get(start..self.i).unwrap_or("");
+        let code = line.split('#').next().unwrap_or("");
+        code.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\r' | '\x0c' | '\x0b'))
     }
 
     /// The next token of the current line, or `None` at its end; the cursor
@@ -255,6 +512,132 @@ pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
         }
         line.push(b'\n');
         w.write_all(&line)?;
+    }
+    Ok(())
+}
+
+/// Writes a triangle mesh with attributes (per corner of `triangles`) as
+/// OBJ: the `mtllib` lines, `v` lines (with `r g b` when there are colours;
+/// a vertex whose corners have different colours is written once per
+/// colour, the copies last), `vt` and `vn` lines, then the faces ordered by
+/// group, each group opened by the `o`, `g` and `usemtl` lines that change,
+/// with `v/vt/vn`, `v/vt` or `v//vn` corners. Without attributes this is
+/// exactly [`write_obj`].
+pub fn write_obj_with_attributes(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+) -> std::io::Result<()> {
+    if attributes.is_empty() {
+        return write_obj(w, positions, triangles);
+    }
+    let mut fmt = ryu::Buffer::new();
+    let mut line = Vec::with_capacity(128);
+    for lib in &attributes.mtllib {
+        writeln!(w, "mtllib {lib}")?;
+    }
+    // Colours are per vertex in OBJ: split vertices with several.
+    let split = attributes
+        .colors
+        .as_ref()
+        .map(|c| PerVertex::new(positions.len(), triangles, &[c]));
+    let (source, triangles) = match &split {
+        Some(s) => (Some(&s.source), &s.triangles[..]),
+        None => (None, triangles),
+    };
+    let n_written = source.map_or(positions.len(), |s| s.len());
+    let mut numbers = |line: &mut Vec<u8>, keyword: &[u8], values: &[f64]| {
+        line.clear();
+        line.extend_from_slice(keyword);
+        for &x in values {
+            line.push(b' ');
+            line.extend_from_slice(fmt.format_finite(x).as_bytes());
+        }
+        line.push(b'\n');
+    };
+    for i in 0..n_written {
+        let v = source.map_or(i, |s| s[i] as usize);
+        let mut xyz = positions[v].to_vec();
+        if let (Some(s), Some(c)) = (&split, &attributes.colors) {
+            xyz.extend(c.value(s.values[0][i]).iter().take(3));
+        }
+        numbers(&mut line, b"v", &xyz);
+        w.write_all(&line)?;
+    }
+    for (keyword, channel) in [(&b"vt"[..], &attributes.texcoords), (&b"vn"[..], &attributes.normals)] {
+        if let Some(c) = channel {
+            for i in 0..c.n_values() {
+                numbers(&mut line, keyword, c.value(i as u32));
+                w.write_all(&line)?;
+            }
+        }
+    }
+    // Faces by group, in group order, each group in face order.
+    let mut order: Vec<usize> = (0..triangles.len()).collect();
+    let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
+    order.sort_by_key(|&f| group_of(f));
+    let mut written = Group::default();
+    let mut current_group = None;
+    let mut int = DecimalBuf::default();
+    for f in order {
+        let g = group_of(f);
+        if current_group != Some(g) {
+            current_group = Some(g);
+            if let Some(group) = attributes.groups.get(g as usize) {
+                write_group_change(w, &mut written, group)?;
+            }
+        }
+        line.clear();
+        line.push(b'f');
+        for (k, &v) in triangles[f].iter().enumerate() {
+            line.push(b' ');
+            line.extend_from_slice(int.format(v as u64 + 1));
+            let corner = |c: &Option<Channel>| c.as_ref().and_then(|c| c.corners.get(3 * f + k)).copied();
+            match (corner(&attributes.texcoords), corner(&attributes.normals)) {
+                (None, None) => {}
+                (Some(t), None) => {
+                    line.push(b'/');
+                    line.extend_from_slice(int.format(t as u64 + 1));
+                }
+                (t, Some(n)) => {
+                    line.push(b'/');
+                    if let Some(t) = t {
+                        line.extend_from_slice(int.format(t as u64 + 1));
+                    }
+                    line.push(b'/');
+                    line.extend_from_slice(int.format(n as u64 + 1));
+                }
+            }
+        }
+        line.push(b'\n');
+        w.write_all(&line)?;
+    }
+    Ok(())
+}
+
+/// Writes the `o`, `g` and `usemtl` lines that take `written` to `group`.
+/// A statement cannot be undone in OBJ, except `g` alone (the default
+/// group): a name that `group` lacks and `written` has stays.
+fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> std::io::Result<()> {
+    if group.object != written.object {
+        if let Some(o) = &group.object {
+            writeln!(w, "o {o}")?;
+            written.object = group.object.clone();
+        }
+    }
+    if group.group != written.group {
+        match &group.group {
+            Some(g) => writeln!(w, "g {g}")?,
+            None => writeln!(w, "g")?,
+        }
+        written.group = group.group.clone();
+    }
+    if group.material != written.material {
+        if let Some(m) = &group.material {
+            writeln!(w, "usemtl {m}")?;
+            written.material = group.material.clone();
+        }
     }
     Ok(())
 }
