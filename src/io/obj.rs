@@ -715,7 +715,12 @@ mod tests {
                     0 => text.push_str("# a comment v 1 2 3"),
                     1 => {}
                     2 => text.push_str(&format!("vt{b}0.5 0.25")),
-                    3 => text.push_str(&format!("g{b}group{b}# trailing")),
+                    3 => text.push_str(match rnd(4) {
+                        0 => "g group # trailing",
+                        1 => "usemtl wood",
+                        2 => "o thing",
+                        _ => "vn 0 0 1",
+                    }),
                     4..=6 => {
                         nv += 1;
                         let extra = if rnd(3) == 0 { " 1.0" } else { "" };
@@ -762,5 +767,166 @@ mod tests {
                 Err(e) => panic!("{e}: {text:?}"),
             }
         }
+    }
+
+    /// Each face corner's position, texture coordinate, normal and colour,
+    /// in file order, as delmesh reads them (after `finish`).
+    type Corner = ([f64; 3], Option<[f64; 2]>, Option<[f64; 3]>, Option<[f64; 3]>);
+
+    fn corners_delmesh(text: &str) -> Vec<Corner> {
+        let raw = parse_obj(text.as_bytes()).unwrap();
+        let m = crate::io::finish(raw, std::path::Path::new("t.obj"), &Default::default()).unwrap();
+        assert!(m.notes.is_empty(), "{:?}", m.notes);
+        let a = &m.attributes;
+        let get = |c: &Option<Channel>, k: usize| c.as_ref().map(|c| c.corner(k).to_vec());
+        (0..3 * m.triangles.len())
+            .map(|k| {
+                let p = m.positions[m.triangles[k / 3][k % 3] as usize].to_array();
+                let t = get(&a.texcoords, k).map(|v| [v[0], v[1]]);
+                let n = get(&a.normals, k).map(|v| [v[0], v[1], v[2]]);
+                let c = get(&a.colors, k).map(|v| [v[0], v[1], v[2]]);
+                (p, t, n, c)
+            })
+            .collect()
+    }
+
+    fn corners_tobj(text: &str) -> Vec<Corner> {
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ignore_points: true,
+            ignore_lines: true,
+        };
+        let (models, _) =
+            tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Err(tobj::LoadError::OpenFileFailed)).unwrap();
+        let mut out = Vec::new();
+        for model in &models {
+            let m = &model.mesh;
+            for (k, &i) in m.indices.iter().enumerate() {
+                let i = i as usize;
+                let p = [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]];
+                let t = m.texcoord_indices.get(k).map(|&j| {
+                    let j = j as usize;
+                    [m.texcoords[2 * j], m.texcoords[2 * j + 1]]
+                });
+                let n = m.normal_indices.get(k).map(|&j| {
+                    let j = j as usize;
+                    [m.normals[3 * j], m.normals[3 * j + 1], m.normals[3 * j + 2]]
+                });
+                let c = (!m.vertex_color.is_empty()).then(|| {
+                    [
+                        m.vertex_color[3 * i],
+                        m.vertex_color[3 * i + 1],
+                        m.vertex_color[3 * i + 2],
+                    ]
+                });
+                out.push((p, t, n, c));
+            }
+        }
+        out
+    }
+
+    /// tobj (the judge's reader) and delmesh's give every face corner the
+    /// same position, texture coordinate, normal and colour, on random
+    /// files with `v/vt/vn`, `v/vt`, `v//vn` corners, negative indices,
+    /// polygons, colours and `o`/`g`/`usemtl` statements.
+    #[test]
+    fn attributes_agree_with_tobj() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let mut compared = [0; 4];
+        for _ in 0..200 {
+            let mut text = String::new();
+            let (mut nv, mut nt, mut nn) = (0i64, 0i64, 0i64);
+            let colors = rnd(3) == 0;
+            let style = rnd(4); // v, v/vt, v//vn, v/vt/vn
+            let mut faces = 0;
+            for _ in 0..rnd(40) + 10 {
+                match rnd(8) {
+                    0 | 1 => {
+                        nv += 1;
+                        let c = if colors {
+                            format!(" {} 0.5 {}", rnd(9) as f64 / 8.0, rnd(7))
+                        } else {
+                            String::new()
+                        };
+                        text.push_str(&format!(
+                            "v {} {} {}{c}\n",
+                            rnd(100) as f64 / 7.0,
+                            rnd(50),
+                            -(rnd(9) as f64)
+                        ));
+                    }
+                    2 => {
+                        nt += 1;
+                        text.push_str(&format!("vt {} {}\n", rnd(1000) as f64 / 3.0, rnd(8) as f64 / 8.0));
+                    }
+                    3 => {
+                        nn += 1;
+                        text.push_str(&format!("vn {} {} {}\n", rnd(3), rnd(5) as f64 / 9.0, 1));
+                    }
+                    4 => text.push_str(["o part\n", "g a b\n", "usemtl m1\n", "usemtl m2\n"][rnd(4) as usize]),
+                    _ if nv >= 3 && (style & 1 == 0 || nt > 0) && (style & 2 == 0 || nn > 0) => {
+                        // Distinct vertices: tobj and delmesh differ on degenerate faces.
+                        let k = (3 + rnd(2)).min(nv as u64);
+                        let start = rnd(nv as u64 - k + 1) as i64;
+                        let mut f = String::from("f");
+                        for j in 0..k as i64 {
+                            let v = start + j;
+                            // 1-based, or negative (relative to the count so far).
+                            let idx = |i: i64, n: i64, negative: bool| {
+                                if negative {
+                                    format!("{}", i - n)
+                                } else {
+                                    format!("{}", i + 1)
+                                }
+                            };
+                            let vi = idx(v, nv, rnd(2) == 0);
+                            let (t, n, negative) =
+                                (rnd(nt.max(1) as u64) as i64, rnd(nn.max(1) as u64) as i64, rnd(2) == 0);
+                            let ti = idx(t, nt, negative);
+                            let ni = idx(n, nn, negative);
+                            f.push(' ');
+                            f.push_str(&match style {
+                                0 => vi,
+                                1 => format!("{vi}/{ti}"),
+                                2 => format!("{vi}//{ni}"),
+                                _ => format!("{vi}/{ti}/{ni}"),
+                            });
+                        }
+                        text.push_str(&f);
+                        text.push('\n');
+                        faces += 1;
+                    }
+                    _ => {}
+                }
+            }
+            if faces == 0
+                || crate::io::finish(
+                    parse_obj(text.as_bytes()).unwrap(),
+                    std::path::Path::new("t"),
+                    &Default::default(),
+                )
+                .is_err()
+            {
+                continue; // e.g. a zero-area face, refused by delmesh only
+            }
+            // tobj makes up values for corners that give none: ignore them.
+            let theirs: Vec<Corner> = corners_tobj(&text)
+                .into_iter()
+                .map(|(p, t, n, c)| (p, t.filter(|_| style & 1 == 1), n.filter(|_| style & 2 == 2), c))
+                .collect();
+            assert_eq!(corners_delmesh(&text), theirs, "{text}");
+            compared[style as usize] += 1;
+        }
+        assert!(
+            compared.iter().all(|&n| n >= 10),
+            "too few files compared: {compared:?}"
+        );
     }
 }
