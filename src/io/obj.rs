@@ -131,7 +131,9 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                         return Err(error(line_no, format!("face index {value} is out of range")));
                     }
                     raw.indices.push(resolved as u32);
-                    extra.corner(tok, raw.indices.len() - 1, line_no);
+                    if tok.contains('/') || extra.has_corners() {
+                        extra.corner(tok, raw.indices.len() - 1, line_no);
+                    }
                 }
                 let count = raw.indices.len() - start;
                 if count < 3 {
@@ -265,6 +267,11 @@ impl Extras {
         if self.colored != self.vertices {
             self.note(Kind::Color, line, || "only some vertices have a colour".into());
         }
+    }
+
+    /// Whether some face corner so far gave a `vt` or `vn`.
+    fn has_corners(&self) -> bool {
+        !self.texcoord_corners.is_empty() || !self.normal_corners.is_empty()
     }
 
     /// The `vt` and `vn` of face corner `tok` (`v`, `v/vt`, `v//vn`,
