@@ -38,7 +38,9 @@ use delmesh::samples::Score;
 /// Reads an OBJ, splits input edges at sample points and flips edges inside
 /// flat regions until every interior edge is Delaunay (its two opposite
 /// angles sum to at most pi), and writes an OBJ whose first vertices are the
-/// input's, bit for bit. The report's single-dash flags (-ds, -nomedian,
+/// input's, bit for bit. Texture coordinates, normals, colours, groups and
+/// materials are carried, with the texture mapping unchanged (see
+/// --drop-attributes). The report's single-dash flags (-ds, -nomedian,
 /// -all) work as written; each has a GNU-style long form.
 #[derive(Parser, Debug)]
 #[command(

@@ -559,7 +559,8 @@ pub fn write_obj_with_attributes(
         line.extend_from_slice(keyword);
         for &x in values {
             line.push(b' ');
-            line.extend_from_slice(fmt.format_finite(x).as_bytes());
+            // `format`, not `format_finite`: an interpolated value may overflow.
+            line.extend_from_slice(fmt.format(x).as_bytes());
         }
         line.push(b'\n');
     };
