@@ -37,6 +37,7 @@ macro_rules! complain {
         });
     }};
 }
+use delmesh::attributes::{Attributes, Transfer};
 use delmesh::mesh::Surface;
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
@@ -47,7 +48,9 @@ use delmesh::samples::Score;
 /// Reads an OBJ, splits input edges at sample points and flips edges inside
 /// flat regions until every interior edge is Delaunay (its two opposite
 /// angles sum to at most pi), and writes an OBJ whose first vertices are the
-/// input's, bit for bit. The report's single-dash flags (-ds, -nomedian,
+/// input's, bit for bit. Texture coordinates, normals, colours, groups and
+/// materials are carried, with the texture mapping unchanged (see
+/// --drop-attributes). The report's single-dash flags (-ds, -nomedian,
 /// -all) work as written; each has a GNU-style long form.
 #[derive(Parser, Debug)]
 #[command(
@@ -173,6 +176,13 @@ struct RunArgs {
     /// same exact geometry; with -all, every combination is pruned.
     #[arg(long = "prune")]
     prune: bool,
+
+    /// Ignore the input's texture coordinates, normals, colours, groups and
+    /// materials: write positions only, and let planar regions ignore seams
+    /// (they are kept by default, and regions cut where a flip would
+    /// distort them).
+    #[arg(long = "drop-attributes")]
+    drop_attributes: bool,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -509,13 +519,19 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let input = io::read_mesh(input_path, &read_options)?;
+    let mut input = io::read_mesh(input_path, &read_options)?;
+    if args.drop_attributes {
+        input.attributes = Default::default();
+        input.notes.clear();
+    }
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {
         faces: input.triangles.len(),
     });
     let surface = io::build_surface(&input, input_path)?;
+    let transfer =
+        (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let figures = surface.input_figures;
@@ -548,6 +564,12 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 input.unreferenced
             );
         }
+        if let Some(t) = &transfer {
+            say!("        attributes: {}", describe_attributes(t.input()));
+        }
+        for note in &input.notes {
+            say!("note    {note}");
+        }
     }
     if let Some(repaired) = &args.repaired {
         progress::phase(Phase::Write {
@@ -571,7 +593,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
-        let (code, rows) = run_all(&surface, input_path, &output, args)?;
+        let (code, rows) = run_all(&surface, transfer.as_ref(), input_path, &output, args)?;
         let runs: Vec<stats_json::RunRecord> = rows
             .iter()
             .map(|r| stats_json::RunRecord {
@@ -604,7 +626,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Write {
             name: file_name(&output),
         });
-        io::write_mesh(&output, &surface.positions, &surface.triangles())?;
+        let notes = write_output(&output, &surface, transfer.as_ref())?;
         let write_s = t1.elapsed().as_secs_f64();
         progress::phase(Phase::Idle);
         let run = stats_json::RunRecord {
@@ -621,6 +643,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         };
         let total = report.write(&[run], false)?;
         if !args.quiet {
+            for note in &notes {
+                say!("note    {note}");
+            }
             say!(
                 "output  {}: {} vertices, {} faces (not refined: --no-refine)",
                 output.display(),
@@ -658,7 +683,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Write {
         name: file_name(&output),
     });
-    io::write_mesh(&output, &out.surface.positions, &out.surface.triangles())?;
+    let notes = write_output(&output, &out.surface, transfer.as_ref())?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
@@ -685,6 +710,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             if options.median { "median" } else { "no median" }
         );
         say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
+        for note in &notes {
+            say!("note    {note}");
+        }
         say!(
             "output  {}: {} vertices, {} faces, {} added vertices",
             output.display(),
@@ -775,9 +803,35 @@ struct RowFigures {
     seconds_write: f64,
 }
 
+/// Writes a refined (or not) surface, with the input's attributes carried
+/// by `transfer` if there are any; returns notes on attributes not written.
+fn write_output(path: &Path, surface: &Surface, transfer: Option<&Transfer>) -> anyhow::Result<Vec<String>> {
+    let triangles = surface.triangles();
+    Ok(match transfer {
+        None => {
+            io::write_mesh(path, &surface.positions, &triangles)?;
+            Vec::new()
+        }
+        Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
+    })
+}
+
+/// What attributes an input has, for the printout.
+fn describe_attributes(a: &Attributes) -> String {
+    let mut parts: Vec<String> = a.channels().map(|(k, _)| k.name().to_string()).collect();
+    if !a.groups.is_empty() {
+        parts.push(format!("{} groups/materials", a.groups.len()));
+    }
+    if !a.mtllib.is_empty() {
+        parts.push("mtllib".into());
+    }
+    parts.join(", ")
+}
+
 /// Refines one combination and writes its file (atomically).
 fn run_combination(
     surface: &Surface,
+    transfer: Option<&Transfer>,
     input_path: &Path,
     options: &Options,
     prune: bool,
@@ -785,7 +839,7 @@ fn run_combination(
 ) -> anyhow::Result<RowFigures> {
     let out = refine_once(surface.clone(), input_path, options, prune)?;
     let t = Instant::now();
-    io::write_mesh(file, &out.surface.positions, &out.surface.triangles())?;
+    write_output(file, &out.surface, transfer)?;
     let seconds_write = t.elapsed().as_secs_f64();
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
@@ -799,6 +853,7 @@ fn run_combination(
 
 fn run_all(
     surface: &Surface,
+    transfer: Option<&Transfer>,
     input_path: &Path,
     output: &Path,
     args: &RunArgs,
@@ -839,7 +894,7 @@ fn run_all(
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(options) = combos.get(i) else { break };
                     let file = combination_path(output, options);
-                    let result = run_combination(surface, input_path, options, args.prune, &file);
+                    let result = run_combination(surface, transfer, input_path, options, args.prune, &file);
                     progress::run_done();
                     rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                         options: *options,

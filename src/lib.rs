@@ -8,7 +8,8 @@
 //! The library is what the command line is built on: read a mesh
 //! ([`io::read_mesh`]), build the refinable [`Surface`]
 //! ([`io::build_surface`]), run [`make_delaunay`], write the result
-//! ([`io::write_mesh`]), and verify it independently ([`check`]).
+//! ([`io::write_mesh`]), and verify it independently ([`check`]). Texture
+//! coordinates, normals, colours and groups are carried by [`attributes`].
 //!
 //! ```
 //! use delmesh::{make_delaunay, Options, Surface};
@@ -36,6 +37,7 @@
 //! assert!(report.passed());
 //! ```
 
+pub mod attributes;
 pub mod check;
 pub mod draw;
 pub mod error;

@@ -1098,6 +1098,23 @@ fn raw_invariants(m: &RawMesh) -> Result<(), String> {
     if m.colors.as_ref().is_some_and(|c| c.len() != m.positions.len()) {
         return fail("colours disagree with the vertex count");
     }
+    for (_, ch) in m.attributes.channels() {
+        if ch.corners.len() != m.indices.len() || ch.dim == 0 || ch.values.len() % ch.dim != 0 {
+            return fail("an attribute's corners disagree with the indices");
+        }
+        if ch.values.iter().any(|x| !x.is_finite()) {
+            return fail("a non-finite attribute value");
+        }
+    }
+    if !m.attributes.face_group.is_empty()
+        && (m.attributes.face_group.len() != nf
+            || m.attributes
+                .face_group
+                .iter()
+                .any(|&g| g as usize >= m.attributes.groups.len()))
+    {
+        return fail("groups disagree with the faces");
+    }
     Ok(())
 }
 
@@ -1135,6 +1152,11 @@ fn input_invariants(m: &InputMesh, repaired: bool) -> Result<(), String> {
     }
     if used.iter().any(|u| !u) {
         return fail("an unused vertex");
+    }
+    for (_, ch) in m.attributes.channels() {
+        if ch.corners.len() != 3 * m.triangles.len() || ch.corners.iter().any(|&i| i as usize >= ch.n_values()) {
+            return fail("an attribute corner without a value");
+        }
     }
     if !repaired {
         let mut seen = HashSet::new();
@@ -1355,8 +1377,14 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         };
         let options = combination(h.wrapping_add(k as u64 * 7) % 18);
         let n = input.positions.len();
+        let transfer = delmesh::attributes::Transfer::new(input.attributes.clone(), &input.triangles, &s);
         match make_delaunay(&mut s, &options) {
             Ok(stats) => {
+                // The output's attributes: one value per corner, whatever came in.
+                let carried = transfer.apply(&s);
+                if carried.channels().any(|(_, c)| c.corners.len() != 3 * s.topo.n_faces()) {
+                    return Err("attributes not carried to every output corner".into());
+                }
                 let scale = precision_tag(&input, s.input_figures.min_angle);
                 let tag = format!("{scale}{options:?} repair={repaired}");
                 s.validate()

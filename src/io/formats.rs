@@ -33,6 +33,8 @@ use std::borrow::Cow;
 use std::fmt;
 use std::io::{self, BufWriter, Read, Write};
 
+use crate::attributes::{Attributes, Channel, Kind};
+
 /// A mesh as read from a file, before welding and triangulation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RawMesh {
@@ -52,6 +54,12 @@ pub struct RawMesh {
     pub vertex_origin: Vec<u32>,
     /// Whether `face_origin` and `vertex_origin` hold lines or record numbers.
     pub origin_kind: OriginKind,
+    /// Texture coordinates, normals, colours (one value per entry of
+    /// `indices`, [`crate::attributes::NO_VALUE`] where the file gives none),
+    /// groups (one per face) and material libraries.
+    pub attributes: Attributes,
+    /// Why attributes of the file were left out (one line each).
+    pub notes: Vec<String>,
 }
 
 /// What the origins of a [`RawMesh`] count.
@@ -236,6 +244,8 @@ fn looks_like_obj(text: &[u8]) -> bool {
 /// Builds a [`RawMesh`], keeping `face_start`/`face_origin` consistent.
 struct Builder {
     m: RawMesh,
+    /// PLY per-vertex attributes.
+    channels: VertexChannels,
 }
 
 impl Builder {
@@ -245,6 +255,7 @@ impl Builder {
                 origin_kind: kind,
                 ..RawMesh::default()
             },
+            channels: VertexChannels::default(),
         }
     }
 
@@ -784,7 +795,10 @@ struct PlyHeader {
 enum Role {
     Skip,
     Coord(usize),
+    /// Red, green, blue (0–2) or alpha (3).
     Color(usize),
+    TexCoord(usize),
+    Normal(usize),
     Indices,
 }
 
@@ -931,7 +945,8 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
     let mut roles = vec![Role::Skip; el.props.len()];
     match el.name.as_str() {
         "vertex" => {
-            let mut found = [None; 6];
+            // x y z, red green blue alpha, u v, nx ny nz.
+            let mut found = [None; 12];
             for (i, p) in el.props.iter().enumerate() {
                 let slot = match p.name.as_str() {
                     "x" => 0,
@@ -940,6 +955,12 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                     "red" | "diffuse_red" => 3,
                     "green" | "diffuse_green" => 4,
                     "blue" | "diffuse_blue" => 5,
+                    "alpha" | "diffuse_alpha" => 6,
+                    "u" | "s" | "texture_u" | "texture_s" => 7,
+                    "v" | "t" | "texture_v" | "texture_t" => 8,
+                    "nx" => 9,
+                    "ny" => 10,
+                    "nz" => 11,
                     _ => continue,
                 };
                 if found[slot].is_some() {
@@ -971,6 +992,18 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                 roles[r] = Role::Color(0);
                 roles[g] = Role::Color(1);
                 roles[b] = Role::Color(2);
+                if let Some(a) = found[6] {
+                    roles[a] = Role::Color(3);
+                }
+            }
+            if let [Some(u), Some(v)] = [found[7], found[8]] {
+                roles[u] = Role::TexCoord(0);
+                roles[v] = Role::TexCoord(1);
+            }
+            if let [Some(x), Some(y), Some(z)] = [found[9], found[10], found[11]] {
+                roles[x] = Role::Normal(0);
+                roles[y] = Role::Normal(1);
+                roles[z] = Role::Normal(2);
             }
             Ok((ElementKind::Vertex, roles))
         }
@@ -1038,10 +1071,14 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let mut plans = Vec::with_capacity(header.elements.len());
     let mut has_vertex = false;
     let mut has_colors = false;
+    let mut channels = VertexChannels::default();
     for el in &header.elements {
         let (kind, roles) = element_roles(el)?;
         has_vertex |= kind == ElementKind::Vertex;
         has_colors |= roles.iter().any(|r| matches!(r, Role::Color(_)));
+        if kind == ElementKind::Vertex {
+            channels = VertexChannels::new(&roles);
+        }
         plans.push((kind, roles));
     }
     if !has_vertex {
@@ -1052,6 +1089,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     if has_colors {
         b.m.colors = Some(Vec::new());
     }
+    b.channels = channels;
     match header.encoding {
         PlyEncoding::Ascii => {
             let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
@@ -1070,7 +1108,81 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             }
         }
     }
-    b.finish()
+    let channels = std::mem::take(&mut b.channels);
+    let mut m = b.finish()?;
+    channels.finish(&mut m);
+    Ok(m)
+}
+
+/// The per-vertex attributes of a PLY file, as they are read.
+#[derive(Clone, Debug, Default)]
+struct VertexChannels {
+    /// Texture coordinates, normals, colours: `Some` when the file has them.
+    texcoords: Option<Vec<f64>>,
+    normals: Option<Vec<f64>>,
+    colors: Option<Vec<f64>>,
+    /// Colours have an alpha.
+    alpha: bool,
+}
+
+impl VertexChannels {
+    fn new(roles: &[Role]) -> VertexChannels {
+        let has = |f: fn(&Role) -> bool| roles.iter().any(f).then(Vec::new);
+        VertexChannels {
+            texcoords: has(|r| matches!(r, Role::TexCoord(_))),
+            normals: has(|r| matches!(r, Role::Normal(_))),
+            colors: has(|r| matches!(r, Role::Color(_))),
+            alpha: roles.contains(&Role::Color(3)),
+        }
+    }
+
+    /// Appends the attributes of one vertex.
+    fn push(&mut self, v: &VertexValues) {
+        if let Some(t) = &mut self.texcoords {
+            t.extend_from_slice(&v.texcoord);
+        }
+        if let Some(n) = &mut self.normals {
+            n.extend_from_slice(&v.normal);
+        }
+        if let Some(c) = &mut self.colors {
+            c.extend_from_slice(&v.color[..if self.alpha { 4 } else { 3 }]);
+        }
+    }
+
+    /// Moves the attributes into `m` (per vertex: each corner takes its
+    /// vertex's value); a channel with a non-finite value is dropped with a
+    /// note.
+    fn finish(self, m: &mut RawMesh) {
+        let color_dim = if self.alpha { 4 } else { 3 };
+        let channels = [
+            (Kind::TexCoord, self.texcoords, 2),
+            (Kind::Normal, self.normals, 3),
+            (Kind::Color, self.colors, color_dim),
+        ];
+        for (kind, values, dim) in channels {
+            let Some(values) = values else { continue };
+            if values.iter().any(|x| !x.is_finite()) {
+                m.notes
+                    .push(format!("{} dropped: a vertex has a non-finite one", kind.name()));
+                continue;
+            }
+            *m.attributes.channel_mut(kind) = Some(Channel {
+                dim,
+                values,
+                corners: m.indices.clone(),
+            });
+        }
+    }
+}
+
+/// A colour channel in 0..1: integers scaled by their type's maximum (255
+/// for all but 16-bit ones), floats as they are.
+fn color_unit(v: f64, t: Scalar) -> f64 {
+    match t {
+        Scalar::F32 | Scalar::F64 => v,
+        Scalar::U16 => v / 65535.0,
+        _ => v / 255.0,
+    }
 }
 
 /// The values of one vertex record.
@@ -1078,6 +1190,20 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
 struct VertexValues {
     p: [f64; 3],
     rgb: [u8; 3],
+    /// Colour in 0..1 (alpha 1 unless given).
+    color: [f64; 4],
+    texcoord: [f64; 2],
+    normal: [f64; 3],
+}
+
+impl VertexValues {
+    /// Sets colour channel `c` (3: alpha) read as `value` of type `t`.
+    fn set_color(&mut self, c: usize, value: f64, t: Scalar) {
+        if let Some(x) = self.rgb.get_mut(c) {
+            *x = color_channel(value, t);
+        }
+        self.color[c] = color_unit(value, t);
+    }
 }
 
 fn finish_record(
@@ -1093,6 +1219,7 @@ fn finish_record(
             if let Some(colors) = &mut b.m.colors {
                 colors.push(v.rgb);
             }
+            b.channels.push(v);
             Ok(())
         }
         ElementKind::Face => b.end_face(origin),
@@ -1148,7 +1275,9 @@ fn read_ascii_element(
                     };
                     match *role {
                         Role::Coord(axis) => v.p[axis] = value(tok)?,
-                        Role::Color(c) => v.rgb[c] = color_channel(value(tok)?, ty),
+                        Role::Color(c) => v.set_color(c, value(tok)?, ty),
+                        Role::TexCoord(k) => v.texcoord[k] = value(tok)?,
+                        Role::Normal(k) => v.normal[k] = value(tok)?,
                         _ => {}
                     }
                 }
@@ -1272,7 +1401,9 @@ fn read_binary_element(
                     let s = r.take(ty.size()).ok_or_else(|| truncated(i))?;
                     match *role {
                         Role::Coord(axis) => v.p[axis] = get_f64(ty, s, big),
-                        Role::Color(c) => v.rgb[c] = color_channel(get_f64(ty, s, big), ty),
+                        Role::Color(c) => v.set_color(c, get_f64(ty, s, big), ty),
+                        Role::TexCoord(k) => v.texcoord[k] = get_f64(ty, s, big),
+                        Role::Normal(k) => v.normal[k] = get_f64(ty, s, big),
                         _ => {}
                     }
                 }
@@ -1615,6 +1746,80 @@ pub fn write_ply_binary(
         }
         if let Some(rgb) = colors.and_then(|c| c.get(i)) {
             record.extend_from_slice(rgb);
+        }
+        w.write_all(&record)?;
+    }
+    for t in triangles {
+        record.clear();
+        record.push(3);
+        for i in t {
+            record.extend_from_slice(&i.to_le_bytes());
+        }
+        w.write_all(&record)?;
+    }
+    w.flush()
+}
+
+/// One more per-vertex property for [`write_ply_binary_columns`]: a name,
+/// whether it is written as `uchar` (the value in 0..1 scaled to 0..255 and
+/// rounded) rather than `double`, and one value per vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlyColumn {
+    /// The property name (`s`, `nx`, `red`...).
+    pub name: &'static str,
+    /// Written as `uchar` from a value in 0..1, else as `double`.
+    pub uchar: bool,
+    /// One value per vertex (finite).
+    pub values: Vec<f64>,
+}
+
+/// Writes a binary little-endian PLY 1.0: double x y z, then `columns`,
+/// face list uchar uint vertex_indices. Positions and `double` columns are
+/// exact. Refuses what [`write_ply_binary`] refuses, and a column whose
+/// length is not the vertex count.
+pub fn write_ply_binary_columns(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    columns: &[PlyColumn],
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    if let Some(c) = columns.iter().find(|c| c.values.len() != positions.len()) {
+        return Err(invalid(format!(
+            "{} values of {} for {} vertices",
+            c.values.len(),
+            c.name,
+            positions.len()
+        )));
+    }
+    let mut w = BufWriter::new(w);
+    write!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment written by delmesh\nelement vertex {}\n",
+        positions.len()
+    )?;
+    w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
+    for c in columns {
+        writeln!(w, "property {} {}", if c.uchar { "uchar" } else { "double" }, c.name)?;
+    }
+    write!(
+        w,
+        "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        triangles.len()
+    )?;
+    let mut record = Vec::with_capacity(24 + 8 * columns.len());
+    for (i, p) in positions.iter().enumerate() {
+        record.clear();
+        for c in p {
+            record.extend_from_slice(&c.to_le_bytes());
+        }
+        for c in columns {
+            let x = c.values[i];
+            if c.uchar {
+                record.push((x * 255.0).round().clamp(0.0, 255.0) as u8);
+            } else {
+                record.extend_from_slice(&x.to_le_bytes());
+            }
         }
         w.write_all(&record)?;
     }

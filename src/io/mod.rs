@@ -21,8 +21,9 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-pub use formats::{Format, FormatError, OriginKind, RawMesh};
+pub use formats::{Format, FormatError, OriginKind, PlyColumn, RawMesh};
 
+use crate::attributes::{Attributes, Kind, PerVertex, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
 use crate::mesh::{Surface, TopologyError};
@@ -63,6 +64,11 @@ pub struct InputMesh {
     pub unreferenced: usize,
     /// What `--repair` fixed, if it ran.
     pub repair: Option<RepairReport>,
+    /// Texture coordinates, normals, colours per corner of `triangles`;
+    /// groups per triangle; material libraries.
+    pub attributes: Attributes,
+    /// Why attributes of the file were left out (one line each).
+    pub notes: Vec<String>,
 }
 
 /// How to read an input.
@@ -225,6 +231,9 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
+    let mut triangle_face = Vec::new();
+    let mut raw_corners = Vec::new();
+    let keep_attributes = !raw.attributes.is_empty();
     let mut scratch = Vec::new();
     for f in 0..n_faces {
         let p = poly(f);
@@ -263,8 +272,14 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             }
             triangles.push(t);
             triangle_origin.push(origin);
+            if keep_attributes {
+                let s = raw.face_start[f];
+                raw_corners.push([s, s + i as u32, s + i as u32 + 1]);
+                triangle_face.push(f as u32);
+            }
         }
     }
+    let (attributes, notes) = triangle_attributes(&raw, &raw_corners, &triangle_face);
     Ok(InputMesh {
         positions,
         triangles,
@@ -275,7 +290,47 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         welded,
         unreferenced,
         repair: None,
+        attributes,
+        notes,
     })
+}
+
+/// The attributes of `raw` on its triangles, given the raw corners and the
+/// face of each triangle; a channel that leaves some corner without a value
+/// is dropped with a note.
+fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &[u32]) -> (Attributes, Vec<String>) {
+    let mut notes = raw.notes.clone();
+    let mut a = Attributes {
+        mtllib: raw.attributes.mtllib.clone(),
+        ..Attributes::default()
+    };
+    if !raw.attributes.face_group.is_empty() {
+        a.groups = raw.attributes.groups.clone();
+        a.face_group = triangle_face
+            .iter()
+            .map(|&f| raw.attributes.face_group.get(f as usize).copied().unwrap_or(0))
+            .collect();
+    }
+    for (kind, channel) in raw.attributes.channels() {
+        let corners: Vec<u32> = raw_corners
+            .iter()
+            .flatten()
+            .map(|&c| channel.corners.get(c as usize).copied().unwrap_or(NO_VALUE))
+            .collect();
+        if corners
+            .iter()
+            .any(|&i| i == NO_VALUE || i as usize >= channel.n_values())
+        {
+            notes.push(format!("{} dropped: some faces have none", kind.name()));
+            continue;
+        }
+        *a.channel_mut(kind) = Some(crate::attributes::Channel {
+            dim: channel.dim,
+            values: channel.values.clone(),
+            corners,
+        });
+    }
+    (a, notes)
 }
 
 /// `finish` with `--repair`: triangulate everything, then let
@@ -328,13 +383,28 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         welded: fixed.report.welded_vertices,
         unreferenced: fixed.report.unreferenced_vertices,
         repair: Some(fixed.report),
+        attributes: Attributes::default(),
+        notes: if raw.attributes.is_empty() {
+            Vec::new()
+        } else {
+            vec!["texture coordinates, normals, colours and groups dropped: --repair does not carry them".into()]
+        },
     })
 }
 
 /// Builds the refinable mesh of an input, turning topology errors into
-/// messages that name the file, line and vertices.
+/// messages that name the file, line and vertices. Planar regions are cut
+/// where the input's attributes could not survive a flip
+/// ([`Attributes::keep_apart`]).
 pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
-    Surface::new(input.positions.clone(), &input.triangles).map_err(|e| {
+    let attributes = &input.attributes;
+    let keep_apart = |f1, f2| attributes.keep_apart(&input.positions, &input.triangles, f1, f2);
+    let cut: &dyn Fn(u32, u32) -> bool = if attributes.is_empty() {
+        &|_, _| false
+    } else {
+        &keep_apart
+    };
+    Surface::with_region_cuts(input.positions.clone(), &input.triangles, cut).map_err(|e| {
         let at = |face: usize| {
             let origin = input.triangle_origin.get(face).copied().unwrap_or(0);
             match input.origin_kind {
@@ -438,6 +508,69 @@ pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> R
         Format::Ply => formats::write_ply_binary(w, positions, triangles, None),
         Format::Stl => formats::write_stl_binary(w, positions, triangles),
     })
+}
+
+/// Writes a triangle mesh with its attributes (per corner of `triangles`,
+/// as [`crate::attributes::Transfer::apply`] gives them) atomically, in the
+/// format of `path`'s extension. OBJ keeps everything; PLY keeps texture
+/// coordinates (`s t`, the first two numbers), normals (`nx ny nz`) and
+/// colours (`red green blue [alpha]`, 8-bit), a vertex with several values
+/// written once per value at the same position, the copies last; OFF and
+/// STL keep positions only. Returns a note for each attribute not written.
+pub fn write_mesh_with_attributes(
+    path: &Path,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+) -> Result<Vec<String>> {
+    let format = output_format(path);
+    let p = bytemuck_positions(positions);
+    let mut notes = Vec::new();
+    let mut lost = |what: &str, format: &str| notes.push(format!("{what} not written: {format} cannot hold them"));
+    match format {
+        Format::Obj => write_atomic(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
+        Format::Ply => {
+            if !attributes.face_group.is_empty() || !attributes.mtllib.is_empty() {
+                lost("groups and materials", "PLY");
+            }
+            let channels: Vec<_> = attributes.channels().collect();
+            let split = PerVertex::new(
+                positions.len(),
+                triangles,
+                &channels.iter().map(|(_, c)| *c).collect::<Vec<_>>(),
+            );
+            let mut columns = Vec::new();
+            for ((kind, channel), index) in channels.iter().zip(&split.values) {
+                let names: &[&'static str] = match kind {
+                    Kind::TexCoord => &["s", "t"],
+                    Kind::Normal => &["nx", "ny", "nz"],
+                    Kind::Color => &["red", "green", "blue", "alpha"],
+                };
+                for (k, &name) in names.iter().enumerate().take(channel.dim.max(2)) {
+                    columns.push(PlyColumn {
+                        name,
+                        uchar: *kind == Kind::Color,
+                        values: index
+                            .iter()
+                            .map(|&i| channel.value(i).get(k).copied().unwrap_or(0.0))
+                            .collect(),
+                    });
+                }
+            }
+            let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
+            write_atomic(path, |w| {
+                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
+            })?;
+        }
+        Format::Off | Format::Stl => {
+            let name = if format == Format::Off { "OFF" } else { "STL" };
+            if attributes.channels().next().is_some() || !attributes.face_group.is_empty() {
+                lost("texture coordinates, normals, colours and groups", name);
+            }
+            write_mesh(path, positions, triangles)?;
+        }
+    }
+    Ok(notes)
 }
 
 /// Writes a triangle mesh as OBJ, atomically.

@@ -74,6 +74,18 @@ pub struct InputFigures {
 impl Surface {
     /// Builds the mesh of an input (positions welded, every vertex used).
     pub fn new(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Surface, TopologyError> {
+        Surface::with_region_cuts(positions, triangles, &|_, _| false)
+    }
+
+    /// As [`Surface::new`], but two exactly coplanar input faces `f1`, `f2`
+    /// (triangle numbers) sharing an edge stay in different planar regions
+    /// when `cut(f1, f2)` says so: their edge is then never flipped. Used to
+    /// keep texture seams and groups ([`crate::attributes`]).
+    pub fn with_region_cuts(
+        positions: Vec<DVec3>,
+        triangles: &[[u32; 3]],
+        cut: &dyn Fn(u32, u32) -> bool,
+    ) -> Result<Surface, TopologyError> {
         let topo = Topology::from_triangles(positions.len(), triangles)?;
         let n = positions.len();
         let input_edges = (0..topo.n_edges())
@@ -99,13 +111,14 @@ impl Surface {
             positions,
             topo,
         };
-        s.find_regions();
+        s.find_regions(cut);
         s.input_figures = s.figures();
         Ok(s)
     }
 
-    /// Joins faces across exactly flat edges into planar regions.
-    fn find_regions(&mut self) {
+    /// Joins faces across exactly flat edges into planar regions, except
+    /// where `cut` keeps them apart.
+    fn find_regions(&mut self, cut: &dyn Fn(u32, u32) -> bool) {
         let n_faces = self.topo.n_faces();
         let mut parent: Vec<u32> = (0..n_faces as u32).collect();
         fn root(parent: &mut [u32], mut x: u32) -> u32 {
@@ -124,6 +137,9 @@ impl Surface {
             if geometry::flat_pair(a, b, c, d) {
                 let h = e.halfedge();
                 let (f1, f2) = (self.topo.face(h).0, self.topo.face(h.twin()).0);
+                if cut(f1, f2) {
+                    continue;
+                }
                 let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
                 if r1 != r2 {
                     parent[r1.max(r2) as usize] = r1.min(r2);

@@ -1,0 +1,530 @@
+//! Attributes survive (issue 6, item 1): texture coordinates, normals,
+//! colours, groups and materials of the input reach the output, and the
+//! piecewise-linear fields they define are the same before and after, at
+//! random surface points. Every output also passes `delmesh check`.
+
+mod common;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use common::Rng;
+use delmesh::attributes::{Channel, Kind};
+use delmesh::io::{self, InputMesh, ReadOptions};
+use glam::DVec3;
+
+fn delmesh() -> Command {
+    Command::cargo_bin("delmesh").unwrap()
+}
+
+/// Runs delmesh on `input`, writing `output`; returns its printout.
+fn run(input: &Path, output: &Path, extra: &[&str]) -> String {
+    let out = delmesh()
+        .arg("-i")
+        .arg(input)
+        .arg("-o")
+        .arg(output)
+        .args(extra)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "delmesh failed on {}: {text}{}",
+        input.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text
+}
+
+/// `delmesh check` passes.
+fn check(input: &Path, output: &Path) {
+    let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
+    assert!(
+        out.status.success(),
+        "check failed: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
+
+/// (added vertices, splits, flips) from a printout.
+fn work(printout: &str) -> (usize, usize, usize) {
+    let number_before = |line: &str, word: &str| -> usize {
+        let words: Vec<&str> = line.split([' ', ',', ';']).filter(|w| !w.is_empty()).collect();
+        let i = words.iter().position(|w| *w == word).unwrap();
+        words[i - 1].parse().unwrap()
+    };
+    let output = printout.lines().find(|l| l.starts_with("output")).unwrap();
+    let work = printout.lines().find(|l| l.starts_with("work")).unwrap();
+    (
+        number_before(output, "added"),
+        number_before(work, "splits"),
+        number_before(work, "flips"),
+    )
+}
+
+fn read(path: &Path) -> InputMesh {
+    io::read_mesh(path, &ReadOptions::default()).unwrap()
+}
+
+fn channel(m: &InputMesh, kind: Kind) -> Option<&Channel> {
+    match kind {
+        Kind::TexCoord => m.attributes.texcoords.as_ref(),
+        Kind::Normal => m.attributes.normals.as_ref(),
+        Kind::Color => m.attributes.colors.as_ref(),
+    }
+}
+
+/// Barycentric coordinates of `p` in triangle `t` of `m` and the distance
+/// of `p` from its plane.
+fn barycentric(m: &InputMesh, t: usize, p: DVec3) -> ([f64; 3], f64) {
+    let [a, b, c] = m.triangles[t].map(|v| m.positions[v as usize]);
+    let n = (b - a).cross(c - a);
+    let nn = n.length_squared();
+    let lb = (p - a).cross(c - a).dot(n) / nn;
+    let lc = (b - a).cross(p - a).dot(n) / nn;
+    ([1.0 - lb - lc, lb, lc], (p - a).dot(n).abs() / nn.sqrt())
+}
+
+/// The value of `kind` at barycentric `l` of triangle `t`.
+fn interpolate(ch: &Channel, t: usize, l: [f64; 3]) -> Vec<f64> {
+    (0..ch.dim)
+        .map(|k| (0..3).map(|i| l[i] * ch.corner(3 * t + i)[k]).sum())
+        .collect()
+}
+
+/// The input triangle holding `p`: the one it is most inside of.
+fn locate(m: &InputMesh, p: DVec3, scale: f64) -> Option<(usize, [f64; 3])> {
+    let mut best: Option<(usize, [f64; 3], f64)> = None;
+    for t in 0..m.triangles.len() {
+        let (l, distance) = barycentric(m, t, p);
+        let inside = l.iter().copied().fold(f64::INFINITY, f64::min);
+        if distance <= 1e-9 * scale && inside >= -1e-9 && best.is_none_or(|b| inside > b.2) {
+            best = Some((t, l, inside));
+        }
+    }
+    best.map(|(t, l, _)| (t, l))
+}
+
+/// At `samples` random points of the output surface, the largest
+/// difference of each attribute between output and input (0 for missing).
+fn compare(input: &InputMesh, output: &InputMesh, samples: usize, seed: u64) -> [f64; 3] {
+    let mut rng = Rng::new(seed);
+    let scale = input.positions.iter().fold(1.0f64, |m, p| m.max(p.abs().max_element()));
+    let mut worst = [0.0f64; 3];
+    for _ in 0..samples {
+        let t = rng.below(output.triangles.len() as u64) as usize;
+        let (r1, r2) = (rng.f64().sqrt(), rng.f64());
+        let l = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
+        let [a, b, c] = output.triangles[t].map(|v| output.positions[v as usize]);
+        let p = l[0] * a + l[1] * b + l[2] * c;
+        let (s, ls) = locate(input, p, scale).unwrap_or_else(|| panic!("{p} is on no input face"));
+        for (k, kind) in [Kind::TexCoord, Kind::Normal, Kind::Color].into_iter().enumerate() {
+            match (channel(input, kind), channel(output, kind)) {
+                (None, None) => {}
+                (Some(ci), Some(co)) => {
+                    let (before, after) = (interpolate(ci, s, ls), interpolate(co, t, l));
+                    for (x, y) in before.iter().zip(&after) {
+                        worst[k] = worst[k].max((x - y).abs());
+                    }
+                }
+                _ => panic!("{} present on one side only", kind.name()),
+            }
+        }
+    }
+    worst
+}
+
+fn num(x: f64) -> String {
+    // Display of f64 is the shortest text that reads back to the same value.
+    format!("{x}")
+}
+
+/// A jittered grid on the plane z = x/2 + y/4 with alternating diagonals
+/// (so that edges must be flipped), coordinates dyadic (exactly coplanar).
+struct Grid {
+    n: usize,
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Grid {
+    fn new(n: usize, seed: u64) -> Grid {
+        let mut rng = Rng::new(seed);
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (mut x, mut y) = (i as f64, j as f64);
+                if i > 0 && i < n && j > 0 && j < n {
+                    x += (rng.below(49) as f64 - 24.0) / 64.0;
+                    y += (rng.below(49) as f64 - 24.0) / 64.0;
+                }
+                positions.push(DVec3::new(x, y, x / 2.0 + y / 4.0));
+            }
+        }
+        let mut triangles = Vec::new();
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                if (i + j) % 2 == 1 {
+                    triangles.extend([[a, b, c], [a, c, d]]);
+                } else {
+                    triangles.extend([[a, b, d], [b, c, d]]);
+                }
+            }
+        }
+        Grid {
+            n,
+            positions,
+            triangles,
+        }
+    }
+
+    /// Whether triangle `t` is in the right half (x beyond n/2).
+    fn right(&self, t: usize) -> bool {
+        let c: f64 = self.triangles[t]
+            .iter()
+            .map(|&v| self.positions[v as usize].x)
+            .sum::<f64>()
+            / 3.0;
+        c > self.n as f64 / 2.0
+    }
+
+    /// OBJ text: texture coordinates from `uv` (of the vertex and whether
+    /// its face is in the right half), written once per corner; affine
+    /// normals and colours if asked; `usemtl left`/`right` by half if asked.
+    fn obj(&self, uv: impl Fn(DVec3, bool) -> [f64; 2], normals: bool, colors: bool, groups: bool) -> String {
+        let mut s = String::from("# textured grid\nmtllib grid.mtl\no grid\n");
+        for p in &self.positions {
+            let c = if colors {
+                format!(" {} {} 0.5", num(p.x / 16.0), num(p.y / 16.0))
+            } else {
+                String::new()
+            };
+            writeln!(s, "v {} {} {}{c}", num(p.x), num(p.y), num(p.z)).unwrap();
+        }
+        for p in &self.positions {
+            writeln!(s, "vn {} {} 1", num(p.x / 32.0), num(-p.y / 64.0)).unwrap();
+        }
+        let mut material = "";
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for &v in tri {
+                let [u, w] = uv(self.positions[v as usize], self.right(t));
+                writeln!(s, "vt {} {}", num(u), num(w)).unwrap();
+            }
+            if groups {
+                let m = if self.right(t) { "right" } else { "left" };
+                if m != material {
+                    writeln!(s, "usemtl {m}").unwrap();
+                    material = m;
+                }
+            }
+            s.push('f');
+            for (k, &v) in tri.iter().enumerate() {
+                let vt = -3 + k as i64; // per corner, relative
+                if normals {
+                    write!(s, " {}/{vt}/{}", v + 1, v + 1).unwrap();
+                } else {
+                    write!(s, " {}/{vt}", v + 1).unwrap();
+                }
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// An affine texture on a flat grid: edges are flipped as without
+/// attributes (same geometry out), and the mapping is the same.
+#[test]
+fn affine_texture_on_a_flat_grid_allows_flips_and_is_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(12, 1);
+    let input = write(
+        dir.path(),
+        "grid.obj",
+        &grid.obj(|p, _| [p.x / 8.0, p.y / 16.0], true, true, false),
+    );
+    let (out, plain) = (dir.path().join("out.obj"), dir.path().join("plain.obj"));
+    let printout = run(&input, &out, &[]);
+    let (added, _, flips) = work(&printout);
+    assert!(flips > 10, "{printout}");
+    let dropped = run(&input, &plain, &["--drop-attributes"]);
+    assert_eq!(work(&dropped), work(&printout), "attributes changed the construction");
+    check(&input, &out);
+    let (a, b) = (read(&input), read(&out));
+    assert_eq!(b.positions.len(), a.positions.len() + added);
+    assert_eq!(b.positions[..a.positions.len()], a.positions[..]);
+    let worst = compare(&a, &b, 1000, 7);
+    assert!(worst.iter().all(|&d| d <= 1e-9), "{worst:?}");
+    // The output without attributes has the same geometry, and no vt.
+    let text = std::fs::read_to_string(&plain).unwrap();
+    assert!(text.lines().all(|l| l.starts_with("v ") || l.starts_with("f ")));
+    assert_eq!(read(&plain).triangles, b.triangles);
+    let out_text = std::fs::read_to_string(&out).unwrap();
+    assert!(out_text.starts_with("mtllib grid.mtl\n"), "{out_text}");
+    assert!(out_text.contains("\no grid\n"));
+}
+
+/// A texture that is not affine over the grid: no flip may cross an edge,
+/// so non-Delaunay edges are split instead, and the mapping is the same.
+#[test]
+fn non_affine_texture_is_kept_by_splitting() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(8, 2);
+    let input = write(
+        dir.path(),
+        "grid.obj",
+        &grid.obj(
+            |p, _| [p.x * p.x / 64.0, p.y / 8.0 + p.x * p.y / 128.0],
+            false,
+            false,
+            false,
+        ),
+    );
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    let (_, splits, flips) = work(&printout);
+    let plain = run(&input, &dir.path().join("plain.obj"), &["--drop-attributes"]);
+    assert!(work(&plain).2 > 0 && splits > 0, "{plain}\n{printout}");
+    // Flips only inside the new faces of splits (their diagonals lie on no input edge).
+    let (a, b) = (read(&input), read(&out));
+    check(&input, &out);
+    let worst = compare(&a, &b, 1000, 8);
+    assert!(worst[0] <= 1e-9, "{worst:?} ({flips} flips)");
+}
+
+/// A seam down the middle (the right half's u shifted by 0.5): the seam
+/// edges keep their two values and the mapping is the same on both sides.
+#[test]
+fn texture_seam_is_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(12, 3);
+    let uv = |p: DVec3, right: bool| [p.x / 8.0 + if right { 0.5 } else { 0.0 }, p.y / 16.0];
+    let input = write(dir.path(), "grid.obj", &grid.obj(uv, false, false, false));
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    assert!(work(&printout).2 > 0, "{printout}");
+    check(&input, &out);
+    let (a, b) = (read(&input), read(&out));
+    let worst = compare(&a, &b, 1000, 9);
+    assert!(worst[0] <= 1e-9, "{worst:?}");
+    // Every output face keeps to one side of the seam: its u range is that of one half.
+    let tc = b.attributes.texcoords.as_ref().unwrap();
+    for t in 0..b.triangles.len() {
+        let xs = b.triangles[t].map(|v| b.positions[v as usize].x);
+        let us: Vec<f64> = (0..3).map(|k| tc.corner(3 * t + k)[0]).collect();
+        let shift = us[0] - xs[0] / 8.0;
+        for k in 0..3 {
+            assert!((us[k] - xs[k] / 8.0 - shift).abs() < 1e-12, "face {t} crosses the seam");
+        }
+    }
+}
+
+/// Materials: faces keep theirs, and no flip crosses from one to the other.
+#[test]
+fn groups_and_materials_stay_on_their_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(10, 4);
+    let input = write(
+        dir.path(),
+        "grid.obj",
+        &grid.obj(|p, _| [p.x / 8.0, p.y / 16.0], true, false, true),
+    );
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    assert!(work(&printout).2 > 0, "{printout}");
+    check(&input, &out);
+    let (a, b) = (read(&input), read(&out));
+    let material = |m: &InputMesh, t: usize| {
+        let g = m.attributes.face_group[t] as usize;
+        m.attributes.groups[g].material.clone().unwrap()
+    };
+    let scale = 20.0;
+    let mut seen = std::collections::BTreeSet::new();
+    for t in 0..b.triangles.len() {
+        let centroid = b.triangles[t].iter().map(|&v| b.positions[v as usize]).sum::<DVec3>() / 3.0;
+        let (s, _) = locate(&a, centroid, scale).unwrap();
+        assert_eq!(material(&b, t), material(&a, s), "output face {t}");
+        seen.insert(material(&b, t));
+        assert_eq!(
+            b.attributes.groups[b.attributes.face_group[t] as usize]
+                .object
+                .as_deref(),
+            Some("grid")
+        );
+    }
+    assert_eq!(seen.len(), 2);
+    let worst = compare(&a, &b, 1000, 10);
+    assert!(worst.iter().all(|&d| d <= 1e-9), "{worst:?}");
+}
+
+/// The bunny with a spherical texture map written per corner (a seam where
+/// the longitude wraps): the same mesh comes out as without attributes
+/// (its faces are not coplanar), with the same mapping.
+#[test]
+fn bunny_with_a_spherical_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain_input = common::data_dir().join("bunny.obj");
+    let m = read(&plain_input);
+    let center = m.positions.iter().sum::<DVec3>() / m.positions.len() as f64;
+    let sphere = |p: DVec3| {
+        let d = p - center;
+        let u = d.z.atan2(d.x) / std::f64::consts::TAU + 0.5;
+        [u, (d.y / d.length()).acos() / std::f64::consts::PI]
+    };
+    let mut text = String::new();
+    for p in &m.positions {
+        writeln!(text, "v {} {} {}", num(p.x), num(p.y), num(p.z)).unwrap();
+    }
+    for t in &m.triangles {
+        let mut uv = t.map(|v| sphere(m.positions[v as usize]));
+        let us = uv.map(|x| x[0]);
+        if us.iter().copied().fold(f64::MIN, f64::max) - us.iter().copied().fold(f64::MAX, f64::min) > 0.5 {
+            for x in &mut uv {
+                if x[0] < 0.5 {
+                    x[0] += 1.0;
+                }
+            }
+        }
+        for [u, v] in uv {
+            writeln!(text, "vt {} {}", num(u), num(v)).unwrap();
+        }
+        writeln!(text, "f {}/-3 {}/-2 {}/-1", t[0] + 1, t[1] + 1, t[2] + 1).unwrap();
+    }
+    let input = write(dir.path(), "bunny-uv.obj", &text);
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    assert_eq!(work(&printout).0, 315, "{printout}");
+    check(&input, &out);
+    let (a, b) = (read(&input), read(&out));
+    let worst = compare(&a, &b, 1000, 11);
+    assert!(worst[0] <= 1e-9, "{worst:?}");
+    // Without attributes: byte for byte what the plain bunny gives.
+    let (dropped, plain) = (dir.path().join("dropped.obj"), dir.path().join("plain.obj"));
+    run(&input, &dropped, &["--drop-attributes"]);
+    run(&plain_input, &plain, &[]);
+    assert_eq!(std::fs::read(&dropped).unwrap(), std::fs::read(&plain).unwrap());
+}
+
+/// Meshes without attributes come out as before: data/bunny.obj gets its
+/// 315 vertices, and only `v` and `f` lines are written.
+#[test]
+fn no_attributes_no_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    assert_eq!(work(&printout), (315, 315, 0), "{printout}");
+    assert!(!printout.contains("attributes"), "{printout}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.lines().all(|l| l.starts_with("v ") || l.starts_with("f ")));
+}
+
+/// A PLY grid with per-vertex texture coordinates, normals and colours, and
+/// a seam made by duplicate vertices: written as PLY (copies of seam
+/// vertices) and as OBJ, read back with the same fields.
+#[test]
+fn ply_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(10, 5);
+    // Right-half faces use copies of the vertices on the seam column.
+    let n = grid.positions.len();
+    let seam: Vec<usize> = (0..n).filter(|&v| (grid.positions[v].x - 5.0).abs() < 1e-12).collect();
+    let mut vertices: Vec<(DVec3, bool)> = grid.positions.iter().map(|&p| (p, p.x > 5.0)).collect();
+    let mut copy = vec![u32::MAX; n];
+    for &v in &seam {
+        copy[v] = vertices.len() as u32;
+        vertices.push((grid.positions[v], true));
+    }
+    let mut text = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
+         property double s\nproperty double t\nproperty float nx\nproperty float ny\nproperty float nz\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\nelement face {}\n\
+         property list uchar int vertex_indices\nend_header\n",
+        vertices.len(),
+        grid.triangles.len()
+    );
+    for (p, right) in &vertices {
+        let s = p.x / 8.0 + if *right { 0.5 } else { 0.0 };
+        let (r, g) = ((p.x * 16.0).round(), (p.y * 16.0).round());
+        writeln!(
+            text,
+            "{} {} {} {} {} 0 0 1 {r} {g} 7",
+            num(p.x),
+            num(p.y),
+            num(p.z),
+            num(s),
+            num(p.y / 16.0)
+        )
+        .unwrap();
+    }
+    for (t, tri) in grid.triangles.iter().enumerate() {
+        let right = grid.right(t);
+        let ids = tri.map(|v| {
+            if right && copy[v as usize] != u32::MAX {
+                copy[v as usize]
+            } else {
+                v
+            }
+        });
+        writeln!(text, "3 {} {} {}", ids[0], ids[1], ids[2]).unwrap();
+    }
+    let input = write(dir.path(), "grid.ply", &text);
+    let a = read(&input);
+    assert!(a.attributes.texcoords.is_some() && a.attributes.normals.is_some() && a.attributes.colors.is_some());
+    for ext in ["ply", "obj"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let printout = run(&input, &out, &[]);
+        assert!(work(&printout).2 > 0, "{printout}");
+        check(&input, &out);
+        let b = read(&out);
+        let worst = compare(&a, &b, 1000, 12);
+        assert!(worst[0] <= 1e-9 && worst[1] <= 1e-9, "{ext}: {worst:?}");
+        // Colours are written to PLY with 8 bits: rounded at added vertices.
+        let colour_tolerance = if ext == "ply" { 0.5 / 255.0 + 1e-12 } else { 1e-9 };
+        assert!(worst[2] <= colour_tolerance, "{ext}: {worst:?}");
+    }
+    // The PLY output holds the seam as copies of vertices, after the others.
+    let b = read(&dir.path().join("out.ply"));
+    let out_ply = std::fs::read(dir.path().join("out.ply")).unwrap();
+    let header = String::from_utf8_lossy(&out_ply[..400]);
+    assert!(header.contains("property double s\nproperty double t\n"), "{header}");
+    assert!(header.contains("property uchar red"), "{header}");
+    assert!(b.welded >= seam.len(), "{} welded", b.welded);
+}
+
+/// `--repair` drops attributes with a note; OFF output says it cannot hold them.
+#[test]
+fn attributes_dropped_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(4, 6);
+    let input = write(
+        dir.path(),
+        "grid.obj",
+        &grid.obj(|p, _| [p.x / 8.0, p.y / 16.0], false, false, false),
+    );
+    let printout = run(&input, &dir.path().join("r.obj"), &["--repair"]);
+    assert!(
+        printout.contains("note    texture coordinates, normals, colours and groups dropped: --repair"),
+        "{printout}"
+    );
+    let printout = run(&input, &dir.path().join("o.off"), &[]);
+    assert!(printout.contains("not written: OFF cannot hold them"), "{printout}");
+    // A bad texture index drops texture coordinates, not the mesh.
+    let bad = write(
+        dir.path(),
+        "bad.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/9 3/1\n",
+    );
+    let printout = run(&bad, &dir.path().join("bad-out.obj"), &[]);
+    assert!(printout.contains("note    texture coordinates dropped"), "{printout}");
+}
