@@ -528,3 +528,27 @@ fn attributes_dropped_with_a_note() {
     let printout = run(&bad, &dir.path().join("bad-out.obj"), &[]);
     assert!(printout.contains("note    texture coordinates dropped"), "{printout}");
 }
+
+/// `--prune` removes and re-adds vertices after the construction: the
+/// mapping must survive it too (non-affine texture and a seam).
+#[test]
+fn texture_kept_through_prune() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(12, 5);
+    let uv = |p: DVec3, right: bool| {
+        [
+            p.x * p.x / 64.0 + if right { 0.5 } else { 0.0 },
+            p.y / 8.0 + p.x * p.y / 128.0,
+        ]
+    };
+    let input = write(dir.path(), "grid.obj", &grid.obj(uv, true, true, false));
+    for extra in [&["--prune"][..], &["--prune", "-s", "3", "-ds", "queue"][..]] {
+        let out = dir.path().join("out.obj");
+        let printout = run(&input, &out, extra);
+        assert!(printout.contains("prune   removed"), "{printout}");
+        check(&input, &out);
+        let (a, b) = (read(&input), read(&out));
+        let worst = compare(&a, &b, 1000, 10);
+        assert!(worst.iter().all(|&w| w <= 1e-9), "{extra:?}: {worst:?}\n{printout}");
+    }
+}
