@@ -52,8 +52,8 @@ const MAX_FLIPS_PER_TRY: usize = 4096;
 /// At most this many consecutive added vertices of one input edge are
 /// replaced by one fewer.
 const MAX_GROUP: usize = 3;
-/// The sample choices tried, in turn, for the one vertex that replaces two.
-const PAIR_VARIANTS: [(Score, bool); 8] = [
+/// The sample choices tried, in turn, for the first vertex of a replacement.
+const VARIANTS: [(Score, bool); 8] = [
     (Score::AlwaysCenter, true),
     (Score::SplitAware, true),
     (Score::AllEqual, true),
@@ -82,6 +82,7 @@ pub fn prune(surface: &mut Surface, options: &Options) -> PruneStats {
         inputs: Vec::new(),
         touched: Vec::new(),
         stack: Vec::new(),
+        queued: Vec::new(),
         stats: PruneStats::default(),
         flips: 0,
         splits: 0,
@@ -122,6 +123,8 @@ struct Pruner<'a> {
     /// Edges whose Delaunay status the attempt may have changed.
     touched: Vec<EdgeId>,
     stack: Vec<EdgeId>,
+    /// Whether each edge is in `stack`.
+    queued: Vec<bool>,
     stats: PruneStats,
     /// Flips of the current attempt.
     flips: usize,
@@ -149,65 +152,37 @@ impl Pruner<'_> {
             }
         }
         // Pairs: p and an added neighbour (often a vertex that a split at p
-        // made necessary) replaced by one vertex, placed by each score in turn.
-        let base = self.options;
-        for q in self.added_neighbours(p) {
-            let Carrier::Edge { edge: q_input, .. } = self.s.carriers[q.idx()] else {
-                continue;
-            };
-            let r = self.attempt(|me| {
-                if !me.detach(p, input) || !me.detach(q, q_input) {
-                    return Attempt::Failed;
-                }
-                let mark = me.mark();
-                for options in PAIR_VARIANTS.map(|(score, median)| Options { score, median, ..base }) {
-                    me.options = options;
-                    let kept = me.refine_locally(1);
-                    me.options = base;
-                    if kept {
-                        return Attempt::Kept;
-                    }
-                    me.undo_to(mark);
-                }
-                Attempt::Failed
-            });
-            if matches!(r, Attempt::Kept) {
-                return;
-            }
-        }
-        // Triples: p and two added neighbours replaced by two vertices.
+        // made necessary) replaced by one vertex; then triples: p and two
+        // added neighbours replaced by two.
         let neighbours = self.added_neighbours(p);
         for (i, &q1) in neighbours.iter().enumerate() {
+            if self.try_replace(&[(p, input), (q1, 0)]) {
+                return;
+            }
             for &q2 in &neighbours[i + 1..] {
-                let (Carrier::Edge { edge: e1, .. }, Carrier::Edge { edge: e2, .. }) =
-                    (self.s.carriers[q1.idx()], self.s.carriers[q2.idx()])
-                else {
-                    continue;
-                };
-                let r = self.attempt(|me| {
-                    if !me.detach(p, input) || !me.detach(q1, e1) || !me.detach(q2, e2) {
-                        return Attempt::Failed;
-                    }
-                    let mark = me.mark();
-                    for options in PAIR_VARIANTS[..2]
-                        .iter()
-                        .map(|&(score, median)| Options { score, median, ..base })
-                    {
-                        me.options = options;
-                        let kept = me.refine_locally(2);
-                        me.options = base;
-                        if kept {
-                            return Attempt::Kept;
-                        }
-                        me.undo_to(mark);
-                    }
-                    Attempt::Failed
-                });
-                if matches!(r, Attempt::Kept) {
+                if self.try_replace(&[(p, input), (q1, 0), (q2, 0)]) {
                     return;
                 }
             }
         }
+    }
+
+    /// One attempt at replacing the added vertices `group` (with their input
+    /// edges; 0 = read from the carrier) by one vertex fewer.
+    fn try_replace(&mut self, group: &[(VertexId, u32)]) -> bool {
+        let r = self.attempt(|me| {
+            for &(v, input) in group {
+                let input = match me.s.carriers[v.idx()] {
+                    Carrier::Edge { edge, .. } if input == 0 || edge == input => edge,
+                    _ => return Attempt::Failed,
+                };
+                if !me.detach(v, input) {
+                    return Attempt::Failed;
+                }
+            }
+            me.rebuild(group.len() - 1)
+        });
+        matches!(r, Attempt::Kept)
     }
 
     /// The added vertices joined to `p` by an edge.
@@ -310,11 +285,7 @@ impl Pruner<'_> {
                 v = next;
             }
         }
-        if self.refine_locally(group - 1) {
-            Attempt::Kept
-        } else {
-            Attempt::Failed
-        }
+        self.rebuild(group - 1)
     }
 
     /// Flips `p` down to degree four and merges its two sub-edges, saving
@@ -470,32 +441,60 @@ impl Pruner<'_> {
         self.touched.extend([h1.edge(), h2.edge(), t1.edge(), t2.edge()]);
     }
 
-    /// Algorithm 2 on the touched edges, with at most `budget` splits; `true`
-    /// if every touched edge ends Delaunay. A non-flippable edge may be bad
-    /// for a while: a later flip can give it a better opposite vertex, so
-    /// splits wait until no flip is left to do.
+    /// Flips the touched edges' regions back to Delaunay (Lawson, each edge
+    /// at most once in the stack at a time). Returns the first touched edge
+    /// still non-Delaunay, or `Err` past the flip budget.
+    fn settle(&mut self) -> Result<Option<EdgeId>, ()> {
+        self.stack.clear();
+        let n = self.s.topo.n_edges();
+        if self.queued.len() < n {
+            self.queued.resize(n, false);
+        }
+        for i in 0..self.touched.len() {
+            let e = self.touched[i];
+            if !self.queued[e.idx()] {
+                self.queued[e.idx()] = true;
+                self.stack.push(e);
+            }
+        }
+        while let Some(e) = self.stack.pop() {
+            self.queued[e.idx()] = false;
+            if self.s.topo.is_dead_edge(e)
+                || !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
+                || !self.s.is_flippable(e)
+                || !self.s.flip_is_valid(e)
+            {
+                continue;
+            }
+            let before = self.touched.len();
+            if !self.flip(e) {
+                for &x in &self.stack {
+                    self.queued[x.idx()] = false;
+                }
+                return Err(());
+            }
+            for i in before + 1..self.touched.len() {
+                let x = self.touched[i];
+                if !self.queued[x.idx()] {
+                    self.queued[x.idx()] = true;
+                    self.stack.push(x);
+                }
+            }
+        }
+        Ok((self.touched.iter().copied())
+            .find(|&e| !self.s.topo.is_dead_edge(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)))
+    }
+
+    /// Algorithm 2 on the touched edges, with at most `budget` splits in the
+    /// whole attempt; `true` if every touched edge ends Delaunay. A
+    /// non-flippable edge may be bad for a while: a later flip can give it a
+    /// better opposite vertex, so splits wait until no flip is left to do.
     fn refine_locally(&mut self, budget: usize) -> bool {
         loop {
-            self.stack.clear();
-            self.stack.extend_from_slice(&self.touched);
-            while let Some(e) = self.stack.pop() {
-                if self.s.topo.is_dead_edge(e)
-                    || !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
-                    || !self.s.is_flippable(e)
-                    || !self.s.flip_is_valid(e)
-                {
-                    continue;
-                }
-                let before = self.touched.len();
-                if !self.flip(e) {
-                    return false;
-                }
-                self.stack.extend_from_slice(&self.touched[before + 1..]);
-            }
-            let Some(bad) = (self.touched.iter().copied())
-                .find(|&e| !self.s.topo.is_dead_edge(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
-            else {
-                return true;
+            let bad = match self.settle() {
+                Err(()) => return false,
+                Ok(None) => return true,
+                Ok(Some(bad)) => bad,
             };
             if self.splits >= budget || self.s.is_flippable(bad) {
                 return false;
@@ -505,6 +504,39 @@ impl Pruner<'_> {
             };
             self.split(bad, choice.t);
         }
+    }
+
+    /// After removing vertices: settles, then tries each sample choice of
+    /// [`VARIANTS`] for the first split (each distinct sample once) and
+    /// refines on with at most `budget` splits in all.
+    fn rebuild(&mut self, budget: usize) -> Attempt {
+        let bad = match self.settle() {
+            Err(()) => return Attempt::Failed,
+            Ok(None) => return Attempt::Kept,
+            Ok(Some(bad)) => bad,
+        };
+        if budget == 0 || self.s.is_flippable(bad) {
+            return Attempt::Failed;
+        }
+        let mark = self.mark();
+        let base = self.options;
+        let mut tried: Vec<f64> = Vec::with_capacity(VARIANTS.len());
+        for (score, median) in VARIANTS {
+            let options = Options { score, median, ..base };
+            let Some(choice) = refine::choose_sample(self.s, &self.constants, &options, bad) else {
+                continue;
+            };
+            if tried.contains(&choice.t) {
+                continue;
+            }
+            tried.push(choice.t);
+            self.split(bad, choice.t);
+            if self.refine_locally(budget) {
+                return Attempt::Kept;
+            }
+            self.undo_to(mark);
+        }
+        Attempt::Failed
     }
 }
 
