@@ -52,6 +52,8 @@ const MAX_FLIPS_PER_TRY: usize = 4096;
 /// At most this many consecutive added vertices of one input edge are
 /// replaced by one fewer.
 const MAX_GROUP: usize = 3;
+/// Triples are made of p and two of its this many nearest added neighbours.
+const TRIPLE_NEIGHBOURS: usize = 4;
 /// The sample choices tried, in turn, for the first vertex of a replacement.
 const VARIANTS: [(Score, bool); 8] = [
     (Score::AlwaysCenter, true),
@@ -154,12 +156,20 @@ impl Pruner<'_> {
         // Pairs: p and an added neighbour (often a vertex that a split at p
         // made necessary) replaced by one vertex; then triples: p and two
         // added neighbours replaced by two.
-        let neighbours = self.added_neighbours(p);
+        let mut neighbours = self.added_neighbours(p);
+        let at = self.s.positions[p.idx()];
+        neighbours.sort_by(|&a, &b| {
+            let da = self.s.positions[a.idx()].distance_squared(at);
+            da.total_cmp(&self.s.positions[b.idx()].distance_squared(at))
+        });
         for (i, &q1) in neighbours.iter().enumerate() {
             if self.try_replace(&[(p, input), (q1, 0)]) {
                 return;
             }
-            for &q2 in &neighbours[i + 1..] {
+            if i >= TRIPLE_NEIGHBOURS {
+                continue;
+            }
+            for &q2 in &neighbours[i + 1..neighbours.len().min(TRIPLE_NEIGHBOURS)] {
                 if self.try_replace(&[(p, input), (q1, 0), (q2, 0)]) {
                     return;
                 }
