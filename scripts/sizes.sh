@@ -10,7 +10,8 @@
 # Output format (stable; one line per mesh, space-separated key=value):
 #   mesh=NAME input=V lb=L s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C
 #     P:s-0-m=N ... P:s3-p-m=N pbest=N pbest_combo=C peer=N ratio=R pratio=R
-# A combination stopped by the work limit prints "limit".
+# A combination that fails (work limit, or edges that can be neither split
+# nor flipped) prints "limit".
 set -uo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-../shared/meshes}
@@ -40,7 +41,7 @@ sweep() {
     if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
   done; done; done
   for ds in stack queue pqueue; do
-    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/.* \([0-9]*\) added vertices/\1/p')
+    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
     [ -n "$n" ] || n=limit
     key="s3-${ds:0:1}-m"
     line="$line $prefix$key=$n"
@@ -57,7 +58,7 @@ for mesh in "$dir"/*.obj; do
   line="mesh=$name"
   "$bin" -i "$mesh" -o "$out/x.obj" --no-refine > "$out/info" 2>/dev/null
   input=$(sed -n 's/^input .*: \([0-9]*\) vertices.*/\1/p' "$out/info")
-  lb=$(sed -n 's/^bound .* \([0-9]*\) added vertices.*/\1/p' "$out/info")
+  lb=$(sed -n 's/^bound .* at least \([0-9]*\) vertices.*/\1/p' "$out/info")
   line="$line input=$input lb=${lb:-NA}"
   prefix="" ; sweep
   best=$sbest best_combo=$sbest_combo
