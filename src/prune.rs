@@ -32,7 +32,7 @@ use glam::DVec3;
 use crate::geometry::ALGORITHM_TOLERANCE;
 use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
 use crate::refine::{self, Options};
-use crate::samples::{SampleConstants, Score};
+use crate::samples::{point_on_edge, EdgeSamples, SampleConstants, Score};
 
 /// What pruning did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -52,6 +52,9 @@ const MAX_FLIPS_PER_TRY: usize = 4096;
 /// At most this many consecutive added vertices of one input edge are
 /// replaced by one fewer.
 const MAX_GROUP: usize = 3;
+/// Where along the sub-edge to split (as fractions) when no score's sample
+/// works.
+const SPREAD: [f64; 6] = [0.5, 0.35, 0.65, 0.2, 0.8, 0.1];
 /// Triples are made of p and two of its this many nearest added neighbours.
 const TRIPLE_NEIGHBOURS: usize = 4;
 /// The sample choices tried, in turn, for the first vertex of a replacement.
@@ -541,6 +544,29 @@ impl Pruner<'_> {
             }
             tried.push(choice.t);
             self.split(bad, choice.t);
+            if self.refine_locally(budget) {
+                return Attempt::Kept;
+            }
+            self.undo_to(mark);
+        }
+        // Then a few samples spread along the sub-edge: the six conditions
+        // the scores weigh see only the quad, not the other vertices around.
+        let input = self.s.edge_input[bad.idx()];
+        let h = bad.halfedge();
+        let (a, b) = (self.s.topo.origin(h), self.s.topo.dest(h));
+        let (ta, tb) = (self.s.param_on(a, input), self.s.param_on(b, input));
+        let (lo, hi) = (ta.min(tb), ta.max(tb));
+        let ends = self.s.input_edge_ends(input);
+        let samples = EdgeSamples::new((ends[1] - ends[0]).length(), &self.constants);
+        let (pa, pb) = (self.s.positions[a.idx()], self.s.positions[b.idx()]);
+        for f in SPREAD {
+            let t = samples.t(samples.nearest(lo + f * (hi - lo)));
+            let p = point_on_edge(ends[0], ends[1], t);
+            if t <= lo || t >= hi || tried.contains(&t) || p == pa || p == pb {
+                continue;
+            }
+            tried.push(t);
+            self.split(bad, t);
             if self.refine_locally(budget) {
                 return Attempt::Kept;
             }

@@ -87,6 +87,20 @@ impl EdgeSamples {
         self.count
     }
 
+    /// The index of the sample nearest to parameter `t` (clamped to the
+    /// samples that exist).
+    pub fn nearest(&self, t: f64) -> u64 {
+        if self.count <= 1 || self.step <= 0.0 {
+            return 0;
+        }
+        let k = ((t * self.len - self.rho_v) / self.step).round();
+        if k.is_nan() || k < 0.0 {
+            0
+        } else {
+            (k as u64).min(self.count - 1)
+        }
+    }
+
     /// The parameter t ∈ (0, 1) of sample `k` along the input edge, measured
     /// from its first end. Non-decreasing in `k` (strictly while the spacing
     /// is above f64 resolution).
