@@ -111,6 +111,11 @@ struct RunArgs {
     #[arg(long = "all")]
     all: bool,
 
+    /// With -all: also sweep delmesh's score 3 (6 more runs, 24 in all,
+    /// named <stem>-<s|q|p>-3[-m].obj). Add --prune to sweep pruning.
+    #[arg(long = "extended", requires = "all")]
+    extended: bool,
+
     /// Work limit: stop (exit 1) once this many vertices have been added, or
     /// three times as many edges flipped. Some settings (the first best sample
     /// instead of the median, on inputs with tiny angles) would otherwise add
@@ -183,6 +188,12 @@ struct RunArgs {
     /// distort them).
     #[arg(long = "drop-attributes")]
     drop_attributes: bool,
+
+    /// Fewest added vertices: run the 12 median settings (3 DS x scores 0-3)
+    /// with --prune, on all cores (or -j), and write the smallest result
+    /// (ties: the first in that order); -ds, -s and -nomedian are ignored.
+    #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
+    smallest: bool,
 
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
@@ -666,7 +677,17 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     options.max_added = args.max_added;
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
-    let out = match refine_once(surface, input_path, &options, args.prune) {
+    let result = if args.smallest {
+        let start = Instant::now();
+        smallest(surface, input_path, &options, args.jobs).map(|(o, mut out)| {
+            options = o;
+            out.seconds = start.elapsed().as_secs_f64(); // all 12 runs
+            out
+        })
+    } else {
+        refine_once(surface, input_path, &options, args.prune)
+    };
+    let out = match result {
         Ok(out) => out,
         Err(e) => {
             progress::phase(Phase::Idle);
@@ -704,10 +725,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
         say!(
-            "run     {}, {}, {}",
+            "run     {}, {}, {}{}",
             ds_name(options.worklist),
             score_name(options.score),
-            if options.median { "median" } else { "no median" }
+            if options.median { "median" } else { "no median" },
+            if args.smallest {
+                " (the smallest of 12 settings, all pruned: --smallest)"
+            } else {
+                ""
+            }
         );
         say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
         for note in &notes {
@@ -747,6 +773,70 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--smallest`: refines and prunes with every median setting (3 DS x scores
+/// 0-3), `jobs` at a time, and returns the settings and outcome with the
+/// fewest vertices (ties: the first in that order, so the result does not
+/// depend on the number of threads). Fails only if every setting fails.
+fn smallest(
+    surface: Surface,
+    input_path: &Path,
+    template: &Options,
+    jobs: Option<u16>,
+) -> anyhow::Result<(Options, Outcome)> {
+    let mut settings = Vec::new();
+    for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+        for score in [
+            Score::AllEqual,
+            Score::WeightedCenter,
+            Score::AlwaysCenter,
+            Score::SplitAware,
+        ] {
+            settings.push(Options {
+                worklist,
+                score,
+                median: true,
+                ..*template
+            });
+        }
+    }
+    let threads = match jobs {
+        Some(j) => usize::from(j),
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    }
+    .min(settings.len());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    // The best so far, by (vertices, index of its settings).
+    let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
+    let first_error = std::sync::Mutex::new(None);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(options) = settings.get(i) else { break };
+                match refine_once(surface.clone(), input_path, options, true) {
+                    Ok(out) => {
+                        let key = (out.surface.positions.len(), i);
+                        let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
+                        if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
+                            *best = Some((key.0, key.1, out));
+                        }
+                    }
+                    Err(e) => {
+                        first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                    }
+                }
+            });
+        }
+    });
+    match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        Some((_, i, out)) => Ok((settings[i], out)),
+        None => Err(first_error
+            .into_inner()
+            .unwrap_or_else(|p| p.into_inner())
+            .unwrap_or_else(|| anyhow::anyhow!("no setting ran"))),
+    }
 }
 
 /// The 18 combinations, in the report's naming order.
@@ -858,7 +948,15 @@ fn run_all(
     output: &Path,
     args: &RunArgs,
 ) -> anyhow::Result<(ExitCode, Vec<Row>)> {
-    let combos: Vec<Options> = all_combinations()
+    let mut combos = all_combinations();
+    if args.extended {
+        for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+            for median in [true, false] {
+                combos.push(Options::new(worklist, Score::SplitAware, median));
+            }
+        }
+    }
+    let combos: Vec<Options> = combos
         .into_iter()
         .map(|o| Options {
             max_added: args.max_added,

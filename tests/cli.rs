@@ -652,3 +652,82 @@ fn render_draws_before_and_after() {
         "{stdout}"
     );
 }
+
+/// The number in "N added vertices" of a run's printout.
+fn added_of(printout: &str) -> usize {
+    let line = printout
+        .lines()
+        .find(|l| l.starts_with("output"))
+        .expect("an output line");
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let i = words.iter().position(|w| *w == "added").expect("added vertices");
+    words[i - 1].parse().unwrap()
+}
+
+#[test]
+fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("bunny.obj");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = delmesh()
+            .arg("-i")
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        check_passes(&input, &out);
+        (
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            std::fs::read(&out).unwrap(),
+        )
+    };
+    let (pruned, _) = run("pruned.obj", &["--prune"]);
+    let (plain, _) = run("plain.obj", &[]);
+    let (small1, bytes1) = run("small1.obj", &["--smallest", "-j", "1"]);
+    let (small2, bytes2) = run("small2.obj", &["--smallest", "-j", "2"]);
+    assert!(small1.contains("the smallest of 12 settings"), "{small1}");
+    assert!(added_of(&small1) <= added_of(&pruned), "{small1}\n{pruned}");
+    assert!(added_of(&pruned) <= added_of(&plain), "{pruned}\n{plain}");
+    assert_eq!(added_of(&small1), added_of(&small2));
+    assert!(bytes1 == bytes2, "--smallest depends on -j");
+}
+
+#[test]
+fn extended_sweep_adds_score_3_and_prune_applies_to_every_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("cube.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .args(["-all", "--extended", "--prune"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 24, "{names:?}");
+    for ds in ["s", "q", "p"] {
+        assert!(names.contains(&format!("c-{ds}-3-m.obj")) && names.contains(&format!("c-{ds}-3.obj")));
+    }
+    for name in names {
+        check_passes(&input, &dir.path().join(name));
+    }
+    // --extended needs -all.
+    delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("x.obj"))
+        .arg("--extended")
+        .assert()
+        .failure();
+}
