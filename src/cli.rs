@@ -456,6 +456,7 @@ struct Report<'a> {
     input_path: &'a Path,
     input: &'a io::InputMesh,
     figures: delmesh::mesh::InputFigures,
+    lower_bound: usize,
     constants: delmesh::samples::SampleConstants,
     output: &'a Path,
     t0: Instant,
@@ -473,6 +474,7 @@ impl Report<'_> {
                 input_path: self.input_path,
                 input: self.input,
                 figures: self.figures,
+                lower_bound: self.lower_bound,
                 output: self.output,
                 repaired: self.args.repaired.as_deref(),
                 refined,
@@ -546,6 +548,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let figures = surface.input_figures;
+    let lower_bound = surface.added_vertex_lower_bound();
     if !args.quiet {
         say!(
             "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
@@ -557,10 +560,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sig(figures.min_edge),
             sig(figures.max_edge)
         );
-        say!(
-            "bound   any Delaunay mesh with this geometry adds at least {} vertices",
-            surface.added_vertex_lower_bound()
-        );
+        say!("bound   any Delaunay mesh with this geometry adds at least {lower_bound} vertices");
         if let Some(report) = &input.repair {
             if report.is_clean() {
                 say!("repair  nothing to repair");
@@ -597,6 +597,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         input_path,
         input: &input,
         figures,
+        lower_bound,
         constants: refine::sample_constants(&surface),
         output: &output,
         t0,
@@ -615,6 +616,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                         vertices: f.vertices,
                         faces: f.faces,
                         added_vertices: f.added,
+                        pruned_vertices: f.pruned,
                         stats: Some(f.stats),
                         seconds_refine: f.seconds,
                         seconds_write: f.seconds_write,
@@ -647,6 +649,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 vertices: surface.positions.len(),
                 faces: surface.topo.n_faces(),
                 added_vertices: 0,
+                pruned_vertices: None,
                 stats: None,
                 seconds_refine: 0.0,
                 seconds_write: write_s,
@@ -715,6 +718,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             vertices: out.surface.positions.len(),
             faces: out.surface.topo.n_faces(),
             added_vertices: added,
+            pruned_vertices: out.pruned.map(|p| p.removed),
             stats: Some(out.stats),
             seconds_refine: out.seconds,
             seconds_write: write_s,
@@ -888,6 +892,7 @@ struct RowFigures {
     faces: usize,
     vertices: usize,
     added: usize,
+    pruned: Option<usize>,
     stats: Stats,
     seconds: f64,
     seconds_write: f64,
@@ -935,6 +940,7 @@ fn run_combination(
         faces: out.surface.topo.n_faces(),
         vertices: out.surface.positions.len(),
         added: out.surface.positions.len() - out.surface.n_input_vertices,
+        pruned: out.pruned.map(|p| p.removed),
         stats: out.stats,
         seconds: out.seconds,
         seconds_write,

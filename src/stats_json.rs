@@ -34,6 +34,8 @@ pub struct RunFigures {
     pub faces: usize,
     /// Vertices not in the input.
     pub added_vertices: usize,
+    /// With `--prune`: added vertices it removed again.
+    pub pruned_vertices: Option<usize>,
     /// Work done; `None` with `--no-refine`.
     pub stats: Option<Stats>,
     /// Seconds spent refining.
@@ -50,6 +52,8 @@ pub struct Invocation<'a> {
     pub input: &'a InputMesh,
     /// Its smallest angle and edge lengths.
     pub figures: InputFigures,
+    /// `Surface::added_vertex_lower_bound` of the input.
+    pub lower_bound: usize,
     /// `-o` (the input when rewritten in place).
     pub output: &'a Path,
     /// `--repaired`, if given.
@@ -195,7 +199,7 @@ pub fn score_key(s: Score) -> u32 {
 }
 
 /// The fields of a run record, in order: also the CSV columns after `input`.
-pub const RUN_FIELDS: [&str; 17] = [
+pub const RUN_FIELDS: [&str; 18] = [
     "data_structure",
     "score",
     "median",
@@ -206,6 +210,7 @@ pub const RUN_FIELDS: [&str; 17] = [
     "vertices",
     "faces",
     "added_vertices",
+    "pruned_vertices",
     "splits",
     "flips",
     "non_delaunay_before",
@@ -242,6 +247,7 @@ fn run_object(r: &RunRecord) -> Json {
         ("vertices", Json::opt_int(f.map(|f| f.vertices))),
         ("faces", Json::opt_int(f.map(|f| f.faces))),
         ("added_vertices", Json::opt_int(f.map(|f| f.added_vertices))),
+        ("pruned_vertices", Json::opt_int(f.and_then(|f| f.pruned_vertices))),
         ("splits", Json::opt_int(done.map(|s| s.splits))),
         ("flips", Json::opt_int(done.map(|s| s.flips))),
         ("non_delaunay_before", Json::opt_int(st.map(|s| s.non_delaunay_before))),
@@ -272,6 +278,7 @@ pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]
                 ("min_angle_rad", Json::Num(f.min_angle)),
                 ("min_edge", Json::Num(f.min_edge)),
                 ("max_edge", Json::Num(f.max_edge)),
+                ("added_vertices_lower_bound", Json::Int(inv.lower_bound as u64)),
             ]),
         ),
         (
@@ -340,6 +347,7 @@ mod tests {
                 vertices: 5,
                 faces: 6,
                 added_vertices: 1,
+                pruned_vertices: None,
                 stats: Some(Stats::default()),
                 seconds_refine: 0.5,
                 seconds_write: f64::NAN,
