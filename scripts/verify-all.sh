@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 dir=${1:-../shared/meshes}
 shift || true
 cargo build --release --quiet || exit 1
-bin=target/release/delmesh
+bin=${DELMESH:-target/release/delmesh}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 status=0
