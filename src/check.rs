@@ -13,8 +13,12 @@
 //!    spatial hash over pieces of the input edges, so the search is near linear.
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
-//!    orientation.
-//! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]).
+//!    orientation, exactly: its projection along the region's main axis has the orientation of
+//!    the region's faces and non-zero area (an exact `orient2d`, so that a valid needle face is
+//!    never called degenerate and a folded one never passes).
+//! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]). Face areas are
+//!    computed at the corner opposite the longest edge from exact edge vectors, and summed with
+//!    compensation, so that they stay accurate far from the origin and for needle faces.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
@@ -910,10 +914,22 @@ struct Regions {
     area: Vec<f64>,
     /// Unit normal of every region (of its largest face; zero if all its faces have zero area).
     normal: Vec<DVec3>,
+    /// The region's plane seen along one coordinate axis: every output face of the region must
+    /// have, exactly, the orientation `plane.sign` in the projection along `plane.axis`.
+    plane: Vec<Projection>,
     /// Lowest-numbered input face of every region (to name it).
     first_face: Vec<u32>,
     /// Total input area.
     total_area: f64,
+}
+
+/// A coordinate axis to project along, and the exact orientation (the sign of `orient2d`, see
+/// [`projected_orientation`]) that the region's faces have in that projection; `sign` is 0 only
+/// when the region's largest face is exactly degenerate.
+#[derive(Clone, Copy)]
+struct Projection {
+    axis: usize,
+    sign: i8,
 }
 
 impl Regions {
@@ -930,41 +946,99 @@ impl Regions {
             }
         }
         let mut id = vec![u32::MAX; mesh.triangles.len()];
-        let mut regions = Regions {
-            of_face: vec![0; mesh.triangles.len()],
-            area: Vec::new(),
-            normal: Vec::new(),
-            first_face: Vec::new(),
-            total_area: 0.0,
-        };
-        let mut largest: Vec<f64> = Vec::new();
-        for f in 0..mesh.triangles.len() {
+        let mut of_face = vec![0; mesh.triangles.len()];
+        let mut area: Vec<CompensatedSum> = Vec::new();
+        let mut total_area = CompensatedSum::default();
+        let mut first_face = Vec::new();
+        // The largest face of every region: (its area, its index, its normal).
+        let mut largest: Vec<(f64, u32, DVec3)> = Vec::new();
+        for (f, (region, t)) in of_face.iter_mut().zip(&mesh.triangles).enumerate() {
             let root = sets.find(f as u32) as usize;
             if id[root] == u32::MAX {
-                id[root] = regions.area.len() as u32;
-                regions.area.push(0.0);
-                regions.normal.push(DVec3::ZERO);
-                regions.first_face.push(f as u32);
-                largest.push(-1.0);
+                id[root] = area.len() as u32;
+                area.push(CompensatedSum::default());
+                first_face.push(f as u32);
+                largest.push((-1.0, f as u32, DVec3::ZERO));
             }
             let r = id[root] as usize;
-            regions.of_face[f] = r as u32;
-            let n = face_normal(mesh, &mesh.triangles[f]);
-            let area = 0.5 * n.length();
-            regions.area[r] += area;
-            regions.total_area += area;
-            if area > largest[r] {
-                largest[r] = area;
-                regions.normal[r] = n.normalize_or_zero();
+            *region = r as u32;
+            let n = triangle_normal(corners(mesh, t));
+            let face_area = 0.5 * n.length();
+            area[r].add(face_area);
+            total_area.add(face_area);
+            if face_area > largest[r].0 {
+                largest[r] = (face_area, f as u32, n);
             }
         }
-        regions
+        let normal = largest.iter().map(|&(_, _, n)| n.normalize_or_zero()).collect();
+        let plane = largest
+            .iter()
+            .map(|&(_, f, n)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize]), n))
+            .collect();
+        Regions {
+            of_face,
+            area: area.iter().map(CompensatedSum::value).collect(),
+            normal,
+            plane,
+            first_face,
+            total_area: total_area.value(),
+        }
     }
 
     /// A name for region `r` in failure lines.
     fn name(&self, r: usize) -> String {
         format!("region {} (containing input face {})", r + 1, self.first_face[r] + 1)
     }
+
+    /// The exact orientation of a triangle relative to region `r`: 1 when its projection along
+    /// the region's axis has the region's orientation, -1 when reversed, 0 when that projection
+    /// is degenerate (or the region has no orientation).
+    fn side(&self, r: usize, triangle: [DVec3; 3]) -> i8 {
+        let plane = self.plane[r];
+        plane.sign * projected_orientation(triangle, plane.axis)
+    }
+}
+
+impl Projection {
+    /// The projection for a region whose largest face is `triangle`, of (float) normal `n`: along
+    /// the axis of the largest component of `n` among those whose projection is exactly
+    /// non-degenerate (any non-degenerate projection would do; the largest keeps the projected
+    /// faces as wide as possible for the reader of failure lines, and is exact either way).
+    fn of_face(triangle: [DVec3; 3], n: DVec3) -> Projection {
+        let mut best = Projection { axis: 2, sign: 0 };
+        let mut best_component = -1.0;
+        for axis in 0..3 {
+            let sign = projected_orientation(triangle, axis);
+            let component = n[axis].abs();
+            if sign != 0 && component > best_component {
+                best = Projection { axis, sign };
+                best_component = component;
+            }
+        }
+        best
+    }
+}
+
+/// The sign (-1, 0 or 1), exactly, of the orientation of a triangle projected along coordinate
+/// axis `axis`, i.e. of component `axis` of its exact normal `(b - a) x (c - a)`: the projection
+/// keeps the other two coordinates in cyclic order (y, z), (z, x) or (x, y).
+fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
+    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+    let coord = |p: DVec3| robust::Coord { x: p[i], y: p[j] };
+    let det = robust::orient2d(coord(a), coord(b), coord(c));
+    if det > 0.0 {
+        1
+    } else if det < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Whether a triangle is exactly degenerate (its corners are collinear): all three projections
+/// along the coordinate axes are.
+fn exactly_degenerate(triangle: [DVec3; 3]) -> bool {
+    (0..3).all(|axis| projected_orientation(triangle, axis) == 0)
 }
 
 /// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
@@ -988,10 +1062,89 @@ fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     false
 }
 
-/// The non-normalised normal `(b - a) x (c - a)` of a face (twice its area in length).
-fn face_normal(mesh: &Mesh3, t: &[u32; 3]) -> DVec3 {
-    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
-    (b - a).cross(c - a)
+/// The corners of a face.
+fn corners(mesh: &Mesh3, t: &[u32; 3]) -> [DVec3; 3] {
+    t.map(|v| mesh.positions[v as usize])
+}
+
+/// The normal of a triangle (twice its area in length, oriented by the corner order), accurate
+/// to a few units in the last place of each component whatever the coordinates' magnitude:
+///
+/// * the cross product is taken at the corner opposite the longest edge, so that the two edges
+///   crossed are the two shortest ones: the plain `(b - a) x (c - a)` crosses two long, nearly
+///   parallel edges when `a` is far from a short edge `bc`, and at coordinates near 4e9 with
+///   faces a few units wide loses 3.5e-8 of a region's area to cancellation;
+/// * the edge vectors are computed exactly, as unevaluated sums `hi + lo` (TwoSum), and each
+///   component as a difference of products with fused multiply-adds (Kahan's algorithm) plus the
+///   first-order terms of the `lo` parts, so that even a needle face (whose largest angle is
+///   within 1e-16 of pi) gets a normal of the right direction and length, not 0.
+///
+/// The orientation checks do not rely on it (they are exact, see [`Regions::side`]); the area
+/// and the choice between regions do.
+fn triangle_normal(t: [DVec3; 3]) -> DVec3 {
+    // Squared length of the edge opposite each corner.
+    let l = [0, 1, 2].map(|i| (t[(i + 2) % 3] - t[(i + 1) % 3]).length_squared());
+    let o = if l[0] >= l[1] && l[0] >= l[2] {
+        0
+    } else if l[1] >= l[2] {
+        1
+    } else {
+        2
+    };
+    let (uh, ul) = exact_difference(t[(o + 1) % 3], t[o]);
+    let (vh, vl) = exact_difference(t[(o + 2) % 3], t[o]);
+    // u_i v_j - u_j v_i, with u = uh + ul and v = vh + vl (the ul vl terms are below rounding).
+    let component = |i: usize, j: usize| {
+        let main = difference_of_products(uh[i], vh[j], uh[j], vh[i]);
+        let tails = (uh[i] * vl[j] + ul[i] * vh[j]) - (uh[j] * vl[i] + ul[j] * vh[i]);
+        main + tails
+    };
+    DVec3::new(component(1, 2), component(2, 0), component(0, 1))
+}
+
+/// `p - q` as an unevaluated sum `hi + lo`, exactly per component (Knuth's TwoSum; exact for
+/// every finite input whose difference does not overflow, subnormal ones included).
+fn exact_difference(p: DVec3, q: DVec3) -> (DVec3, DVec3) {
+    let two_diff = |a: f64, b: f64| {
+        let s = a - b;
+        let virtual_b = s - a;
+        let lo = (a - (s - virtual_b)) - (b + virtual_b);
+        (s, lo)
+    };
+    let (x, y, z) = (two_diff(p.x, q.x), two_diff(p.y, q.y), two_diff(p.z, q.z));
+    (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
+}
+
+/// `a b - c d` with one rounding error of each product compensated (Kahan's algorithm with
+/// fused multiply-adds): within 1.5 units in the last place of the exact value.
+fn difference_of_products(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    let cd = c * d;
+    let cd_error = (-c).mul_add(d, cd); // cd - c d, exactly
+    a.mul_add(b, -cd) + cd_error
+}
+
+/// Neumaier's compensated summation: the sum of many areas of very different sizes, accurate
+/// to about one rounding of the result instead of one per term.
+#[derive(Default, Clone, Copy)]
+struct CompensatedSum {
+    sum: f64,
+    compensation: f64,
+}
+
+impl CompensatedSum {
+    fn add(&mut self, x: f64) {
+        let t = self.sum + x;
+        self.compensation += if self.sum.abs() >= x.abs() {
+            (self.sum - t) + x
+        } else {
+            (x - t) + self.sum
+        };
+        self.sum = t;
+    }
+
+    fn value(&self) -> f64 {
+        self.sum + self.compensation
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1275,8 +1428,13 @@ fn can_contain_points((a, b): (DVec3, DVec3)) -> bool {
 // ---------------------------------------------------------------------------------------------
 
 /// Checks rule 3 and returns the output area assigned to every region.
+///
+/// A face goes to one of the regions shared by its three vertices: preferably one in which it is
+/// exactly well oriented, then the one its normal agrees with best. It must be well oriented in
+/// that region, exactly ([`Regions::side`]): a reversed (folded) face, or one whose projection on
+/// the region's plane is degenerate, is a failure.
 fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Vec<f64> {
-    let mut assigned = vec![0.0; regions.area.len()];
+    let mut assigned = vec![CompensatedSum::default(); regions.area.len()];
     let mut common = Vec::new();
     for (f, t) in output.triangles.iter().enumerate() {
         if is_degenerate(t) {
@@ -1291,13 +1449,16 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             rest.iter()
                 .all(|&v| candidates.regions.row(v as usize).binary_search(r).is_ok())
         }));
-        let normal = face_normal(output, t);
-        let best = common.iter().copied().max_by(|&r, &s| {
-            let dr = regions.normal[r as usize].dot(normal);
-            let ds = regions.normal[s as usize].dot(normal);
-            dr.total_cmp(&ds)
-        });
-        let Some(best) = best else {
+        let triangle = corners(output, t);
+        let normal = triangle_normal(triangle);
+        let best = common
+            .iter()
+            .map(|&r| {
+                let r = r as usize;
+                (regions.side(r, triangle), regions.normal[r].dot(normal), r)
+            })
+            .max_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+        let Some((side, _, r)) = best else {
             fail.push(KIND_FACE, || {
                 format!(
                     "output face {} {} does not lie inside one planar region of the input \
@@ -1308,19 +1469,19 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             });
             continue;
         };
-        let r = best as usize;
-        assigned[r] += 0.5 * normal.length();
-        let dot = regions.normal[r].dot(normal);
-        let same_orientation = dot > 0.0; // false for NaN too
-        if !same_orientation {
+        assigned[r].add(0.5 * normal.length());
+        if side <= 0 {
             fail.push(KIND_FACE, || {
-                let what = if normal.length_squared() > 0.0 {
-                    "is reversed or degenerate relative to"
+                let what = if exactly_degenerate(triangle) {
+                    "has zero area (its corners are collinear) in"
+                } else if side == 0 {
+                    "has zero area in the projection on the plane of"
                 } else {
-                    "has zero area in"
+                    "is reversed relative to"
                 };
+                let dot = regions.normal[r].dot(normal.normalize_or_zero());
                 format!(
-                    "output face {} {} {what} {} (normal . region normal = {dot:.3e})",
+                    "output face {} {} {what} {} (unit normal . region normal = {dot:.3e})",
                     f + 1,
                     fmt_face(t),
                     regions.name(r)
@@ -1328,7 +1489,7 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             });
         }
     }
-    assigned
+    assigned.iter().map(CompensatedSum::value).collect()
 }
 
 /// Checks rule 4: every region keeps its area.
@@ -1654,4 +1815,70 @@ fn fmt_point(p: DVec3) -> String {
 /// `(vA, vB, vC)` with 1-based vertex numbers.
 fn fmt_face(t: &[u32; 3]) -> String {
     format!("(v{}, v{}, v{})", t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normals_are_accurate_far_from_the_origin_and_for_needles() {
+        // A right triangle of legs 3 and 4 (area 6), translated by exactly representable
+        // offsets and written from each corner: the normal is always (0, 0, 12) exactly.
+        for offset in [0.0, 4e9, 2f64.powi(50), -7.5e15] {
+            let t = [
+                DVec3::new(offset, offset, 1.0),
+                DVec3::new(offset + 4.0, offset, 1.0),
+                DVec3::new(offset, offset + 3.0, 1.0),
+            ];
+            for k in 0..3 {
+                let rotated = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                assert_eq!(triangle_normal(rotated), DVec3::new(0.0, 0.0, 12.0), "{offset} {k}");
+            }
+        }
+        // A needle of aspect ratio 1e20 whose plain cross product is exactly zero: the normal
+        // points the right way with the right length (1e18 x 1/3 x 0.1 / 1e18 ~ 0.0333).
+        let needle = [
+            DVec3::new(5.534023222112866e18, 0.0, 0.0),
+            DVec3::new(0.2, 1.0 / 3.0, 0.0),
+            DVec3::new(0.1, 1.0 / 3.0, 0.0),
+        ];
+        let plain = (needle[1] - needle[0]).cross(needle[2] - needle[0]);
+        assert_eq!(plain.z, 0.0, "the case must defeat the plain formula");
+        for k in 0..3 {
+            let rotated = [needle[k], needle[(k + 1) % 3], needle[(k + 2) % 3]];
+            let n = triangle_normal(rotated);
+            assert!((n.z - 0.1 / 3.0).abs() < 1e-17 && n.x == 0.0 && n.y == 0.0, "{n:?}");
+            assert_eq!(projected_orientation(rotated, 2), 1);
+            assert!(!exactly_degenerate(rotated));
+        }
+    }
+
+    #[test]
+    fn compensated_sum_keeps_small_terms() {
+        let mut sum = CompensatedSum::default();
+        for x in [1e16, 1.0, 1.0, -1e16, 1e-3] {
+            sum.add(x);
+        }
+        assert_eq!(sum.value(), 2.001);
+        assert_eq!([1e16, 1.0, 1.0, -1e16, 1e-3].iter().sum::<f64>(), 1e-3 + 0.0);
+    }
+
+    #[test]
+    fn projections_follow_the_normal_components() {
+        let t = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 2.0),
+            DVec3::new(0.0, 1.0, 3.0),
+        ];
+        let n = (t[1] - t[0]).cross(t[2] - t[0]); // (-2, -3, 1)
+        for axis in 0..3 {
+            assert_eq!(projected_orientation(t, axis) as f64, n[axis].signum());
+        }
+        let p = Projection::of_face(t, n);
+        assert_eq!((p.axis, p.sign), (1, -1));
+        let collinear = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(2.0, 4.0, 6.0)];
+        assert!(exactly_degenerate(collinear));
+        assert_eq!(Projection::of_face(collinear, DVec3::ZERO).sign, 0);
+    }
 }

@@ -1303,7 +1303,8 @@ fn combination(k: u64) -> Options {
 /// small that the exact predicates underflow (`regression_subnormal_zero_area`,
 /// open), coordinates or edges beyond the supported scale
 /// (`regression_extreme_scale`, fixed: such inputs are refused), faces too
-/// thin for f64 normals (`regression_checker_needle_faces`, open).
+/// thin for f64 normals (`regression_checker_needle_faces`, fixed in the
+/// checker; the tag still marks such inputs in findings).
 fn precision_tag(input: &InputMesh, min_angle: f64) -> &'static str {
     let subnormal = input
         .positions
@@ -1414,8 +1415,6 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
 const KNOWN_BUGS: &[(&str, &str)] = &[
     // regression_subnormal_zero_area
     ("[underflow]", "exact predicates underflow"),
-    // regression_checker_needle_faces
-    ("[beyond f64 precision]", "checker: float normals of needle faces"),
 ];
 
 fn known_bug(finding: &str) -> Option<&'static str> {
@@ -1966,20 +1965,22 @@ fn regression_subnormal_zero_area() {
 }
 
 /// Found by `fuzz_pipeline` (a cube's vertex moved to x = 5.5e18; a box
-/// with one edge shrunk to 3.4e-21). The checker computes face normals in
-/// floating point, `(b - a) x (c - a)` (`face_normal`, src/check.rs), and
-/// requires `normal . region normal > 0`: for a valid needle face whose
-/// aspect ratio exceeds about 1e16 the computed normal is exactly zero, so
-/// the face is reported as "has zero area" (or "reversed or degenerate")
-/// although it is exactly non-degenerate (`geometry::collinear` is false and
-/// `finish` accepted it). `check_meshes(m, m)` fails for the single triangle
+/// with one edge shrunk to 3.4e-21). The checker computed face normals in
+/// floating point as `(b - a) x (c - a)` and required `normal . region
+/// normal > 0`: for a valid needle face whose aspect ratio exceeds about
+/// 1e16 the computed normal was exactly zero, so the face was reported as
+/// "has zero area" (or "reversed or degenerate") although it is exactly
+/// non-degenerate (`geometry::collinear` is false and `finish` accepted it).
+/// `check_meshes(m, m)` failed for the single triangle
 /// (5.534023222112866e18, 0, 0), (0.1, 1/3, 0), (0.2, 1/3, 0); on the box,
-/// make_delaunay's output (1 split, 2 flips) fails the check on the face
-/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). The construction itself
-/// accepts such inputs with its sample constants degenerate (theta_min
-/// computed as 0 gives rho_v = rho_e = 0).
+/// make_delaunay's output (1 split, 2 flips) failed the check on the face
+/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). Fixed in src/check.rs:
+/// the orientation of an output face relative to its region is decided
+/// exactly (orient2d of the projection along the region's main axis), and
+/// normals are computed at the corner opposite the longest edge with exact
+/// edge vectors. (The construction accepts such inputs with its sample
+/// constants degenerate: theta_min computed as 0 gives rho_v = rho_e = 0.)
 #[test]
-#[ignore = "delmesh bug: the checker's float face normals call exactly non-degenerate needle faces zero-area"]
 fn regression_checker_needle_faces() {
     let mut failures = Vec::new();
     let read = |name: &str| io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
@@ -2081,25 +2082,23 @@ fn saved_fuzz_inputs_pass() {
     }
 }
 
-/// Open finding of `fuzz_pipeline` (FUZZ_SEED=20261122, final code of the
-/// first session): a non-planar pentagon with coordinates near 4e9 beside
+/// Found by `fuzz_pipeline` (FUZZ_SEED=20261122, final code of the first
+/// session): a non-planar pentagon with coordinates near 4e9 beside
 /// features of 1e-3, fan-triangulated; with pqueue, score 0, median, `check`
-/// reports region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
+/// reported region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
 /// relative, tolerance 1e-9).
 ///
-/// Triage: the checker is wrong, the construction is right. Summing the
-/// region's triangle areas with the origin of each cross product at the
-/// vertex opposite the longest edge gives 1759805666.7749999 before and
-/// 1759805666.775 after (1.4e-16 relative), and every added vertex lies on
-/// its input edge (distance 0 as computed); the naive `(b - a) x (c - a)`
-/// that the checker's `face_normal` (src/check.rs) uses gives the reported
-/// 3.5e-8 drift (cancellation: coordinates near 4e9, faces a few units
-/// wide). Same root cause as `regression_checker_needle_faces`: taking the
-/// origin at the vertex opposite the longest edge fixes both.
+/// The checker was wrong, the construction right: the checker's
+/// `(b - a) x (c - a)` crossed two long, nearly parallel edges (coordinates
+/// near 4e9, faces a few units wide) and cancelled. Fixed in src/check.rs
+/// (`triangle_normal`: origin at the corner opposite the longest edge, exact
+/// edge vectors; region areas summed with compensation): the areas before
+/// and after now agree to 1e-16. The 18 inputs of that session that failed
+/// the same way are replayed by `saved_fuzz_inputs_pass`
+/// (`fuzz-pipeline-*.bin`).
 #[test]
-#[ignore = "delmesh bug (checker): face areas/normals from (b - a) x (c - a) cancel at coordinates ~4e9"]
 fn regression_pipeline_area_huge_coordinates() {
-    let bytes = std::fs::read(regression_file("open-pipeline-area-huge-coordinates.obj")).unwrap();
+    let bytes = std::fs::read(regression_file("bug-checker-area-huge-coordinates.obj")).unwrap();
     if let Err(e) = target_pipeline(&bytes) {
         panic!("{e}");
     }
