@@ -1024,15 +1024,7 @@ impl Projection {
 /// keeps the other two coordinates in cyclic order (y, z), (z, x) or (x, y).
 fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
     let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
-    let coord = |p: DVec3| robust::Coord { x: p[i], y: p[j] };
-    let det = robust::orient2d(coord(a), coord(b), coord(c));
-    if det > 0.0 {
-        1
-    } else if det < 0.0 {
-        -1
-    } else {
-        0
-    }
+    orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]])
 }
 
 /// Whether a triangle is exactly degenerate (its corners are collinear): all three projections
@@ -1043,23 +1035,230 @@ fn exactly_degenerate(triangle: [DVec3; 3]) -> bool {
 
 /// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
 fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
-    if robust::orient3d(c3(a), c3(b), c3(c), c3(d)) != 0.0 {
+    if orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
-    let projections: [fn(DVec3) -> robust::Coord<f64>; 3] = [
-        |p| robust::Coord { x: p.x, y: p.y },
-        |p| robust::Coord { x: p.y, y: p.z },
-        |p| robust::Coord { x: p.z, y: p.x },
-    ];
-    for proj in projections {
-        let side_c = robust::orient2d(proj(a), proj(b), proj(c));
-        if side_c != 0.0 {
-            let side_d = robust::orient2d(proj(a), proj(b), proj(d));
-            return (side_c > 0.0 && side_d < 0.0) || (side_c < 0.0 && side_d > 0.0);
+    for axis in 0..3 {
+        let side_c = projected_orientation([a, b, c], axis);
+        if side_c != 0 {
+            return side_c == -projected_orientation([a, b, d], axis);
         }
     }
     false
+}
+
+/// The sign (-1, 0 or 1) of `(ax - cx)(by - cy) - (ay - cy)(bx - cx)`, exactly for every finite
+/// input: `robust::orient2d` where it is exact (see [`robust_is_exact`]), on the coordinates of
+/// each axis rescaled by a power of two where that makes it exact ([`rescaled`]), and an exact
+/// expansion of the determinant otherwise ([`exact_determinant_sign`]).
+fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let robust_sign = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+        sign_of(robust::orient2d(coord(a), coord(b), coord(c)))
+    };
+    if robust_is_exact(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
+        return robust_sign(a, b, c);
+    }
+    match (rescaled([a[0], b[0], c[0]]), rescaled([a[1], b[1], c[1]])) {
+        (Some([ax, bx, cx]), Some([ay, by, cy])) => robust_sign([ax, ay], [bx, by], [cx, cy]),
+        // The determinant of the rows (x, y, 1) of a, b, c.
+        _ => exact_determinant_sign([[a[0], a[1], 1.0], [b[0], b[1], 1.0], [c[0], c[1], 1.0]]),
+    }
+}
+
+/// The sign (-1, 0 or 1) of the determinant of the rows `a - d`, `b - d`, `c - d` (that of
+/// `robust::orient3d`), exactly for every finite input, as [`orient2d_sign`].
+fn orient3d_sign(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let robust_sign = |[a, b, c, d]: [DVec3; 4]| {
+        let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+        sign_of(robust::orient3d(coord(a), coord(b), coord(c), coord(d)))
+    };
+    let coordinates = [a.to_array(), b.to_array(), c.to_array(), d.to_array()];
+    if robust_is_exact(coordinates.as_flattened()) {
+        return robust_sign([a, b, c, d]);
+    }
+    match [0, 1, 2].map(|i| rescaled([a[i], b[i], c[i], d[i]])) {
+        [Some(x), Some(y), Some(z)] => robust_sign([0, 1, 2, 3].map(|k| DVec3::new(x[k], y[k], z[k]))),
+        // The determinant of the rows (x, y, z, 1) of a, b, c, d.
+        _ => exact_determinant_sign(coordinates.map(|[x, y, z]| [x, y, z, 1.0])),
+    }
+}
+
+/// The coordinates of one axis (of all the points of a predicate) multiplied by the power of two
+/// that brings the largest magnitude near 2^200, if then [`robust_is_exact`] on them; `None`
+/// otherwise (a non-finite value, or magnitudes too far apart, such as 0.2 and 1e-160).
+///
+/// Both determinants are sums of terms with exactly one coordinate (difference) per axis, so
+/// multiplying one axis by a positive factor keeps their sign. The multiplication is exact: up,
+/// nothing is lost below 2^203; down, a value that loses bits ends below 2^-1022, and then
+/// `robust_is_exact` refuses the result.
+fn rescaled<const N: usize>(values: [f64; N]) -> Option<[f64; N]> {
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !values.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    if largest == 0.0 {
+        return Some(values);
+    }
+    let k = 200 - largest.log2().floor() as i32; // within -824 ..= 1274
+    let (k1, k2) = (k / 2, k - k / 2);
+    let scaled = values.map(|v| v * 2f64.powi(k1) * 2f64.powi(k2));
+    robust_is_exact(&scaled).then_some(scaled)
+}
+
+/// -1, 0 or 1 (0 for NaN).
+fn sign_of(x: f64) -> i8 {
+    (x > 0.0) as i8 - (x < 0.0) as i8
+}
+
+/// Whether Shewchuk's predicates (the `robust` crate) are exact on these coordinates: they are
+/// when no operation underflows or overflows. With every coordinate 0 or of magnitude in
+/// [2^-250, 2^250], coordinates are multiples of 2^-302, and every value either predicate
+/// computes (products of at most three coordinate differences, their sums and exact rounding
+/// errors) is 0 or a multiple of 2^-906 below 2^760: all in the normal range. Outside it, a
+/// coordinate such as 2e-323 makes products round to 0 and calls a valid triangle degenerate.
+fn robust_is_exact(coordinates: &[f64]) -> bool {
+    const LOW: f64 = 5.527147875260445e-76; // 2^-250
+    const HIGH: f64 = 1.8092513943330656e75; // 2^250
+    coordinates.iter().all(|&x| x == 0.0 || (LOW..=HIGH).contains(&x.abs()))
+}
+
+/// The exact sign of the determinant of a 3x3 or 4x4 matrix of finite numbers.
+///
+/// Leibniz expansion: every term, a product of N entries, is computed exactly as an integer
+/// mantissa (at most 4 x 53 bits) times a power of two, and the terms are accumulated in two wide
+/// fixed-point integers (positive and negative terms) whose lowest bit is the smallest power of
+/// two among the terms; their comparison gives the sign. Slow (a few microseconds), only used
+/// where `robust` is not exact. Non-finite entries give the sign of the float expansion.
+fn exact_determinant_sign<const N: usize>(matrix: [[f64; N]; N]) -> i8 {
+    if matrix.iter().flatten().any(|x| !x.is_finite()) {
+        let mut sum = 0.0;
+        for (permutation, odd) in permutations::<N>() {
+            let product: f64 = (0..N).map(|i| matrix[i][permutation[i]]).product();
+            sum += if odd { -product } else { product };
+        }
+        return sign_of(sum);
+    }
+    // (negative, mantissa limbs, exponent) of every non-zero term.
+    let mut terms: Vec<(bool, Vec<u64>, i64)> = Vec::new();
+    for (permutation, odd) in permutations::<N>() {
+        let mut negative = odd;
+        let mut mantissa = vec![1u64];
+        let mut exponent = 0i64;
+        let mut zero = false;
+        for (i, row) in matrix.iter().enumerate() {
+            let (m, e, is_negative) = integer_parts(row[permutation[i]]);
+            zero |= m == 0;
+            negative ^= is_negative;
+            mantissa = multiply_by_word(&mantissa, m);
+            exponent += e;
+        }
+        if !zero {
+            terms.push((negative, mantissa, exponent));
+        }
+    }
+    let Some(lowest) = terms.iter().map(|t| t.2).min() else {
+        return 0;
+    };
+    let (mut positive, mut negative) = (Vec::new(), Vec::new());
+    for (is_negative, mantissa, exponent) in &terms {
+        let sum = if *is_negative { &mut negative } else { &mut positive };
+        add_shifted(sum, mantissa, (exponent - lowest) as usize);
+    }
+    match compare_wide(&positive, &negative) {
+        std::cmp::Ordering::Greater => 1,
+        std::cmp::Ordering::Less => -1,
+        std::cmp::Ordering::Equal => 0,
+    }
+}
+
+/// `x = ±m 2^e` for a finite `x`: `(m, e, x < 0)`, `m` an integer below 2^53 (0 for zeros).
+fn integer_parts(x: f64) -> (u64, i64, bool) {
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7FF) as i64;
+    let fraction = bits & ((1u64 << 52) - 1);
+    let (m, e) = match biased {
+        0 => (fraction, -1074),
+        _ => (fraction | (1u64 << 52), biased - 1075),
+    };
+    (m, e, x < 0.0)
+}
+
+/// The permutations of `0..N` with their parity (true for odd), in lexicographic order.
+fn permutations<const N: usize>() -> Vec<([usize; N], bool)> {
+    let mut out = Vec::new();
+    let mut current = [0usize; N];
+    fn extend<const N: usize>(k: usize, used: u32, current: &mut [usize; N], out: &mut Vec<([usize; N], bool)>) {
+        if k == N {
+            let inversions = (0..N)
+                .flat_map(|i| (i + 1..N).map(move |j| (i, j)))
+                .filter(|&(i, j)| current[i] > current[j])
+                .count();
+            out.push((*current, inversions % 2 == 1));
+            return;
+        }
+        for v in (0..N).filter(|v| used & (1 << v) == 0) {
+            current[k] = v;
+            extend(k + 1, used | (1 << v), current, out);
+        }
+    }
+    extend(0, 0, &mut current, &mut out);
+    out
+}
+
+/// `limbs * m` (little-endian 64-bit limbs).
+fn multiply_by_word(limbs: &[u64], m: u64) -> Vec<u64> {
+    let mut out = Vec::with_capacity(limbs.len() + 1);
+    let mut carry = 0u128;
+    for &x in limbs {
+        let t = x as u128 * m as u128 + carry;
+        out.push(t as u64);
+        carry = t >> 64;
+    }
+    out.push(carry as u64);
+    out
+}
+
+/// `sum += value * 2^shift` (little-endian 64-bit limbs; `sum` grows as needed).
+fn add_shifted(sum: &mut Vec<u64>, value: &[u64], shift: usize) {
+    let (words, bits) = (shift / 64, shift % 64);
+    let needed = words + value.len() + 2;
+    if sum.len() < needed {
+        sum.resize(needed, 0);
+    }
+    let mut carry = 0u128;
+    for i in 0..=value.len() {
+        let low = value.get(i).copied().unwrap_or(0);
+        let high = if i > 0 && bits > 0 {
+            value[i - 1] >> (64 - bits)
+        } else {
+            0
+        };
+        let word = (low << bits) | high;
+        let t = sum[words + i] as u128 + word as u128 + carry;
+        sum[words + i] = t as u64;
+        carry = t >> 64;
+    }
+    let mut k = words + value.len() + 1;
+    while carry != 0 {
+        let t = sum[k] as u128 + carry;
+        sum[k] = t as u64;
+        carry = t >> 64;
+        k += 1;
+        if k == sum.len() && carry != 0 {
+            sum.push(0);
+        }
+    }
+}
+
+/// Compares two little-endian wide integers (of any lengths, high zero limbs allowed).
+fn compare_wide(a: &[u64], b: &[u64]) -> std::cmp::Ordering {
+    let n = a.len().max(b.len());
+    (0..n)
+        .rev()
+        .map(|i| a.get(i).copied().unwrap_or(0).cmp(&b.get(i).copied().unwrap_or(0)))
+        .find(|o| o.is_ne())
+        .unwrap_or(std::cmp::Ordering::Equal)
 }
 
 /// The corners of a face.
@@ -1880,5 +2079,130 @@ mod tests {
         let collinear = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(2.0, 4.0, 6.0)];
         assert!(exactly_degenerate(collinear));
         assert_eq!(Projection::of_face(collinear, DVec3::ZERO).sign, 0);
+    }
+
+    /// A small xorshift generator.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        /// An integer in [-n, n].
+        fn int(&mut self, n: u64) -> f64 {
+            (self.next() % (2 * n + 1)) as f64 - n as f64
+        }
+    }
+
+    #[test]
+    fn exact_range_bounds_are_powers_of_two() {
+        assert!(robust_is_exact(&[0.0, -0.0, 2f64.powi(-250), -2f64.powi(250), 1.0]));
+        assert!(!robust_is_exact(&[2f64.powi(-251)]) && !robust_is_exact(&[2f64.powi(251)]));
+        assert!(!robust_is_exact(&[f64::NAN]) && !robust_is_exact(&[f64::INFINITY]));
+    }
+
+    #[test]
+    fn determinant_expansion_agrees_with_robust() {
+        let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+        let mut zeros = 0;
+        for i in 0..20000 {
+            let scale = if i % 2 == 0 {
+                1.0
+            } else {
+                2f64.powi((rng.next() % 100) as i32 - 50)
+            };
+            let n = if i % 2 == 0 { 3 } else { 1 << 40 };
+            let p = [0; 4].map(|_| DVec3::new(rng.int(n), rng.int(n), rng.int(n)) * scale);
+            let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+            let expected = sign_of(robust::orient3d(coord(p[0]), coord(p[1]), coord(p[2]), coord(p[3])));
+            let rows = p.map(|q| [q.x, q.y, q.z, 1.0]);
+            assert_eq!(exact_determinant_sign(rows), expected, "{p:?}");
+            let c2 = |p: DVec3| robust::Coord { x: p.x, y: p.y };
+            let expected = sign_of(robust::orient2d(c2(p[0]), c2(p[1]), c2(p[2])));
+            let rows = [p[0], p[1], p[2]].map(|q| [q.x, q.y, 1.0]);
+            assert_eq!(exact_determinant_sign(rows), expected, "{p:?}");
+            zeros += (expected == 0) as usize;
+        }
+        assert!(zeros > 500, "{zeros}: degenerate cases must be tested too");
+    }
+
+    #[test]
+    fn orientation_is_exact_on_tiny_and_huge_coordinates() {
+        // Small-integer points decided by robust at scale 1, then every axis scaled by its own
+        // power of two (exactly, down to subnormals or up to 2^1000).
+        let mut rng = Rng(99);
+        let mut robust_wrong = 0;
+        for _ in 0..20000 {
+            let p = [0; 4].map(|_| DVec3::new(rng.int(7), rng.int(7), rng.int(7)));
+            let power = |rng: &mut Rng| 2f64.powi((rng.next() % 2060) as i32 - 1070);
+            let scale = DVec3::new(power(&mut rng), power(&mut rng), power(&mut rng));
+            let q = p.map(|v| v * scale);
+            if q.iter().zip(&p).any(|(s, v)| *s / scale != *v || !s.is_finite()) {
+                continue;
+            }
+            let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+            let expected = sign_of(robust::orient3d(coord(p[0]), coord(p[1]), coord(p[2]), coord(p[3])));
+            assert_eq!(orient3d_sign(q[0], q[1], q[2], q[3]), expected, "{q:?}");
+            robust_wrong +=
+                (sign_of(robust::orient3d(coord(q[0]), coord(q[1]), coord(q[2]), coord(q[3]))) != expected) as usize;
+            assert_eq!(
+                coplanar_and_flat(q[0], q[1], q[2], q[3]),
+                coplanar_and_flat(p[0], p[1], p[2], p[3])
+            );
+            for axis in 0..3 {
+                let t = [q[0], q[1], q[2]];
+                let u = [p[0], p[1], p[2]];
+                assert_eq!(projected_orientation(t, axis), projected_orientation(u, axis));
+            }
+        }
+        assert!(
+            robust_wrong > 1000,
+            "the scaled cases must defeat robust itself ({robust_wrong})"
+        );
+    }
+
+    #[test]
+    fn subnormal_triangle_passes_against_itself() {
+        // The fuzz finding of `regression_subnormal_zero_area`: y = 2e-323 is not 0.
+        let mesh = Mesh3 {
+            positions: vec![DVec3::ZERO, DVec3::new(0.2, 2e-323, 0.0), DVec3::new(0.1, 0.0, 0.0)],
+            triangles: vec![[0, 1, 2]],
+        };
+        let report = check_meshes(&mesh, &mesh);
+        assert!(report.passed(), "{report}");
+        let mut reversed = mesh.clone();
+        reversed.triangles[0] = [0, 2, 1];
+        let report = check_meshes(&mesh, &reversed);
+        assert!(report.failures.iter().any(|l| l.contains("is reversed")), "{report}");
+    }
+
+    #[test]
+    fn wide_spans_within_one_axis_use_the_expansion() {
+        // 0, b and b / 2^600 are collinear; their axes hold values 2^600 apart, which no
+        // rescaling makes exact for robust. One unit in the last place off, they are not.
+        let mut rng = Rng(5);
+        for _ in 0..2000 {
+            let mut any = || rng.int(1 << 50) * 2f64.powi((rng.next() % 40) as i32 - 20);
+            let b = DVec3::new(any(), any(), any());
+            let c = DVec3::new(any(), any(), any());
+            if b.x == 0.0 || b.z == 0.0 {
+                continue;
+            }
+            let sb = b * 2f64.powi(-600);
+            assert_eq!(rescaled([0.0, b.x, sb.x]), None);
+            assert!(exactly_degenerate([DVec3::ZERO, b, sb]), "{b:?}");
+            // Moved one unit in the last place away from 0 along z (by delta, of the sign of z).
+            let off = DVec3::new(sb.x, sb.y, f64::from_bits(sb.z.to_bits() + 1));
+            assert!(!exactly_degenerate([DVec3::ZERO, b, off]), "{b:?}");
+            assert_eq!(orient3d_sign(DVec3::ZERO, b, c, sb), 0, "{b:?} {c:?}");
+            // orient3d(0, b, c, d) = -det(d, b, c), which the move changes by -delta (b x c).z,
+            // whose sign is that of the turn 0, b, c seen along z.
+            let turn = orient2d_sign([0.0, 0.0], [b.x, b.y], [c.x, c.y]);
+            let expected = -turn * sign_of(b.z);
+            assert_eq!(orient3d_sign(DVec3::ZERO, b, c, off), expected, "{b:?} {c:?}");
+        }
     }
 }
