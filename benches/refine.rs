@@ -44,3 +44,28 @@ fn build(bencher: divan::Bencher, name: &str) {
     let input = io::read_obj(&path).expect("readable mesh");
     bencher.bench_local(|| io::build_surface(&input, &path).expect("valid mesh"));
 }
+
+/// The exact predicates as the reader and the build call them: `collinear`
+/// on every input face, `flat_pair` on every interior input edge (the
+/// fast path; no coordinate of these meshes is tiny).
+#[divan::bench(args = ["armadillo.obj", "bunny.obj"], sample_count = 20)]
+fn predicates(bencher: divan::Bencher, name: &str) {
+    use delmesh::geometry::{collinear, flat_pair};
+    use delmesh::mesh::EdgeId;
+    let s = surface(name);
+    let faces: Vec<[glam::DVec3; 3]> = s
+        .triangles()
+        .iter()
+        .map(|t| t.map(|v| s.positions[v as usize]))
+        .collect();
+    let quads: Vec<[glam::DVec3; 4]> = (0..s.topo.n_edges() as u32)
+        .map(EdgeId)
+        .filter(|&e| s.topo.is_interior(e))
+        .map(|e| s.edge_quad(e))
+        .collect();
+    bencher.bench_local(|| {
+        let zero_area = faces.iter().filter(|[a, b, c]| collinear(*a, *b, *c)).count();
+        let flat = quads.iter().filter(|[a, b, c, d]| flat_pair(*a, *b, *c, *d)).count();
+        (zero_area, flat)
+    });
+}

@@ -13,8 +13,12 @@
 //!    spatial hash over pieces of the input edges, so the search is near linear.
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
-//!    orientation.
-//! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]).
+//!    orientation, exactly: its projection along the region's main axis has the orientation of
+//!    the region's faces and non-zero area (an exact `orient2d`, so that a valid needle face is
+//!    never called degenerate and a folded one never passes).
+//! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]). Face areas are
+//!    computed at the corner opposite the longest edge from exact edge vectors, and summed with
+//!    compensation, so that they stay accurate far from the origin and for needle faces.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
@@ -910,10 +914,22 @@ struct Regions {
     area: Vec<f64>,
     /// Unit normal of every region (of its largest face; zero if all its faces have zero area).
     normal: Vec<DVec3>,
+    /// The region's plane seen along one coordinate axis: every output face of the region must
+    /// have, exactly, the orientation `plane.sign` in the projection along `plane.axis`.
+    plane: Vec<Projection>,
     /// Lowest-numbered input face of every region (to name it).
     first_face: Vec<u32>,
     /// Total input area.
     total_area: f64,
+}
+
+/// A coordinate axis to project along, and the exact orientation (the sign of `orient2d`, see
+/// [`projected_orientation`]) that the region's faces have in that projection; `sign` is 0 only
+/// when the region's largest face is exactly degenerate.
+#[derive(Clone, Copy)]
+struct Projection {
+    axis: usize,
+    sign: i8,
 }
 
 impl Regions {
@@ -930,68 +946,404 @@ impl Regions {
             }
         }
         let mut id = vec![u32::MAX; mesh.triangles.len()];
-        let mut regions = Regions {
-            of_face: vec![0; mesh.triangles.len()],
-            area: Vec::new(),
-            normal: Vec::new(),
-            first_face: Vec::new(),
-            total_area: 0.0,
-        };
-        let mut largest: Vec<f64> = Vec::new();
-        for f in 0..mesh.triangles.len() {
+        let mut of_face = vec![0; mesh.triangles.len()];
+        let mut area: Vec<CompensatedSum> = Vec::new();
+        let mut total_area = CompensatedSum::default();
+        let mut first_face = Vec::new();
+        // The largest face of every region: (its area, its index, its normal).
+        let mut largest: Vec<(f64, u32, DVec3)> = Vec::new();
+        for (f, (region, t)) in of_face.iter_mut().zip(&mesh.triangles).enumerate() {
             let root = sets.find(f as u32) as usize;
             if id[root] == u32::MAX {
-                id[root] = regions.area.len() as u32;
-                regions.area.push(0.0);
-                regions.normal.push(DVec3::ZERO);
-                regions.first_face.push(f as u32);
-                largest.push(-1.0);
+                id[root] = area.len() as u32;
+                area.push(CompensatedSum::default());
+                first_face.push(f as u32);
+                largest.push((-1.0, f as u32, DVec3::ZERO));
             }
             let r = id[root] as usize;
-            regions.of_face[f] = r as u32;
-            let n = face_normal(mesh, &mesh.triangles[f]);
-            let area = 0.5 * n.length();
-            regions.area[r] += area;
-            regions.total_area += area;
-            if area > largest[r] {
-                largest[r] = area;
-                regions.normal[r] = n.normalize_or_zero();
+            *region = r as u32;
+            let n = triangle_normal(corners(mesh, t));
+            let face_area = 0.5 * n.length();
+            area[r].add(face_area);
+            total_area.add(face_area);
+            if face_area > largest[r].0 {
+                largest[r] = (face_area, f as u32, n);
             }
         }
-        regions
+        let normal = largest.iter().map(|&(_, _, n)| n.normalize_or_zero()).collect();
+        let plane = largest
+            .iter()
+            .map(|&(_, f, n)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize]), n))
+            .collect();
+        Regions {
+            of_face,
+            area: area.iter().map(CompensatedSum::value).collect(),
+            normal,
+            plane,
+            first_face,
+            total_area: total_area.value(),
+        }
     }
 
     /// A name for region `r` in failure lines.
     fn name(&self, r: usize) -> String {
         format!("region {} (containing input face {})", r + 1, self.first_face[r] + 1)
     }
+
+    /// The exact orientation of a triangle relative to region `r`: 1 when its projection along
+    /// the region's axis has the region's orientation, -1 when reversed, 0 when that projection
+    /// is degenerate (or the region has no orientation).
+    fn side(&self, r: usize, triangle: [DVec3; 3]) -> i8 {
+        let plane = self.plane[r];
+        plane.sign * projected_orientation(triangle, plane.axis)
+    }
+}
+
+impl Projection {
+    /// The projection for a region whose largest face is `triangle`, of (float) normal `n`: along
+    /// the axis of the largest component of `n` among those whose projection is exactly
+    /// non-degenerate (any non-degenerate projection would do; the largest keeps the projected
+    /// faces as wide as possible for the reader of failure lines, and is exact either way).
+    fn of_face(triangle: [DVec3; 3], n: DVec3) -> Projection {
+        let mut best = Projection { axis: 2, sign: 0 };
+        let mut best_component = -1.0;
+        for axis in 0..3 {
+            let sign = projected_orientation(triangle, axis);
+            let component = n[axis].abs();
+            if sign != 0 && component > best_component {
+                best = Projection { axis, sign };
+                best_component = component;
+            }
+        }
+        best
+    }
+}
+
+/// The sign (-1, 0 or 1), exactly, of the orientation of a triangle projected along coordinate
+/// axis `axis`, i.e. of component `axis` of its exact normal `(b - a) x (c - a)`: the projection
+/// keeps the other two coordinates in cyclic order (y, z), (z, x) or (x, y).
+fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
+    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+    orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]])
+}
+
+/// Whether a triangle is exactly degenerate (its corners are collinear): all three projections
+/// along the coordinate axes are.
+fn exactly_degenerate(triangle: [DVec3; 3]) -> bool {
+    (0..3).all(|axis| projected_orientation(triangle, axis) == 0)
 }
 
 /// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
 fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
-    if robust::orient3d(c3(a), c3(b), c3(c), c3(d)) != 0.0 {
+    if orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
-    let projections: [fn(DVec3) -> robust::Coord<f64>; 3] = [
-        |p| robust::Coord { x: p.x, y: p.y },
-        |p| robust::Coord { x: p.y, y: p.z },
-        |p| robust::Coord { x: p.z, y: p.x },
-    ];
-    for proj in projections {
-        let side_c = robust::orient2d(proj(a), proj(b), proj(c));
-        if side_c != 0.0 {
-            let side_d = robust::orient2d(proj(a), proj(b), proj(d));
-            return (side_c > 0.0 && side_d < 0.0) || (side_c < 0.0 && side_d > 0.0);
+    for axis in 0..3 {
+        let side_c = projected_orientation([a, b, c], axis);
+        if side_c != 0 {
+            return side_c == -projected_orientation([a, b, d], axis);
         }
     }
     false
 }
 
-/// The non-normalised normal `(b - a) x (c - a)` of a face (twice its area in length).
-fn face_normal(mesh: &Mesh3, t: &[u32; 3]) -> DVec3 {
-    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
-    (b - a).cross(c - a)
+/// The sign (-1, 0 or 1) of `(ax - cx)(by - cy) - (ay - cy)(bx - cx)`, exactly for every finite
+/// input: `robust::orient2d` where it is exact (see [`robust_is_exact`]), on the coordinates of
+/// each axis rescaled by a power of two where that makes it exact ([`rescaled`]), and an exact
+/// expansion of the determinant otherwise ([`exact_determinant_sign`]).
+fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let robust_sign = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+        sign_of(robust::orient2d(coord(a), coord(b), coord(c)))
+    };
+    if robust_is_exact(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
+        return robust_sign(a, b, c);
+    }
+    match (rescaled([a[0], b[0], c[0]]), rescaled([a[1], b[1], c[1]])) {
+        (Some([ax, bx, cx]), Some([ay, by, cy])) => robust_sign([ax, ay], [bx, by], [cx, cy]),
+        // The determinant of the rows (x, y, 1) of a, b, c.
+        _ => exact_determinant_sign([[a[0], a[1], 1.0], [b[0], b[1], 1.0], [c[0], c[1], 1.0]]),
+    }
+}
+
+/// The sign (-1, 0 or 1) of the determinant of the rows `a - d`, `b - d`, `c - d` (that of
+/// `robust::orient3d`), exactly for every finite input, as [`orient2d_sign`].
+fn orient3d_sign(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let robust_sign = |[a, b, c, d]: [DVec3; 4]| {
+        let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+        sign_of(robust::orient3d(coord(a), coord(b), coord(c), coord(d)))
+    };
+    let coordinates = [a.to_array(), b.to_array(), c.to_array(), d.to_array()];
+    if robust_is_exact(coordinates.as_flattened()) {
+        return robust_sign([a, b, c, d]);
+    }
+    match [0, 1, 2].map(|i| rescaled([a[i], b[i], c[i], d[i]])) {
+        [Some(x), Some(y), Some(z)] => robust_sign([0, 1, 2, 3].map(|k| DVec3::new(x[k], y[k], z[k]))),
+        // The determinant of the rows (x, y, z, 1) of a, b, c, d.
+        _ => exact_determinant_sign(coordinates.map(|[x, y, z]| [x, y, z, 1.0])),
+    }
+}
+
+/// The coordinates of one axis (of all the points of a predicate) multiplied by the power of two
+/// that brings the largest magnitude near 2^200, if then [`robust_is_exact`] on them; `None`
+/// otherwise (a non-finite value, or magnitudes too far apart, such as 0.2 and 1e-160).
+///
+/// Both determinants are sums of terms with exactly one coordinate (difference) per axis, so
+/// multiplying one axis by a positive factor keeps their sign. The multiplication is exact: up,
+/// nothing is lost below 2^203; down, a value that loses bits ends below 2^-1022, and then
+/// `robust_is_exact` refuses the result.
+fn rescaled<const N: usize>(values: [f64; N]) -> Option<[f64; N]> {
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !values.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    if largest == 0.0 {
+        return Some(values);
+    }
+    let k = 200 - largest.log2().floor() as i32; // within -824 ..= 1274
+    let (k1, k2) = (k / 2, k - k / 2);
+    let scaled = values.map(|v| v * 2f64.powi(k1) * 2f64.powi(k2));
+    robust_is_exact(&scaled).then_some(scaled)
+}
+
+/// -1, 0 or 1 (0 for NaN).
+fn sign_of(x: f64) -> i8 {
+    (x > 0.0) as i8 - (x < 0.0) as i8
+}
+
+/// Whether Shewchuk's predicates (the `robust` crate) are exact on these coordinates: they are
+/// when no operation underflows or overflows. With every coordinate 0 or of magnitude in
+/// [2^-250, 2^250], coordinates are multiples of 2^-302, and every value either predicate
+/// computes (products of at most three coordinate differences, their sums and exact rounding
+/// errors) is 0 or a multiple of 2^-906 below 2^760: all in the normal range. Outside it, a
+/// coordinate such as 2e-323 makes products round to 0 and calls a valid triangle degenerate.
+fn robust_is_exact(coordinates: &[f64]) -> bool {
+    const LOW: f64 = 5.527147875260445e-76; // 2^-250
+    const HIGH: f64 = 1.8092513943330656e75; // 2^250
+    coordinates.iter().all(|&x| x == 0.0 || (LOW..=HIGH).contains(&x.abs()))
+}
+
+/// The exact sign of the determinant of a 3x3 or 4x4 matrix of finite numbers.
+///
+/// Leibniz expansion: every term, a product of N entries, is computed exactly as an integer
+/// mantissa (at most 4 x 53 bits) times a power of two, and the terms are accumulated in two wide
+/// fixed-point integers (positive and negative terms) whose lowest bit is the smallest power of
+/// two among the terms; their comparison gives the sign. Slow (a few microseconds), only used
+/// where `robust` is not exact. Non-finite entries give the sign of the float expansion.
+fn exact_determinant_sign<const N: usize>(matrix: [[f64; N]; N]) -> i8 {
+    if matrix.iter().flatten().any(|x| !x.is_finite()) {
+        let mut sum = 0.0;
+        for (permutation, odd) in permutations::<N>() {
+            let product: f64 = (0..N).map(|i| matrix[i][permutation[i]]).product();
+            sum += if odd { -product } else { product };
+        }
+        return sign_of(sum);
+    }
+    // (negative, mantissa limbs, exponent) of every non-zero term.
+    let mut terms: Vec<(bool, Vec<u64>, i64)> = Vec::new();
+    for (permutation, odd) in permutations::<N>() {
+        let mut negative = odd;
+        let mut mantissa = vec![1u64];
+        let mut exponent = 0i64;
+        let mut zero = false;
+        for (i, row) in matrix.iter().enumerate() {
+            let (m, e, is_negative) = integer_parts(row[permutation[i]]);
+            zero |= m == 0;
+            negative ^= is_negative;
+            mantissa = multiply_by_word(&mantissa, m);
+            exponent += e;
+        }
+        if !zero {
+            terms.push((negative, mantissa, exponent));
+        }
+    }
+    let Some(lowest) = terms.iter().map(|t| t.2).min() else {
+        return 0;
+    };
+    let (mut positive, mut negative) = (Vec::new(), Vec::new());
+    for (is_negative, mantissa, exponent) in &terms {
+        let sum = if *is_negative { &mut negative } else { &mut positive };
+        add_shifted(sum, mantissa, (exponent - lowest) as usize);
+    }
+    match compare_wide(&positive, &negative) {
+        std::cmp::Ordering::Greater => 1,
+        std::cmp::Ordering::Less => -1,
+        std::cmp::Ordering::Equal => 0,
+    }
+}
+
+/// `x = ±m 2^e` for a finite `x`: `(m, e, x < 0)`, `m` an integer below 2^53 (0 for zeros).
+fn integer_parts(x: f64) -> (u64, i64, bool) {
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7FF) as i64;
+    let fraction = bits & ((1u64 << 52) - 1);
+    let (m, e) = match biased {
+        0 => (fraction, -1074),
+        _ => (fraction | (1u64 << 52), biased - 1075),
+    };
+    (m, e, x < 0.0)
+}
+
+/// The permutations of `0..N` with their parity (true for odd), in lexicographic order.
+fn permutations<const N: usize>() -> Vec<([usize; N], bool)> {
+    let mut out = Vec::new();
+    let mut current = [0usize; N];
+    fn extend<const N: usize>(k: usize, used: u32, current: &mut [usize; N], out: &mut Vec<([usize; N], bool)>) {
+        if k == N {
+            let inversions = (0..N)
+                .flat_map(|i| (i + 1..N).map(move |j| (i, j)))
+                .filter(|&(i, j)| current[i] > current[j])
+                .count();
+            out.push((*current, inversions % 2 == 1));
+            return;
+        }
+        for v in (0..N).filter(|v| used & (1 << v) == 0) {
+            current[k] = v;
+            extend(k + 1, used | (1 << v), current, out);
+        }
+    }
+    extend(0, 0, &mut current, &mut out);
+    out
+}
+
+/// `limbs * m` (little-endian 64-bit limbs).
+fn multiply_by_word(limbs: &[u64], m: u64) -> Vec<u64> {
+    let mut out = Vec::with_capacity(limbs.len() + 1);
+    let mut carry = 0u128;
+    for &x in limbs {
+        let t = x as u128 * m as u128 + carry;
+        out.push(t as u64);
+        carry = t >> 64;
+    }
+    out.push(carry as u64);
+    out
+}
+
+/// `sum += value * 2^shift` (little-endian 64-bit limbs; `sum` grows as needed).
+fn add_shifted(sum: &mut Vec<u64>, value: &[u64], shift: usize) {
+    let (words, bits) = (shift / 64, shift % 64);
+    let needed = words + value.len() + 2;
+    if sum.len() < needed {
+        sum.resize(needed, 0);
+    }
+    let mut carry = 0u128;
+    for i in 0..=value.len() {
+        let low = value.get(i).copied().unwrap_or(0);
+        let high = if i > 0 && bits > 0 {
+            value[i - 1] >> (64 - bits)
+        } else {
+            0
+        };
+        let word = (low << bits) | high;
+        let t = sum[words + i] as u128 + word as u128 + carry;
+        sum[words + i] = t as u64;
+        carry = t >> 64;
+    }
+    let mut k = words + value.len() + 1;
+    while carry != 0 {
+        let t = sum[k] as u128 + carry;
+        sum[k] = t as u64;
+        carry = t >> 64;
+        k += 1;
+        if k == sum.len() && carry != 0 {
+            sum.push(0);
+        }
+    }
+}
+
+/// Compares two little-endian wide integers (of any lengths, high zero limbs allowed).
+fn compare_wide(a: &[u64], b: &[u64]) -> std::cmp::Ordering {
+    let n = a.len().max(b.len());
+    (0..n)
+        .rev()
+        .map(|i| a.get(i).copied().unwrap_or(0).cmp(&b.get(i).copied().unwrap_or(0)))
+        .find(|o| o.is_ne())
+        .unwrap_or(std::cmp::Ordering::Equal)
+}
+
+/// The corners of a face.
+fn corners(mesh: &Mesh3, t: &[u32; 3]) -> [DVec3; 3] {
+    t.map(|v| mesh.positions[v as usize])
+}
+
+/// The normal of a triangle (twice its area in length, oriented by the corner order), accurate
+/// to a few units in the last place of each component whatever the coordinates' magnitude:
+///
+/// * the cross product is taken at the corner opposite the longest edge, so that the two edges
+///   crossed are the two shortest ones: the plain `(b - a) x (c - a)` crosses two long, nearly
+///   parallel edges when `a` is far from a short edge `bc`, and at coordinates near 4e9 with
+///   faces a few units wide loses 3.5e-8 of a region's area to cancellation;
+/// * the edge vectors are computed exactly, as unevaluated sums `hi + lo` (TwoSum), and each
+///   component as a difference of products with fused multiply-adds (Kahan's algorithm) plus the
+///   first-order terms of the `lo` parts, so that even a needle face (whose largest angle is
+///   within 1e-16 of pi) gets a normal of the right direction and length, not 0.
+///
+/// The orientation checks do not rely on it (they are exact, see [`Regions::side`]); the area
+/// and the choice between regions do.
+fn triangle_normal(t: [DVec3; 3]) -> DVec3 {
+    // Squared length of the edge opposite each corner.
+    let l = [0, 1, 2].map(|i| (t[(i + 2) % 3] - t[(i + 1) % 3]).length_squared());
+    let o = if l[0] >= l[1] && l[0] >= l[2] {
+        0
+    } else if l[1] >= l[2] {
+        1
+    } else {
+        2
+    };
+    let (uh, ul) = exact_difference(t[(o + 1) % 3], t[o]);
+    let (vh, vl) = exact_difference(t[(o + 2) % 3], t[o]);
+    // u_i v_j - u_j v_i, with u = uh + ul and v = vh + vl (the ul vl terms are below rounding).
+    let component = |i: usize, j: usize| {
+        let main = difference_of_products(uh[i], vh[j], uh[j], vh[i]);
+        let tails = (uh[i] * vl[j] + ul[i] * vh[j]) - (uh[j] * vl[i] + ul[j] * vh[i]);
+        main + tails
+    };
+    DVec3::new(component(1, 2), component(2, 0), component(0, 1))
+}
+
+/// `p - q` as an unevaluated sum `hi + lo`, exactly per component (Knuth's TwoSum; exact for
+/// every finite input whose difference does not overflow, subnormal ones included).
+fn exact_difference(p: DVec3, q: DVec3) -> (DVec3, DVec3) {
+    let two_diff = |a: f64, b: f64| {
+        let s = a - b;
+        let virtual_b = s - a;
+        let lo = (a - (s - virtual_b)) - (b + virtual_b);
+        (s, lo)
+    };
+    let (x, y, z) = (two_diff(p.x, q.x), two_diff(p.y, q.y), two_diff(p.z, q.z));
+    (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
+}
+
+/// `a b - c d` with one rounding error of each product compensated (Kahan's algorithm with
+/// fused multiply-adds): within 1.5 units in the last place of the exact value.
+fn difference_of_products(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    let cd = c * d;
+    let cd_error = (-c).mul_add(d, cd); // cd - c d, exactly
+    a.mul_add(b, -cd) + cd_error
+}
+
+/// Neumaier's compensated summation: the sum of many areas of very different sizes, accurate
+/// to about one rounding of the result instead of one per term.
+#[derive(Default, Clone, Copy)]
+struct CompensatedSum {
+    sum: f64,
+    compensation: f64,
+}
+
+impl CompensatedSum {
+    fn add(&mut self, x: f64) {
+        let t = self.sum + x;
+        self.compensation += if self.sum.abs() >= x.abs() {
+            (self.sum - t) + x
+        } else {
+            (x - t) + self.sum
+        };
+        self.sum = t;
+    }
+
+    fn value(&self) -> f64 {
+        self.sum + self.compensation
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1275,8 +1627,13 @@ fn can_contain_points((a, b): (DVec3, DVec3)) -> bool {
 // ---------------------------------------------------------------------------------------------
 
 /// Checks rule 3 and returns the output area assigned to every region.
+///
+/// A face goes to one of the regions shared by its three vertices: preferably one in which it is
+/// exactly well oriented, then the one its normal agrees with best. It must be well oriented in
+/// that region, exactly ([`Regions::side`]): a reversed (folded) face, or one whose projection on
+/// the region's plane is degenerate, is a failure.
 fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Vec<f64> {
-    let mut assigned = vec![0.0; regions.area.len()];
+    let mut assigned = vec![CompensatedSum::default(); regions.area.len()];
     let mut common = Vec::new();
     for (f, t) in output.triangles.iter().enumerate() {
         if is_degenerate(t) {
@@ -1291,13 +1648,16 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             rest.iter()
                 .all(|&v| candidates.regions.row(v as usize).binary_search(r).is_ok())
         }));
-        let normal = face_normal(output, t);
-        let best = common.iter().copied().max_by(|&r, &s| {
-            let dr = regions.normal[r as usize].dot(normal);
-            let ds = regions.normal[s as usize].dot(normal);
-            dr.total_cmp(&ds)
-        });
-        let Some(best) = best else {
+        let triangle = corners(output, t);
+        let normal = triangle_normal(triangle);
+        let best = common
+            .iter()
+            .map(|&r| {
+                let r = r as usize;
+                (regions.side(r, triangle), regions.normal[r].dot(normal), r)
+            })
+            .max_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+        let Some((side, _, r)) = best else {
             fail.push(KIND_FACE, || {
                 format!(
                     "output face {} {} does not lie inside one planar region of the input \
@@ -1308,19 +1668,19 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             });
             continue;
         };
-        let r = best as usize;
-        assigned[r] += 0.5 * normal.length();
-        let dot = regions.normal[r].dot(normal);
-        let same_orientation = dot > 0.0; // false for NaN too
-        if !same_orientation {
+        assigned[r].add(0.5 * normal.length());
+        if side <= 0 {
             fail.push(KIND_FACE, || {
-                let what = if normal.length_squared() > 0.0 {
-                    "is reversed or degenerate relative to"
+                let what = if exactly_degenerate(triangle) {
+                    "has zero area (its corners are collinear) in"
+                } else if side == 0 {
+                    "has zero area in the projection on the plane of"
                 } else {
-                    "has zero area in"
+                    "is reversed relative to"
                 };
+                let dot = regions.normal[r].dot(normal.normalize_or_zero());
                 format!(
-                    "output face {} {} {what} {} (normal . region normal = {dot:.3e})",
+                    "output face {} {} {what} {} (unit normal . region normal = {dot:.3e})",
                     f + 1,
                     fmt_face(t),
                     regions.name(r)
@@ -1328,7 +1688,7 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             });
         }
     }
-    assigned
+    assigned.iter().map(CompensatedSum::value).collect()
 }
 
 /// Checks rule 4: every region keeps its area.
@@ -1654,4 +2014,195 @@ fn fmt_point(p: DVec3) -> String {
 /// `(vA, vB, vC)` with 1-based vertex numbers.
 fn fmt_face(t: &[u32; 3]) -> String {
     format!("(v{}, v{}, v{})", t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normals_are_accurate_far_from_the_origin_and_for_needles() {
+        // A right triangle of legs 3 and 4 (area 6), translated by exactly representable
+        // offsets and written from each corner: the normal is always (0, 0, 12) exactly.
+        for offset in [0.0, 4e9, 2f64.powi(50), -7.5e15] {
+            let t = [
+                DVec3::new(offset, offset, 1.0),
+                DVec3::new(offset + 4.0, offset, 1.0),
+                DVec3::new(offset, offset + 3.0, 1.0),
+            ];
+            for k in 0..3 {
+                let rotated = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                assert_eq!(triangle_normal(rotated), DVec3::new(0.0, 0.0, 12.0), "{offset} {k}");
+            }
+        }
+        // A needle of aspect ratio 1e20 whose plain cross product is exactly zero: the normal
+        // points the right way with the right length (1e18 x 1/3 x 0.1 / 1e18 ~ 0.0333).
+        let needle = [
+            DVec3::new(5.534023222112866e18, 0.0, 0.0),
+            DVec3::new(0.2, 1.0 / 3.0, 0.0),
+            DVec3::new(0.1, 1.0 / 3.0, 0.0),
+        ];
+        let plain = (needle[1] - needle[0]).cross(needle[2] - needle[0]);
+        assert_eq!(plain.z, 0.0, "the case must defeat the plain formula");
+        for k in 0..3 {
+            let rotated = [needle[k], needle[(k + 1) % 3], needle[(k + 2) % 3]];
+            let n = triangle_normal(rotated);
+            assert!((n.z - 0.1 / 3.0).abs() < 1e-17 && n.x == 0.0 && n.y == 0.0, "{n:?}");
+            assert_eq!(projected_orientation(rotated, 2), 1);
+            assert!(!exactly_degenerate(rotated));
+        }
+    }
+
+    #[test]
+    fn compensated_sum_keeps_small_terms() {
+        let mut sum = CompensatedSum::default();
+        for x in [1e16, 1.0, 1.0, -1e16, 1e-3] {
+            sum.add(x);
+        }
+        assert_eq!(sum.value(), 2.001);
+        assert_eq!([1e16, 1.0, 1.0, -1e16, 1e-3].iter().sum::<f64>(), 1e-3 + 0.0);
+    }
+
+    #[test]
+    fn projections_follow_the_normal_components() {
+        let t = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 2.0),
+            DVec3::new(0.0, 1.0, 3.0),
+        ];
+        let n = (t[1] - t[0]).cross(t[2] - t[0]); // (-2, -3, 1)
+        for axis in 0..3 {
+            assert_eq!(projected_orientation(t, axis) as f64, n[axis].signum());
+        }
+        let p = Projection::of_face(t, n);
+        assert_eq!((p.axis, p.sign), (1, -1));
+        let collinear = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(2.0, 4.0, 6.0)];
+        assert!(exactly_degenerate(collinear));
+        assert_eq!(Projection::of_face(collinear, DVec3::ZERO).sign, 0);
+    }
+
+    /// A small xorshift generator.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        /// An integer in [-n, n].
+        fn int(&mut self, n: u64) -> f64 {
+            (self.next() % (2 * n + 1)) as f64 - n as f64
+        }
+    }
+
+    #[test]
+    fn exact_range_bounds_are_powers_of_two() {
+        assert!(robust_is_exact(&[0.0, -0.0, 2f64.powi(-250), -2f64.powi(250), 1.0]));
+        assert!(!robust_is_exact(&[2f64.powi(-251)]) && !robust_is_exact(&[2f64.powi(251)]));
+        assert!(!robust_is_exact(&[f64::NAN]) && !robust_is_exact(&[f64::INFINITY]));
+    }
+
+    #[test]
+    fn determinant_expansion_agrees_with_robust() {
+        let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+        let mut zeros = 0;
+        for i in 0..20000 {
+            let scale = if i % 2 == 0 {
+                1.0
+            } else {
+                2f64.powi((rng.next() % 100) as i32 - 50)
+            };
+            let n = if i % 2 == 0 { 3 } else { 1 << 40 };
+            let p = [0; 4].map(|_| DVec3::new(rng.int(n), rng.int(n), rng.int(n)) * scale);
+            let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+            let expected = sign_of(robust::orient3d(coord(p[0]), coord(p[1]), coord(p[2]), coord(p[3])));
+            let rows = p.map(|q| [q.x, q.y, q.z, 1.0]);
+            assert_eq!(exact_determinant_sign(rows), expected, "{p:?}");
+            let c2 = |p: DVec3| robust::Coord { x: p.x, y: p.y };
+            let expected = sign_of(robust::orient2d(c2(p[0]), c2(p[1]), c2(p[2])));
+            let rows = [p[0], p[1], p[2]].map(|q| [q.x, q.y, 1.0]);
+            assert_eq!(exact_determinant_sign(rows), expected, "{p:?}");
+            zeros += (expected == 0) as usize;
+        }
+        assert!(zeros > 500, "{zeros}: degenerate cases must be tested too");
+    }
+
+    #[test]
+    fn orientation_is_exact_on_tiny_and_huge_coordinates() {
+        // Small-integer points decided by robust at scale 1, then every axis scaled by its own
+        // power of two (exactly, down to subnormals or up to 2^1000).
+        let mut rng = Rng(99);
+        let mut robust_wrong = 0;
+        for _ in 0..20000 {
+            let p = [0; 4].map(|_| DVec3::new(rng.int(7), rng.int(7), rng.int(7)));
+            let power = |rng: &mut Rng| 2f64.powi((rng.next() % 2060) as i32 - 1070);
+            let scale = DVec3::new(power(&mut rng), power(&mut rng), power(&mut rng));
+            let q = p.map(|v| v * scale);
+            if q.iter().zip(&p).any(|(s, v)| *s / scale != *v || !s.is_finite()) {
+                continue;
+            }
+            let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+            let expected = sign_of(robust::orient3d(coord(p[0]), coord(p[1]), coord(p[2]), coord(p[3])));
+            assert_eq!(orient3d_sign(q[0], q[1], q[2], q[3]), expected, "{q:?}");
+            robust_wrong +=
+                (sign_of(robust::orient3d(coord(q[0]), coord(q[1]), coord(q[2]), coord(q[3]))) != expected) as usize;
+            assert_eq!(
+                coplanar_and_flat(q[0], q[1], q[2], q[3]),
+                coplanar_and_flat(p[0], p[1], p[2], p[3])
+            );
+            for axis in 0..3 {
+                let t = [q[0], q[1], q[2]];
+                let u = [p[0], p[1], p[2]];
+                assert_eq!(projected_orientation(t, axis), projected_orientation(u, axis));
+            }
+        }
+        assert!(
+            robust_wrong > 1000,
+            "the scaled cases must defeat robust itself ({robust_wrong})"
+        );
+    }
+
+    #[test]
+    fn subnormal_triangle_passes_against_itself() {
+        // The fuzz finding of `regression_subnormal_zero_area`: y = 2e-323 is not 0.
+        let mesh = Mesh3 {
+            positions: vec![DVec3::ZERO, DVec3::new(0.2, 2e-323, 0.0), DVec3::new(0.1, 0.0, 0.0)],
+            triangles: vec![[0, 1, 2]],
+        };
+        let report = check_meshes(&mesh, &mesh);
+        assert!(report.passed(), "{report}");
+        let mut reversed = mesh.clone();
+        reversed.triangles[0] = [0, 2, 1];
+        let report = check_meshes(&mesh, &reversed);
+        assert!(report.failures.iter().any(|l| l.contains("is reversed")), "{report}");
+    }
+
+    #[test]
+    fn wide_spans_within_one_axis_use_the_expansion() {
+        // 0, b and b / 2^600 are collinear; their axes hold values 2^600 apart, which no
+        // rescaling makes exact for robust. One unit in the last place off, they are not.
+        let mut rng = Rng(5);
+        for _ in 0..2000 {
+            let mut any = || rng.int(1 << 50) * 2f64.powi((rng.next() % 40) as i32 - 20);
+            let b = DVec3::new(any(), any(), any());
+            let c = DVec3::new(any(), any(), any());
+            if b.x == 0.0 || b.z == 0.0 {
+                continue;
+            }
+            let sb = b * 2f64.powi(-600);
+            assert_eq!(rescaled([0.0, b.x, sb.x]), None);
+            assert!(exactly_degenerate([DVec3::ZERO, b, sb]), "{b:?}");
+            // Moved one unit in the last place away from 0 along z (by delta, of the sign of z).
+            let off = DVec3::new(sb.x, sb.y, f64::from_bits(sb.z.to_bits() + 1));
+            assert!(!exactly_degenerate([DVec3::ZERO, b, off]), "{b:?}");
+            assert_eq!(orient3d_sign(DVec3::ZERO, b, c, sb), 0, "{b:?} {c:?}");
+            // orient3d(0, b, c, d) = -det(d, b, c), which the move changes by -delta (b x c).z,
+            // whose sign is that of the turn 0, b, c seen along z.
+            let turn = orient2d_sign([0.0, 0.0], [b.x, b.y], [c.x, c.y]);
+            let expected = -turn * sign_of(b.z);
+            assert_eq!(orient3d_sign(DVec3::ZERO, b, c, off), expected, "{b:?} {c:?}");
+        }
+    }
 }

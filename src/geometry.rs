@@ -141,43 +141,432 @@ pub fn second_axis_crossing(anchor: f64, p: DVec2, q: DVec2) -> f64 {
     anchor + 2.0 * ox
 }
 
-/// Exact test: are the points collinear (the triangle has zero area)?
+/// The exact predicates below call `robust` (Shewchuk's adaptive predicates)
+/// when every coordinate involved is 0 or has a magnitude in
+/// [`FAST_MIN`, `FAST_MAX`]; otherwise on coordinates scaled into that range
+/// by a power of two per axis (`scale_axis`) when the values of each axis
+/// span at most 2^498, and in exact integer arithmetic ([`exact`]) when not.
+///
+/// Shewchuk's predicates are exact only when no operation underflows or
+/// overflows: a coordinate of 2e-323 makes `orient2d`'s products round to 0
+/// and calls a non-degenerate triangle collinear. Within the range, every
+/// non-zero coordinate is a multiple of 2^-302 (its unit in the last place)
+/// below 2^250, so every value the predicates compute (sums and products of
+/// at most three coordinate differences, and their exact rounding errors) is
+/// 0 or a multiple of 2^-906 below 2^760: inside the normal range of f64,
+/// where they are exact. The range contains every coordinate of a mesh that
+/// `io` accepts ([`crate::io::MAX_COORDINATE`] is 1e75 < 2^250) except
+/// non-zero ones below 2^-250 (about 5.5e-76), which are rare (noise such as
+/// 1e-300 in a file): those take the slower paths.
+pub const FAST_MIN: f64 = f64::from_bits((1023 - 250) << 52);
+
+/// See [`FAST_MIN`]: 2^250, about 1.8e75.
+pub const FAST_MAX: f64 = f64::from_bits((1023 + 250) << 52);
+
+/// Whether `robust`'s predicates are exact on coordinates `coords` (see
+/// [`FAST_MIN`]): each is ±0 or has a magnitude in [`FAST_MIN`,
+/// [`FAST_MAX`]] (NaN and infinities are not).
+///
+/// On the hot path of building regions: the magnitudes are compared as bit
+/// patterns (monotone for non-negative floats), without branches, two
+/// integer comparisons per coordinate; `x - 1 < FAST_MIN - 1` holds exactly
+/// for `0 < x < FAST_MIN`, as `0 - 1` wraps around.
+#[inline]
+fn fast_range(coords: &[f64]) -> bool {
+    const LOW: u64 = FAST_MIN.to_bits();
+    const HIGH: u64 = FAST_MAX.to_bits();
+    let mut outside = false;
+    for &c in coords {
+        let magnitude = c.to_bits() & !(1 << 63);
+        outside |= (magnitude.wrapping_sub(1) < LOW - 1) | (magnitude > HIGH);
+    }
+    !outside
+}
+
+/// The sign of `robust::orient2d(a, b, c)`: 1 when (a, b, c) turn
+/// counter-clockwise, -1 clockwise, 0 when collinear; exact for every finite
+/// input.
+fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    if fast_range(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
+        robust_orient2d_sign(a, b, c)
+    } else {
+        orient2d_slow(a, b, c)
+    }
+}
+
+/// [`orient2d_sign`] outside the fast range: each axis scaled into it by
+/// [`scale_axis`] if possible, exact integer arithmetic otherwise.
+#[cold]
+#[inline(never)]
+fn orient2d_slow(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    match (scale_axis([a[0], b[0], c[0]]), scale_axis([a[1], b[1], c[1]])) {
+        (Some([ax, bx, cx]), Some([ay, by, cy])) => robust_orient2d_sign([ax, ay], [bx, by], [cx, cy]),
+        _ => exact::orient2d(a, b, c),
+    }
+}
+
+/// The sign of `robust::orient3d(a, b, c, d)` (positive when `d` is below
+/// the plane of the counter-clockwise triangle a, b, c), exact for every
+/// finite input.
+fn orient3d_sign(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    if fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
+        robust_orient3d_sign(a, b, c, d)
+    } else {
+        orient3d_slow(a, b, c, d)
+    }
+}
+
+/// [`orient3d_sign`] outside the fast range, as [`orient2d_slow`].
+#[cold]
+#[inline(never)]
+fn orient3d_slow(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let scaled = [0, 1, 2].map(|i| scale_axis([a[i], b[i], c[i], d[i]]));
+    match scaled {
+        [Some(x), Some(y), Some(z)] => {
+            let point = |k: usize| DVec3::new(x[k], y[k], z[k]);
+            robust_orient3d_sign(point(0), point(1), point(2), point(3))
+        }
+        _ => exact::orient3d(a.to_array(), b.to_array(), c.to_array(), d.to_array()),
+    }
+}
+
+/// The coordinates of all points on one axis, multiplied by one power of
+/// two that brings every non-zero one into the fast range, or `None` when
+/// that is impossible (their magnitudes span more than 2^498, or one is not
+/// finite).
+///
+/// The sign of both determinants is unchanged: each of their terms has
+/// exactly one coordinate difference per axis, so scaling one axis by
+/// `s > 0` scales the determinant by `s`. The scaling is exact: by at most
+/// two powers of two, up from any value (no overflow: the result is below
+/// 2^250) or down into the normal range.
+fn scale_axis<const N: usize>(values: [f64; N]) -> Option<[f64; N]> {
+    let (mut lowest, mut highest) = (i32::MAX, i32::MIN);
+    for v in values {
+        if !v.is_finite() {
+            return None;
+        }
+        if v != 0.0 {
+            let e = floor_log2(v);
+            lowest = lowest.min(e);
+            highest = highest.max(e);
+        }
+    }
+    if lowest > highest {
+        return Some(values); // all zero
+    }
+    if highest - lowest > 498 {
+        return None;
+    }
+    // The smallest becomes at least 2^-250, the largest below 2^249.
+    let k = -250 - lowest;
+    let (first, second) = (power_of_two(k / 2), power_of_two(k - k / 2));
+    Some(values.map(|v| v * first * second))
+}
+
+/// `floor(log2(|v|))` of a finite, non-zero `v` (subnormals included).
+fn floor_log2(v: f64) -> i32 {
+    let bits = v.to_bits();
+    match ((bits >> 52) & 0x7ff) as i32 {
+        0 => -1074 + 63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32,
+        biased => biased - 1023,
+    }
+}
+
+/// `2^n` for `-1022 <= n <= 1023`.
+fn power_of_two(n: i32) -> f64 {
+    f64::from_bits(((n + 1023) as u64) << 52)
+}
+
+/// The sign of `robust::orient3d(a, b, c, d)`, exact only in the fast range.
+#[inline(always)]
+fn robust_orient3d_sign(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+    sign(robust::orient3d(coord(a), coord(b), coord(c), coord(d)))
+}
+
+/// The sign of `robust::orient2d(a, b, c)`, exact only in the fast range.
+#[inline(always)]
+fn robust_orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+    sign(robust::orient2d(coord(a), coord(b), coord(c)))
+}
+
+/// -1, 0 or 1 (0 for NaN too).
+#[inline]
+fn sign(x: f64) -> i8 {
+    (x > 0.0) as i8 - (x < 0.0) as i8
+}
+
+/// The three projections on coordinate planes used by the predicates: (x,
+/// y), (y, z) and (z, x).
+const PLANES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+/// Exact test: are the points collinear (the triangle has zero area)? Exact
+/// for every finite input, subnormal coordinates included.
 pub fn collinear(a: DVec3, b: DVec3, c: DVec3) -> bool {
-    let o = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
-        robust::orient2d(
-            robust::Coord { x: a[0], y: a[1] },
-            robust::Coord { x: b[0], y: b[1] },
-            robust::Coord { x: c[0], y: c[1] },
-        )
-    };
-    o([a.x, a.y], [b.x, b.y], [c.x, c.y]) == 0.0
-        && o([a.y, a.z], [b.y, b.z], [c.y, c.z]) == 0.0
-        && o([a.z, a.x], [b.z, b.x], [c.z, c.x]) == 0.0
+    if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]) {
+        return collinear_slow(a, b, c);
+    }
+    PLANES
+        .iter()
+        .all(|&(i, j)| robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == 0)
+}
+
+/// [`collinear`] outside the fast range.
+#[cold]
+#[inline(never)]
+fn collinear_slow(a: DVec3, b: DVec3, c: DVec3) -> bool {
+    PLANES
+        .iter()
+        .all(|&(i, j)| orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == 0)
 }
 
 /// Exact test: do the triangles (a, b, c) and (b, a, d), which share the edge
 /// (a, b), lie in one plane and on opposite sides of the edge (a flat, not
-/// folded, pair)? Both triangles must be non-degenerate.
+/// folded, pair)? Both triangles must be non-degenerate. Exact for every
+/// finite input, subnormal coordinates included.
 pub fn flat_pair(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
-    if robust::orient3d(c3(a), c3(b), c3(c), c3(d)) != 0.0 {
+    if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
+        return flat_pair_slow(a, b, c, d);
+    }
+    if robust_orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
     // Coplanar: project on a coordinate plane where (a, b, c) does not
     // degenerate; sides of the line ab are preserved by that projection.
-    let projections: [fn(DVec3) -> robust::Coord<f64>; 3] = [
-        |p| robust::Coord { x: p.x, y: p.y },
-        |p| robust::Coord { x: p.y, y: p.z },
-        |p| robust::Coord { x: p.z, y: p.x },
-    ];
-    for proj in projections {
-        let sc = robust::orient2d(proj(a), proj(b), proj(c));
-        if sc != 0.0 {
-            let sd = robust::orient2d(proj(a), proj(b), proj(d));
-            return sc * sd < 0.0;
+    for (i, j) in PLANES {
+        let sc = robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
+        if sc != 0 {
+            let sd = robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [d[i], d[j]]);
+            return sc * sd < 0;
         }
     }
     false
+}
+
+/// [`flat_pair`] outside the fast range (same steps, exact signs).
+#[cold]
+#[inline(never)]
+fn flat_pair_slow(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    if orient3d_sign(a, b, c, d) != 0 {
+        return false;
+    }
+    for (i, j) in PLANES {
+        let sc = orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
+        if sc != 0 {
+            let sd = orient2d_sign([a[i], a[j]], [b[i], b[j]], [d[i], d[j]]);
+            return sc * sd < 0;
+        }
+    }
+    false
+}
+
+/// Exact orientation predicates in integer arithmetic, for coordinates
+/// outside the range where `robust` is exact (see [`FAST_MIN`]).
+///
+/// Every finite f64 is `m · 2^e` with an integer `m` and `e >= -1074`. Both
+/// determinants are sums of products taking one coordinate difference per
+/// axis (one x, one y, one z), so each axis can be scaled on its own: its
+/// coordinates are written as integers times `2^q`, `q` the smallest
+/// exponent on that axis, and the sign of the determinant of those integers
+/// (at most about 2,100 bits each, 6,300 for a product) is the answer. Slow
+/// (microseconds) but only taken when the coordinates of one axis span more
+/// than 2^498 (say 0.2 and 1e-160 in one predicate).
+pub mod exact {
+    use std::cmp::Ordering;
+
+    /// A signed integer of any size: sign and magnitude (little-endian
+    /// 64-bit limbs without high zero limbs; zero is empty and not negative).
+    #[derive(Clone, Debug, PartialEq, Eq)]
+    struct Int {
+        negative: bool,
+        limbs: Vec<u64>,
+    }
+
+    impl Int {
+        /// `±m · 2^shift`.
+        fn scaled(negative: bool, m: u64, shift: u32) -> Int {
+            let mut limbs = vec![0; (shift / 64) as usize];
+            let wide = (m as u128) << (shift % 64);
+            limbs.push(wide as u64);
+            limbs.push((wide >> 64) as u64);
+            Int { negative, limbs }.normalized()
+        }
+
+        fn normalized(mut self) -> Int {
+            while self.limbs.last() == Some(&0) {
+                self.limbs.pop();
+            }
+            if self.limbs.is_empty() {
+                self.negative = false;
+            }
+            self
+        }
+
+        fn negated(&self) -> Int {
+            Int {
+                negative: !self.negative,
+                limbs: self.limbs.clone(),
+            }
+            .normalized()
+        }
+
+        fn add(&self, other: &Int) -> Int {
+            if self.negative == other.negative {
+                return Int {
+                    negative: self.negative,
+                    limbs: add_magnitudes(&self.limbs, &other.limbs),
+                }
+                .normalized();
+            }
+            match compare_magnitudes(&self.limbs, &other.limbs) {
+                Ordering::Less => Int {
+                    negative: other.negative,
+                    limbs: subtract_magnitudes(&other.limbs, &self.limbs),
+                },
+                _ => Int {
+                    negative: self.negative,
+                    limbs: subtract_magnitudes(&self.limbs, &other.limbs),
+                },
+            }
+            .normalized()
+        }
+
+        fn sub(&self, other: &Int) -> Int {
+            self.add(&other.negated())
+        }
+
+        fn mul(&self, other: &Int) -> Int {
+            let mut limbs = vec![0u64; self.limbs.len() + other.limbs.len()];
+            for (i, &x) in self.limbs.iter().enumerate() {
+                let mut carry = 0u128;
+                for (j, &y) in other.limbs.iter().enumerate() {
+                    let t = limbs[i + j] as u128 + x as u128 * y as u128 + carry;
+                    limbs[i + j] = t as u64;
+                    carry = t >> 64;
+                }
+                limbs[i + other.limbs.len()] = carry as u64;
+            }
+            Int {
+                negative: self.negative != other.negative,
+                limbs,
+            }
+            .normalized()
+        }
+
+        fn signum(&self) -> i8 {
+            match (self.limbs.is_empty(), self.negative) {
+                (true, _) => 0,
+                (false, true) => -1,
+                (false, false) => 1,
+            }
+        }
+    }
+
+    fn compare_magnitudes(a: &[u64], b: &[u64]) -> Ordering {
+        a.len().cmp(&b.len()).then_with(|| a.iter().rev().cmp(b.iter().rev()))
+    }
+
+    fn add_magnitudes(a: &[u64], b: &[u64]) -> Vec<u64> {
+        let (long, short) = if a.len() >= b.len() { (a, b) } else { (b, a) };
+        let mut out = Vec::with_capacity(long.len() + 1);
+        let mut carry = 0u128;
+        for (i, &x) in long.iter().enumerate() {
+            let t = x as u128 + short.get(i).copied().unwrap_or(0) as u128 + carry;
+            out.push(t as u64);
+            carry = t >> 64;
+        }
+        out.push(carry as u64);
+        out
+    }
+
+    /// `a - b` for `a >= b`.
+    fn subtract_magnitudes(a: &[u64], b: &[u64]) -> Vec<u64> {
+        let mut out = Vec::with_capacity(a.len());
+        let mut borrow = false;
+        for (i, &x) in a.iter().enumerate() {
+            let (t, b1) = x.overflowing_sub(b.get(i).copied().unwrap_or(0));
+            let (t, b2) = t.overflowing_sub(borrow as u64);
+            out.push(t);
+            borrow = b1 || b2;
+        }
+        out
+    }
+
+    /// `x = ±m · 2^e` with `m` odd (or `m = 0`), for a finite `x`.
+    fn decompose(x: f64) -> (bool, u64, i32) {
+        let bits = x.to_bits();
+        let negative = bits >> 63 == 1;
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let fraction = bits & ((1 << 52) - 1);
+        let (m, e) = if biased == 0 {
+            (fraction, -1074)
+        } else {
+            (fraction | 1 << 52, biased - 1075)
+        };
+        if m == 0 {
+            return (false, 0, 0);
+        }
+        let zeros = m.trailing_zeros();
+        (negative, m >> zeros, e + zeros as i32)
+    }
+
+    /// The values of one axis as integers `v / 2^q`, with `q` the smallest
+    /// exponent among them (all exact).
+    fn axis<const N: usize>(values: [f64; N]) -> [Int; N] {
+        let parts = values.map(decompose);
+        let q = parts.iter().filter(|p| p.1 != 0).map(|p| p.2).min().unwrap_or(0);
+        parts.map(|(negative, m, e)| match m {
+            0 => Int::scaled(false, 0, 0),
+            _ => Int::scaled(negative, m, (e - q) as u32),
+        })
+    }
+
+    /// Whether all coordinates are finite (the integer path needs them; on
+    /// other input the predicates answer as `robust` does).
+    fn finite(points: &[&[f64]]) -> bool {
+        points.iter().all(|p| p.iter().all(|c| c.is_finite()))
+    }
+
+    /// The exact sign of `(ax - cx)(by - cy) - (ay - cy)(bx - cx)` (the sign
+    /// of `robust::orient2d`) for any finite coordinates.
+    pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+        if !finite(&[&a, &b, &c]) {
+            let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+            return super::sign(robust::orient2d(coord(a), coord(b), coord(c)));
+        }
+        let [ax, bx, cx] = axis([a[0], b[0], c[0]]);
+        let [ay, by, cy] = axis([a[1], b[1], c[1]]);
+        let left = ax.sub(&cx).mul(&by.sub(&cy));
+        let right = ay.sub(&cy).mul(&bx.sub(&cx));
+        left.sub(&right).signum()
+    }
+
+    /// The exact sign of the determinant of the rows `a - d`, `b - d`,
+    /// `c - d` (the sign of `robust::orient3d`) for any finite coordinates.
+    pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> i8 {
+        if !finite(&[&a, &b, &c, &d]) {
+            let coord = |p: [f64; 3]| robust::Coord3D {
+                x: p[0],
+                y: p[1],
+                z: p[2],
+            };
+            return super::sign(robust::orient3d(coord(a), coord(b), coord(c), coord(d)));
+        }
+        let [ax, bx, cx, dx] = axis([a[0], b[0], c[0], d[0]]);
+        let [ay, by, cy, dy] = axis([a[1], b[1], c[1], d[1]]);
+        let [az, bz, cz, dz] = axis([a[2], b[2], c[2], d[2]]);
+        let (adx, bdx, cdx) = (ax.sub(&dx), bx.sub(&dx), cx.sub(&dx));
+        let (ady, bdy, cdy) = (ay.sub(&dy), by.sub(&dy), cy.sub(&dy));
+        let (adz, bdz, cdz) = (az.sub(&dz), bz.sub(&dz), cz.sub(&dz));
+        let minor = |p: &Int, q: &Int, r: &Int, s: &Int| p.mul(q).sub(&r.mul(s));
+        let det = adx
+            .mul(&minor(&bdy, &cdz, &bdz, &cdy))
+            .add(&bdx.mul(&minor(&cdy, &adz, &cdz, &ady)))
+            .add(&cdx.mul(&minor(&ady, &bdz, &adz, &bdy)));
+        det.signum()
+    }
 }
 
 #[cfg(test)]
@@ -318,5 +707,212 @@ mod tests {
         assert!(!flat_pair(a, b, c, DVec3::new(2.0, 0.0, 0.0)));
         // Out of plane.
         assert!(!flat_pair(a, b, c, DVec3::new(0.0, 1.0, 1e-300)));
+    }
+
+    /// A small xorshift generator for the predicate tests.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        /// An integer in [-n, n].
+        fn int(&mut self, n: i64) -> f64 {
+            (self.next() % (2 * n as u64 + 1)) as i64 as f64 - n as f64
+        }
+        fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+    }
+
+    fn robust2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+        let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+        sign(robust::orient2d(coord(a), coord(b), coord(c)))
+    }
+
+    fn robust3(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+        let coord = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+        sign(robust::orient3d(coord(a), coord(b), coord(c), coord(d)))
+    }
+
+    #[test]
+    fn integer_predicates_agree_with_robust_in_its_exact_range() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let mut zeros = [0, 0];
+        for i in 0..20000 {
+            // Small integers (many exact zeros), or random doubles of mixed sizes, or points
+            // rounded onto a line or a plane (nearly degenerate, decided in robust's later stages).
+            let mut p = [DVec3::ZERO; 4];
+            for q in p.iter_mut() {
+                *q = match i % 3 {
+                    0 => DVec3::new(rng.int(3), rng.int(3), rng.int(3)),
+                    _ => {
+                        DVec3::new(rng.int(1 << 40), rng.int(1 << 40), rng.int(1 << 40))
+                            * 2f64.powi(rng.below(80) as i32 - 40)
+                    }
+                };
+            }
+            if i % 3 == 2 {
+                let t = rng.below(1000) as f64 / 997.0;
+                p[2] = p[0] + t * (p[1] - p[0]);
+                p[3] = p[0] + t * (p[1] - p[0]) + 0.3 * (p[2] - p[1]);
+            }
+            let [a, b, c, d] = p;
+            let expected = robust3(a, b, c, d);
+            assert_eq!(
+                exact::orient3d(a.into(), b.into(), c.into(), d.into()),
+                expected,
+                "{p:?}"
+            );
+            zeros[0] += (expected == 0) as usize;
+            for (i, j) in PLANES {
+                let expected = robust2([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
+                let got = exact::orient2d([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
+                assert_eq!(got, expected, "{p:?}");
+                zeros[1] += (expected == 0) as usize;
+            }
+        }
+        assert!(
+            zeros[0] > 200 && zeros[1] > 1500,
+            "{zeros:?}: degenerate cases must be tested too"
+        );
+    }
+
+    #[test]
+    fn predicates_are_exact_on_tiny_and_huge_coordinates() {
+        // Small-integer points decided by robust at scale 1, then every axis scaled by its own
+        // power of two (exactly, down to subnormals or up to 2^1000): the answers must not
+        // change, although robust's own products underflow or overflow there.
+        let mut rng = Rng(42);
+        let mut robust_wrong = 0;
+        for i in 0..20000 {
+            let p: [DVec3; 4] = [0; 4].map(|_| DVec3::new(rng.int(7), rng.int(7), rng.int(7)));
+            let scale = DVec3::new(
+                2f64.powi(rng.below(2060) as i32 - 1070),
+                2f64.powi(rng.below(2060) as i32 - 1070),
+                2f64.powi(rng.below(2060) as i32 - 1070),
+            );
+            let q = p.map(|v| v * scale);
+            if q.iter().zip(&p).any(|(s, v)| *s / scale != *v || !s.is_finite()) {
+                continue; // not exactly representable
+            }
+            let [a, b, c, d] = p;
+            let [sa, sb, sc, sd] = q;
+            assert_eq!(collinear(sa, sb, sc), collinear(a, b, c), "case {i}: {q:?}");
+            assert_eq!(flat_pair(sa, sb, sc, sd), flat_pair(a, b, c, d), "case {i}: {q:?}");
+            let expected = robust3(a, b, c, d);
+            assert_eq!(exact::orient3d(sa.into(), sb.into(), sc.into(), sd.into()), expected);
+            robust_wrong += (robust3(sa, sb, sc, sd) != expected) as usize;
+        }
+        assert!(
+            robust_wrong > 1000,
+            "the scaled cases must defeat robust itself ({robust_wrong})"
+        );
+    }
+
+    #[test]
+    fn subnormal_coordinates() {
+        // The fuzz finding: y = 2e-323 is not 0, so these are not collinear.
+        let (a, b, c) = (DVec3::ZERO, DVec3::new(0.2, 2e-323, 0.0), DVec3::new(0.1, 0.0, 0.0));
+        assert!(!collinear(a, b, c) && !collinear(b, c, a) && !collinear(c, a, b));
+        assert!(collinear(a, DVec3::new(0.2, 0.0, 0.0), c));
+        // Points on a line through the origin with slope 2, in units of the smallest subnormal.
+        let t = f64::from_bits(1);
+        let (p, q) = (DVec3::new(2.0 * t, 4.0 * t, 0.0), DVec3::new(3.0 * t, 6.0 * t, 0.0));
+        assert!(collinear(DVec3::ZERO, p, q));
+        assert!(!collinear(DVec3::ZERO, p, DVec3::new(3.0 * t, 7.0 * t, 0.0)));
+        // Largest and smallest magnitudes together.
+        let big = f64::MAX;
+        assert!(!collinear(
+            DVec3::ZERO,
+            DVec3::new(big, 0.0, 0.0),
+            DVec3::new(big, t, 0.0)
+        ));
+        assert!(collinear(
+            DVec3::ZERO,
+            DVec3::new(big, 0.0, t),
+            DVec3::new(-big, 0.0, -t)
+        ));
+        // A flat pair lifted off z = 0 by one subnormal at d: no longer coplanar.
+        let (a, b, c) = (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0), DVec3::new(1.0, 0.0, 0.0));
+        assert!(flat_pair(a, b, c, DVec3::new(0.0, 1.0, 0.0)));
+        assert!(!flat_pair(a, b, c, DVec3::new(0.0, 1.0, t)));
+        // Non-finite input: an answer, no panic.
+        let _ = collinear(
+            DVec3::ZERO,
+            DVec3::new(f64::NAN, 1.0, t),
+            DVec3::new(f64::INFINITY, 0.0, 1.0),
+        );
+        let _ = flat_pair(a, b, DVec3::splat(f64::NEG_INFINITY), DVec3::new(0.0, t, f64::NAN));
+    }
+
+    #[test]
+    fn wide_spans_within_one_axis() {
+        // Points 0, b and s b on a line through the origin, s = 2^-500 .. 2^-1000 (exactly), so
+        // that each axis holds values 2^500 and more apart: the integer path decides. Moved by
+        // one unit in the last place, they are not collinear; and with c, the plane of 0, b, c
+        // contains s b, but not s b moved off it along z (orient3d's sign is then that of the
+        // triangle 0, b, c seen along z, reversed).
+        let mut rng = Rng(7);
+        let mut wide = 0;
+        for _ in 0..5000 {
+            // |x| in [2^-100, 2^100), any mantissa, any sign.
+            let mut any = || {
+                let x = f64::from_bits((rng.next() >> 12) | ((1023 - 100 + rng.below(200)) << 52));
+                if rng.below(2) == 0 {
+                    x
+                } else {
+                    -x
+                }
+            };
+            let (b, c) = (DVec3::new(any(), any(), any()), DVec3::new(any(), any(), any()));
+            let s = 2f64.powi(-500 - rng.below(400) as i32);
+            let sb = b * s;
+            if !(b.is_finite() && c.is_finite()) || sb / s != b || sb.abs().min_element() == 0.0 {
+                continue;
+            }
+            wide += (scale_axis([0.0, b.x, sb.x]).is_none()) as usize;
+            assert!(collinear(DVec3::ZERO, b, sb), "{b:?} {s}");
+            assert!(collinear(sb, DVec3::ZERO, b), "{b:?} {s}");
+            let off = DVec3::new(sb.x, sb.y, next_up(sb.z));
+            assert!(!collinear(DVec3::ZERO, b, off), "{b:?} {s}");
+            let o = [0.0; 3];
+            assert_eq!(exact::orient3d(o, b.into(), c.into(), sb.into()), 0, "{b:?} {c:?} {s}");
+            let turn = orient2d_sign([0.0, 0.0], [b.x, b.y], [c.x, c.y]);
+            assert_eq!(
+                exact::orient3d(o, b.into(), c.into(), off.into()),
+                -turn,
+                "{b:?} {c:?} {s}"
+            );
+            assert!(!flat_pair(DVec3::ZERO, b, c, off));
+        }
+        assert!(wide > 1000, "spans wider than 2^498 must be tested ({wide})");
+    }
+
+    /// The next f64 towards +infinity of a finite, non-zero `x`.
+    fn next_up(x: f64) -> f64 {
+        let bits = x.to_bits();
+        f64::from_bits(if x > 0.0 { bits + 1 } else { bits - 1 })
+    }
+
+    #[test]
+    fn axis_scaling_is_exact_and_lands_in_the_fast_range() {
+        let t = f64::from_bits(1);
+        let scaled = scale_axis([0.0, 2e-323, -3.0 * t, 1e-310]).unwrap();
+        assert!(fast_range(&scaled));
+        assert_eq!(scaled[1] / scaled[2], -4.0 / 3.0);
+        let scaled = scale_axis([1e300, -7e299, 0.0]).unwrap();
+        assert!(fast_range(&scaled) && scaled[0] / scaled[1] == 1e300 / -7e299);
+        assert_eq!(scale_axis([0.2, 1e-160, 0.0]), None);
+        assert_eq!(scale_axis([f64::NAN, 1.0]), None);
+        assert_eq!(scale_axis([0.0, -0.0]), Some([0.0, -0.0]));
+        assert_eq!(floor_log2(t), -1074);
+        assert_eq!(floor_log2(-3.0 * t), -1073);
+        assert_eq!(floor_log2(f64::MIN_POSITIVE), -1022);
+        assert_eq!(floor_log2(f64::MAX), 1023);
+        assert_eq!(floor_log2(0.75), -1);
     }
 }

@@ -14,7 +14,7 @@
 //! 1. *Weld* ([`RepairOptions::weld_tolerance`]): every vertex is mapped to a representative, the
 //!    lowest input index of its cluster.
 //! 2. *Filter faces*: drop faces with a repeated vertex, then faces whose corners are exactly
-//!    collinear (Shewchuk's exact `orient2d` on the three coordinate-plane projections), then
+//!    collinear (exact `orient2d` on the three coordinate-plane projections, [`crate::geometry::collinear`]), then
 //!    faces with the same vertex set as an earlier face (either orientation; the first is kept).
 //! 3. *Pair faces across edges*: faces sharing an undirected edge are grouped. Two faces on an
 //!    edge are glued together; on an edge with more than two faces (a non-manifold edge) the faces
@@ -537,12 +537,12 @@ fn find_duplicates(verts: &[[u32; 3]], n_vertices: usize) -> Vec<bool> {
     duplicate
 }
 
-/// Exact test: a triangle has zero area iff its projections on the xy, yz and zx planes all do.
+/// Exact test: a triangle has zero area iff its projections on the xy, yz and zx planes all do
+/// ([`crate::geometry::collinear`], exact for subnormal coordinates too, on which `robust` alone
+/// underflows).
 fn is_zero_area(p: &[[f64; 3]; 3]) -> bool {
-    [(0, 1), (1, 2), (2, 0)].iter().all(|&(i, j)| {
-        let c = |q: &[f64; 3]| robust::Coord { x: q[i], y: q[j] };
-        robust::orient2d(c(&p[0]), c(&p[1]), c(&p[2])) == 0.0
-    })
+    let [a, b, c] = p.map(glam::DVec3::from_array);
+    crate::geometry::collinear(a, b, c)
 }
 
 // ---------------------------------------------------------------------------------------------

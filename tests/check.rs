@@ -303,6 +303,95 @@ fn extra_disconnected_triangle_is_reported() {
     assert_failure(&report, "number of connected components 1 became 2");
 }
 
+// ---------------------------------------------------------------------------------------------
+// Numerics: faces with a far vertex, needles
+// ---------------------------------------------------------------------------------------------
+
+/// A triangle with a far vertex: `A` at the origin, the short edge `BC` (length 5) near
+/// (3e9, 4e9, 0); area 1.25e10. Points on `BC` at parameter `t` are exact for `t` a multiple of
+/// 2^-19 (coordinates near 4e9 have a spacing of 2^-21).
+fn far_vertex_triangle() -> [[f64; 3]; 3] {
+    [[0.0, 0.0, 0.0], [3e9, 4e9, 0.0], [3e9 + 4.0, 4e9 - 3.0, 0.0]]
+}
+
+/// The point of `BC` at parameter `t` (exact for the `t` used here).
+fn on_far_edge(t: f64) -> [f64; 3] {
+    [3e9 + 4.0 * t, 4e9 - 3.0 * t, 0.0]
+}
+
+#[test]
+fn faces_with_a_far_vertex_keep_their_area() {
+    // Split BC at two points: three faces sharing the far vertex A, written from A. The plain
+    // (b - a) x (c - a) crosses two edges of length 5e9 that are nearly parallel and is off by
+    // about 2e-8 of the area here (the input face is written from B, where it is accurate);
+    // the checker must see no change.
+    let input = obj(&far_vertex_triangle(), &[[1, 2, 0]]);
+    let mut v = far_vertex_triangle().to_vec();
+    v.extend([on_far_edge(0.25), on_far_edge(0.75)]);
+    let output = obj(&v, &[[0, 1, 3], [0, 3, 4], [0, 4, 2]]);
+    assert_passes(&check_texts(&input, &output));
+}
+
+#[test]
+fn a_tiny_fold_beside_a_far_vertex_is_caught() {
+    // The same split with the two added points 9.5e-6 apart and in the wrong order: the middle
+    // face (A, M2, M1) is reversed (folded over its neighbours), although every vertex is on its
+    // edge and the topology is a disk, as before. Its area is 1.9e-6 of the triangle's.
+    let input = obj(&far_vertex_triangle(), &[[0, 1, 2]]);
+    let (m1, m2) = (on_far_edge(0.5), on_far_edge(0.5 + 2f64.powi(-19)));
+    let mut v = far_vertex_triangle().to_vec();
+    v.extend([m2, m1]); // vertex 4 is the farther from B, vertex 5 the nearer
+    let output = obj(&v, &[[0, 1, 3], [0, 3, 4], [0, 4, 2]]);
+    let report = check_texts(&input, &output);
+    assert_failure(&report, "output face 2 (v1, v4, v5) is reversed relative to region 1");
+    assert_failure(
+        &report,
+        "region 1 (containing input face 1) area 12500000000 became 1250",
+    );
+    // An added vertex one unit in the last place off its edge is fine (points computed on
+    // edges are rounded); 1e-10 of the coordinates (0.4) off it is not.
+    let faces = [[0, 1, 3], [0, 3, 4], [0, 4, 2]];
+    for (dy, refused) in [(2f64.powi(-21), false), (0.4, true)] {
+        let mut v = far_vertex_triangle().to_vec();
+        v.extend([on_far_edge(0.25), on_far_edge(0.75)]);
+        v[3][1] += dy;
+        let report = check_texts(&input, &obj(&v, &faces));
+        assert_eq!(
+            has(&report, "output vertex 4 (3000000001, 3999999999"),
+            refused,
+            "{report}"
+        );
+        // (Moved at all, the vertex makes its edge to A non-Delaunay: B, the vertex and the
+        // next one are no longer collinear, and the angles opposite that edge sum to pi.)
+        assert!(!has(&report, "area") && !has(&report, "reversed"), "{report}");
+    }
+}
+
+/// A valid needle: its largest angle is within 1e-19 of pi (aspect ratio about 1e20).
+const NEEDLE: [[f64; 3]; 3] = [
+    [5.534023222112866e18, 0.0, -0.0],
+    [0.1, 0.3333333333333333, -0.0],
+    [0.2, 0.3333333333333333, 0.0],
+];
+
+#[test]
+fn needle_faces_are_judged_exactly() {
+    let input = obj(&NEEDLE, &[[0, 2, 1]]);
+    // The needle itself, and split at the midpoint of its short edge.
+    assert_passes(&check_texts(&input, &input));
+    let mut v = NEEDLE.to_vec();
+    v.push([0.15000000000000002, 0.3333333333333333, 0.0]);
+    let split = obj(&v, &[[0, 3, 1], [0, 2, 3]]);
+    assert_passes(&check_texts(&input, &split));
+    // Reversed: the checker must say so (a float normal would call it zero-area or pass it).
+    let report = check_texts(&input, &obj(&NEEDLE, &[[0, 1, 2]]));
+    assert_failure(&report, "output face 1 (v1, v2, v3) is reversed relative to region 1");
+    // The split with both faces reversed (folded over the needle's other side).
+    let folded = obj(&v, &[[0, 1, 3], [0, 3, 2]]);
+    let report = check_texts(&input, &folded);
+    assert_failure(&report, "is reversed relative to region 1");
+}
+
 #[test]
 fn bad_output_meshes_give_failures_not_panics() {
     let input = Mesh3 {

@@ -1178,8 +1178,9 @@ fn repair_options() -> ReadOptions {
 fn finish_both(raw: &RawMesh) -> Result<String, String> {
     let path = Path::new("fuzz.input");
     let mut sig = String::new();
-    // Coordinates this small make products underflow: the predicates of
-    // `robust` are then not exact (see `regression_subnormal_zero_area`).
+    // Coordinates this small make products underflow: `robust` alone is
+    // then not exact (`regression_subnormal_zero_area`, fixed); the tag marks
+    // such inputs in findings.
     let underflow = raw.positions.iter().flatten().any(|&c| c != 0.0 && c.abs() < 1e-150);
     let tag = if underflow { "[underflow] " } else { "" };
     for (repaired, options) in [(false, ReadOptions::default()), (true, repair_options())] {
@@ -1322,10 +1323,11 @@ fn combination(k: u64) -> Options {
 }
 
 /// A tag for the violations of inputs at the edge of f64: coordinates so
-/// small that the exact predicates underflow (`regression_subnormal_zero_area`,
-/// open), coordinates or edges beyond the supported scale
+/// small that products underflow (`regression_subnormal_zero_area`, fixed:
+/// the exact predicates no longer rely on them), coordinates or edges beyond the supported scale
 /// (`regression_extreme_scale`, fixed: such inputs are refused), faces too
-/// thin for f64 normals (`regression_checker_needle_faces`, open).
+/// thin for f64 normals (`regression_checker_needle_faces`, fixed in the
+/// checker; the tag still marks such inputs in findings).
 fn precision_tag(input: &InputMesh, min_angle: f64) -> &'static str {
     let subnormal = input
         .positions
@@ -1438,13 +1440,10 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
 
 /// Known library bugs: a finding whose text contains the pattern is counted
 /// under the bug's name (and tolerated unless `FUZZ_STRICT=1`); each has an
-/// ignored regression test.
-const KNOWN_BUGS: &[(&str, &str)] = &[
-    // regression_subnormal_zero_area
-    ("[underflow]", "exact predicates underflow"),
-    // regression_checker_needle_faces
-    ("[beyond f64 precision]", "checker: float normals of needle faces"),
-];
+/// ignored regression test. None at the moment: the underflowing predicates
+/// (`regression_subnormal_zero_area`) and the checker's needle normals
+/// (`regression_checker_needle_faces`) are fixed.
+const KNOWN_BUGS: &[(&str, &str)] = &[];
 
 fn known_bug(finding: &str) -> Option<&'static str> {
     KNOWN_BUGS
@@ -1922,11 +1921,11 @@ fn regression_file(name: &str) -> PathBuf {
 /// is judged Delaunay at scale 1e100 and 1e-100 and returned unchanged with
 /// `Ok` and `non_delaunay_after == 0`. The checker overflows too: it rejects
 /// even an untouched mesh (`check_meshes(m, m)`) with "reversed or
-/// degenerate" faces and an area "inf became inf". The exact predicates
-/// (`robust`) are not exact under underflow either: `geometry::collinear`
-/// calls a triangle of size 1e-170 collinear, so `finish` refuses it as
-/// zero-area. Either such inputs should be refused at reading, or the
-/// computations scaled.
+/// degenerate" faces and an area "inf became inf". (The exact predicates,
+/// `robust` alone, were not exact under underflow either: `geometry::collinear`
+/// called a triangle of size 1e-170 collinear; fixed with
+/// `regression_subnormal_zero_area`.) Fixed: such inputs are refused at
+/// reading (coordinates beyond 1e75, edges below 1e-75).
 #[test]
 fn regression_extreme_scale() {
     let read = |name: &str| io::read_mesh(&regression_file(name), &ReadOptions::default());
@@ -1971,15 +1970,17 @@ fn regression_extreme_scale() {
 
 /// Found by `fuzz_obj` (a coordinate replaced by 2e-323). The triangle
 /// (0, 0, 0), (0.2, 2e-323, 0), (0.1, 0, 0) has a non-zero area, exactly:
-/// its vertices are not collinear. `repair` keeps it (its zero-area test is
-/// right), but `geometry::collinear` says collinear: orient2d's product
-/// 0.1 · 2e-323 underflows to 0, and Shewchuk's predicates (the `robust`
-/// crate) are exact only without underflow. So `finish` refuses the file
-/// ("face 1 has zero area") while `--repair` keeps the face, and `flat_pair`
-/// (planar regions) can be wrong in the same way. Same family as
-/// `regression_extreme_scale`.
+/// its vertices are not collinear. `geometry::collinear` said collinear:
+/// orient2d's product 0.1 · 2e-323 underflows to 0, and Shewchuk's
+/// predicates (the `robust` crate) are exact only without underflow. So
+/// `finish` refused the file ("face 1 has zero area"); `--repair` dropped the
+/// face for the same reason (its zero-area test called `robust` directly),
+/// and `flat_pair` (planar regions) and the checker could be wrong in the
+/// same way. Fixed: `geometry::collinear` and `flat_pair` use `robust` only
+/// where it is exact (every coordinate 0 or of magnitude in
+/// [2^-250, 2^250]) and exact integer arithmetic otherwise; repair calls
+/// `collinear`; the checker has its own exact fallback.
 #[test]
-#[ignore = "delmesh bug: exact predicates (robust) underflow: a non-degenerate triangle with a subnormal coordinate is called zero-area"]
 fn regression_subnormal_zero_area() {
     let path = regression_file("bug-subnormal-zero-area.obj");
     let raw = parse_obj(&std::fs::read(&path).unwrap()).unwrap();
@@ -1989,25 +1990,89 @@ fn regression_subnormal_zero_area() {
         "{a:?} {b:?} {c:?} are not collinear (y = 2e-323 is not 0)"
     );
     let plain = io::finish(raw.clone(), &path, &ReadOptions::default()).map(|m| m.triangles.len());
-    let repaired = io::finish(raw, &path, &repair_options()).map(|m| m.triangles.len());
-    assert_eq!(plain.ok(), repaired.ok(), "finish and repair disagree on the face");
+    let repaired = io::finish(raw.clone(), &path, &repair_options()).map(|m| m.triangles.len());
+    assert_eq!(plain.as_ref().ok(), Some(&1), "finish refused the face: {plain:?}");
+    assert_eq!(
+        repaired.as_ref().ok(),
+        Some(&1),
+        "repair dropped the face: {repaired:?}"
+    );
+    // Every order of the corners, and the checker on the mesh against itself.
+    for [i, j, k] in [[0, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [2, 1, 0], [1, 0, 2]] {
+        assert!(!delmesh::geometry::collinear([a, b, c][i], [a, b, c][j], [a, b, c][k]));
+    }
+    let input = io::finish(raw, &path, &ReadOptions::default()).unwrap();
+    let m = Mesh3 {
+        positions: input.positions.clone(),
+        triangles: input.triangles.clone(),
+    };
+    let report = check_meshes(&m, &m);
+    assert!(report.passed(), "{report}");
+}
+
+/// Found while timing the fix of `regression_subnormal_zero_area`, on a
+/// 300 x 300 grid whose z coordinates are 0, 1e-300, -3e-310 or 2e-320:
+/// `flat_pair` (robust's orient3d underflowing) called faces that meet at a
+/// crease of height 3e-310 coplanar, so make_delaunay flipped edges across
+/// creases (10,527 flips there, each moving the surface by ~1e-310), and the
+/// checker, underflowing the same way, accepted the result. Here, a rhombus
+/// 0.04 long folded by -1e-322 along its long, non-Delaunay diagonal (the
+/// exact orient3d is about -2e-326, below the smallest subnormal): the
+/// diagonal must be split, not flipped, and the checker must refuse the flip.
+#[test]
+fn regression_subnormal_crease_is_not_flipped() {
+    let t = -1e-322;
+    let positions = vec![
+        DVec3::new(-0.02, 0.0, 0.0),
+        DVec3::new(0.02, 0.0, 0.0),
+        DVec3::new(0.0, 0.005, 0.0),
+        DVec3::new(0.0, -0.005, t),
+    ];
+    let triangles = vec![[0, 1, 2], [1, 0, 3]];
+    let [a, b, c, d] = [0, 1, 2, 3].map(|i| positions[i]);
+    assert!(
+        !delmesh::geometry::flat_pair(a, b, c, d),
+        "a crease of height {t:e} is not flat"
+    );
+    let mut text = String::new();
+    for p in &positions {
+        text.push_str(&format!("v {:?} {:?} {:?}\n", p.x, p.y, p.z));
+    }
+    text.push_str("f 1 2 3\nf 2 1 4\n");
+    let path = Path::new("crease.obj");
+    let input = io::finish(parse_obj(text.as_bytes()).unwrap(), path, &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&input, path).unwrap();
+    let stats = make_delaunay(&mut s, &Options::default()).unwrap();
+    assert_eq!(stats.flips, 0, "an edge was flipped across the crease");
+    assert!(stats.splits > 0);
+    let mesh3 = |p: &[DVec3], t: &[[u32; 3]]| Mesh3 {
+        positions: p.to_vec(),
+        triangles: t.to_vec(),
+    };
+    let report = check_meshes(&mesh3(&positions, &triangles), &mesh3(&s.positions, &s.triangles()));
+    assert!(report.passed(), "{report}");
+    let flipped = mesh3(&positions, &[[2, 0, 3], [3, 1, 2]]);
+    let report = check_meshes(&mesh3(&positions, &triangles), &flipped);
+    assert!(!report.passed(), "the checker accepted a flip across a crease");
 }
 
 /// Found by `fuzz_pipeline` (a cube's vertex moved to x = 5.5e18; a box
-/// with one edge shrunk to 3.4e-21). The checker computes face normals in
-/// floating point, `(b - a) x (c - a)` (`face_normal`, src/check.rs), and
-/// requires `normal . region normal > 0`: for a valid needle face whose
-/// aspect ratio exceeds about 1e16 the computed normal is exactly zero, so
-/// the face is reported as "has zero area" (or "reversed or degenerate")
-/// although it is exactly non-degenerate (`geometry::collinear` is false and
-/// `finish` accepted it). `check_meshes(m, m)` fails for the single triangle
+/// with one edge shrunk to 3.4e-21). The checker computed face normals in
+/// floating point as `(b - a) x (c - a)` and required `normal . region
+/// normal > 0`: for a valid needle face whose aspect ratio exceeds about
+/// 1e16 the computed normal was exactly zero, so the face was reported as
+/// "has zero area" (or "reversed or degenerate") although it is exactly
+/// non-degenerate (`geometry::collinear` is false and `finish` accepted it).
+/// `check_meshes(m, m)` failed for the single triangle
 /// (5.534023222112866e18, 0, 0), (0.1, 1/3, 0), (0.2, 1/3, 0); on the box,
-/// make_delaunay's output (1 split, 2 flips) fails the check on the face
-/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). The construction itself
-/// accepts such inputs with its sample constants degenerate (theta_min
-/// computed as 0 gives rho_v = rho_e = 0).
+/// make_delaunay's output (1 split, 2 flips) failed the check on the face
+/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). Fixed in src/check.rs:
+/// the orientation of an output face relative to its region is decided
+/// exactly (orient2d of the projection along the region's main axis), and
+/// normals are computed at the corner opposite the longest edge with exact
+/// edge vectors. (The construction accepts such inputs with its sample
+/// constants degenerate: theta_min computed as 0 gives rho_v = rho_e = 0.)
 #[test]
-#[ignore = "delmesh bug: the checker's float face normals call exactly non-degenerate needle faces zero-area"]
 fn regression_checker_needle_faces() {
     let mut failures = Vec::new();
     let read = |name: &str| io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
@@ -2109,25 +2174,23 @@ fn saved_fuzz_inputs_pass() {
     }
 }
 
-/// Open finding of `fuzz_pipeline` (FUZZ_SEED=20261122, final code of the
-/// first session): a non-planar pentagon with coordinates near 4e9 beside
+/// Found by `fuzz_pipeline` (FUZZ_SEED=20261122, final code of the first
+/// session): a non-planar pentagon with coordinates near 4e9 beside
 /// features of 1e-3, fan-triangulated; with pqueue, score 0, median, `check`
-/// reports region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
+/// reported region 1's area 1759805666.775 as 1759805605.956 (3.5e-8
 /// relative, tolerance 1e-9).
 ///
-/// Triage: the checker is wrong, the construction is right. Summing the
-/// region's triangle areas with the origin of each cross product at the
-/// vertex opposite the longest edge gives 1759805666.7749999 before and
-/// 1759805666.775 after (1.4e-16 relative), and every added vertex lies on
-/// its input edge (distance 0 as computed); the naive `(b - a) x (c - a)`
-/// that the checker's `face_normal` (src/check.rs) uses gives the reported
-/// 3.5e-8 drift (cancellation: coordinates near 4e9, faces a few units
-/// wide). Same root cause as `regression_checker_needle_faces`: taking the
-/// origin at the vertex opposite the longest edge fixes both.
+/// The checker was wrong, the construction right: the checker's
+/// `(b - a) x (c - a)` crossed two long, nearly parallel edges (coordinates
+/// near 4e9, faces a few units wide) and cancelled. Fixed in src/check.rs
+/// (`triangle_normal`: origin at the corner opposite the longest edge, exact
+/// edge vectors; region areas summed with compensation): the areas before
+/// and after now agree to 1e-16. The 18 inputs of that session that failed
+/// the same way are replayed by `saved_fuzz_inputs_pass`
+/// (`fuzz-pipeline-*.bin`).
 #[test]
-#[ignore = "delmesh bug (checker): face areas/normals from (b - a) x (c - a) cancel at coordinates ~4e9"]
 fn regression_pipeline_area_huge_coordinates() {
-    let bytes = std::fs::read(regression_file("open-pipeline-area-huge-coordinates.obj")).unwrap();
+    let bytes = std::fs::read(regression_file("bug-checker-area-huge-coordinates.obj")).unwrap();
     if let Err(e) = target_pipeline(&bytes) {
         panic!("{e}");
     }

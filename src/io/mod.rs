@@ -249,8 +249,8 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         for i in 1..p.len() - 1 {
             let t = [p[0], p[i], p[i + 1]].map(|v| new_index[welded_to[v as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
-            // Below the supported scale first: the exact predicates themselves
-            // underflow on triangles of size ~1e-170.
+            // Below the supported scale first: the Delaunay test's products of
+            // lengths would underflow (the exact predicates would not).
             let shortest = (b - a)
                 .length_squared()
                 .min((c - b).length_squared())
