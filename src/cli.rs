@@ -627,7 +627,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             .collect();
         report.write(&runs, true)?;
         if let Some(chart) = &args.chart {
-            draw_chart(chart, input_path, &rows)?;
+            draw_chart(chart, input_path, &rows, args)?;
             if !args.quiet {
                 say!("chart   {}", chart.display());
             }
@@ -1069,7 +1069,8 @@ fn chart_color(o: &Options) -> Rgb {
     let (r, g, b) = match o.score {
         Score::AllEqual => (0x4c, 0x72, 0xb0),
         Score::WeightedCenter => (0xdd, 0x84, 0x52),
-        Score::AlwaysCenter | Score::SplitAware => (0x55, 0xa8, 0x68),
+        Score::AlwaysCenter => (0x55, 0xa8, 0x68),
+        Score::SplitAware => (0x81, 0x72, 0xb3),
     };
     if o.median {
         Rgb(r, g, b)
@@ -1080,7 +1081,7 @@ fn chart_color(o: &Options) -> Rgb {
 }
 
 /// `--chart`: the added vertices of each `-all` combination, in the table's order.
-fn draw_chart(path: &Path, input_path: &Path, rows: &[Row]) -> anyhow::Result<()> {
+fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> anyhow::Result<()> {
     let bars: Vec<delmesh::render::Bar> = rows
         .iter()
         .map(|r| {
@@ -1112,8 +1113,17 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row]) -> anyhow::Result<()
             }
         })
         .collect();
-    let legend: Vec<(String, Rgb)> = [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter]
-        .into_iter()
+    let scores: &[Score] = if args.extended {
+        &[
+            Score::AllEqual,
+            Score::WeightedCenter,
+            Score::AlwaysCenter,
+            Score::SplitAware,
+        ]
+    } else {
+        &[Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter]
+    };
+    let legend: Vec<(String, Rgb)> = (scores.iter().copied())
         .map(|score| {
             let o = Options::new(Worklist::Stack, score, true);
             (format!("-s {}", stats_json::score_key(score)), chart_color(&o))
@@ -1123,7 +1133,12 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row]) -> anyhow::Result<()
             chart_color(&Options::new(Worklist::Stack, Score::AlwaysCenter, false)),
         )))
         .collect();
-    let title = format!("{}: added vertices, -all (fewest first)", file_name(input_path));
+    let title = format!(
+        "{}: added vertices, -all{}{} (fewest first)",
+        file_name(input_path),
+        if args.extended { " --extended" } else { "" },
+        if args.prune { " --prune" } else { "" }
+    );
     let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
     let bytes = canvas
         .encode(Format::of_path(path))
