@@ -55,6 +55,9 @@ const MAX_GROUP: usize = 3;
 /// Where along the sub-edge to split (as fractions) when no score's sample
 /// works.
 const SPREAD: [f64; 6] = [0.5, 0.35, 0.65, 0.2, 0.8, 0.1];
+/// How many of the edges left non-Delaunay after a removal are tried as the
+/// place of the first new vertex.
+const FIRST_SPLITS: usize = 1;
 /// Triples are made of p and two of its this many nearest added neighbours.
 const TRIPLE_NEIGHBOURS: usize = 4;
 /// The sample choices tried, in turn, for the first vertex of a replacement.
@@ -519,38 +522,61 @@ impl Pruner<'_> {
         }
     }
 
-    /// After removing vertices: settles, then tries each sample choice of
-    /// [`VARIANTS`] for the first split (each distinct sample once) and
-    /// refines on with at most `budget` splits in all.
+    /// After removing vertices: settles, then, for each of the first few
+    /// edges left non-Delaunay, splits it at each candidate sample in turn
+    /// ([`Pruner::candidates`]) and refines on, with at most `budget` splits
+    /// in all; keeps the first that ends Delaunay.
     fn rebuild(&mut self, budget: usize) -> Attempt {
-        let bad = match self.settle() {
+        match self.settle() {
             Err(()) => return Attempt::Failed,
             Ok(None) => return Attempt::Kept,
-            Ok(Some(bad)) => bad,
-        };
-        if budget == 0 || self.s.is_flippable(bad) {
-            return Attempt::Failed;
+            Ok(Some(_)) if budget == 0 => return Attempt::Failed,
+            Ok(Some(_)) => {}
+        }
+        let mut bad_edges: Vec<EdgeId> = Vec::new();
+        for &e in &self.touched {
+            if bad_edges.len() == FIRST_SPLITS {
+                break;
+            }
+            if !self.s.topo.is_dead_edge(e)
+                && !bad_edges.contains(&e)
+                && !self.s.is_flippable(e)
+                && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
+            {
+                bad_edges.push(e);
+            }
         }
         let mark = self.mark();
-        let base = self.options;
-        let mut tried: Vec<f64> = Vec::with_capacity(VARIANTS.len());
-        for (score, median) in VARIANTS {
-            let options = Options { score, median, ..base };
-            let Some(choice) = refine::choose_sample(self.s, &self.constants, &options, bad) else {
-                continue;
-            };
-            if tried.contains(&choice.t) {
-                continue;
+        for bad in bad_edges {
+            for t in self.candidates(bad) {
+                self.split(bad, t);
+                if self.refine_locally(budget) {
+                    return Attempt::Kept;
+                }
+                self.undo_to(mark);
             }
-            tried.push(choice.t);
-            self.split(bad, choice.t);
-            if self.refine_locally(budget) {
-                return Attempt::Kept;
-            }
-            self.undo_to(mark);
         }
-        // Then a few samples spread along the sub-edge: the six conditions
-        // the scores weigh see only the quad, not the other vertices around.
+        Attempt::Failed
+    }
+
+    /// Where to split the non-flippable edge `bad`: the sample each of
+    /// [`VARIANTS`] would choose, then a few samples spread along it (the six
+    /// conditions the scores weigh see only the quad, not the other vertices
+    /// around); each parameter once.
+    fn candidates(&self, bad: EdgeId) -> Vec<f64> {
+        let mut ts: Vec<f64> = Vec::with_capacity(VARIANTS.len() + SPREAD.len());
+        for (score, median) in VARIANTS {
+            let options = Options {
+                score,
+                median,
+                ..self.options
+            };
+            if let Some(choice) = refine::choose_sample(self.s, &self.constants, &options, bad) {
+                if !ts.contains(&choice.t) {
+                    ts.push(choice.t);
+                }
+            }
+        }
         let input = self.s.edge_input[bad.idx()];
         let h = bad.halfedge();
         let (a, b) = (self.s.topo.origin(h), self.s.topo.dest(h));
@@ -562,17 +588,11 @@ impl Pruner<'_> {
         for f in SPREAD {
             let t = samples.t(samples.nearest(lo + f * (hi - lo)));
             let p = point_on_edge(ends[0], ends[1], t);
-            if t <= lo || t >= hi || tried.contains(&t) || p == pa || p == pb {
-                continue;
+            if t > lo && t < hi && !ts.contains(&t) && p != pa && p != pb {
+                ts.push(t);
             }
-            tried.push(t);
-            self.split(bad, t);
-            if self.refine_locally(budget) {
-                return Attempt::Kept;
-            }
-            self.undo_to(mark);
         }
-        Attempt::Failed
+        ts
     }
 }
 
