@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-5}
 cargo build --release --quiet
-bin=$PWD/target/release/delmesh
+bin=${CARGO_TARGET_DIR:-$PWD/target}/release/delmesh
 data=$(scripts/fetch-dragon.sh 2>/dev/null || true)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

@@ -994,6 +994,9 @@ fn run_all(
         Some(j) => usize::from(j).min(combos.len()),
         None => threads,
     };
+    // The combinations already share the cores: each writes on one thread
+    // (so that `--jobs 1` really uses one core).
+    io::obj::set_write_threads(1);
     let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
     progress::phase(Phase::Sweep { total: combos.len() });

@@ -12,6 +12,9 @@ use crate::geometry::{self, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
 use crate::mesh::{EdgeId, Surface, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
 
+// The first pass of [`make_delaunay`] relies on it.
+const _: () = assert!(ACCEPT_TOLERANCE > ALGORITHM_TOLERANCE);
+
 /// The order in which non-Delaunay edges are taken (`-ds`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Worklist {
@@ -227,11 +230,13 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
     // First pass: count the input's non-Delaunay edges and fill DS.
     for e in 0..run.s.topo.n_edges() {
         let e = EdgeId(e as u32);
-        if let Some((y, x)) = run.s.excess_sin_cos(e) {
+        // The acceptance tolerance is the looser one: an edge that exceeds it
+        // exceeds the algorithm's, so the cheap test (no square root for two
+        // non-obtuse opposite angles, most edges) filters both.
+        if run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
+            let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
             run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
-            if geometry::exceeds(y, x, ALGORITHM_TOLERANCE) {
-                ds.push(e, run.s.edge_length(e));
-            }
+            ds.push(e, run.s.edge_length(e));
         }
     }
     let mut work_at_last_pass = usize::MAX;
@@ -398,7 +403,12 @@ pub(crate) fn choose_sample(
         pos_b: quad[1],
         halves,
         outer,
-        outer_flippable: [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge())),
+        // Only the split-aware score reads it: skip the face lookups otherwise.
+        outer_flippable: if options.score == Score::SplitAware {
+            [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge()))
+        } else {
+            [false; 4]
+        },
         score: options.score,
         median: options.median,
     };

@@ -400,16 +400,20 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
         let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i, j)).count() as u32;
         q.score.doubled([holds(0, j), holds(1, j)], outer)
     };
-    let pieces = bounds
-        .windows(2)
-        .filter(|b| b[0] < b[1])
-        .map(|b| (b[0], b[1], piece_score(b[0])));
-    let best = pieces.clone().map(|p| p.2).max()?;
+    // The non-empty pieces (lo, hi, score), each scored once.
+    let mut pieces = [(0u64, 0u64, 0u32); 7];
+    let mut n_pieces = 0;
+    for b in bounds.windows(2).filter(|b| b[0] < b[1]) {
+        pieces[n_pieces] = (b[0], b[1], piece_score(b[0]));
+        n_pieces += 1;
+    }
+    let pieces = &pieces[..n_pieces];
+    let best = pieces.iter().map(|p| p.2).max()?;
     let j = if q.median {
-        let total: u64 = pieces.clone().filter(|p| p.2 == best).map(|p| p.1 - p.0).sum();
+        let total: u64 = pieces.iter().filter(|p| p.2 == best).map(|p| p.1 - p.0).sum();
         let mut rank = (total - 1) / 2;
         let mut found = 0;
-        for (lo, hi, s) in pieces {
+        for &(lo, hi, s) in pieces {
             if s != best {
                 continue;
             }
@@ -421,7 +425,7 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
         }
         found
     } else {
-        pieces.clone().find(|p| p.2 == best).map(|p| p.0)?
+        pieces.iter().find(|p| p.2 == best).map(|p| p.0)?
     };
     let k = w.k(j);
     Some(Choice { k, t: q.samples.t(k) })

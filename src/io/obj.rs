@@ -8,6 +8,7 @@
 //! never refuses the file: that attribute is dropped, with a note.
 
 use std::io::Write;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::formats::{FormatError, OriginKind, RawMesh};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
@@ -497,28 +498,73 @@ fn parse_index(tok: &str) -> Option<i64> {
 /// Writes a triangle mesh as OBJ: `v` lines in shortest round-trip form,
 /// then `f` lines.
 pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> std::io::Result<()> {
-    let mut fmt = ryu::Buffer::new();
-    let mut line = Vec::with_capacity(96);
-    for p in positions {
-        line.clear();
+    write_lines(w, positions, |p, line| {
+        let mut fmt = ryu::Buffer::new();
         line.push(b'v');
         for &c in p {
             line.push(b' ');
             line.extend_from_slice(fmt.format_finite(c).as_bytes());
         }
         line.push(b'\n');
-        w.write_all(&line)?;
-    }
-    let mut int = DecimalBuf::default();
-    for t in triangles {
-        line.clear();
+    })?;
+    write_lines(w, triangles, |t, line| {
+        let mut int = DecimalBuf::default();
         line.push(b'f');
         for &v in t {
             line.push(b' ');
             line.extend_from_slice(int.format(v as u64 + 1));
         }
         line.push(b'\n');
-        w.write_all(&line)?;
+    })
+}
+
+/// Lines per block of [`write_lines`]: about 1 MB of text.
+const BLOCK_LINES: usize = 1 << 14;
+
+/// How many threads [`write_lines`] formats with: 0 (the default) means one
+/// per core.
+static WRITE_THREADS: AtomicUsize = AtomicUsize::new(0);
+
+/// Sets how many threads format OBJ text (0: one per core). `-all`, which
+/// already runs one combination per core, sets 1.
+pub fn set_write_threads(n: usize) {
+    WRITE_THREADS.store(n, Ordering::Relaxed);
+}
+
+/// Writes one line per item, appended to a buffer by `line`. Formatting
+/// (shortest round-trip floats, mostly) costs more than writing, so on
+/// several cores blocks of [`BLOCK_LINES`] consecutive items are formatted
+/// at once on scoped threads, then written in order: the bytes are exactly
+/// those of a sequential loop, and memory stays one block per thread.
+fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut Vec<u8>) + Sync) -> std::io::Result<()> {
+    let threads = match WRITE_THREADS.load(Ordering::Relaxed) {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let blocks: Vec<&[T]> = items.chunks(BLOCK_LINES).collect();
+    let threads = threads.min(blocks.len()).max(1);
+    let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); threads];
+    let fill = |block: &[T], buffer: &mut Vec<u8>| {
+        buffer.clear();
+        for item in block {
+            line(item, buffer);
+        }
+    };
+    for round in blocks.chunks(threads) {
+        if round.len() == 1 {
+            fill(round[0], &mut buffers[0]);
+        } else {
+            std::thread::scope(|scope| {
+                let (first, rest) = buffers.split_at_mut(1);
+                for (block, buffer) in round[1..].iter().zip(rest.iter_mut()) {
+                    scope.spawn(|| fill(block, buffer));
+                }
+                fill(round[0], &mut first[0]);
+            });
+        }
+        for buffer in &buffers[..round.len()] {
+            w.write_all(buffer)?;
+        }
     }
     Ok(())
 }
