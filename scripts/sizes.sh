@@ -9,7 +9,8 @@
 # planar regions, each of which needs a vertex on it.
 # Output format (stable; one line per mesh, space-separated key=value):
 #   mesh=NAME input=V lb=L s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C
-#     P:s-0-m=N ... P:s3-p-m=N pbest=N pbest_combo=C peer=N ratio=R pratio=R
+#     P:s-0-m=N ... P:s3-p-m=N pbest=N pbest_combo=C smallest=N peer=N ratio=R pratio=R sratio=R
+# ("smallest" is what `--smallest` writes: the fewest of its 18 pruned settings.)
 # A combination that fails (work limit, or edges that can be neither split
 # nor flipped) prints "limit".
 set -uo pipefail
@@ -65,6 +66,7 @@ for mesh in "$dir"/*.obj; do
   line="$line best=$best best_combo=$best_combo"
   prefix="P:" ; sweep --prune
   line="$line pbest=$sbest pbest_combo=$sbest_combo"
+  smallest=$("$bin" -i "$mesh" -o "$out/x.obj" --smallest --max-added 2000000 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
   peer=$(peer_of "$name")
-  echo "$line peer=${peer:-NA} ratio=$(ratio_of "$best" "$peer") pratio=$(ratio_of "$sbest" "$peer")"
+  echo "$line smallest=${smallest:-failed} peer=${peer:-NA} ratio=$(ratio_of "$best" "$peer") pratio=$(ratio_of "$sbest" "$peer") sratio=$(ratio_of "$smallest" "$peer")"
 done
