@@ -817,31 +817,48 @@ fn smallest(
         Some(j) => usize::from(j),
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     }
-    .min(settings.len());
-    let next = std::sync::atomic::AtomicUsize::new(0);
+    .max(1);
     // The best so far, by (vertices, index of its settings).
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     let first_error = std::sync::Mutex::new(None);
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(options) = settings.get(i) else { break };
-                match refine_once(surface.clone(), input_path, options, true) {
-                    Ok(out) => {
-                        let key = (out.surface.positions.len(), i);
-                        let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
-                        if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
-                            *best = Some((key.0, key.1, out));
+    // Most splits made by a median run: the runs without the median get a
+    // work limit of three times that, so that an input on which they would
+    // add millions of vertices costs seconds, not minutes (such a run would
+    // not be the smallest after pruning anyway). Two phases keep the result
+    // independent of the number of threads.
+    let most_splits = std::sync::atomic::AtomicUsize::new(0);
+    let n_median = settings.iter().filter(|o| o.median).count();
+    for phase in [0..n_median, n_median..settings.len()] {
+        let cap = 3 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 1000;
+        let next = std::sync::atomic::AtomicUsize::new(phase.start);
+        std::thread::scope(|scope| {
+            for _ in 0..threads.min(phase.len()) {
+                scope.spawn(|| loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    if i >= phase.end {
+                        break;
+                    }
+                    let mut options = settings[i];
+                    if !options.median {
+                        options.max_added = options.max_added.min(cap);
+                    }
+                    match refine_once(surface.clone(), input_path, &options, true) {
+                        Ok(out) => {
+                            most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
+                            let key = (out.surface.positions.len(), i);
+                            let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
+                            if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
+                                *best = Some((key.0, key.1, out));
+                            }
+                        }
+                        Err(e) => {
+                            first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
                         }
                     }
-                    Err(e) => {
-                        first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
-                    }
-                }
-            });
-        }
-    });
+                });
+            }
+        });
+    }
     match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some((_, i, out)) => Ok((settings[i], out)),
         None => Err(first_error
