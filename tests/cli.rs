@@ -184,6 +184,11 @@ fn bad_inputs_are_refused_with_one_line() {
     );
     refused("binary.obj", &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a], "not text");
     refused("nofaces.obj", TRI.as_bytes(), "no faces");
+    refused(
+        "pillow.obj",
+        format!("{TRI}f 1 2 3\nf 1 3 2\n").as_bytes(),
+        "face uses the same three vertices as the face at line",
+    );
     refused("empty.obj", b"", "no faces");
     refused(
         "nan.obj",

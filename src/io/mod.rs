@@ -436,6 +436,11 @@ pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
             TopologyError::RepeatedVertex { face, vertex } => {
                 format!("{}: face repeats vertex {}{REPAIR_HINT}", at(face), v(vertex))
             }
+            TopologyError::SameThreeVertices { first, face } => format!(
+                "{}: face uses the same three vertices as the face at {} (a two-face pillow){REPAIR_HINT}",
+                at(face),
+                at(first)
+            ),
         };
         Error::Mesh { path: path.to_owned(), what }
     })

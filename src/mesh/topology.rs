@@ -102,6 +102,9 @@ pub enum TopologyError {
     IndexOutOfRange { face: usize, index: u32 },
     /// A face uses a vertex twice.
     RepeatedVertex { face: usize, vertex: u32 },
+    /// Faces `first` and `face` use the same three vertices (a closed
+    /// two-face "pillow": every edge would have one vertex opposite it twice).
+    SameThreeVertices { first: usize, face: usize },
 }
 
 /// One saved entry of a [`Topology`], for undoing local changes.
@@ -258,6 +261,18 @@ impl Topology {
             let walked = topo.fan_len(VertexId(v as u32));
             if walked != degree as usize {
                 return Err(TopologyError::NonManifoldVertex { vertex: v as u32 });
+            }
+        }
+        // An edge with the same vertex opposite on both sides: its two faces
+        // share all three vertices (nothing could split or flip it soundly).
+        for e in 0..topo.n_edges() as u32 {
+            let h = EdgeId(e).halfedge();
+            if topo.is_interior(EdgeId(e)) && topo.apex(h) == topo.apex(h.twin()) {
+                let (f1, f2) = (topo.face(h).idx(), topo.face(h.twin()).idx());
+                return Err(TopologyError::SameThreeVertices {
+                    first: f1.min(f2),
+                    face: f1.max(f2),
+                });
             }
         }
         Ok(topo)
@@ -832,6 +847,10 @@ mod tests {
             Topology::from_triangles(3, &[[0, 1, 1]]),
             Err(TopologyError::RepeatedVertex { vertex: 1, .. })
         ));
+        assert_eq!(
+            Topology::from_triangles(3, &[[0, 1, 2], [0, 2, 1]]).map(|_| ()),
+            Err(TopologyError::SameThreeVertices { first: 0, face: 1 })
+        );
     }
 
     #[test]
