@@ -822,14 +822,15 @@ fn smallest(
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     let first_error = std::sync::Mutex::new(None);
     // Most splits made by a median run: the runs without the median get a
-    // work limit of three times that, so that an input on which they would
-    // add millions of vertices costs seconds, not minutes (such a run would
-    // not be the smallest after pruning anyway). Two phases keep the result
-    // independent of the number of threads.
+    // work limit of a hundred times that (the limit also bounds flips, at
+    // three per vertex: on CAD parts these runs flip a lot), so that an
+    // input on which they would add millions of vertices costs seconds, not
+    // minutes (such a run would not be the smallest after pruning anyway).
+    // Two phases keep the result independent of the number of threads.
     let most_splits = std::sync::atomic::AtomicUsize::new(0);
     let n_median = settings.iter().filter(|o| o.median).count();
     for phase in [0..n_median, n_median..settings.len()] {
-        let cap = 3 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 1000;
+        let cap = 100 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 10_000;
         let next = std::sync::atomic::AtomicUsize::new(phase.start);
         std::thread::scope(|scope| {
             for _ in 0..threads.min(phase.len()) {
