@@ -10,7 +10,9 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear.
+//!    spatial hash over pieces of the input edges, so the search is near linear. (An output
+//!    vertex at an input vertex's position that also lies inside an input edge, where the surface
+//!    touches itself, may be either; it belongs to the regions of both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -1387,6 +1389,7 @@ fn classify_output_vertices(
     let mut added = 0;
     let mut on_edges = Vec::new();
     let mut set = Vec::new();
+    let mut edge_regions = Vec::new();
     for (v, &p) in output.positions.iter().enumerate() {
         if !out_referenced[v] {
             regions.finish_row();
@@ -1400,6 +1403,16 @@ fn classify_output_vertices(
                 seen[iv as usize] = true;
                 set.extend_from_slice(model.vertex_regions.row(iv as usize));
                 iv = same_next[iv as usize];
+            }
+            // Where the surface touches itself, an input vertex can lie inside an input edge of
+            // another part (a T-junction in space): a vertex added on that edge there has the
+            // input vertex's position, bit for bit, and belongs to the edge's regions. Any
+            // output vertex at such a position gets the regions of both.
+            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+            if !on_edges.is_empty() {
+                model.regions_of_edges(&on_edges, &mut edge_regions);
+                set.extend_from_slice(&edge_regions);
             }
             set.sort_unstable();
             set.dedup();
