@@ -10,7 +10,9 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear.
+//!    spatial hash over pieces of the input edges, so the search is near linear. (An output
+//!    vertex at an input vertex's position that also lies inside an input edge, where the surface
+//!    touches itself, may be either; it belongs to the regions of both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -1354,6 +1356,10 @@ impl CompensatedSum {
 struct Candidates {
     /// Regions per output vertex (sorted, unique).
     regions: Csr,
+    /// Per output vertex: the regions it gets, beyond `regions`, from lying exactly inside an
+    /// input edge of another part of the surface (sorted, unique; usually empty). A face is
+    /// offered these only when its vertices share no region otherwise.
+    junction: Csr,
     /// Whether the vertex was recognised (input vertex or on an input edge).
     known: Vec<bool>,
     /// Number of referenced output vertices that are not input vertices.
@@ -1383,13 +1389,16 @@ fn classify_output_vertices(
     let mut seen = vec![false; input.positions.len()];
     let mut grid: Option<EdgeGrid> = None;
     let mut regions = CsrBuilder::default();
+    let mut junction = CsrBuilder::default();
     let mut known = vec![false; output.positions.len()];
     let mut added = 0;
     let mut on_edges = Vec::new();
     let mut set = Vec::new();
+    let mut edge_regions = Vec::new();
     for (v, &p) in output.positions.iter().enumerate() {
         if !out_referenced[v] {
             regions.finish_row();
+            junction.finish_row();
             continue;
         }
         if let Some(&first) = lookup.get(&bits(p)) {
@@ -1401,9 +1410,28 @@ fn classify_output_vertices(
                 set.extend_from_slice(model.vertex_regions.row(iv as usize));
                 iv = same_next[iv as usize];
             }
+            // Where the surface touches itself, an input vertex can lie inside an input edge of
+            // another part (a T-junction in space): a vertex added on that edge there has the
+            // input vertex's position, bit for bit, and belongs to the edge's regions. Any
+            // output vertex at such a position gets the regions of both.
+            // Only edges that contain the point exactly: an input vertex merely
+            // near another part's edge (within the on-edge tolerance) is not such a
+            // junction, and its faces must not be offered that part's regions.
+            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+            on_edges.retain(|&e| {
+                let edge = &model.prepared.edges[e as usize];
+                let (a, b) = (input.positions[edge.lo as usize], input.positions[edge.hi as usize]);
+                exactly_inside_segment(p, a, b)
+            });
             set.sort_unstable();
             set.dedup();
             regions.extend(&set);
+            if !on_edges.is_empty() {
+                model.regions_of_edges(&on_edges, &mut edge_regions);
+                edge_regions.retain(|r| set.binary_search(r).is_err());
+                junction.extend(&edge_regions);
+            }
         } else {
             added += 1;
             let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
@@ -1423,6 +1451,7 @@ fn classify_output_vertices(
             }
         }
         regions.finish_row();
+        junction.finish_row();
     }
     for (v, &p) in input.positions.iter().enumerate() {
         if model.prepared.referenced[v] && !seen[v] {
@@ -1433,6 +1462,7 @@ fn classify_output_vertices(
     }
     Candidates {
         regions: regions.build(),
+        junction: junction.build(),
         known,
         added,
     }
@@ -1614,6 +1644,15 @@ impl EdgeGrid {
     }
 }
 
+/// Whether `p` lies exactly on the line through `a` and `b` (exact predicates on the three
+/// coordinate planes) and strictly between them.
+fn exactly_inside_segment(p: DVec3, a: DVec3, b: DVec3) -> bool {
+    let collinear = orient2d_sign([a.x, a.y], [b.x, b.y], [p.x, p.y]) == 0
+        && orient2d_sign([a.y, a.z], [b.y, b.z], [p.y, p.z]) == 0
+        && orient2d_sign([a.z, a.x], [b.z, b.x], [p.z, p.x]) == 0;
+    collinear && p != a && p != b && (p - a).dot(b - a) > 0.0 && (p - b).dot(a - b) > 0.0
+}
+
 /// Whether [`on_edge`] can accept any point on segment `(a, b)`: its squared length must be
 /// positive and finite (an overflowing length makes the test refuse everything). Other edges
 /// are left out of the grid, which keeps its geometry finite.
@@ -1648,6 +1687,17 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             rest.iter()
                 .all(|&v| candidates.regions.row(v as usize).binary_search(r).is_ok())
         }));
+        if common.is_empty() {
+            // Where the surface touches itself: the regions of the edges its vertices lie in.
+            let has = |v: u32, r: &u32| {
+                candidates.regions.row(v as usize).binary_search(r).is_ok()
+                    || candidates.junction.row(v as usize).binary_search(r).is_ok()
+            };
+            let row = |v: u32| (candidates.regions.row(v as usize).iter()).chain(candidates.junction.row(v as usize));
+            common.extend(row(first).copied().filter(|r| rest.iter().all(|&v| has(v, r))));
+            common.sort_unstable();
+            common.dedup();
+        }
         let triangle = corners(output, t);
         let normal = triangle_normal(triangle);
         let best = common

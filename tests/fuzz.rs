@@ -53,7 +53,7 @@ use delmesh::io::obj::{parse_obj, write_obj};
 use delmesh::io::{self, InputMesh, ReadOptions};
 use delmesh::refine::{make_delaunay, Options, Worklist};
 use delmesh::repair::RepairOptions;
-use delmesh::samples::Score;
+use delmesh::samples::{SampleConstants, Score};
 use delmesh::Error;
 use glam::DVec3;
 
@@ -1322,32 +1322,57 @@ fn combination(k: u64) -> Options {
     o
 }
 
-/// A tag for the violations of inputs at the edge of f64: coordinates so
-/// small that products underflow (`regression_subnormal_zero_area`, fixed:
-/// the exact predicates no longer rely on them), coordinates or edges beyond the supported scale
+/// Tags for the violations of inputs at the edge of f64, so that a finding
+/// says which regime it is in: coordinates so small that products underflow
+/// (`regression_subnormal_zero_area`, fixed: the exact predicates no longer
+/// rely on them), coordinates or edges beyond the supported scale
 /// (`regression_extreme_scale`, fixed: such inputs are refused), faces too
 /// thin for f64 normals (`regression_checker_needle_faces`, fixed in the
-/// checker; the tag still marks such inputs in findings).
-fn precision_tag(input: &InputMesh, min_angle: f64) -> &'static str {
-    let subnormal = input
-        .positions
-        .iter()
-        .flat_map(|p| p.to_array())
-        .any(|c| c != 0.0 && c.abs() < 1e-150);
+/// checker), two faces on the same three vertices
+/// (`regression_refine_pillow_duplicate_edge`, fixed: refused), and two
+/// regimes of open construction bugs, tolerated as `KNOWN_BUGS`: sample
+/// constants computed as 0 (`regression_refine_degenerate_sample_constants`)
+/// and sample spacing below the resolution of f64
+/// (`regression_refine_samples_below_f64_resolution`).
+fn precision_tag(input: &InputMesh, min_angle: f64, constants: Option<&SampleConstants>) -> String {
+    let mut tags = String::new();
+    let coordinates = || input.positions.iter().flat_map(|p| p.to_array());
+    if coordinates().any(|c| c != 0.0 && c.abs() < 1e-150) {
+        tags.push_str("[underflow] ");
+    }
     let big = input.positions.iter().any(|p| p.abs().max_element() > 1e70);
     let tiny = input.triangles.iter().any(|t| {
         let [a, b, c] = t.map(|v| input.positions[v as usize]);
         [(a, b), (b, c), (c, a)].iter().any(|(p, q)| (*p - *q).length() < 1e-70)
     });
-    if subnormal {
-        "[underflow] "
-    } else if big || tiny {
-        "[extreme scale] "
-    } else if min_angle < 1e-14 {
-        "[beyond f64 precision] "
-    } else {
-        ""
+    if big || tiny {
+        tags.push_str("[extreme scale] ");
     }
+    if min_angle < 1e-14 {
+        tags.push_str("[beyond f64 precision] ");
+    }
+    if let Some(k) = constants {
+        let largest = coordinates().fold(0.0f64, |m, c| m.max(c.abs()));
+        if k.rho_e.is_nan() || k.rho_e <= 0.0 {
+            tags.push_str("[degenerate sample constants] ");
+        } else if k.rho_e < 1e-15 * largest {
+            tags.push_str("[samples below f64 resolution] ");
+        }
+    }
+    let mut vertex_sets: Vec<[u32; 3]> = input
+        .triangles
+        .iter()
+        .map(|t| {
+            let mut t = *t;
+            t.sort_unstable();
+            t
+        })
+        .collect();
+    vertex_sets.sort_unstable();
+    if vertex_sets.windows(2).any(|w| w[0] == w[1]) {
+        tags.push_str("[two faces on three vertices] ");
+    }
+    tags
 }
 
 fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
@@ -1387,7 +1412,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 if carried.channels().any(|(_, c)| c.corners.len() != 3 * s.topo.n_faces()) {
                     return Err("attributes not carried to every output corner".into());
                 }
-                let scale = precision_tag(&input, s.input_figures.min_angle);
+                let scale = precision_tag(&input, s.input_figures.min_angle, stats.constants.as_ref());
                 let tag = format!("{scale}{options:?} repair={repaired}");
                 s.validate()
                     .map_err(|e| format!("{tag}: output does not validate: {e}"))?;
@@ -1440,10 +1465,22 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
 
 /// Known library bugs: a finding whose text contains the pattern is counted
 /// under the bug's name (and tolerated unless `FUZZ_STRICT=1`); each has an
-/// ignored regression test. None at the moment: the underflowing predicates
+/// ignored regression test. All three are in the construction (see
+/// `precision_tag`); the underflowing predicates
 /// (`regression_subnormal_zero_area`) and the checker's needle normals
 /// (`regression_checker_needle_faces`) are fixed.
-const KNOWN_BUGS: &[(&str, &str)] = &[];
+const KNOWN_BUGS: &[(&str, &str)] = &[
+    // regression_refine_degenerate_sample_constants
+    (
+        "[degenerate sample constants]",
+        "theta_min computed as 0: degenerate faces",
+    ),
+    // regression_refine_samples_below_f64_resolution
+    (
+        "[samples below f64 resolution]",
+        "sample spacing below f64 resolution: folded slivers",
+    ),
+];
 
 fn known_bug(finding: &str) -> Option<&'static str> {
     KNOWN_BUGS
@@ -2170,6 +2207,162 @@ fn saved_fuzz_inputs_pass() {
         if let Some((_, f)) = targets.iter().find(|(prefix, _)| name.starts_with(prefix)) {
             let bytes = std::fs::read(&path).unwrap();
             assert_quick(&name, &bytes, 2.0, MAX_PEAK, *f);
+        }
+    }
+}
+
+/// Runs a regression OBJ file through `finish` (without repair),
+/// `build_surface`, `make_delaunay` with `options`, the construction's own
+/// `validate` and the checker; returns what went wrong, if anything. A clean
+/// refusal (`WorkLimit`, `Unsplittable`) is not a problem.
+fn pipeline_problem(name: &str, options: &Options) -> Option<String> {
+    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+    match make_delaunay(&mut s, options) {
+        Ok(_) => {}
+        Err(Error::WorkLimit { .. } | Error::Unsplittable { .. }) => return None,
+        Err(e) => return Some(format!("{options:?}: make_delaunay failed: {e}")),
+    }
+    if let Err(e) = s.validate() {
+        return Some(format!("{options:?}: output does not validate: {e}"));
+    }
+    let report = check_meshes(
+        &Mesh3 {
+            positions: input.positions.clone(),
+            triangles: input.triangles.clone(),
+        },
+        &Mesh3 {
+            positions: s.positions.clone(),
+            triangles: s.triangles(),
+        },
+    );
+    (!report.passed()).then(|| {
+        format!(
+            "{options:?}: check failed: {:?}",
+            &report.failures[..report.failures.len().min(3)]
+        )
+    })
+}
+
+/// `pipeline_problem` for all 18 combinations of options.
+fn pipeline_problems(name: &str) -> Vec<String> {
+    (0..18)
+        .filter_map(|k| pipeline_problem(name, &combination(k)))
+        .collect()
+}
+
+/// Found by `fuzz_pipeline` (seed 682301391, repaired input), minimized: an
+/// input vertex, (1, 0, 0), lies inside input edge (0, 0, 0)-(2, 0, 0) of
+/// another part of the surface (a T-junction in space, which a topological
+/// manifold may have). With stack or pqueue and the median, the edge is split
+/// at its midpoint: the added vertex has the input vertex's position, bit for
+/// bit. The checker took every output vertex at an input vertex's position
+/// for that input vertex, gave it only its regions, and reported the faces
+/// around the added vertex as lying in no region (and two regions' areas as
+/// changed). Fixed in `check.rs`: a vertex at such a position also gets the
+/// regions of the input edges it lies inside.
+///
+/// Still open, and not a checker matter: written to a file, such an output
+/// cannot be read back as it was made. Readers weld bit-identical positions
+/// (SPEC §2), so the added vertex becomes the input vertex, and the new edge
+/// from it to (1, 0.15, 0.25) coincides with an input edge: `delmesh check`
+/// on the files reports "output edge (v6, v8) is shared by 3 faces".
+#[test]
+fn regression_checker_vertex_at_t_junction() {
+    let problems = pipeline_problems("bug-checker-vertex-at-t-junction.obj");
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Found by `fuzz_pipeline` (seed 682301391), minimized: two faces on the
+/// same three vertices with opposite orientations, (1, 3, 2) and (2, 3, 1):
+/// a closed two-face "pillow", which `finish` and `build_surface` accept
+/// (every edge has two faces, every vertex one fan). Every edge's two faces
+/// have the same third vertex. With all 18 combinations, `make_delaunay`
+/// splits a non-Delaunay edge and returns `Ok`, but the output does not
+/// validate: "two edges join VertexId(2) and VertexId(3)" (the two new edges
+/// from the split point to the common apex are the same edge; the checker
+/// sees edges shared by 4 faces and the Euler characteristic 2 become 4).
+/// Fixed: `Topology::from_triangles` refuses two faces on the same three
+/// vertices (`TopologyError::SameThreeVertices`), with a one-line error
+/// naming both faces; `--repair` drops one of them as a duplicate.
+#[test]
+fn regression_refine_pillow_duplicate_edge() {
+    let path = regression_file("bug-refine-pillow-duplicate-edge.obj");
+    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let Err(err) = io::build_surface(&input, Path::new("pillow.obj")) else {
+        panic!("a pillow must be refused");
+    };
+    let msg = err.to_string();
+    assert!(msg.contains("same three vertices") && msg.contains("--repair"), "{msg}");
+}
+
+/// Found by `fuzz_pipeline` (seed 682301391), minimized, two inputs: a needle
+/// whose smallest angle (about 1e-17) is computed as 0 (normal coordinates),
+/// and a needle of height 2e-323 (subnormal). `SampleConstants` then has
+/// theta_min = 0, so rho_v = rho_e = 0: every sample collapses onto the
+/// edge's ends, and with all 18 combinations `make_delaunay` returns `Ok`
+/// with output faces whose corners are exactly collinear ("has zero area
+/// (its corners are collinear)" from the checker; the second input gets 909
+/// splits, nearly all making such faces). Before the checker's exact
+/// orientation test these were hidden behind the tolerated needle-normal bug.
+/// The construction (src/samples.rs, src/refine.rs) should refuse such an
+/// input (or stop with `Unsplittable`) rather than write degenerate faces.
+#[test]
+#[ignore = "delmesh bug (construction): theta_min computed as 0 gives degenerate output faces"]
+fn regression_refine_degenerate_sample_constants() {
+    let mut problems = pipeline_problems("bug-refine-theta-min-zero-needle.obj");
+    problems.extend(pipeline_problems("bug-refine-theta-min-zero-subnormal.obj"));
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Found by `fuzz_pipeline` (seed 682301391), minimized: a box-like input
+/// whose smallest angle 9.3e-10 gives rho_e = 8.7e-19, while coordinates
+/// near 0.5 have a spacing of 1.1e-16: consecutive samples of an edge are
+/// not distinct f64 points. With queue, score 1, no median, two vertices
+/// added on one edge end one unit in the last place apart, (0.47924053845988757,
+/// 1.1134050038492078, 0.11981013461497189) and (0.4792405384598877, ...,
+/// 0.11981013461497192), and the sliver face they make with a third vertex
+/// is reversed in its region (the checker's exact orientation test: "output
+/// face 57 (v32, v33, v26) is reversed relative to region 11"); the old
+/// float test passed it (normal . region normal = 0.43). The other 17
+/// combinations pass (or stop at the work limit). The construction should
+/// not place vertices closer than the coordinates can resolve.
+#[test]
+#[ignore = "delmesh bug (construction): sample spacing below f64 resolution folds a sliver face"]
+fn regression_refine_samples_below_f64_resolution() {
+    let problems = pipeline_problems("bug-refine-samples-below-f64-resolution.obj");
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// A tool, not a test: `FUZZ_REPLAY=a.bin:b.bin cargo test --test fuzz
+/// replay -- --ignored --nocapture` runs each file through the target its
+/// name starts with (`pipeline-`, `obj-`, ..., with or without `fuzz-`, as
+/// the fuzzer and `tests/regressions/` name them) and prints the outcome.
+#[test]
+#[ignore = "a tool: replays the files listed in FUZZ_REPLAY"]
+fn replay() {
+    let targets: [(&str, TargetFn); 6] = [
+        ("obj-", target_obj),
+        ("off-", target_off),
+        ("ply-", target_ply),
+        ("stl-", target_stl),
+        ("gzip-", target_gzip),
+        ("pipeline-", target_pipeline),
+    ];
+    let list = std::env::var("FUZZ_REPLAY").unwrap_or_default();
+    for path in list.split(':').filter(|p| !p.is_empty()) {
+        let name = Path::new(path).file_name().unwrap().to_string_lossy().into_owned();
+        let name = name.strip_prefix("fuzz-").unwrap_or(&name);
+        let Some((_, f)) = targets.iter().find(|(prefix, _)| name.starts_with(prefix)) else {
+            eprintln!("{path}: no target for this name");
+            continue;
+        };
+        let bytes = std::fs::read(path).unwrap();
+        let run = run_one(&register("replay"), &bytes, f);
+        match (&run.panic, &run.result) {
+            (Some(p), _) => eprintln!("{path}: PANIC {p}"),
+            (None, Ok(sig)) => eprintln!("{path}: ok {sig}"),
+            (None, Err(e)) => eprintln!("{path}: FAIL {e}"),
         }
     }
 }
