@@ -418,43 +418,47 @@ impl Pruner<'_> {
         s.topo.are_adjacent_within(c, d, 64) == Some(false)
     }
 
-    /// Flips `e`, saving what it changes; `false` past the flip budget.
-    fn flip(&mut self, e: EdgeId) -> bool {
-        if self.flips >= MAX_FLIPS_PER_TRY {
-            return false;
-        }
+    /// Saves what a flip or a split of `e` writes (the six half-edges of its
+    /// two faces, the faces, and the vertex ends `ends` of `e` whose outgoing
+    /// half-edge may move); returns the four edges around `e`.
+    fn save_quad(&mut self, e: EdgeId, ends: &[VertexId]) -> [EdgeId; 4] {
         let topo = &self.s.topo;
         let h = e.halfedge();
         let t = h.twin();
         let (h1, t1) = (topo.next(h), topo.next(t));
         let (h2, t2) = (topo.next(h1), topo.next(t1));
         let faces = [topo.face(h), topo.face(t)];
-        let verts = [topo.origin(h), topo.origin(t)];
-        topo.save(&[h, t, h1, h2, t1, t2], &faces, &verts, &mut self.journal);
+        topo.save(&[h, t, h1, h2, t1, t2], &faces, ends, &mut self.journal);
+        [h1.edge(), h2.edge(), t1.edge(), t2.edge()]
+    }
+
+    /// Flips `e`, saving what it changes; `false` past the flip budget.
+    fn flip(&mut self, e: EdgeId) -> bool {
+        if self.flips >= MAX_FLIPS_PER_TRY {
+            return false;
+        }
+        let h = e.halfedge();
+        let ends = [self.s.topo.origin(h), self.s.topo.dest(h)];
+        let around = self.save_quad(e, &ends);
         self.inputs.push((e, self.s.edge_input[e.idx()]));
         self.s.flip(e);
         self.flips += 1;
-        self.touched.extend([e, h1.edge(), h2.edge(), t1.edge(), t2.edge()]);
+        self.touched.push(e);
+        self.touched.extend(around);
         true
     }
 
     /// Splits `e` at parameter `t` of its input edge, saving what it changes.
     fn split(&mut self, e: EdgeId, t: f64) {
-        let topo = &self.s.topo;
-        let h = e.halfedge();
-        let tw = h.twin();
-        let (h1, t1) = (topo.next(h), topo.next(tw));
-        let (h2, t2) = (topo.next(h1), topo.next(t1));
-        let faces = [topo.face(h), topo.face(tw)];
-        let verts = [topo.origin(tw)];
-        // Lengths first: undone last, after the entries below.
-        self.journal.push(topo.lengths());
-        topo.save(&[h, tw, h1, h2, t1, t2], &faces, &verts, &mut self.journal);
-        let n = topo.n_edges() as u32;
+        // Lengths first: undone last, after the entries of the quad.
+        self.journal.push(self.s.topo.lengths());
+        let end = [self.s.topo.dest(e.halfedge())];
+        let around = self.save_quad(e, &end);
+        let n = self.s.topo.n_edges() as u32;
         self.s.split(e, t);
         self.splits += 1;
         self.touched.extend([e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]);
-        self.touched.extend([h1.edge(), h2.edge(), t1.edge(), t2.edge()]);
+        self.touched.extend(around);
     }
 
     /// Flips the touched edges' regions back to Delaunay (Lawson, each edge
