@@ -10,9 +10,10 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear. (An output
-//!    vertex at an input vertex's position that also lies inside an input edge, where the surface
-//!    touches itself, may be either; it belongs to the regions of both.)
+//!    spatial hash over pieces of the input edges, so the search is near linear. (Where the
+//!    output has more vertices than the input at an input vertex's position that also lies inside
+//!    an input edge, the surface touching itself, each of them may be either: they belong to the
+//!    regions of both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -1382,6 +1383,13 @@ fn classify_output_vertices(
             }
         }
     }
+    // Output vertices at each input vertex's position (counted on the first input vertex there).
+    let mut at_position = vec![0u32; input.positions.len()];
+    for (v, p) in output.positions.iter().enumerate() {
+        if let (true, Some(&first)) = (out_referenced[v], lookup.get(&bits(*p))) {
+            at_position[first as usize] += 1;
+        }
+    }
     let mut seen = vec![false; input.positions.len()];
     let mut grid: Option<EdgeGrid> = None;
     let mut regions = CsrBuilder::default();
@@ -1399,18 +1407,22 @@ fn classify_output_vertices(
             known[v] = true;
             set.clear();
             let mut iv = first;
+            let mut input_count = 0;
             while iv != END {
                 seen[iv as usize] = true;
                 set.extend_from_slice(model.vertex_regions.row(iv as usize));
                 iv = same_next[iv as usize];
+                input_count += 1;
             }
             // Where the surface touches itself, an input vertex can lie inside an input edge of
-            // another part (a T-junction in space): a vertex added on that edge there has the
-            // input vertex's position, bit for bit, and belongs to the edge's regions. Any
-            // output vertex at such a position gets the regions of both.
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
-            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
-            if !on_edges.is_empty() {
+            // another part (a T-junction in space): a vertex added on that edge there can have
+            // the input vertex's position, bit for bit, and belongs to the edge's regions. When
+            // the output has more vertices at the position than the input, which is which is
+            // unknown: all of them get the regions of both. (Not otherwise: an input vertex
+            // merely within the on-edge tolerance of an edge does not join its regions.)
+            if at_position[first as usize] > input_count {
+                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+                grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
                 model.regions_of_edges(&on_edges, &mut edge_regions);
                 set.extend_from_slice(&edge_regions);
             }
@@ -1456,16 +1468,24 @@ fn edge_tolerance(a: DVec3, b: DVec3) -> f64 {
     ON_EDGE_TOLERANCE * a.abs().max_element().max(b.abs().max_element()).max(1e-300)
 }
 
-/// Whether `p` lies on segment `(a, b)` strictly between its endpoints, within tolerance.
-fn on_edge(p: DVec3, a: DVec3, b: DVec3) -> bool {
+/// The distance from `p` to segment `(a, b)` if `p` lies on it strictly between its endpoints,
+/// within tolerance; `None` otherwise.
+fn distance_on_edge(p: DVec3, a: DVec3, b: DVec3) -> Option<f64> {
     let d = b - a;
     let len2 = d.length_squared();
     if len2 <= 0.0 {
-        return false;
+        return None;
     }
     let t = (p - a).dot(d) / len2;
-    t > 0.0 && t < 1.0 && (p - (a + t * d)).length() <= edge_tolerance(a, b)
+    let distance = (p - (a + t * d)).length();
+    (t > 0.0 && t < 1.0 && distance <= edge_tolerance(a, b)).then_some(distance)
 }
+
+/// How much farther than the nearest one another input edge containing a point may be and still
+/// count as the point's edge, relative to the edge's largest coordinate: 16 units of roundoff,
+/// the error of computing a point on an edge and its distance, and far below the on-edge
+/// tolerance (about 70,000 units).
+const NEAREST_EDGE_SLACK: f64 = 16.0 * f64::EPSILON;
 
 /// A spatial hash over the input edges: every edge is cut into pieces no longer than the cell
 /// size, and each piece (its bounding box grown by twice the edge's tolerance) is registered in
@@ -1611,17 +1631,33 @@ impl EdgeGrid {
         }
     }
 
-    /// Fills `out` with the (sorted, unique) input edges that contain `p`.
+    /// Fills `out` with the (sorted, unique) input edges that contain `p` and are nearest to it:
+    /// of the edges within the on-edge tolerance, those within [`NEAREST_EDGE_SLACK`] of the
+    /// smallest distance. A point computed on one edge is within roundoff of it; where another
+    /// edge passes within the tolerance (near a shared vertex, or an edge nearly along it), that
+    /// edge and its regions are not the point's: taking them as well let faces of one region be
+    /// assigned to a nearly coplanar neighbour, and areas seem to move between them.
     fn edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
         out.clear();
         let k = self.bucket(self.frame.cell_of(p));
-        for &e in &self.items[self.starts[k]..self.starts[k + 1]] {
+        let candidates = &self.items[self.starts[k]..self.starts[k + 1]];
+        let distance = |e: u32| {
             let edge = &edges[e as usize];
             let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
-            if on_edge(p, a, b) {
-                out.push(e);
-            }
-        }
+            let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
+            distance_on_edge(p, a, b).map(|d| (d, slack))
+        };
+        // Two passes (the nearest distance, then the edges near it): no allocation per point.
+        let nearest = candidates
+            .iter()
+            .filter_map(|&e| distance(e))
+            .fold(f64::INFINITY, |m, (d, _)| m.min(d));
+        out.extend(
+            candidates
+                .iter()
+                .copied()
+                .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
+        );
         out.sort_unstable();
         out.dedup();
     }
