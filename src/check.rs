@@ -10,9 +10,10 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear. (An output
-//!    vertex at an input vertex's position that also lies inside an input edge, where the surface
-//!    touches itself, may be either; it belongs to the regions of both.)
+//!    spatial hash over pieces of the input edges, so the search is near linear. (Where the
+//!    output has more vertices than the input at an input vertex's position that also lies inside
+//!    an input edge, the surface touching itself, each of them may be either: they belong to the
+//!    regions of both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -1356,10 +1357,6 @@ impl CompensatedSum {
 struct Candidates {
     /// Regions per output vertex (sorted, unique).
     regions: Csr,
-    /// Per output vertex: the regions it gets, beyond `regions`, from lying exactly inside an
-    /// input edge of another part of the surface (sorted, unique; usually empty). A face is
-    /// offered these only when its vertices share no region otherwise.
-    junction: Csr,
     /// Whether the vertex was recognised (input vertex or on an input edge).
     known: Vec<bool>,
     /// Number of referenced output vertices that are not input vertices.
@@ -1386,10 +1383,16 @@ fn classify_output_vertices(
             }
         }
     }
+    // Output vertices at each input vertex's position (counted on the first input vertex there).
+    let mut at_position = vec![0u32; input.positions.len()];
+    for (v, p) in output.positions.iter().enumerate() {
+        if let (true, Some(&first)) = (out_referenced[v], lookup.get(&bits(*p))) {
+            at_position[first as usize] += 1;
+        }
+    }
     let mut seen = vec![false; input.positions.len()];
     let mut grid: Option<EdgeGrid> = None;
     let mut regions = CsrBuilder::default();
-    let mut junction = CsrBuilder::default();
     let mut known = vec![false; output.positions.len()];
     let mut added = 0;
     let mut on_edges = Vec::new();
@@ -1398,40 +1401,34 @@ fn classify_output_vertices(
     for (v, &p) in output.positions.iter().enumerate() {
         if !out_referenced[v] {
             regions.finish_row();
-            junction.finish_row();
             continue;
         }
         if let Some(&first) = lookup.get(&bits(p)) {
             known[v] = true;
             set.clear();
             let mut iv = first;
+            let mut input_count = 0;
             while iv != END {
                 seen[iv as usize] = true;
                 set.extend_from_slice(model.vertex_regions.row(iv as usize));
                 iv = same_next[iv as usize];
+                input_count += 1;
             }
             // Where the surface touches itself, an input vertex can lie inside an input edge of
-            // another part (a T-junction in space): a vertex added on that edge there has the
-            // input vertex's position, bit for bit, and belongs to the edge's regions. Any
-            // output vertex at such a position gets the regions of both.
-            // Only edges that contain the point exactly: an input vertex merely
-            // near another part's edge (within the on-edge tolerance) is not such a
-            // junction, and its faces must not be offered that part's regions.
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
-            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
-            on_edges.retain(|&e| {
-                let edge = &model.prepared.edges[e as usize];
-                let (a, b) = (input.positions[edge.lo as usize], input.positions[edge.hi as usize]);
-                exactly_inside_segment(p, a, b)
-            });
+            // another part (a T-junction in space): a vertex added on that edge there can have
+            // the input vertex's position, bit for bit, and belongs to the edge's regions. When
+            // the output has more vertices at the position than the input, which is which is
+            // unknown: all of them get the regions of both. (Not otherwise: an input vertex
+            // merely within the on-edge tolerance of an edge does not join its regions.)
+            if at_position[first as usize] > input_count {
+                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+                grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+                model.regions_of_edges(&on_edges, &mut edge_regions);
+                set.extend_from_slice(&edge_regions);
+            }
             set.sort_unstable();
             set.dedup();
             regions.extend(&set);
-            if !on_edges.is_empty() {
-                model.regions_of_edges(&on_edges, &mut edge_regions);
-                edge_regions.retain(|r| set.binary_search(r).is_err());
-                junction.extend(&edge_regions);
-            }
         } else {
             added += 1;
             let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
@@ -1451,7 +1448,6 @@ fn classify_output_vertices(
             }
         }
         regions.finish_row();
-        junction.finish_row();
     }
     for (v, &p) in input.positions.iter().enumerate() {
         if model.prepared.referenced[v] && !seen[v] {
@@ -1462,7 +1458,6 @@ fn classify_output_vertices(
     }
     Candidates {
         regions: regions.build(),
-        junction: junction.build(),
         known,
         added,
     }
@@ -1473,16 +1468,24 @@ fn edge_tolerance(a: DVec3, b: DVec3) -> f64 {
     ON_EDGE_TOLERANCE * a.abs().max_element().max(b.abs().max_element()).max(1e-300)
 }
 
-/// Whether `p` lies on segment `(a, b)` strictly between its endpoints, within tolerance.
-fn on_edge(p: DVec3, a: DVec3, b: DVec3) -> bool {
+/// The distance from `p` to segment `(a, b)` if `p` lies on it strictly between its endpoints,
+/// within tolerance; `None` otherwise.
+fn distance_on_edge(p: DVec3, a: DVec3, b: DVec3) -> Option<f64> {
     let d = b - a;
     let len2 = d.length_squared();
     if len2 <= 0.0 {
-        return false;
+        return None;
     }
     let t = (p - a).dot(d) / len2;
-    t > 0.0 && t < 1.0 && (p - (a + t * d)).length() <= edge_tolerance(a, b)
+    let distance = (p - (a + t * d)).length();
+    (t > 0.0 && t < 1.0 && distance <= edge_tolerance(a, b)).then_some(distance)
 }
+
+/// How much farther than the nearest one another input edge containing a point may be and still
+/// count as the point's edge, relative to the edge's largest coordinate: 16 units of roundoff,
+/// the error of computing a point on an edge and its distance, and far below the on-edge
+/// tolerance (about 70,000 units).
+const NEAREST_EDGE_SLACK: f64 = 16.0 * f64::EPSILON;
 
 /// A spatial hash over the input edges: every edge is cut into pieces no longer than the cell
 /// size, and each piece (its bounding box grown by twice the edge's tolerance) is registered in
@@ -1628,29 +1631,36 @@ impl EdgeGrid {
         }
     }
 
-    /// Fills `out` with the (sorted, unique) input edges that contain `p`.
+    /// Fills `out` with the (sorted, unique) input edges that contain `p` and are nearest to it:
+    /// of the edges within the on-edge tolerance, those within [`NEAREST_EDGE_SLACK`] of the
+    /// smallest distance. A point computed on one edge is within roundoff of it; where another
+    /// edge passes within the tolerance (near a shared vertex, or an edge nearly along it), that
+    /// edge and its regions are not the point's: taking them as well let faces of one region be
+    /// assigned to a nearly coplanar neighbour, and areas seem to move between them.
     fn edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
         out.clear();
         let k = self.bucket(self.frame.cell_of(p));
-        for &e in &self.items[self.starts[k]..self.starts[k + 1]] {
+        let candidates = &self.items[self.starts[k]..self.starts[k + 1]];
+        let distance = |e: u32| {
             let edge = &edges[e as usize];
             let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
-            if on_edge(p, a, b) {
-                out.push(e);
-            }
-        }
+            let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
+            distance_on_edge(p, a, b).map(|d| (d, slack))
+        };
+        // Two passes (the nearest distance, then the edges near it): no allocation per point.
+        let nearest = candidates
+            .iter()
+            .filter_map(|&e| distance(e))
+            .fold(f64::INFINITY, |m, (d, _)| m.min(d));
+        out.extend(
+            candidates
+                .iter()
+                .copied()
+                .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
+        );
         out.sort_unstable();
         out.dedup();
     }
-}
-
-/// Whether `p` lies exactly on the line through `a` and `b` (exact predicates on the three
-/// coordinate planes) and strictly between them.
-fn exactly_inside_segment(p: DVec3, a: DVec3, b: DVec3) -> bool {
-    let collinear = orient2d_sign([a.x, a.y], [b.x, b.y], [p.x, p.y]) == 0
-        && orient2d_sign([a.y, a.z], [b.y, b.z], [p.y, p.z]) == 0
-        && orient2d_sign([a.z, a.x], [b.z, b.x], [p.z, p.x]) == 0;
-    collinear && p != a && p != b && (p - a).dot(b - a) > 0.0 && (p - b).dot(a - b) > 0.0
 }
 
 /// Whether [`on_edge`] can accept any point on segment `(a, b)`: its squared length must be
@@ -1687,17 +1697,6 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             rest.iter()
                 .all(|&v| candidates.regions.row(v as usize).binary_search(r).is_ok())
         }));
-        if common.is_empty() {
-            // Where the surface touches itself: the regions of the edges its vertices lie in.
-            let has = |v: u32, r: &u32| {
-                candidates.regions.row(v as usize).binary_search(r).is_ok()
-                    || candidates.junction.row(v as usize).binary_search(r).is_ok()
-            };
-            let row = |v: u32| (candidates.regions.row(v as usize).iter()).chain(candidates.junction.row(v as usize));
-            common.extend(row(first).copied().filter(|r| rest.iter().all(|&v| has(v, r))));
-            common.sort_unstable();
-            common.dedup();
-        }
         let triangle = corners(output, t);
         let normal = triangle_normal(triangle);
         let best = common
