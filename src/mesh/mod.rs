@@ -283,6 +283,10 @@ impl Surface {
         if c == d {
             return false;
         }
+        let (a, b) = (self.topo.origin(h), self.topo.dest(h));
+        if self.on_one_input_edge([d, c, a]) || self.on_one_input_edge([c, d, b]) {
+            return false;
+        }
         let [a3, b3, c3, d3] = self.edge_quad(e);
         let normal = self.region_normal[self.face_region[self.topo.face(h).idx()] as usize];
         // After the flip: (d, c, a) and (c, d, b). Refuse a face that is
@@ -311,6 +315,20 @@ impl Surface {
             .or_else(|| self.topo.are_adjacent_within(d, c, CAP))
             .unwrap_or(false);
         !adjacent
+    }
+
+    /// Whether the bookkeeping says that the three vertices all lie on one
+    /// input edge: a face joining them would be exactly degenerate (rounding
+    /// only makes it look like a sliver), which no flip may create.
+    fn on_one_input_edge(&self, vs: [VertexId; 3]) -> bool {
+        let on = |v: VertexId, edge: u32| match self.carriers[v.idx()] {
+            Carrier::Vertex(i) => self.input_edges[edge as usize].contains(&i),
+            Carrier::Edge { edge: other, .. } => other == edge,
+        };
+        vs.iter().any(|&v| match self.carriers[v.idx()] {
+            Carrier::Edge { edge, .. } => vs.iter().all(|&w| on(w, edge)),
+            Carrier::Vertex(_) => false,
+        })
     }
 
     /// Flips edge `e` (which must be flippable). See [`Topology::flip`].
