@@ -527,8 +527,8 @@ fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
         report.output_vertices = out.stats.vertices;
         let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
         report.added_vertices = candidates.added;
-        let assigned = assign_faces(&model.regions, output, &candidates, &mut fail);
-        check_areas(&model.regions, &assigned, &mut fail);
+        let mut assignment = assign_faces(&model.regions, output, &candidates, &mut fail);
+        check_areas(&model.regions, &mut assignment, &mut fail);
         compare_topology(&model.prepared.stats, &out.stats, &mut fail);
         let delaunay = delaunay_edges(output, &out.edges, &mut fail);
         report.interior_edges = delaunay.interior;
@@ -1675,15 +1675,27 @@ fn can_contain_points((a, b): (DVec3, DVec3)) -> bool {
 // Output faces and areas
 // ---------------------------------------------------------------------------------------------
 
+/// The output area assigned to every region, and the groups of regions an output face could be
+/// assigned to equally.
+struct Assignment {
+    area: Vec<f64>,
+    groups: UnionFind,
+}
+
 /// Checks rule 3 and returns the output area assigned to every region.
 ///
 /// A face goes to one of the regions shared by its three vertices: preferably one in which it is
 /// exactly well oriented, then the one its normal agrees with best. It must be well oriented in
 /// that region, exactly ([`Regions::side`]): a reversed (folded) face, or one whose projection on
-/// the region's plane is degenerate, is a failure.
-fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Vec<f64> {
+/// the region's plane is degenerate, is a failure. When the face is well oriented in several of
+/// the shared regions (coplanar regions that overlap, possible in a self-intersecting input), it
+/// cannot be told from geometry which one it belongs to: those regions form one group, whose
+/// total area is checked ([`check_areas`]).
+fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Assignment {
     let mut assigned = vec![CompensatedSum::default(); regions.area.len()];
+    let mut groups = UnionFind::new(regions.area.len());
     let mut common = Vec::new();
+    let mut scored: Vec<(i8, f64, usize)> = Vec::new();
     for (f, t) in output.triangles.iter().enumerate() {
         if is_degenerate(t) {
             continue;
@@ -1699,12 +1711,14 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
         }));
         let triangle = corners(output, t);
         let normal = triangle_normal(triangle);
-        let best = common
+        scored.clear();
+        scored.extend(common.iter().map(|&r| {
+            let r = r as usize;
+            (regions.side(r, triangle), regions.normal[r].dot(normal), r)
+        }));
+        let best = scored
             .iter()
-            .map(|&r| {
-                let r = r as usize;
-                (regions.side(r, triangle), regions.normal[r].dot(normal), r)
-            })
+            .copied()
             .max_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
         let Some((side, _, r)) = best else {
             fail.push(KIND_FACE, || {
@@ -1718,7 +1732,13 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             continue;
         };
         assigned[r].add(0.5 * normal.length());
-        if side <= 0 {
+        if side > 0 {
+            for &(other_side, _, other) in &scored {
+                if other_side > 0 && other != r {
+                    groups.union(r as u32, other as u32);
+                }
+            }
+        } else {
             fail.push(KIND_FACE, || {
                 let what = if exactly_degenerate(triangle) {
                     "has zero area (its corners are collinear) in"
@@ -1737,18 +1757,43 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             });
         }
     }
-    assigned.iter().map(CompensatedSum::value).collect()
+    Assignment {
+        area: assigned.iter().map(CompensatedSum::value).collect(),
+        groups,
+    }
 }
 
-/// Checks rule 4: every region keeps its area.
-fn check_areas(regions: &Regions, assigned: &[f64], fail: &mut Failures) {
+/// Checks rule 4: every region keeps its area; regions grouped by [`assign_faces`] keep their
+/// total area.
+fn check_areas(regions: &Regions, assignment: &mut Assignment, fail: &mut Failures) {
+    let n = regions.area.len();
+    let mut before = vec![CompensatedSum::default(); n];
+    let mut after = vec![CompensatedSum::default(); n];
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for r in 0..n {
+        let root = assignment.groups.find(r as u32) as usize;
+        before[root].add(regions.area[r]);
+        after[root].add(assignment.area[r]);
+        members[root].push(r);
+    }
     let floor = AREA_FLOOR * regions.total_area;
-    for (r, (&before, &after)) in regions.area.iter().zip(assigned).enumerate() {
+    for root in (0..n).filter(|&r| !members[r].is_empty()) {
+        let (before, after) = (before[root].value(), after[root].value());
         let tolerance = AREA_TOLERANCE * before + floor;
         let kept = (after - before).abs() <= tolerance; // false for NaN too
         if !kept {
-            fail.push(KIND_AREA, || {
-                format!("{} area {before} became {after}", regions.name(r))
+            fail.push(KIND_AREA, || match members[root].as_slice() {
+                [r] => format!("{} area {before} became {after}", regions.name(*r)),
+                group => {
+                    let names: Vec<String> = group.iter().take(6).map(|&r| regions.name(r)).collect();
+                    let more = if group.len() > 6 { ", ..." } else { "" };
+                    format!(
+                        "the {} overlapping coplanar regions {}{more} (whose faces cannot be told \
+                         apart) have total area {before}, which became {after}",
+                        group.len(),
+                        names.join(", ")
+                    )
+                }
             });
         }
     }
