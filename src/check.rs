@@ -10,10 +10,11 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear. (Where the
-//!    output has more vertices than the input at an input vertex's position that also lies inside
-//!    an input edge, the surface touching itself, each of them may be either: they belong to the
-//!    regions of both.)
+//!    spatial hash over pieces of the input edges, so the search is near linear. An added vertex
+//!    belongs to the regions of the input edges nearest to it (within roundoff of the nearest
+//!    distance), not of every edge within the tolerance. (Where the output has more vertices than
+//!    the input at an input vertex's position that also lies inside an input edge, the surface
+//!    touching itself, each of them may be either: they belong to the regions of both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -21,7 +22,9 @@
 //!    never called degenerate and a folded one never passes).
 //! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`]). Face areas are
 //!    computed at the corner opposite the longest edge from exact edge vectors, and summed with
-//!    compensation, so that they stay accurate far from the origin and for needle faces.
+//!    compensation, so that they stay accurate far from the origin and for needle faces. Regions
+//!    that an output face fits equally (coplanar regions overlapping in a self-intersecting input)
+//!    are checked together, on their total area.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
