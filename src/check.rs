@@ -2,8 +2,9 @@
 //!
 //! Given the INPUT mesh and the OUTPUT mesh (Wavefront OBJ files, or meshes already read with
 //! [`Mesh3::read_obj`]), [`check_files`] / [`check_meshes`] decide whether OUTPUT is a valid
-//! Delaunay mesh of INPUT with exactly the same geometry. The module shares no code with the
-//! construction: it has its own reader (on top of `tobj`), its own topology and its own geometry.
+//! Delaunay mesh of INPUT with exactly the same geometry. The module shares no geometry or
+//! topology code with the construction: it has its own reader (on top of `tobj`), its own
+//! topology and its own geometry; it borrows only the crate's hash map ([`crate::hash`]).
 //!
 //! # What is checked
 //!
@@ -36,12 +37,11 @@
 //! [`CheckError`] (or a failure line from [`check_meshes`]), anything wrong with OUTPUT gives
 //! failure lines.
 
-use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::fmt;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::path::{Path, PathBuf};
 
+use crate::hash::FastMap;
 use glam::DVec3;
 
 /// An interior edge is Delaunay iff `alpha + beta <= pi + DELAUNAY_TOLERANCE` (radians), where
@@ -2053,50 +2053,6 @@ impl UnionFind {
         self.size[a as usize] += self.size[b as usize];
     }
 }
-
-/// A fast multiplicative hasher for the position maps (the standard SipHash is several times
-/// slower here; keys come from files, and a bad case could only cost time, never correctness).
-#[derive(Default, Clone, Copy)]
-struct FastHasher {
-    hash: u64,
-}
-
-impl FastHasher {
-    fn add(&mut self, x: u64) {
-        self.hash = (self.hash.rotate_left(5) ^ x).wrapping_mul(0x517C_C1B7_2722_0A95);
-    }
-}
-
-impl Hasher for FastHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(word));
-        }
-    }
-
-    fn write_u64(&mut self, x: u64) {
-        self.add(x);
-    }
-
-    fn write_usize(&mut self, x: usize) {
-        self.add(x as u64);
-    }
-
-    /// Murmur3's 64-bit finaliser, so that every input bit reaches the low (bucket) bits even
-    /// for "round" coordinates whose low mantissa bits are all zero.
-    fn finish(&self) -> u64 {
-        let mut h = self.hash;
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
-        h ^ (h >> 33)
-    }
-}
-
-type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FastHasher>>;
 
 /// The bit patterns of a position (the welding key).
 fn bits(p: DVec3) -> [u64; 3] {

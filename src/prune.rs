@@ -350,11 +350,16 @@ impl Pruner<'_> {
     fn along_input(&self, p: VertexId, input: u32) -> Option<[HalfEdgeId; 2]> {
         let topo = &self.s.topo;
         let first = topo.vertex_he(p);
-        let mut found = Vec::with_capacity(2);
+        let mut found = [HalfEdgeId::NONE; 2];
+        let mut count = 0;
         let mut h = first;
         loop {
             if self.s.edge_input[h.edge().idx()] == input {
-                found.push(h);
+                if count == 2 {
+                    return None;
+                }
+                found[count] = h;
+                count += 1;
             }
             h = topo.rotate_ccw(h);
             if h.is_none() {
@@ -364,36 +369,35 @@ impl Pruner<'_> {
                 break;
             }
         }
-        (found.len() == 2).then(|| [found[0], found[1]])
+        (count == 2).then_some(found)
     }
 
     /// Flips edges out of p, counter-clockwise after `start` up to the next
     /// edge on the input edge, until one neighbour is left between them.
     fn reduce_side(&mut self, p: VertexId, input: u32, start: HalfEdgeId) -> bool {
+        let on_input = |me: &Self, h: HalfEdgeId| me.s.edge_input[h.edge().idx()] == input;
         loop {
-            // The interior neighbours' half-edges, in order.
-            let mut fan = Vec::new();
-            let mut h = self.s.topo.rotate_ccw(start);
-            while self.s.edge_input[h.edge().idx()] != input {
-                fan.push(h);
-                h = self.s.topo.rotate_ccw(h);
-                if fan.len() > 4096 {
-                    return false;
-                }
+            // The interior neighbours' half-edges follow `start` counter-
+            // clockwise up to the other sub-edge of p.
+            let first = self.s.topo.rotate_ccw(start);
+            debug_assert_eq!(self.s.topo.origin(first), p);
+            if on_input(self, first) {
+                return false; // no neighbour on this side
             }
-            debug_assert_eq!(self.s.topo.origin(h), p);
-            if fan.is_empty() {
-                return false;
-            }
-            if fan.len() == 1 {
-                return true;
+            if on_input(self, self.s.topo.rotate_ccw(first)) {
+                return true; // exactly one: done
             }
             // Flip the first ear: any ear would do, the Lawson pass after the
             // merge makes the region Delaunay again.
-            let best = fan.iter().find(|h| self.ear_flip_is_valid(h.edge()));
-            let Some(&h) = best else {
-                return false;
-            };
+            let mut h = first;
+            let mut walked = 0;
+            while !self.ear_flip_is_valid(h.edge()) {
+                h = self.s.topo.rotate_ccw(h);
+                walked += 1;
+                if on_input(self, h) || walked > 4096 {
+                    return false; // no ear on this side
+                }
+            }
             if !self.flip(h.edge()) {
                 return false;
             }
