@@ -302,6 +302,53 @@ fn sign(x: f64) -> i8 {
 /// y), (y, z) and (z, x).
 const PLANES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 
+/// The exact sign (-1, 0 or 1) of the triangle (a, b, c) projected along
+/// coordinate axis `axis` (component `axis` of its exact normal
+/// `(b - a) x (c - a)`; the other two coordinates in cyclic order). Exact for
+/// every finite input.
+pub fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
+    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+    orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]])
+}
+
+/// How the faces of a planar region look along one coordinate axis: every
+/// face of the region, however its corners were rounded, must have exactly
+/// the orientation `sign` in the projection along `axis` (see
+/// [`projected_orientation`]). `sign` is 0 only for a region whose faces are
+/// all exactly degenerate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RegionPlane {
+    /// The coordinate axis to project along (0, 1 or 2).
+    pub axis: u8,
+    /// The orientation of the region's faces in that projection.
+    pub sign: i8,
+}
+
+impl RegionPlane {
+    /// The plane of a region whose largest face is `triangle`, with float
+    /// normal `n`: along the axis of the largest component of `n` among those
+    /// whose projection is exactly non-degenerate.
+    pub fn of_face(triangle: [DVec3; 3], n: DVec3) -> RegionPlane {
+        let mut best = RegionPlane { axis: 2, sign: 0 };
+        let mut best_component = -1.0;
+        for axis in 0..3 {
+            let sign = projected_orientation(triangle, axis);
+            if sign != 0 && n[axis].abs() > best_component {
+                best = RegionPlane { axis: axis as u8, sign };
+                best_component = n[axis].abs();
+            }
+        }
+        best
+    }
+
+    /// Exactly: does `triangle` have the region's orientation, with non-zero
+    /// area, in the region's projection? (Always true for a region without
+    /// orientation: there is nothing to compare with.)
+    pub fn is_proper(&self, triangle: [DVec3; 3]) -> bool {
+        self.sign == 0 || projected_orientation(triangle, self.axis as usize) == self.sign
+    }
+}
+
 /// Exact test: are the points collinear (the triangle has zero area)? Exact
 /// for every finite input, subnormal coordinates included.
 pub fn collinear(a: DVec3, b: DVec3, c: DVec3) -> bool {

@@ -27,8 +27,6 @@
 //!       y1    y2                 y1----y2            y
 //! ```
 
-use glam::DVec3;
-
 use crate::geometry::ALGORITHM_TOLERANCE;
 use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
 use crate::refine::{self, Options};
@@ -338,6 +336,14 @@ impl Pruner<'_> {
         }
         self.detached += 1;
         // The two merged faces: (u, w, x) on hu's side, (w, u, y) on its twin's.
+        // Their corners were never joined so before: each must have its
+        // region's orientation, exactly (the caller undoes on failure).
+        for h in [hu, hu.twin()] {
+            let f = self.s.topo.face(h);
+            if !f.is_none() && !self.s.face_is_proper(f) {
+                return false;
+            }
+        }
         for h in [hu, hu.twin()] {
             let n = self.s.topo.next(h);
             self.touched.extend([h.edge(), n.edge(), self.s.topo.next(n).edge()]);
@@ -410,12 +416,8 @@ impl Pruner<'_> {
         let s = &*self.s;
         let h = e.halfedge();
         let [a3, b3, c3, d3] = s.edge_quad(e);
-        let normal = s.region_normal[s.face_region[s.topo.face(h).idx()] as usize];
-        let positive = |x: DVec3, y: DVec3, z: DVec3| {
-            let n = (y - x).cross(z - x);
-            n.dot(normal) > 1e-12 * (y - x).length() * (z - x).length()
-        };
-        if !positive(d3, c3, a3) || !positive(c3, d3, b3) {
+        let plane = s.region_plane[s.face_region[s.topo.face(h).idx()] as usize];
+        if !plane.is_proper([d3, c3, a3]) || !plane.is_proper([c3, d3, b3]) {
             return false;
         }
         let (c, d) = (s.topo.apex(h), s.topo.apex(h.twin()));
@@ -596,7 +598,7 @@ impl Pruner<'_> {
         for f in SPREAD {
             let t = samples.t(samples.nearest(lo + f * (hi - lo)));
             let p = point_on_edge(ends[0], ends[1], t);
-            if t > lo && t < hi && !ts.contains(&t) && p != pa && p != pb {
+            if t > lo && t < hi && !ts.contains(&t) && p != pa && p != pb && self.s.split_is_valid(bad, t) {
                 ts.push(t);
             }
         }

@@ -369,7 +369,8 @@ impl Run<'_> {
 }
 
 /// The sample at which Algorithm 2 splits the non-flippable, non-Delaunay
-/// edge `e` of `s` with these settings (`None`: no sample left in it).
+/// edge `e` of `s` with these settings (`None`: no sample left in it whose
+/// rounded position gives valid faces, see [`Surface::split_is_valid`]).
 pub(crate) fn choose_sample(
     s: &Surface,
     constants: &SampleConstants,
@@ -412,5 +413,11 @@ pub(crate) fn choose_sample(
         score: options.score,
         median: options.median,
     };
+    // The chosen point, rounded, must still make properly oriented faces;
+    // if it does not (it lies within rounding of a vertex or of a line
+    // through one), the middle of the sub-edge is the best hope.
+    let valid = |c: &samples::Choice| s.split_is_valid(e, c.t);
     samples::choose(&query)
+        .filter(valid)
+        .or_else(|| samples::middle(&query).filter(valid))
 }

@@ -431,6 +431,15 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
     Some(Choice { k, t: q.samples.t(k) })
 }
 
+/// The sample in the middle of the sub-edge of `q` (by index), whatever
+/// the score: the fallback when the chosen sample lands too close to a
+/// vertex for the coordinates to resolve (`None`: no sample inside).
+pub fn middle(q: &SplitQuery) -> Option<Choice> {
+    let w = Window::new(q)?;
+    let k = w.k(w.count / 2);
+    Some(Choice { k, t: q.samples.t(k) })
+}
+
 /// The test oracle for [`choose`]: scores every sample inside the sub-edge
 /// one by one with `holds(condition index, x)` evaluated pointwise, where
 /// conditions 0 and 1 are the halves and 2..6 the outer edges. Only usable

@@ -2431,10 +2431,11 @@ fn regression_refine_pillow_duplicate_edge() {
 /// (its corners are collinear)" from the checker; the second input gets 909
 /// splits, nearly all making such faces). Before the checker's exact
 /// orientation test these were hidden behind the tolerated needle-normal bug.
-/// The construction (src/samples.rs, src/refine.rs) should refuse such an
-/// input (or stop with `Unsplittable`) rather than write degenerate faces.
+/// Fixed: every split and flip must give faces with their region's
+/// orientation, exactly (`Surface::split_is_valid`, `flip_is_valid`), the
+/// judge's own criterion; a sample that fails it is replaced by the middle
+/// of the sub-edge, or the edge is left for a clean `Unsplittable`.
 #[test]
-#[ignore = "delmesh bug (construction): theta_min computed as 0 gives degenerate output faces"]
 fn regression_refine_degenerate_sample_constants() {
     let mut problems = pipeline_problems("bug-refine-theta-min-zero-needle.obj");
     problems.extend(pipeline_problems("bug-refine-theta-min-zero-subnormal.obj"));
@@ -2451,10 +2452,9 @@ fn regression_refine_degenerate_sample_constants() {
 /// is reversed in its region (the checker's exact orientation test: "output
 /// face 57 (v32, v33, v26) is reversed relative to region 11"); the old
 /// float test passed it (normal . region normal = 0.43). The other 17
-/// combinations pass (or stop at the work limit). The construction should
-/// not place vertices closer than the coordinates can resolve.
+/// combinations pass (or stop at the work limit). Fixed as the one above:
+/// the split that made the reversed sliver is refused.
 #[test]
-#[ignore = "delmesh bug (construction): sample spacing below f64 resolution folds a sliver face"]
 fn regression_refine_samples_below_f64_resolution() {
     let problems = pipeline_problems("bug-refine-samples-below-f64-resolution.obj");
     assert!(problems.is_empty(), "{}", problems.join("\n"));

@@ -11,7 +11,7 @@ mod topology;
 
 pub use topology::{EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
 
-use crate::geometry::{self, ALGORITHM_TOLERANCE};
+use crate::geometry::{self, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
 use glam::DVec3;
 
@@ -56,8 +56,9 @@ pub struct Surface {
     pub n_regions: usize,
     /// Smallest angle and extreme edge lengths of the input.
     pub input_figures: InputFigures,
-    /// Unit normal of each planar region (of its largest input face).
-    pub region_normal: Vec<DVec3>,
+    /// How each planar region's faces must look along a coordinate axis
+    /// (from its largest input face): the exact test every new face passes.
+    pub region_plane: Vec<RegionPlane>,
 }
 
 /// Figures of the input that the report's tables give.
@@ -106,7 +107,7 @@ impl Surface {
                 min_edge: 0.0,
                 max_edge: 0.0,
             },
-            region_normal: Vec::new(),
+            region_plane: Vec::new(),
             input_edges,
             positions,
             topo,
@@ -159,20 +160,19 @@ impl Surface {
             })
             .collect();
         self.n_regions = next as usize;
-        // Each region's normal: that of its largest face.
-        let mut best = vec![(0.0f64, DVec3::ZERO); self.n_regions];
+        // Each region's plane: that of its largest face.
+        let mut best = vec![(0.0f64, DVec3::ZERO, FaceId(0)); self.n_regions];
         for f in 0..n_faces {
-            let [a, b, c] = self
-                .topo
-                .face_vertices(FaceId(f as u32))
-                .map(|v| self.positions[v.idx()]);
+            let [a, b, c] = self.face_positions(FaceId(f as u32));
             let n = (b - a).cross(c - a);
             let r = self.face_region[f] as usize;
             if n.length_squared() > best[r].0 {
-                best[r] = (n.length_squared(), n);
+                best[r] = (n.length_squared(), n, FaceId(f as u32));
             }
         }
-        self.region_normal = best.into_iter().map(|(_, n)| n.normalize_or_zero()).collect();
+        self.region_plane = (best.into_iter())
+            .map(|(_, n, f)| RegionPlane::of_face(self.face_positions(f), n))
+            .collect();
     }
 
     /// Positions (a, b, c, d) of the interior edge `e` = a→b (its first
@@ -288,18 +288,10 @@ impl Surface {
             return false;
         }
         let [a3, b3, c3, d3] = self.edge_quad(e);
-        let normal = self.region_normal[self.face_region[self.topo.face(h).idx()] as usize];
-        // After the flip: (d, c, a) and (c, d, b). Refuse a face that is
-        // inverted by more than rounding the positions can explain: its apex
-        // lies on the wrong side of the new edge's line by more than a few
-        // ulps of the coordinates.
-        let scale = [a3, b3, c3, d3]
-            .iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0, f64::max);
-        let slack = 64.0 * f64::EPSILON * scale * (c3 - d3).length();
-        let inverted = |n: DVec3| n.dot(normal) < -slack * normal.length();
-        if inverted((c3 - d3).cross(a3 - d3)) || inverted((d3 - c3).cross(b3 - c3)) {
+        // After the flip: (d, c, a) and (c, d, b), both in the region of the
+        // two faces now; each must have the region's orientation, exactly.
+        let plane = self.region_plane[self.face_region[self.topo.face(h).idx()] as usize];
+        if !plane.is_proper([d3, c3, a3]) || !plane.is_proper([c3, d3, b3]) {
             return false;
         }
         // The new edge must itself be Delaunay: on a quad that is degenerate
@@ -335,6 +327,50 @@ impl Surface {
     pub fn flip(&mut self, e: EdgeId) {
         self.topo.flip(e);
         self.edge_input[e.idx()] = NO_INPUT_EDGE;
+    }
+
+    /// Whether splitting `e` = (a, b) at parameter `t` of its input edge gives
+    /// faces that each have their region's orientation, exactly (see
+    /// [`RegionPlane::is_proper`]). Always so in exact arithmetic; a point
+    /// rounded to within a few ulps of a or b, or of the line from a or b to
+    /// an apex, can fail it:
+    ///
+    /// ```text
+    ///        c                    c
+    ///       / \                  /|\
+    ///      /   \                / | \
+    ///     a-----b      ->      a--p--b     (a, p, c), (p, b, c),
+    ///      \   /                \ | /      (b, p, d), (p, a, d)
+    ///       \ /                  \|/
+    ///        d                    d
+    /// ```
+    pub fn split_is_valid(&self, e: EdgeId, t: f64) -> bool {
+        let [p0, p1] = self.input_edge_ends(self.edge_input[e.idx()]);
+        let p = point_on_edge(p0, p1, t);
+        // Each side (a face with corners x, y and apex z) becomes (x, p, z)
+        // and (p, y, z); a boundary side has no face.
+        let side = |h: HalfEdgeId| {
+            let f = self.topo.face(h);
+            f.is_none() || {
+                let plane = self.region_plane[self.face_region[f.idx()] as usize];
+                let [x, y, z] =
+                    [self.topo.origin(h), self.topo.dest(h), self.topo.apex(h)].map(|v| self.positions[v.idx()]);
+                plane.is_proper([x, p, z]) && plane.is_proper([p, y, z])
+            }
+        };
+        let h = e.halfedge();
+        side(h) && side(h.twin())
+    }
+
+    /// Whether face `f` has its region's orientation, exactly.
+    pub fn face_is_proper(&self, f: FaceId) -> bool {
+        self.region_plane[self.face_region[f.idx()] as usize].is_proper(self.face_positions(f))
+    }
+
+    /// The corner positions of face `f`.
+    #[inline]
+    pub fn face_positions(&self, f: FaceId) -> [DVec3; 3] {
+        self.topo.face_vertices(f).map(|v| self.positions[v.idx()])
     }
 
     /// Splits edge `e`, which lies on an input edge, at parameter `t` of that
@@ -516,5 +552,76 @@ impl Surface {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Faces (a, b, c) and (b, a, d) in the plane z = 0, with a, b on the
+    /// line y = x / 3 (c above it, d below), and the edge a–b.
+    fn two_faces(c: DVec3) -> (Surface, EdgeId) {
+        let positions = vec![DVec3::ZERO, DVec3::new(3.0, 1.0, 0.0), c, DVec3::new(1.0, -2.0, 0.0)];
+        let s = Surface::new(positions, &[[0, 1, 2], [1, 0, 3]]).unwrap();
+        let e = (0..s.topo.n_edges() as u32)
+            .map(EdgeId)
+            .find(|&e| {
+                let h = e.halfedge();
+                let ends = [s.topo.origin(h).0, s.topo.dest(h).0];
+                ends == [0, 1] || ends == [1, 0]
+            })
+            .unwrap();
+        (s, e)
+    }
+
+    /// A split point rounded off its input edge's line, next to an apex that
+    /// is barely off that line, makes a reversed face: `split_is_valid`
+    /// refuses exactly that sample, and accepts it with the apex far away.
+    #[test]
+    fn split_refuses_a_point_rounded_past_an_apex() {
+        let line_offset = |p: DVec3| geometry::projected_orientation([DVec3::ZERO, DVec3::new(3.0, 1.0, 0.0), p], 2);
+        let mut found = 0;
+        for k in 1..2000 {
+            let t = k as f64 / 2000.0;
+            let p = point_on_edge(DVec3::ZERO, DVec3::new(3.0, 1.0, 0.0), t);
+            if line_offset(p) <= 0 {
+                continue; // p on the line or below it
+            }
+            // c: p with both coordinates one ulp up. Where p's rounding put
+            // it above the line by more than a quarter ulp of x, c is above
+            // the line too (a valid input face), but below the line from p
+            // to b, whose slope 1/3 is steeper than c - p's.
+            let next = |x: f64| f64::from_bits(x.to_bits() + 1);
+            let c = DVec3::new(next(p.x), next(p.y), 0.0);
+            // Steeper only where y's ulp is a quarter of x's (not a half).
+            if 4.0 * (c.y - p.y) != c.x - p.x || line_offset(c) <= 0 {
+                continue;
+            }
+            let (s, e) = two_faces(c);
+            s.validate().unwrap();
+            let ends = s.input_edge_ends(s.edge_input[e.idx()]);
+            let t_on_input = if ends[0] == DVec3::ZERO { t } else { 1.0 - t };
+            if point_on_edge(ends[0], ends[1], t_on_input) != p {
+                continue;
+            }
+            assert!(!s.split_is_valid(e, t_on_input), "t = {t}: (p, b, c) is reversed");
+            let (far, e) = two_faces(DVec3::new(1.0, 2.0, 0.0));
+            assert!(far.split_is_valid(e, t_on_input), "t = {t}");
+            found += 1;
+        }
+        assert!(found > 0, "no sample rounded that way");
+    }
+
+    /// Region planes: a face of the region passes; reversed or degenerate
+    /// faces do not.
+    #[test]
+    fn region_plane_judges_orientation_exactly() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0));
+        let plane = RegionPlane::of_face([a, b, c], (b - a).cross(c - a));
+        assert_eq!(plane, RegionPlane { axis: 2, sign: 1 });
+        assert!(plane.is_proper([a, b, c]));
+        assert!(!plane.is_proper([a, c, b]));
+        assert!(!plane.is_proper([a, b, DVec3::new(2.0, 0.0, 0.0)]));
     }
 }
