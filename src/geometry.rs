@@ -57,7 +57,18 @@ pub fn delaunay_excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 /// (0 ≤ `tolerance` < π/2), without computing the angle.
 #[inline]
 pub fn exceeds(y: f64, x: f64, tolerance: f64) -> bool {
-    y > 0.0 && (x <= 0.0 || y > x * tolerance.tan())
+    y > 0.0 && (x <= 0.0 || y > x * tan_of_tolerance(tolerance))
+}
+
+/// tan(t), without a libm call for the tiny tolerances used here: for
+/// t < 1e-5 the series t + t³/3 is exact to well below an ulp of t.
+#[inline(always)]
+fn tan_of_tolerance(t: f64) -> f64 {
+    if t.abs() < 1e-5 {
+        t + t * t * t / 3.0
+    } else {
+        t.tan()
+    }
 }
 
 /// Whether the edge (a, b) with opposite vertices `c`, `d` violates the
@@ -186,6 +197,7 @@ fn fast_range(coords: &[f64]) -> bool {
 /// The sign of `robust::orient2d(a, b, c)`: 1 when (a, b, c) turn
 /// counter-clockwise, -1 clockwise, 0 when collinear; exact for every finite
 /// input.
+#[inline]
 fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     if fast_range(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
         robust_orient2d_sign(a, b, c)
@@ -306,8 +318,10 @@ const PLANES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 /// coordinate axis `axis` (component `axis` of its exact normal
 /// `(b - a) x (c - a)`; the other two coordinates in cyclic order). Exact for
 /// every finite input.
+#[inline]
 pub fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
-    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+    let (i, j) = [(1, 2), (2, 0), (0, 1)][axis];
+    let (a, b, c) = (a.to_array(), b.to_array(), c.to_array());
     orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]])
 }
 
@@ -344,6 +358,7 @@ impl RegionPlane {
     /// Exactly: does `triangle` have the region's orientation, with non-zero
     /// area, in the region's projection? (Always true for a region without
     /// orientation: there is nothing to compare with.)
+    #[inline]
     pub fn is_proper(&self, triangle: [DVec3; 3]) -> bool {
         self.sign == 0 || projected_orientation(triangle, self.axis as usize) == self.sign
     }

@@ -228,18 +228,14 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
     run.s.reserve_splits(run.s.topo.n_edges().min(options.max_added));
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
-    for e in 0..run.s.topo.n_edges() {
-        let e = EdgeId(e as u32);
-        // The acceptance tolerance is the looser one: an edge that exceeds it
-        // exceeds the algorithm's, so the cheap test (no square root for two
-        // non-obtuse opposite angles, most edges) filters both.
-        if run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
-            let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
-            run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
-            ds.push(e, run.s.edge_length(e));
-        }
+    for e in non_delaunay_edges(run.s) {
+        let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
+        run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
+        ds.push(e, run.s.edge_length(e));
     }
-    let mut work_at_last_pass = usize::MAX;
+    // No work at all in the first round: the edges are those of the first
+    // pass, all stuck, and a verification pass would find them again.
+    let mut work_at_last_pass = 0;
     let mut taken: u64 = 0;
     loop {
         run.stats.passes += 1;
@@ -269,16 +265,12 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         }
         work_at_last_pass = work;
         run.stuck.clear();
-        let mut missed = false;
-        for e in 0..run.s.topo.n_edges() {
-            let e = EdgeId(e as u32);
-            if run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
-                ds.push(e, run.s.edge_length(e));
-                missed = true;
-            }
-        }
-        if !missed {
+        let missed = non_delaunay_edges(run.s);
+        if missed.is_empty() {
             break;
+        }
+        for e in missed {
+            ds.push(e, run.s.edge_length(e));
         }
     }
     // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
@@ -294,6 +286,46 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
         }
     }
     Ok(run.stats)
+}
+
+/// Meshes with at least this many edges have their full passes over the
+/// edges split between threads (below it, starting threads costs more than
+/// it saves).
+const PARALLEL_PASS_EDGES: usize = 1 << 16;
+
+/// The interior edges of `s` non-Delaunay by more than
+/// [`ALGORITHM_TOLERANCE`], in increasing order. Read-only, so on large
+/// meshes each available core takes a contiguous range of edges; the result
+/// does not depend on how many do.
+fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
+    let n = s.topo.n_edges();
+    let scan = |range: std::ops::Range<usize>| -> Vec<EdgeId> {
+        range
+            .map(|e| EdgeId(e as u32))
+            .filter(|&e| s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
+            .collect()
+    };
+    let threads = if n >= PARALLEL_PASS_EDGES {
+        std::thread::available_parallelism().map_or(1, |t| t.get()).min(8)
+    } else {
+        1
+    };
+    if threads == 1 {
+        return scan(0..n);
+    }
+    let chunk = n.div_ceil(threads);
+    std::thread::scope(|scope| {
+        let parts: Vec<_> = (0..threads)
+            .map(|i| {
+                let range = (i * chunk).min(n)..((i + 1) * chunk).min(n);
+                scope.spawn(move || scan(range))
+            })
+            .collect();
+        parts
+            .into_iter()
+            .flat_map(|p| p.join().expect("a pass over the edges does not panic"))
+            .collect()
+    })
 }
 
 struct Run<'a> {
