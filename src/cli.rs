@@ -38,7 +38,7 @@ macro_rules! complain {
     }};
 }
 use delmesh::attributes::{Attributes, Transfer};
-use delmesh::mesh::Surface;
+use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
 use delmesh::samples::Score;
@@ -423,15 +423,41 @@ struct Outcome {
     seconds: f64,
 }
 
-fn refine_once(mut surface: Surface, path: &Path, options: &Options, prune: bool) -> anyhow::Result<Outcome> {
+/// The first pass of Algorithm 2 on the input, shared by the runs: its
+/// non-Delaunay edges, and the seconds it took (counted in every run's
+/// refine time).
+struct FirstPass {
+    edges: Vec<EdgeId>,
+    seconds: f64,
+}
+
+impl FirstPass {
+    fn new(surface: &Surface) -> FirstPass {
+        let t = Instant::now();
+        let edges = refine::non_delaunay_edges(surface);
+        FirstPass {
+            edges,
+            seconds: t.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+fn refine_once(
+    mut surface: Surface,
+    first_pass: &FirstPass,
+    path: &Path,
+    options: &Options,
+    prune: bool,
+) -> anyhow::Result<Outcome> {
     let start = Instant::now();
-    let stats = refine::make_delaunay(&mut surface, options).with_context(|| path.display().to_string())?;
+    let stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
+        .with_context(|| path.display().to_string())?;
     let pruned = prune.then(|| delmesh::prune::prune(&mut surface, options));
     Ok(Outcome {
         surface,
         stats,
         pruned,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: first_pass.seconds + start.elapsed().as_secs_f64(),
     })
 }
 
@@ -549,7 +575,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let figures = surface.input_figures;
-    let lower_bound = surface.added_vertex_lower_bound();
+    // The input's non-Delaunay edges: the first pass of every run, and where
+    // the lower bound is counted.
+    let first_pass = FirstPass::new(&surface);
+    let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
     if !args.quiet {
         say!(
             "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
@@ -606,7 +635,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
-        let (code, rows) = run_all(&surface, transfer.as_ref(), input_path, &output, args)?;
+        let (code, rows) = run_all(&surface, &first_pass, transfer.as_ref(), input_path, &output, args)?;
         let runs: Vec<stats_json::RunRecord> = rows
             .iter()
             .map(|r| stats_json::RunRecord {
@@ -683,13 +712,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Refine);
     let result = if args.smallest {
         let start = Instant::now();
-        smallest(surface, input_path, &options, args.jobs).map(|(o, mut out)| {
+        smallest(surface, &first_pass, input_path, &options, args.jobs).map(|(o, mut out)| {
             options = o;
             out.seconds = start.elapsed().as_secs_f64(); // all 12 runs
             out
         })
     } else {
-        refine_once(surface, input_path, &options, args.prune)
+        refine_once(surface, &first_pass, input_path, &options, args.prune)
     };
     let out = match result {
         Ok(out) => out,
@@ -787,6 +816,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
 /// only if every setting fails.
 fn smallest(
     surface: Surface,
+    first_pass: &FirstPass,
     input_path: &Path,
     template: &Options,
     jobs: Option<u16>,
@@ -843,7 +873,7 @@ fn smallest(
                     if !options.median {
                         options.max_added = options.max_added.min(cap);
                     }
-                    match refine_once(surface.clone(), input_path, &options, true) {
+                    match refine_once(surface.clone(), first_pass, input_path, &options, true) {
                         Ok(out) => {
                             most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
                             let key = (out.surface.positions.len(), i);
@@ -952,13 +982,14 @@ fn describe_attributes(a: &Attributes) -> String {
 /// Refines one combination and writes its file (atomically).
 fn run_combination(
     surface: &Surface,
+    first_pass: &FirstPass,
     transfer: Option<&Transfer>,
     input_path: &Path,
     options: &Options,
     prune: bool,
     file: &Path,
 ) -> anyhow::Result<RowFigures> {
-    let out = refine_once(surface.clone(), input_path, options, prune)?;
+    let out = refine_once(surface.clone(), first_pass, input_path, options, prune)?;
     let t = Instant::now();
     write_output(file, &out.surface, transfer)?;
     let seconds_write = t.elapsed().as_secs_f64();
@@ -975,6 +1006,7 @@ fn run_combination(
 
 fn run_all(
     surface: &Surface,
+    first_pass: &FirstPass,
     transfer: Option<&Transfer>,
     input_path: &Path,
     output: &Path,
@@ -1027,7 +1059,7 @@ fn run_all(
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(options) = combos.get(i) else { break };
                     let file = combination_path(output, options);
-                    let result = run_combination(surface, transfer, input_path, options, args.prune, &file);
+                    let result = run_combination(surface, first_pass, transfer, input_path, options, args.prune, &file);
                     progress::run_done();
                     rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                         options: *options,

@@ -214,6 +214,14 @@ pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) ->
 /// Fails with [`Error::Unsplittable`] if some non-Delaunay sub-edge has no
 /// sample left inside it; it never loops.
 pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> {
+    let first_pass = non_delaunay_edges(surface);
+    make_delaunay_from(surface, options, &first_pass)
+}
+
+/// [`make_delaunay`], given the result of its first pass,
+/// [`non_delaunay_edges`]`(surface)`: several runs on copies of one mesh (and
+/// [`Surface::added_vertex_lower_bound_among`]) can share it.
+pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: &[EdgeId]) -> Result<Stats> {
     let constants = sample_constants(surface);
     let mut run = Run {
         s: surface,
@@ -228,7 +236,7 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
     run.s.reserve_splits(run.s.topo.n_edges().min(options.max_added));
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
-    for e in non_delaunay_edges(run.s) {
+    for &e in first_pass {
         let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
         run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
         ds.push(e, run.s.edge_length(e));
@@ -297,7 +305,7 @@ const PARALLEL_PASS_EDGES: usize = 1 << 16;
 /// [`ALGORITHM_TOLERANCE`], in increasing order. Read-only, so on large
 /// meshes each available core takes a contiguous range of edges; the result
 /// does not depend on how many do.
-fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
+pub fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
     let n = s.topo.n_edges();
     let scan = |range: std::ops::Range<usize>| -> Vec<EdgeId> {
         range

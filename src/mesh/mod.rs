@@ -483,13 +483,23 @@ impl Surface {
     /// does, so the edge stays non-Delaunay until a vertex is added on it.
     /// Computed on the input (before any refinement).
     pub fn added_vertex_lower_bound(&self) -> usize {
+        let all: Vec<EdgeId> = (0..self.topo.n_edges() as u32).map(EdgeId).collect();
+        self.added_vertex_lower_bound_among(&all)
+    }
+
+    /// [`Surface::added_vertex_lower_bound`], looking only at `candidates`,
+    /// which must include every edge non-Delaunay by more than
+    /// [`ALGORITHM_TOLERANCE`] (e.g. `refine::non_delaunay_edges`): the bound
+    /// counts edges non-Delaunay by more than twice the acceptance tolerance,
+    /// a larger one.
+    pub fn added_vertex_lower_bound_among(&self, candidates: &[EdgeId]) -> usize {
+        const _: () = assert!(2.0 * geometry::ACCEPT_TOLERANCE > ALGORITHM_TOLERANCE);
         let mut region_faces = vec![0u32; self.n_regions];
         for &r in &self.face_region {
             region_faces[r as usize] = region_faces[r as usize].saturating_add(1);
         }
         let single = |f: FaceId| region_faces[self.face_region[f.idx()] as usize] == 1;
-        (0..self.topo.n_edges() as u32)
-            .map(EdgeId)
+        (candidates.iter().copied())
             .filter(|&e| {
                 let h = e.halfedge();
                 self.topo.is_interior(e)
