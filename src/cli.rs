@@ -145,7 +145,9 @@ struct RunArgs {
     #[arg(long = "repaired", value_name = "FILE", requires = "repair")]
     repaired: Option<PathBuf>,
 
-    /// With -all: how many combinations run at once (default: one per core).
+    /// How many threads to use (default: one per core): with -all and
+    /// --smallest, how many runs at once; otherwise for the passes over all
+    /// edges and for formatting the output. Results never depend on it.
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
 
@@ -526,6 +528,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
     check_output_dir(&output)?;
+    if let Some(jobs) = args.jobs {
+        io::obj::set_write_threads(usize::from(jobs));
+        refine::set_pass_threads(usize::from(jobs));
+    }
     if let Some(repaired) = &args.repaired {
         check_output_dir(repaired)?;
         if repaired == input_path || *repaired == output {
@@ -848,6 +854,8 @@ fn smallest(
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     }
     .max(1);
+    // The runs share the cores: each scans on one thread.
+    refine::set_pass_threads(1);
     // The best so far, by (vertices, index of its settings).
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     let first_error = std::sync::Mutex::new(None);
@@ -1044,9 +1052,10 @@ fn run_all(
         Some(j) => usize::from(j).min(combos.len()),
         None => threads,
     };
-    // The combinations already share the cores: each writes on one thread
-    // (so that `--jobs 1` really uses one core).
+    // The combinations already share the cores: each writes and scans on one
+    // thread (so that `--jobs 1` really uses one core).
     io::obj::set_write_threads(1);
+    refine::set_pass_threads(1);
     let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
     progress::phase(Phase::Sweep { total: combos.len() });

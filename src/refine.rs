@@ -301,6 +301,17 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
 /// it saves).
 const PARALLEL_PASS_EDGES: usize = 1 << 16;
 
+/// How many threads [`non_delaunay_edges`] uses: 0 (the default) means one
+/// per core, up to 8.
+static PASS_THREADS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// Sets how many threads the full passes over the edges use (0: one per
+/// core). The result never depends on it. The CLI sets it from `--jobs`, and
+/// to 1 while several runs already share the cores.
+pub fn set_pass_threads(n: usize) {
+    PASS_THREADS.store(n, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// The interior edges of `s` non-Delaunay by more than
 /// [`ALGORITHM_TOLERANCE`], in increasing order. Read-only, so on large
 /// meshes each available core takes a contiguous range of edges; the result
@@ -313,10 +324,10 @@ pub fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
             .filter(|&e| s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
             .collect()
     };
-    let threads = if n >= PARALLEL_PASS_EDGES {
-        std::thread::available_parallelism().map_or(1, |t| t.get()).min(8)
-    } else {
-        1
+    let threads = match PASS_THREADS.load(std::sync::atomic::Ordering::Relaxed) {
+        _ if n < PARALLEL_PASS_EDGES => 1,
+        0 => std::thread::available_parallelism().map_or(1, |t| t.get()).min(8),
+        t => t,
     };
     if threads == 1 {
         return scan(0..n);
