@@ -1056,17 +1056,32 @@ fn run_all(
     // thread (so that `--jobs 1` really uses one core).
     io::obj::set_write_threads(1);
     refine::set_pass_threads(1);
+    // Longest first, so that no core is left with a long run at the end: the
+    // runs without the median and with "all equal" (then "weighted center")
+    // split next to vertices and often take most of the sweep. Only the
+    // order of work changes; files and table do not.
+    let mut order: Vec<usize> = (0..combos.len()).collect();
+    order.sort_by_key(|&i| {
+        let o = &combos[i];
+        (
+            o.median,
+            !matches!(o.score, Score::AllEqual),
+            !matches!(o.score, Score::WeightedCenter),
+        )
+    });
     let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
     progress::phase(Phase::Sweep { total: combos.len() });
     std::thread::scope(|scope| {
         for worker in 0..threads {
-            let (next, rows, combos) = (&next, &rows, &combos);
+            let (next, rows, combos, order) = (&next, &rows, &combos, &order);
             scope.spawn(move || {
                 progress::use_slot(worker);
                 loop {
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(options) = combos.get(i) else { break };
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(options) = order.get(k).map(|&i| &combos[i]) else {
+                        break;
+                    };
                     let file = combination_path(output, options);
                     let result = run_combination(surface, first_pass, transfer, input_path, options, args.prune, &file);
                     progress::run_done();
