@@ -343,16 +343,18 @@ impl RegionPlane {
     /// normal `n`: along the axis of the largest component of `n` among those
     /// whose projection is exactly non-degenerate.
     pub fn of_face(triangle: [DVec3; 3], n: DVec3) -> RegionPlane {
-        let mut best = RegionPlane { axis: 2, sign: 0 };
-        let mut best_component = -1.0;
-        for axis in 0..3 {
+        // Axes by decreasing |component| (ties: the lower axis first); the
+        // first with an exactly non-degenerate projection. Usually one
+        // predicate: the largest component's projection is rarely degenerate.
+        let mut axes = [0usize, 1, 2];
+        axes.sort_by(|&i, &j| n[j].abs().total_cmp(&n[i].abs()));
+        for axis in axes {
             let sign = projected_orientation(triangle, axis);
-            if sign != 0 && n[axis].abs() > best_component {
-                best = RegionPlane { axis: axis as u8, sign };
-                best_component = n[axis].abs();
+            if sign != 0 {
+                return RegionPlane { axis: axis as u8, sign };
             }
         }
-        best
+        RegionPlane { axis: 2, sign: 0 }
     }
 
     /// Exactly: does `triangle` have the region's orientation, with non-zero
