@@ -8,7 +8,9 @@
 # the median end-to-end wall time (hyperfine if installed, else a loop), the
 # peak memory (/usr/bin/time -v), and the I/O floor: the same command with
 # --no-refine (read, validate, write). Also `-all` on armadillo, parallel
-# against sequential (taskset to one core). Timings are never asserted.
+# against sequential (--jobs 1). Then every mesh of ../shared/meshes that
+# ../shared/reference/peers.md times, against those figures. Timings are
+# never asserted.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-5}
@@ -61,3 +63,29 @@ mkdir -p "$out/all"
 par=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all)
 seq1=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all --jobs 1)
 printf -- '-all armadillo: %s s with one job per core, %s s with --jobs 1 (x%.2f)\n' "$par" "$seq1" "$(echo "$seq1 / $par" | bc -l)"
+
+# Mesh by mesh against the public C++ re-implementation of Liu et al.
+# (SplitToDelaunay, ../shared/reference/peers.md: refine s, total s), with
+# delmesh's default settings: median refine seconds (full precision, from
+# --stats-json) and median wall time of the whole process (hyperfine).
+peers="bunny 0.0026 0.016
+elephant 0.0031 0.023
+fandisk 0.0076 0.048
+armadillo 0.111 0.294
+nefertiti 0.0005 0.006
+knot 0.0016 0.017
+rotor 0.016 0.026
+anchor 0.456 0.477"
+printf '\n%-10s %12s %12s %8s | %10s %10s %8s\n' mesh refine peer-refine ratio total peer-total ratio
+while read -r name prefine ptotal; do
+  mesh=../shared/meshes/$name.obj
+  [ -f "$mesh" ] || continue
+  for _ in $(seq "$runs"); do
+    "$bin" -q -i "$mesh" -o "$out/p.obj" --stats-json "$out/p.json"
+    python3 -c "import json;print(json.load(open('$out/p.json'))['runs'][0]['seconds_refine'])"
+  done > "$out/refine"
+  r=$(median < "$out/refine")
+  t=$(wall "$bin" -q -i "$mesh" -o "$out/p.obj")
+  printf '%-10s %12.6f %12s %8.1f | %10.4f %10s %8.1f\n' "$name" "$r" "$prefine" \
+    "$(echo "$prefine / $r" | bc -l)" "$t" "$ptotal" "$(echo "$ptotal / $t" | bc -l)"
+done <<< "$peers"
