@@ -1505,7 +1505,10 @@ fn distance_on_edge(p: DVec3, a: DVec3, b: DVec3) -> Option<f64> {
     }
     let t = (p - a).dot(d) / len2;
     let distance = (p - (a + t * d)).length();
-    (t > 0.0 && t < 1.0 && distance <= edge_tolerance(a, b)).then_some(distance)
+    // Strictly between the endpoints: 0 < t < 1, decided from the nearer end (the computed t
+    // rounds to 1 for a point a few units of roundoff of a from b on a long edge).
+    let inside = (p - a).dot(d) > 0.0 && (p - b).dot(d) < 0.0;
+    (inside && distance <= edge_tolerance(a, b)).then_some(distance)
 }
 
 /// How much farther than the nearest one another input edge containing a point may be and still

@@ -85,7 +85,11 @@ pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -
         return false;
     }
     let (y, x) = excess_sin_cos(a, b, c, d);
-    exceeds(y, x, tolerance)
+    // y = 0 with x < 0 is α + β = 0 or 2π, and 0 (two zero angles, both
+    // dot products positive) returned above: here both sines underflowed to
+    // 0 (needles a subnormal distance from the edge's line) and both angles
+    // are nearly π.
+    exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0)
 }
 
 /// Positions of a triangle pair unfolded into the plane of the edge (a, b):
@@ -699,6 +703,15 @@ mod tests {
         let (c, d) = (DVec3::new(0.0, 1e-12, 0.0), DVec3::new(0.1, -1e-12, 0.0));
         assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
         assert!(delaunay_excess(a, b, c, d) > 3.0);
+        // The same folded, at a subnormal distance from the edge's line: both
+        // sines underflow to 0 (regression_refine_subnormal_fold_judged_delaunay).
+        let (a, b) = (DVec3::ZERO, DVec3::new(3.0, 0.0, -1e-323));
+        let (c, d) = (DVec3::new(1.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0));
+        assert_eq!(excess_sin_cos(a, b, c, d).0, 0.0);
+        assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
+        // Two zero angles (the opposite vertices beyond b, on its line): Delaunay.
+        let (c, d) = (DVec3::new(4.0, 0.0, 0.0), DVec3::new(5.0, 0.0, 0.0));
+        assert!(!is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
     }
 
     #[test]
