@@ -315,11 +315,12 @@ impl Mesh3 {
     }
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
-    fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
+    pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
         let parse_error = |reason: String| CheckError::Parse {
             path: path.to_path_buf(),
             reason,
         };
+        let bytes = &geometry_lines(bytes);
         let options = tobj::LoadOptions {
             triangulate: true,
             single_index: false,
@@ -350,6 +351,44 @@ impl Mesh3 {
         }
         Ok(mesh)
     }
+}
+
+/// The lines of an OBJ file that say what its surface is: `v` lines without colours, and `f`
+/// lines with each corner cut to its vertex index (`7/3/2` becomes `7`); comments (`#` anywhere on a line) and
+/// every other statement removed. The judge compares geometry only: texture coordinates,
+/// normals, groups and materials, and their defects, are not its business (the construction
+/// drops a defective attribute with a note, and must not be failed by a reader that refuses it).
+fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(bytes.len());
+    for line in bytes.split(|&c| c == b'\n') {
+        let code = line.split(|&c| c == b'#').next().unwrap_or(&[]);
+        let mut words = code
+            .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
+            .filter(|w| !w.is_empty());
+        match words.next() {
+            Some(b"v") => {
+                // A colour (x y z r g b) is dropped; a weight (x y z w) kept.
+                let numbers: Vec<&[u8]> = words.collect();
+                let keep = if numbers.len() == 6 { &numbers[..3] } else { &numbers[..] };
+                out.push(b'v');
+                for n in keep {
+                    out.push(b' ');
+                    out.extend_from_slice(n);
+                }
+            }
+            Some(b"f") => {
+                out.push(b'f');
+                for corner in words {
+                    out.push(b' ');
+                    out.extend_from_slice(corner.split(|&c| c == b'/').next().unwrap_or(&[]));
+                }
+            }
+            _ => {}
+        }
+        // Every line stays (empty if dropped), so that line numbers keep their meaning.
+        out.push(b'\n');
+    }
+    out
 }
 
 /// Gives every fan of a pinched vertex but the first its own vertex at the same position.

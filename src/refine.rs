@@ -9,7 +9,8 @@ use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
 use crate::geometry::{self, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
-use crate::mesh::{EdgeId, Surface, NO_INPUT_EDGE};
+use crate::hash::FastMap;
+use crate::mesh::{EdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
 
 // The first pass of [`make_delaunay`] relies on it.
@@ -228,7 +229,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         options: *options,
         constants,
         stats: Stats::default(),
-        stuck: Vec::new(),
+        stuck: FastMap::default(),
     };
     run.stats.constants = Some(constants);
     // Room for as many splits as the mesh has edges: untouched capacity costs
@@ -264,16 +265,18 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                 });
             }
         }
-        // Verification pass: anything missed goes back into DS. Edges found
-        // stuck get another chance when the last round changed the mesh:
-        // their neighbourhood may have moved since.
+        // Verification pass: anything missed goes back into DS, except stuck
+        // edges whose neighbourhood is as it was when they got stuck (they
+        // would be stuck again). Those whose neighbourhood changed were
+        // queued again by `push_if_bad` already, unless only an apex beyond
+        // their quad moved: this pass catches those.
         let work = run.stats.splits + run.stats.flips;
         if work == work_at_last_pass {
             break;
         }
         work_at_last_pass = work;
-        run.stuck.clear();
-        let missed = non_delaunay_edges(run.s);
+        let mut missed = non_delaunay_edges(run.s);
+        missed.retain(|&e| !run.is_stuck(e));
         if missed.is_empty() {
             break;
         }
@@ -283,7 +286,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     }
     // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
     // may still be within the acceptance tolerance.
-    if run.stuck.iter().any(|&s| s) {
+    if !run.stuck.is_empty() {
         let (after, worst) = run.s.count_non_delaunay(ACCEPT_TOLERANCE);
         run.stats.non_delaunay_after = after;
         if after > 0 {
@@ -352,22 +355,53 @@ struct Run<'a> {
     options: Options,
     constants: SampleConstants,
     stats: Stats,
-    /// Edges found non-Delaunay with no sample left (bit per edge, grown on
-    /// demand; such an edge can never change).
-    stuck: Vec<bool>,
+    /// Edges found non-Delaunay that could be neither flipped nor split,
+    /// with their [`Run::neighbourhood`] at the time (few: a map).
+    stuck: FastMap<EdgeId, [VertexId; 8]>,
 }
 
 impl Run<'_> {
+    /// Whether `e` was found stuck and its neighbourhood has not changed
+    /// since, so that processing it again would change nothing.
     fn is_stuck(&self, e: EdgeId) -> bool {
-        self.stuck.get(e.idx()).copied().unwrap_or(false)
+        self.stuck.get(&e).is_some_and(|n| *n == self.neighbourhood(e))
     }
 
-    /// Remembers that `e` can be neither flipped nor split.
+    /// Remembers that `e` can be neither flipped nor split as things are.
     fn mark_stuck(&mut self, e: EdgeId) {
-        if self.stuck.len() <= e.idx() {
-            self.stuck.resize(self.s.topo.n_edges(), false);
-        }
-        self.stuck[e.idx()] = true;
+        let n = self.neighbourhood(e);
+        self.stuck.insert(e, n);
+    }
+
+    /// Everything [`Run::process`] reads about `e`: its quad and the apexes
+    /// beyond its four outer edges ([`VertexId::NONE`] past a boundary).
+    /// Positions never move and a face's region follows from its vertices,
+    /// so the same neighbourhood means the same decision.
+    ///
+    /// ```text
+    ///          x1     x0
+    ///           \ c  /
+    ///        b ---h--- a      e = a-b; quad (a, b, c, d);
+    ///           / d  \        x0..x3 beyond the outer edges
+    ///          x2     x3
+    /// ```
+    fn neighbourhood(&self, e: EdgeId) -> [VertexId; 8] {
+        let topo = &self.s.topo;
+        let h = e.halfedge();
+        let t = h.twin();
+        let (h1, t1) = (topo.next(h), topo.next(t));
+        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let beyond = |x: crate::mesh::HalfEdgeId| topo.apex(x.twin());
+        [
+            topo.origin(h),
+            topo.dest(h),
+            topo.apex(h),
+            topo.apex(t),
+            beyond(h2),
+            beyond(h1),
+            beyond(t2),
+            beyond(t1),
+        ]
     }
 
     fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {

@@ -234,10 +234,47 @@ fn bad_inputs_are_refused_with_one_line() {
         "line 7: face runs along edge 1 -> 2",
     );
     refused(
+        "five.obj",
+        b"v 0 0 0 1 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ":1: vertex line has 5 numbers",
+    );
+    refused("weight0.obj", b"v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", ":1: vertex 1 has weight 0");
+    refused(
         "bowtie.obj",
         b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
         "vertex 1: its faces form more than one fan (non-manifold vertex)",
     );
+}
+
+/// The construction and the judge (`check`, on top of `tobj`) must read an
+/// OBJ file alike: a weight `w` divides x y z (as tobj does); inline
+/// comments, a colour on only some vertices and a normal index out of range
+/// are not geometry (the construction drops such an attribute with a note,
+/// the judge ignores it) and must not make `check` refuse the input.
+#[test]
+fn obj_forms_read_alike_by_construction_and_check() {
+    let tetra = |v: &str| {
+        let f = "f 1/1/1 3/1/1 2/1/1\nf 1/1/1 2/1/1 4/1/1\nf 1/1/1 4/1/1 3/1/1\nf 2/1/1 3/1/1 4/1/1\n";
+        format!("{v}vt 0 0\nvn 0 0 1\n{f}")
+    };
+    let cases = [
+        ("weights.obj", tetra("v 0 0 0 2\nv 2 0 0 2\nv 0 2 0 2\nv 0 0 2 2\n")),
+        ("comments.obj", tetra("v 0 0 0 # origin\nv 1 0 0\nv 0 1 0 #\nv 0 0 1\n")),
+        ("some_colors.obj", tetra("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n")),
+        ("bad_normal.obj", tetra("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n").replace("4/1/1", "4/1/9")),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in cases {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).unwrap();
+        let output = dir.path().join(format!("out-{name}"));
+        let out = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        check_passes(&input, &output);
+    }
+    // The weights divide: the output's first vertices are those of a unit tetrahedron.
+    let written = std::fs::read_to_string(dir.path().join("out-weights.obj")).unwrap();
+    assert!(written.contains("v 1.0 0.0 0.0\n"), "{written}");
 }
 
 #[test]

@@ -107,9 +107,43 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                         ));
                     }
                 }
+                // What may follow x y z: nothing, a weight w (which divides
+                // them, as in homogeneous coordinates and as `tobj` reads
+                // it), or a colour r g b. Anything else is not a vertex line
+                // the judge (`delmesh check`) would read the same way.
+                let rest: Vec<&str> = std::iter::from_fn(|| tokens.next()).take(4).collect();
+                match rest.len() {
+                    0 | 3 => {}
+                    1 => {
+                        let v = raw.positions.len() + 1;
+                        let w: f64 = rest[0]
+                            .parse()
+                            .map_err(|_| error(line_no, format!("vertex weight '{}' is not a number", rest[0])))?;
+                        if w == 0.0 || !w.is_finite() {
+                            return Err(error(line_no, format!("vertex {v} has weight {w} (x y z are divided by it)")));
+                        }
+                        xyz = xyz.map(|c| c / w);
+                        if let Some(c) = xyz.iter().find(|c| !c.is_finite()) {
+                            return Err(error(
+                                line_no,
+                                format!("vertex {v} has a non-finite coordinate {c} once divided by its weight {w}"),
+                            ));
+                        }
+                    }
+                    n => {
+                        return Err(error(
+                            line_no,
+                            format!(
+                                "vertex line has {}{} numbers: expected x y z, x y z w or x y z r g b",
+                                3 + n,
+                                if n > 3 { " or more" } else { "" }
+                            ),
+                        ))
+                    }
+                }
                 raw.positions.push(xyz);
                 raw.vertex_origin.push(line_no as u32);
-                extra.vertex_color(&mut tokens, line_no);
+                extra.vertex_color(&rest, line_no);
             }
             "vt" => extra.value(Kind::TexCoord, &mut tokens, line_no),
             "vn" => extra.value(Kind::Normal, &mut tokens, line_no),
@@ -249,13 +283,12 @@ impl Extras {
     }
 
     /// The colour of a `v` line, if it gives exactly three more numbers.
-    fn vertex_color(&mut self, tokens: &mut Tokens, line: usize) {
+    fn vertex_color(&mut self, rest: &[&str], line: usize) {
         self.vertices += 1;
-        let rest: Vec<&str> = std::iter::from_fn(|| tokens.next()).take(4).collect();
         if rest.len() != 3 {
             return;
         }
-        for tok in rest {
+        for &tok in rest {
             match tok.parse::<f64>() {
                 Ok(x) if x.is_finite() => self.colors.push(x),
                 _ => {
