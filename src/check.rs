@@ -369,7 +369,11 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
             Some(b"v") => {
                 // A colour (x y z r g b) is dropped; a weight (x y z w) kept.
                 let numbers: Vec<&[u8]> = words.collect();
-                let keep = if numbers.len() == 6 { &numbers[..3] } else { &numbers[..] };
+                let keep = if numbers.len() == 6 {
+                    &numbers[..3]
+                } else {
+                    &numbers[..]
+                };
                 out.push(b'v');
                 for n in keep {
                     out.push(b' ');
@@ -1036,7 +1040,7 @@ impl Regions {
         let normal = largest.iter().map(|&(_, _, n)| n.normalize_or_zero()).collect();
         let plane = largest
             .iter()
-            .map(|&(_, f, n)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize]), n))
+            .map(|&(_, f, _)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize])))
             .collect();
         Regions {
             of_face,
@@ -1063,23 +1067,57 @@ impl Regions {
 }
 
 impl Projection {
-    /// The projection for a region whose largest face is `triangle`, of (float) normal `n`: along
-    /// the axis of the largest component of `n` among those whose projection is exactly
-    /// non-degenerate (any non-degenerate projection would do; the largest keeps the projected
-    /// faces as wide as possible for the reader of failure lines, and is exact either way).
-    fn of_face(triangle: [DVec3; 3], n: DVec3) -> Projection {
-        let mut best = Projection { axis: 2, sign: 0 };
-        let mut best_component = -1.0;
-        for axis in 0..3 {
-            let sign = projected_orientation(triangle, axis);
-            let component = n[axis].abs();
-            if sign != 0 && component > best_component {
-                best = Projection { axis, sign };
-                best_component = component;
+    /// The projection for a region with face `triangle`: along the axis of the largest
+    /// component, exactly, of the normal `(b - a) x (c - a)` (ties: the lower axis). All faces of
+    /// a region are exactly coplanar and alike oriented, so any face gives the same projection;
+    /// it is the rule the construction states for its own checks, so that a face whose rounded
+    /// corners leave the plane is judged in the projection it was built in.
+    fn of_face(triangle: [DVec3; 3]) -> Projection {
+        let mut axis = 0;
+        for other in [1, 2] {
+            if larger_normal_component(triangle, other, axis) {
+                axis = other;
             }
         }
-        best
+        Projection {
+            axis,
+            sign: projected_orientation(triangle, axis),
+        }
     }
+}
+
+/// Exactly: `|n[i]| > |n[j]|` for the normal `n = (b - a) x (c - a)` of `triangle`. In floating
+/// point with a bound on its rounding (two differences, a product and a subtraction: 8 units of
+/// roundoff of the terms, plus underflow) when that decides; otherwise from the exact signs of
+/// `n . (e_i - e_j)` and `n . (e_i + e_j)`, whose product is that of `|n_i|^2 - |n_j|^2`.
+fn larger_normal_component([a, b, c]: [DVec3; 3], i: usize, j: usize) -> bool {
+    let (u, v) = (b - a, c - a);
+    let estimate = |k: usize| {
+        let (p, q) = ((k + 1) % 3, (k + 2) % 3);
+        let terms = [u[p] * v[q], u[q] * v[p]];
+        let bound = 4.0 * f64::EPSILON * (terms[0].abs() + terms[1].abs()) + 8.0 * f64::from_bits(1);
+        ((terms[0] - terms[1]).abs(), bound)
+    };
+    let ((x, ex), (y, ey)) = (estimate(i), estimate(j));
+    if [x, ex, y, ey].iter().all(|t| t.is_finite()) {
+        if x - ex > y + ey {
+            return true;
+        }
+        if y - ey >= x + ex {
+            return false;
+        }
+    }
+    // n . w = -det[[a, 1], [b, 1], [c, 1], [w, 0]]; the two signs' product drops the minus.
+    let dot_sign = |w: [f64; 3]| {
+        let row = |p: DVec3| [p.x, p.y, p.z, 1.0];
+        exact_determinant_sign([row(a), row(b), row(c), [w[0], w[1], w[2], 0.0]])
+    };
+    let (mut minus, mut plus) = ([0.0; 3], [0.0; 3]);
+    minus[i] = 1.0;
+    minus[j] = -1.0;
+    plus[i] = 1.0;
+    plus[j] = 1.0;
+    dot_sign(minus) * dot_sign(plus) > 0
 }
 
 /// The sign (-1, 0 or 1), exactly, of the orientation of a triangle projected along coordinate
@@ -2222,11 +2260,11 @@ mod tests {
         for axis in 0..3 {
             assert_eq!(projected_orientation(t, axis) as f64, n[axis].signum());
         }
-        let p = Projection::of_face(t, n);
+        let p = Projection::of_face(t);
         assert_eq!((p.axis, p.sign), (1, -1));
         let collinear = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(2.0, 4.0, 6.0)];
         assert!(exactly_degenerate(collinear));
-        assert_eq!(Projection::of_face(collinear, DVec3::ZERO).sign, 0);
+        assert_eq!(Projection::of_face(collinear).sign, 0);
     }
 
     /// A small xorshift generator.
@@ -2242,6 +2280,29 @@ mod tests {
         /// An integer in [-n, n].
         fn int(&mut self, n: u64) -> f64 {
             (self.next() % (2 * n + 1)) as f64 - n as f64
+        }
+    }
+
+    #[test]
+    fn projection_axis_is_the_exact_largest_normal_component() {
+        let mut rng = Rng(0x0123_4567_89ab_cdef);
+        for k in 0..20000 {
+            let n = if k % 2 == 0 { 2 } else { 500 };
+            let t = [0; 3].map(|_| DVec3::new(rng.int(n), rng.int(n), rng.int(n)));
+            let normal = (t[1] - t[0]).cross(t[2] - t[0]); // exact: small integers
+                                                           // Scaled exactly into the subnormals, where the float normal underflows to 0.
+            let tiny = t.map(|p| p * 2f64.powi(-530) * 2f64.powi(-530));
+            for (i, j) in [(0, 1), (1, 0), (0, 2), (2, 0), (1, 2), (2, 1)] {
+                let expected = normal[i].abs() > normal[j].abs();
+                assert_eq!(larger_normal_component(t, i, j), expected, "{t:?} {i} {j}");
+                assert_eq!(larger_normal_component(tiny, i, j), expected, "{tiny:?} {i} {j}");
+            }
+            let p = Projection::of_face(tiny);
+            assert!((0..3).all(|j| normal[p.axis].abs() >= normal[j].abs()));
+            assert!(
+                (0..p.axis).all(|j| normal[p.axis].abs() > normal[j].abs()),
+                "ties: lower axis"
+            );
         }
     }
 

@@ -343,22 +343,23 @@ pub struct RegionPlane {
 }
 
 impl RegionPlane {
-    /// The plane of a region whose largest face is `triangle`, with float
-    /// normal `n`: along the axis of the largest component of `n` among those
-    /// whose projection is exactly non-degenerate.
-    pub fn of_face(triangle: [DVec3; 3], n: DVec3) -> RegionPlane {
-        // Axes by decreasing |component| (ties: the lower axis first); the
-        // first with an exactly non-degenerate projection. Usually one
-        // predicate: the largest component's projection is rarely degenerate.
-        let mut axes = [0usize, 1, 2];
-        axes.sort_by(|&i, &j| n[j].abs().total_cmp(&n[i].abs()));
-        for axis in axes {
-            let sign = projected_orientation(triangle, axis);
-            if sign != 0 {
-                return RegionPlane { axis: axis as u8, sign };
+    /// The plane of a region, given any of its faces: along the axis of the
+    /// largest component, exactly, of the face's normal `(b - a) x (c - a)`
+    /// (ties: the lower axis). All faces of a region are exactly coplanar and
+    /// alike oriented, so every one gives the same answer, and `delmesh
+    /// check` applies the same rule: the two agree even on faces whose
+    /// rounded corners are not exactly in the plane.
+    pub fn of_face(triangle: [DVec3; 3]) -> RegionPlane {
+        let mut axis = 0;
+        for other in [1, 2] {
+            if normal_component_larger(triangle, other, axis) {
+                axis = other;
             }
         }
-        RegionPlane { axis: 2, sign: 0 }
+        RegionPlane {
+            axis: axis as u8,
+            sign: projected_orientation(triangle, axis),
+        }
     }
 
     /// Exactly: does `triangle` have the region's orientation, with non-zero
@@ -368,6 +369,34 @@ impl RegionPlane {
     pub fn is_proper(&self, triangle: [DVec3; 3]) -> bool {
         self.sign == 0 || projected_orientation(triangle, self.axis as usize) == self.sign
     }
+}
+
+/// Exactly: is component `i` of the normal `(b - a) x (c - a)` of
+/// `triangle` larger in magnitude than component `j`? Decided in floating
+/// point when the two differ by more than its rounding can (nearly always),
+/// with integers otherwise.
+pub fn normal_component_larger(triangle: [DVec3; 3], i: usize, j: usize) -> bool {
+    let [a, b, c] = triangle;
+    let (d1, d2) = (b - a, c - a);
+    // Component k and a bound on its error: each difference and product
+    // rounds once (relative 2^-53), the subtraction once; 8 ulps of the
+    // terms' magnitudes, plus what underflow can lose.
+    let component = |k: usize| {
+        let (p, q) = ((k + 1) % 3, (k + 2) % 3);
+        let (left, right) = (d1[p] * d2[q], d1[q] * d2[p]);
+        let error = 8.0 * f64::EPSILON / 2.0 * (left.abs() + right.abs()) + 8.0 * f64::from_bits(1);
+        ((left - right).abs(), error)
+    };
+    let ((ni, ei), (nj, ej)) = (component(i), component(j));
+    if ni.is_finite() && nj.is_finite() && ei.is_finite() && ej.is_finite() {
+        if ni - ei > nj + ej {
+            return true;
+        }
+        if nj - ej >= ni + ei {
+            return false;
+        }
+    }
+    exact::normal_component_larger(triangle.map(|p| p.to_array()), i, j)
 }
 
 /// Exact test: are the points collinear (the triangle has zero area)? Exact
@@ -609,6 +638,31 @@ pub mod exact {
         let left = ax.sub(&cx).mul(&by.sub(&cy));
         let right = ay.sub(&cy).mul(&bx.sub(&cx));
         left.sub(&right).signum()
+    }
+
+    /// Exactly: is |n[i]| > |n[j]| for the normal n = (b - a) x (c - a) of a
+    /// triangle with finite corners? All nine coordinates are scaled by one
+    /// power of two (the components' ratio must not change).
+    pub fn normal_component_larger(triangle: [[f64; 3]; 3], i: usize, j: usize) -> bool {
+        let parts = triangle
+            .as_flattened()
+            .iter()
+            .map(|&x| decompose(x))
+            .collect::<Vec<_>>();
+        let q = parts.iter().filter(|p| p.1 != 0).map(|p| p.2).min().unwrap_or(0);
+        let int = |k: usize| {
+            let (negative, m, e) = parts[k];
+            Int::scaled(negative && m != 0, m, if m == 0 { 0 } else { (e - q) as u32 })
+        };
+        let corner = |v: usize| [int(3 * v), int(3 * v + 1), int(3 * v + 2)];
+        let [a, b, c] = [corner(0), corner(1), corner(2)];
+        let d1: Vec<Int> = (0..3).map(|k| b[k].sub(&a[k])).collect();
+        let d2: Vec<Int> = (0..3).map(|k| c[k].sub(&a[k])).collect();
+        let component = |k: usize| {
+            let (p, r) = ((k + 1) % 3, (k + 2) % 3);
+            d1[p].mul(&d2[r]).sub(&d1[r].mul(&d2[p]))
+        };
+        compare_magnitudes(&component(i).limbs, &component(j).limbs) == Ordering::Greater
     }
 
     /// The exact sign of the determinant of the rows `a - d`, `b - d`,
@@ -888,6 +942,52 @@ mod tests {
             robust_wrong > 1000,
             "the scaled cases must defeat robust itself ({robust_wrong})"
         );
+    }
+
+    #[test]
+    fn region_plane_axis_is_the_exact_largest_normal_component() {
+        let mut rng = Rng(0x9e3779b97f4a7c15);
+        for k in 0..20_000 {
+            // Small integers: the float normal is exact, so it is the oracle.
+            let n = if k % 2 == 0 { 3 } else { 1000 };
+            let t = [0; 3].map(|_| DVec3::new(rng.int(n), rng.int(n), rng.int(n)));
+            let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+            // The same triangle scaled down into the subnormals (exactly: the
+            // integers need at most 11 bits) and up near the overflow.
+            let tiny = t.map(|p| p * power_of_two(-1000) * power_of_two(-60));
+            let huge = t.map(|p| p * power_of_two(1000));
+            for (i, j) in [(0, 1), (1, 0), (0, 2), (2, 0), (1, 2), (2, 1)] {
+                let expected = normal[i].abs() > normal[j].abs();
+                assert_eq!(normal_component_larger(t, i, j), expected, "{t:?} {i} {j}");
+                assert_eq!(normal_component_larger(tiny, i, j), expected, "{tiny:?} {i} {j}");
+                assert_eq!(normal_component_larger(huge, i, j), expected, "{huge:?} {i} {j}");
+                let exact = exact::normal_component_larger(t.map(|p| p.to_array()), i, j);
+                assert_eq!(exact, expected, "{t:?} {i} {j}");
+            }
+            let plane = RegionPlane::of_face(tiny);
+            let axis = plane.axis as usize;
+            assert!((0..3).all(|j| normal[axis].abs() >= normal[j].abs()));
+            assert!(
+                (0..axis).all(|j| normal[axis].abs() > normal[j].abs()),
+                "ties go to the lower axis"
+            );
+            assert_eq!(
+                plane.sign as f64,
+                if normal == DVec3::ZERO {
+                    0.0
+                } else {
+                    normal[axis].signum()
+                }
+            );
+        }
+        // The fuzz finding: a needle whose float normal underflows; its exact
+        // normal is about (1e-589, 1.5e-323, 6.8e-305): the plane is along z.
+        let needle = [
+            DVec3::ZERO,
+            DVec3::new(-9.893200629020876e-39, 0.0, 1.5e-323),
+            DVec3::new(1.0, -6.855535480901878e-267, 0.0),
+        ];
+        assert_eq!(RegionPlane::of_face(needle).axis, 2);
     }
 
     #[test]

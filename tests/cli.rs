@@ -238,7 +238,11 @@ fn bad_inputs_are_refused_with_one_line() {
         b"v 0 0 0 1 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
         ":1: vertex line has 5 numbers",
     );
-    refused("weight0.obj", b"v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", ":1: vertex 1 has weight 0");
+    refused(
+        "weight0.obj",
+        b"v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ":1: vertex 1 has weight 0",
+    );
     refused(
         "bowtie.obj",
         b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
@@ -261,7 +265,10 @@ fn obj_forms_read_alike_by_construction_and_check() {
         ("weights.obj", tetra("v 0 0 0 2\nv 2 0 0 2\nv 0 2 0 2\nv 0 0 2 2\n")),
         ("comments.obj", tetra("v 0 0 0 # origin\nv 1 0 0\nv 0 1 0 #\nv 0 0 1\n")),
         ("some_colors.obj", tetra("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n")),
-        ("bad_normal.obj", tetra("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n").replace("4/1/1", "4/1/9")),
+        (
+            "bad_normal.obj",
+            tetra("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n").replace("4/1/1", "4/1/9"),
+        ),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (name, text) in cases {

@@ -423,7 +423,7 @@ fn obj_text(m: &SeedMesh, style: usize) -> Vec<u8> {
     for p in &m.positions {
         s.push_str(&format!("v {:?} {:?} {:?}{nl}", p[0], p[1], p[2]));
         if style == 1 {
-            s.push_str(&format!("vt 0.5 0.5{nl}vn 0 0 1{nl}"));
+            s.push_str(&format!("vt {:?} {:?}{nl}vn 0 0 1{nl}", p[0] / 2.0, p[1] - p[2]));
         }
     }
     let n = m.positions.len() as i64;
@@ -1317,7 +1317,11 @@ fn judge_reads_obj_alike(bytes: &[u8], raw: &RawMesh) -> Result<(), String> {
         canonical(&judge.positions, &judge.triangles),
     );
     if ours != theirs {
-        let first = ours.iter().zip(&theirs).position(|(a, b)| a != b).unwrap_or(ours.len().min(theirs.len()));
+        let first = ours
+            .iter()
+            .zip(&theirs)
+            .position(|(a, b)| a != b)
+            .unwrap_or(ours.len().min(theirs.len()));
         return Err(format!(
             "the construction and the judge read different triangles: {} and {}; first difference at {first}: {:?} / {:?}",
             ours.len(),
@@ -2685,7 +2689,10 @@ fn regression_refine_slow_stuck_edge_passes() {
     );
     let (calls, passes) = (CALLS.load(Ordering::Relaxed), MAX_PASSES.load(Ordering::Relaxed));
     // The final mesh has about 60,000 edges: a few passes' worth of work.
-    assert!(calls <= 2, "{calls} x 65,536 edges taken from DS (up to {passes} passes)");
+    assert!(
+        calls <= 2,
+        "{calls} x 65,536 edges taken from DS (up to {passes} passes)"
+    );
 }
 
 /// A tool, not a test: `FUZZ_REPLAY=a.bin:b.bin cargo test --test fuzz

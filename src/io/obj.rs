@@ -120,7 +120,10 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                             .parse()
                             .map_err(|_| error(line_no, format!("vertex weight '{}' is not a number", rest[0])))?;
                         if w == 0.0 || !w.is_finite() {
-                            return Err(error(line_no, format!("vertex {v} has weight {w} (x y z are divided by it)")));
+                            return Err(error(
+                                line_no,
+                                format!("vertex {v} has weight {w} (x y z are divided by it)"),
+                            ));
                         }
                         xyz = xyz.map(|c| c / w);
                         if let Some(c) = xyz.iter().find(|c| !c.is_finite()) {

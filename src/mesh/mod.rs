@@ -160,18 +160,17 @@ impl Surface {
             })
             .collect();
         self.n_regions = next as usize;
-        // Each region's plane: that of its largest face.
-        let mut best = vec![(0.0f64, DVec3::ZERO, FaceId(0)); self.n_regions];
+        // Each region's plane, from its first face (any face gives the same:
+        // see `RegionPlane::of_face`).
+        let mut first = vec![FaceId::NONE; self.n_regions];
         for f in 0..n_faces {
-            let [a, b, c] = self.face_positions(FaceId(f as u32));
-            let n = (b - a).cross(c - a);
             let r = self.face_region[f] as usize;
-            if n.length_squared() > best[r].0 {
-                best[r] = (n.length_squared(), n, FaceId(f as u32));
+            if first[r].is_none() {
+                first[r] = FaceId(f as u32);
             }
         }
-        self.region_plane = (best.into_iter())
-            .map(|(_, n, f)| RegionPlane::of_face(self.face_positions(f), n))
+        self.region_plane = (first.into_iter())
+            .map(|f| RegionPlane::of_face(self.face_positions(f)))
             .collect();
     }
 
@@ -628,7 +627,7 @@ mod tests {
     #[test]
     fn region_plane_judges_orientation_exactly() {
         let (a, b, c) = (DVec3::ZERO, DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0));
-        let plane = RegionPlane::of_face([a, b, c], (b - a).cross(c - a));
+        let plane = RegionPlane::of_face([a, b, c]);
         assert_eq!(plane, RegionPlane { axis: 2, sign: 1 });
         assert!(plane.is_proper([a, b, c]));
         assert!(!plane.is_proper([a, c, b]));
