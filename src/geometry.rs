@@ -640,7 +640,7 @@ pub mod exact {
         left.sub(&right).signum()
     }
 
-    /// Exactly: is |n[i]| > |n[j]| for the normal n = (b - a) x (c - a) of a
+    /// Exactly: is `|n[i]| > |n[j]|` for the normal `n = (b - a) x (c - a)` of a
     /// triangle with finite corners? All nine coordinates are scaled by one
     /// power of two (the components' ratio must not change).
     pub fn normal_component_larger(triangle: [[f64; 3]; 3], i: usize, j: usize) -> bool {
