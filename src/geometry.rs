@@ -609,8 +609,9 @@ pub mod exact {
         (negative, m >> zeros, e + zeros as i32)
     }
 
-    /// The values of one axis as integers `v / 2^q`, with `q` the smallest
-    /// exponent among them (all exact).
+    /// The values of one axis (or of any set that must share one scale) as
+    /// integers `v / 2^q`, with `q` the smallest exponent among them (all
+    /// exact).
     fn axis<const N: usize>(values: [f64; N]) -> [Int; N] {
         let parts = values.map(decompose);
         let q = parts.iter().filter(|p| p.1 != 0).map(|p| p.2).min().unwrap_or(0);
@@ -641,23 +642,13 @@ pub mod exact {
     }
 
     /// Exactly: is `|n[i]| > |n[j]|` for the normal `n = (b - a) x (c - a)` of a
-    /// triangle with finite corners? All nine coordinates are scaled by one
-    /// power of two (the components' ratio must not change).
+    /// triangle with finite corners?
     pub fn normal_component_larger(triangle: [[f64; 3]; 3], i: usize, j: usize) -> bool {
-        let parts = triangle
-            .as_flattened()
-            .iter()
-            .map(|&x| decompose(x))
-            .collect::<Vec<_>>();
-        let q = parts.iter().filter(|p| p.1 != 0).map(|p| p.2).min().unwrap_or(0);
-        let int = |k: usize| {
-            let (negative, m, e) = parts[k];
-            Int::scaled(negative && m != 0, m, if m == 0 { 0 } else { (e - q) as u32 })
-        };
-        let corner = |v: usize| [int(3 * v), int(3 * v + 1), int(3 * v + 2)];
-        let [a, b, c] = [corner(0), corner(1), corner(2)];
-        let d1: Vec<Int> = (0..3).map(|k| b[k].sub(&a[k])).collect();
-        let d2: Vec<Int> = (0..3).map(|k| c[k].sub(&a[k])).collect();
+        // One scale for all nine coordinates: the components' ratio must not change.
+        let flat: [f64; 9] = triangle.as_flattened().try_into().expect("nine coordinates");
+        let [ax, ay, az, bx, by, bz, cx, cy, cz] = axis(flat);
+        let d1 = [bx.sub(&ax), by.sub(&ay), bz.sub(&az)];
+        let d2 = [cx.sub(&ax), cy.sub(&ay), cz.sub(&az)];
         let component = |k: usize| {
             let (p, r) = ((k + 1) % 3, (k + 2) % 3);
             d1[p].mul(&d2[r]).sub(&d1[r].mul(&d2[p]))

@@ -429,10 +429,8 @@ impl Pruner<'_> {
     /// half-edge may move); returns the four edges around `e`.
     fn save_quad(&mut self, e: EdgeId, ends: &[VertexId]) -> [EdgeId; 4] {
         let topo = &self.s.topo;
-        let h = e.halfedge();
-        let t = h.twin();
-        let (h1, t1) = (topo.next(h), topo.next(t));
-        let (h2, t2) = (topo.next(h1), topo.next(t1));
+        let (h, t) = (e.halfedge(), e.halfedge().twin());
+        let [h2, h1, t2, t1] = topo.outer_halfedges(e);
         let faces = [topo.face(h), topo.face(t)];
         topo.save(&[h, t, h1, h2, t1, t2], &faces, ends, &mut self.journal);
         [h1.edge(), h2.edge(), t1.edge(), t2.edge()]

@@ -388,19 +388,16 @@ impl Run<'_> {
     fn neighbourhood(&self, e: EdgeId) -> [VertexId; 8] {
         let topo = &self.s.topo;
         let h = e.halfedge();
-        let t = h.twin();
-        let (h1, t1) = (topo.next(h), topo.next(t));
-        let (h2, t2) = (topo.next(h1), topo.next(t1));
-        let beyond = |x: crate::mesh::HalfEdgeId| topo.apex(x.twin());
+        let [x0, x1, x2, x3] = topo.outer_halfedges(e).map(|x| topo.apex(x.twin()));
         [
             topo.origin(h),
             topo.dest(h),
             topo.apex(h),
-            topo.apex(t),
-            beyond(h2),
-            beyond(h1),
-            beyond(t2),
-            beyond(t1),
+            topo.apex(h.twin()),
+            x0,
+            x1,
+            x2,
+            x3,
         ]
     }
 
@@ -414,12 +411,7 @@ impl Run<'_> {
         if !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
             return;
         }
-        let topo = &self.s.topo;
-        let h = e.halfedge();
-        let t = h.twin();
-        let (h1, t1) = (topo.next(h), topo.next(t));
-        let (h2, t2) = (topo.next(h1), topo.next(t1));
-        let around = [h2.edge(), h1.edge(), t2.edge(), t1.edge()];
+        let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
         if self.s.is_flippable(e) {
             if !self.s.flip_is_valid(e) {
                 // A numerically degenerate quad: leave the edge (it cannot be
@@ -470,14 +462,12 @@ pub(crate) fn choose_sample(
     let h = e.halfedge();
     let (a, b) = (topo.origin(h), topo.dest(h));
     let quad = s.edge_quad(e);
-    let t = h.twin();
-    let (h1, t1) = (topo.next(h), topo.next(t));
-    let (h2, t2) = (topo.next(h1), topo.next(t1));
-    let apex = |x: crate::mesh::HalfEdgeId| {
+    let outer_halfedges = topo.outer_halfedges(e);
+    let beyond = outer_halfedges.map(|x| {
         let v = topo.apex(x.twin());
         (!v.is_none()).then(|| s.positions[v.idx()])
-    };
-    let (halves, outer) = split_conditions(quad, [apex(h2), apex(h1), apex(t2), apex(t1)]);
+    });
+    let (halves, outer) = split_conditions(quad, beyond);
     let ends = s.input_edge_ends(input);
     let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), constants);
     let query = SplitQuery {
@@ -491,7 +481,7 @@ pub(crate) fn choose_sample(
         outer,
         // Only the split-aware score reads it: skip the face lookups otherwise.
         outer_flippable: if options.score == Score::SplitAware {
-            [h2, h1, t2, t1].map(|x| s.is_flippable(x.edge()))
+            outer_halfedges.map(|x| s.is_flippable(x.edge()))
         } else {
             [false; 4]
         },

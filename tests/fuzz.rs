@@ -56,7 +56,7 @@ use delmesh::io::formats::{
 use delmesh::io::obj::{parse_obj, write_obj};
 use delmesh::io::{self, InputMesh, ReadOptions};
 use delmesh::mesh::{Carrier, Surface};
-use delmesh::refine::{make_delaunay, Options, Worklist};
+use delmesh::refine::{make_delaunay, Options, Stats, Worklist};
 use delmesh::repair::RepairOptions;
 use delmesh::samples::{SampleConstants, Score};
 use delmesh::Error;
@@ -2289,20 +2289,27 @@ fn saved_fuzz_inputs_pass() {
     }
 }
 
+/// A regression OBJ file as read (without repair) and built into a surface.
+fn regression_surface(name: &str) -> (InputMesh, Surface) {
+    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
+    let s = io::build_surface(&input, Path::new(name)).unwrap();
+    (input, s)
+}
+
 /// Runs a regression OBJ file through `finish` (without repair),
 /// `build_surface`, `make_delaunay` with `options`, the construction's own
-/// `validate` and the checker; returns what went wrong, if anything. A clean
-/// refusal (`WorkLimit`, `Unsplittable`) is not a problem.
-fn pipeline_problem(name: &str, options: &Options) -> Option<String> {
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
-    match make_delaunay(&mut s, options) {
-        Ok(_) => {}
-        Err(Error::WorkLimit { .. } | Error::Unsplittable { .. }) => return None,
-        Err(e) => return Some(format!("{options:?}: make_delaunay failed: {e}")),
-    }
+/// `validate` and the checker: `Ok(Some(stats))` for a refined mesh that
+/// passes, `Ok(None)` for a clean refusal (`WorkLimit`, `Unsplittable`),
+/// `Err` saying what went wrong otherwise.
+fn pipeline_outcome(name: &str, options: &Options) -> Result<Option<Stats>, String> {
+    let (input, mut s) = regression_surface(name);
+    let stats = match make_delaunay(&mut s, options) {
+        Ok(stats) => stats,
+        Err(Error::WorkLimit { .. } | Error::Unsplittable { .. }) => return Ok(None),
+        Err(e) => return Err(format!("{options:?}: make_delaunay failed: {e}")),
+    };
     if let Err(e) = s.validate() {
-        return Some(format!("{options:?}: output does not validate: {e}"));
+        return Err(format!("{options:?}: output does not validate: {e}"));
     }
     let report = check_meshes(
         &Mesh3 {
@@ -2314,12 +2321,19 @@ fn pipeline_problem(name: &str, options: &Options) -> Option<String> {
             triangles: s.triangles(),
         },
     );
-    (!report.passed()).then(|| {
-        format!(
+    if !report.passed() {
+        return Err(format!(
             "{options:?}: check failed: {:?}",
             &report.failures[..report.failures.len().min(3)]
-        )
-    })
+        ));
+    }
+    Ok(Some(stats))
+}
+
+/// What went wrong in [`pipeline_outcome`], if anything (a clean refusal is
+/// not a problem).
+fn pipeline_problem(name: &str, options: &Options) -> Option<String> {
+    pipeline_outcome(name, options).err()
 }
 
 /// `pipeline_problem` for all 18 combinations of options.
@@ -2406,8 +2420,7 @@ fn regression_checker_overlapping_coplanar_regions() {
     let name = "bug-checker-overlapping-coplanar-regions.obj";
     let problems = pipeline_problems(name);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+    let (input, mut s) = regression_surface(name);
     make_delaunay(&mut s, &combination(9)).unwrap(); // stack, score 0, no median
     let before = Mesh3 {
         positions: input.positions.clone(),
@@ -2544,8 +2557,7 @@ fn regression_checker_needle_region_rounding() {
     let name = "bug-checker-needle-region-rounding.obj";
     let problems = pipeline_problems(name);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+    let (input, mut s) = regression_surface(name);
     let stats = make_delaunay(&mut s, &combination(9)).unwrap(); // stack, score 0, no median
     assert!(stats.splits > 0);
     let before = Mesh3 {
@@ -2598,8 +2610,7 @@ fn regression_checker_vertex_next_to_end_of_long_edge() {
     let name = "bug-checker-vertex-next-to-end-of-long-edge.obj";
     let problems = pipeline_problems(name);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+    let (input, mut s) = regression_surface(name);
     make_delaunay(&mut s, &combination(9)).unwrap(); // stack, score 0, no median
     let n = input.positions.len();
     assert_eq!(s.positions.len(), n + 1);
@@ -2650,16 +2661,10 @@ fn regression_refine_subnormal_fold_judged_delaunay() {
     let [a, b, c, d] = [0, 3, 1, 2].map(|v| input.positions[v]);
     assert!(delmesh::geometry::is_non_delaunay(a, b, c, d, 1e-9));
     for k in 0..18 {
-        if let Some(problem) = pipeline_problem(name, &combination(k)) {
-            panic!("{k}: {problem}");
-        }
-        let mut s = io::build_surface(&input, Path::new(name)).unwrap();
-        match make_delaunay(&mut s, &combination(k)) {
-            Ok(stats) => assert!(stats.splits > 0, "{k}: Ok without touching the folded edge"),
-            Err(e) => assert!(
-                matches!(e, Error::Unsplittable { .. } | Error::WorkLimit { .. }),
-                "{k}: {e}"
-            ),
+        match pipeline_outcome(name, &combination(k)) {
+            Err(problem) => panic!("{k}: {problem}"),
+            Ok(Some(stats)) => assert!(stats.splits > 0, "{k}: Ok without touching the folded edge"),
+            Ok(None) => {} // a clean refusal
         }
     }
 }
@@ -2688,8 +2693,7 @@ fn regression_refine_slow_stuck_edge_passes() {
         MAX_PASSES.fetch_max(stats.passes, Ordering::Relaxed);
     }
     let name = "bug-refine-slow-stuck-edge-passes.obj";
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+    let (_, mut s) = regression_surface(name);
     let mut options = combination(10); // queue, score 0, no median
     options.progress = Some(delmesh::refine::ProgressHook(&hook));
     let result = make_delaunay(&mut s, &options);

@@ -111,7 +111,14 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 // them, as in homogeneous coordinates and as `tobj` reads
                 // it), or a colour r g b. Anything else is not a vertex line
                 // the judge (`delmesh check`) would read the same way.
-                let rest: Vec<&str> = std::iter::from_fn(|| tokens.next()).take(4).collect();
+                // At most four (four means too many), without allocating.
+                let mut after = [""; 4];
+                let mut count = 0;
+                while let Some(tok) = (count < 4).then(|| tokens.next()).flatten() {
+                    after[count] = tok;
+                    count += 1;
+                }
+                let rest = &after[..count];
                 match rest.len() {
                     0 | 3 => {}
                     1 => {
@@ -146,7 +153,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 }
                 raw.positions.push(xyz);
                 raw.vertex_origin.push(line_no as u32);
-                extra.vertex_color(&rest, line_no);
+                extra.vertex_color(rest, line_no);
             }
             "vt" => extra.value(Kind::TexCoord, &mut tokens, line_no),
             "vn" => extra.value(Kind::Normal, &mut tokens, line_no),

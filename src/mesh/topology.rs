@@ -315,6 +315,22 @@ impl Topology {
     pub fn next(&self, h: HalfEdgeId) -> HalfEdgeId {
         self.he_next[h.idx()]
     }
+    /// The four outer half-edges of the two faces of interior edge `e`, whose
+    /// first half-edge `h` runs a → b: `[c→a, b→c, d→b, a→d]`.
+    ///
+    /// ```text
+    ///            c
+    ///      c→a /   \ b→c
+    ///         a --h-> b
+    ///      a→d \   / d→b
+    ///            d
+    /// ```
+    #[inline]
+    pub fn outer_halfedges(&self, e: EdgeId) -> [HalfEdgeId; 4] {
+        let h = e.halfedge();
+        let (h1, t1) = (self.next(h), self.next(h.twin()));
+        [self.next(h1), h1, self.next(t1), t1]
+    }
     /// The face of a half-edge (`NONE` on the boundary).
     #[inline]
     pub fn face(&self, h: HalfEdgeId) -> FaceId {
