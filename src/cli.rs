@@ -151,6 +151,11 @@ struct RunArgs {
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
 
+    /// Flush every file written to the disk before renaming it into place,
+    /// so that it survives a power loss too (writes are atomic either way).
+    #[arg(long = "sync")]
+    sync: bool,
+
     /// Also write every figure of the run (with -all: of every combination),
     /// the sample constants, seconds per phase and peak memory, as JSON.
     #[arg(long = "stats-json", value_name = "FILE")]
@@ -528,6 +533,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
     check_output_dir(&output)?;
+    io::set_sync_writes(args.sync);
     if let Some(jobs) = args.jobs {
         io::obj::set_write_threads(usize::from(jobs));
         refine::set_pass_threads(usize::from(jobs));
@@ -851,7 +857,7 @@ fn smallest(
     }
     let threads = match jobs {
         Some(j) => usize::from(j),
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        None => delmesh::parallel::cores(),
     }
     .max(1);
     // The runs share the cores: each scans on one thread.
@@ -1045,9 +1051,7 @@ fn run_all(
     // The combinations run on all cores; each run is independent and
     // deterministic, so every file equals what a sequential run writes. Each
     // file is written as soon as its run ends: only the figures are kept.
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(combos.len());
+    let threads = delmesh::parallel::cores().min(combos.len());
     let threads = match args.jobs {
         Some(j) => usize::from(j).min(combos.len()),
         None => threads,

@@ -45,6 +45,7 @@ pub mod geometry;
 pub mod hash;
 pub mod io;
 pub mod mesh;
+pub mod parallel;
 pub mod prune;
 pub mod refine;
 pub mod render;

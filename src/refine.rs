@@ -113,8 +113,8 @@ pub struct Stats {
     pub non_delaunay_before: usize,
     /// Interior edges with α + β > π + 1e-9 at the end (0 on success).
     pub non_delaunay_after: usize,
-    /// Verification passes over all edges (1 when the local updates caught
-    /// everything).
+    /// Rounds of Algorithm 2: 1, plus one each time edges found stuck were
+    /// taken again because their surroundings had changed.
     pub passes: usize,
 }
 
@@ -136,7 +136,9 @@ impl Ds {
         }
     }
 
-    fn push(&mut self, e: EdgeId, length: f64) {
+    /// Queues `e` unless it is queued already; `length` (its 3D length) is
+    /// called only by the priority queue.
+    fn push(&mut self, e: EdgeId, length: impl FnOnce() -> f64) {
         if e.idx() >= self.queued.len() {
             self.queued.resize(e.idx() + 1, false);
         }
@@ -146,7 +148,7 @@ impl Ds {
         match self.kind {
             Worklist::Stack | Worklist::Queue => self.list.push_back(e),
             // Lengths are non-negative, so their bit patterns sort like them.
-            Worklist::PriorityQueue => self.heap.push((length.to_bits(), Reverse(e.0))),
+            Worklist::PriorityQueue => self.heap.push((length().to_bits(), Reverse(e.0))),
         }
     }
 
@@ -240,11 +242,8 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     for &e in first_pass {
         let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
         run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
-        ds.push(e, run.s.edge_length(e));
+        ds.push(e, || run.s.edge_length(e));
     }
-    // No work at all in the first round: the edges are those of the first
-    // pass, all stuck, and a verification pass would find them again.
-    let mut work_at_last_pass = 0;
     let mut taken: u64 = 0;
     loop {
         run.stats.passes += 1;
@@ -265,25 +264,27 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                 });
             }
         }
-        // Verification pass: anything missed goes back into DS, except stuck
-        // edges whose neighbourhood is as it was when they got stuck (they
-        // would be stuck again). Those whose neighbourhood changed were
-        // queued again by `push_if_bad` already, unless only an apex beyond
-        // their quad moved: this pass catches those.
-        let work = run.stats.splits + run.stats.flips;
-        if work == work_at_last_pass {
+        // DS is empty. An edge's Delaunay status depends on its quad alone,
+        // and every flip and split queues each edge whose quad it changes
+        // (`process`), so the only non-Delaunay edges left are stuck ones.
+        // Those whose neighbourhood changed since (only an apex beyond their
+        // quad moved, or they would have been queued) may have become
+        // splittable: take them again.
+        let mut again: Vec<EdgeId> = run.stuck.keys().copied().filter(|&e| !run.is_stuck(e)).collect();
+        again.sort_unstable(); // the map's order is not the run's to decide
+        again.retain(|&e| run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE));
+        if again.is_empty() {
             break;
         }
-        work_at_last_pass = work;
-        let mut missed = non_delaunay_edges(run.s);
-        missed.retain(|&e| !run.is_stuck(e));
-        if missed.is_empty() {
-            break;
-        }
-        for e in missed {
-            ds.push(e, run.s.edge_length(e));
+        for e in again {
+            ds.push(e, || run.s.edge_length(e));
         }
     }
+    // The claim above, checked by a full pass in debug builds (every test).
+    debug_assert!(
+        non_delaunay_edges(run.s).iter().all(|&e| run.is_stuck(e)),
+        "a non-Delaunay edge was neither queued nor stuck"
+    );
     // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
     // may still be within the acceptance tolerance.
     if !run.stuck.is_empty() {
@@ -299,20 +300,11 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     Ok(run.stats)
 }
 
-/// Meshes with at least this many edges have their full passes over the
-/// edges split between threads (below it, starting threads costs more than
-/// it saves).
-const PARALLEL_PASS_EDGES: usize = 1 << 16;
-
-/// How many threads [`non_delaunay_edges`] uses: 0 (the default) means one
-/// per core, up to 8.
-static PASS_THREADS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
 /// Sets how many threads the full passes over the edges use (0: one per
-/// core). The result never depends on it. The CLI sets it from `--jobs`, and
-/// to 1 while several runs already share the cores.
+/// core); see [`crate::parallel::set_threads`]. The result never depends on
+/// it.
 pub fn set_pass_threads(n: usize) {
-    PASS_THREADS.store(n, std::sync::atomic::Ordering::Relaxed);
+    crate::parallel::set_threads(n);
 }
 
 /// The interior edges of `s` non-Delaunay by more than
@@ -320,34 +312,10 @@ pub fn set_pass_threads(n: usize) {
 /// meshes each available core takes a contiguous range of edges; the result
 /// does not depend on how many do.
 pub fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
-    let n = s.topo.n_edges();
-    let scan = |range: std::ops::Range<usize>| -> Vec<EdgeId> {
-        range
-            .map(|e| EdgeId(e as u32))
-            .filter(|&e| s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
-            .collect()
-    };
-    let threads = match PASS_THREADS.load(std::sync::atomic::Ordering::Relaxed) {
-        _ if n < PARALLEL_PASS_EDGES => 1,
-        0 => std::thread::available_parallelism().map_or(1, |t| t.get()).min(8),
-        t => t,
-    };
-    if threads == 1 {
-        return scan(0..n);
-    }
-    let chunk = n.div_ceil(threads);
-    std::thread::scope(|scope| {
-        let parts: Vec<_> = (0..threads)
-            .map(|i| {
-                let range = (i * chunk).min(n)..((i + 1) * chunk).min(n);
-                scope.spawn(move || scan(range))
-            })
-            .collect();
-        parts
-            .into_iter()
-            .flat_map(|p| p.join().expect("a pass over the edges does not panic"))
-            .collect()
-    })
+    let edges = crate::parallel::filter_indices(s.topo.n_edges(), |e| {
+        s.is_non_delaunay(EdgeId(e as u32), ALGORITHM_TOLERANCE)
+    });
+    edges.into_iter().map(EdgeId).collect()
 }
 
 struct Run<'a> {
@@ -403,7 +371,7 @@ impl Run<'_> {
 
     fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {
         if !self.is_stuck(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
-            ds.push(e, self.s.edge_length(e));
+            ds.push(e, || self.s.edge_length(e));
         }
     }
 
@@ -421,7 +389,9 @@ impl Run<'_> {
             }
             self.s.flip(e);
             self.stats.flips += 1;
-            for x in around {
+            // The new diagonal is Delaunay in exact arithmetic; rounding on a
+            // nearly cocircular quad may say otherwise.
+            for x in [e].into_iter().chain(around) {
                 self.push_if_bad(ds, x);
             }
             return;

@@ -148,7 +148,7 @@ impl Json {
 
 fn num(x: f64) -> String {
     if x.is_finite() {
-        ryu::Buffer::new().format_finite(x).to_string()
+        zmij::Buffer::new().format_finite(x).to_string()
     } else {
         "null".into()
     }

@@ -21,7 +21,7 @@
 //!   text); trailing bytes after the last element are ignored.
 //!
 //! Dependencies: `flate2` (default pure-Rust `miniz_oxide` backend) for `.gz`
-//! input and `ryu` for shortest round-trip formatting of `f64`, so that
+//! input and `zmij` for shortest round-trip formatting of `f64`, so that
 //! positions survive OFF and ASCII PLY round trips bit for bit.
 //!
 //! # Numbers in messages
@@ -359,7 +359,7 @@ fn show(tok: &[u8]) -> String {
 }
 
 fn parse_f64(tok: &[u8]) -> Option<f64> {
-    std::str::from_utf8(tok).ok()?.parse().ok()
+    super::number::parse_f64(tok)
 }
 
 /// An integer, also written as an integral decimal ("3.0").
@@ -1682,7 +1682,7 @@ fn check_for_writing(positions: &[[f64; 3]], triangles: &[[u32; 3]], colors: Opt
 pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
     check_for_writing(positions, triangles, None)?;
     let mut w = BufWriter::new(w);
-    let mut num = ryu::Buffer::new();
+    let mut num = zmij::Buffer::new();
     writeln!(w, "OFF\n{} {} 0", positions.len(), triangles.len())?;
     for p in positions {
         write_xyz(&mut w, &mut num, p)?;
@@ -1695,7 +1695,7 @@ pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
 }
 
 /// Writes "x y z" in shortest round-trip form (the coordinates are finite).
-fn write_xyz(w: &mut dyn Write, num: &mut ryu::Buffer, p: &[f64; 3]) -> io::Result<()> {
+fn write_xyz(w: &mut dyn Write, num: &mut zmij::Buffer, p: &[f64; 3]) -> io::Result<()> {
     for (k, &c) in p.iter().enumerate() {
         if k > 0 {
             w.write_all(b" ")?;
@@ -1845,7 +1845,7 @@ pub fn write_ply_ascii(
     check_for_writing(positions, triangles, colors)?;
     let mut w = BufWriter::new(w);
     ply_header(&mut w, "ascii", positions.len(), triangles.len(), colors.is_some())?;
-    let mut num = ryu::Buffer::new();
+    let mut num = zmij::Buffer::new();
     for (i, p) in positions.iter().enumerate() {
         write_xyz(&mut w, &mut num, p)?;
         if let Some([r, g, b]) = colors.and_then(|c| c.get(i)) {

@@ -11,6 +11,7 @@ use std::io::Write;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::formats::{FormatError, OriginKind, RawMesh};
+use super::number::parse_f64;
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
 
@@ -57,7 +58,7 @@ fn error(line: usize, what: String) -> FormatError {
 /// Parses OBJ text into polygons (indices checked, nothing welded).
 ///
 /// A byte cursor over text validated once: tokens are runs of non-blank
-/// bytes, `#` ends a line, coordinates go through `str::parse::<f64>` (exact)
+/// bytes, `#` ends a line, coordinates go through [`parse_f64`] (exact)
 /// and indices are parsed by hand.
 pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let lossy;
@@ -96,9 +97,8 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                     let tok = tokens
                         .next()
                         .ok_or_else(|| error(line_no, format!("vertex has {k} coordinates, needs 3")))?;
-                    *c = tok
-                        .parse()
-                        .map_err(|_| error(line_no, format!("vertex coordinate '{tok}' is not a number")))?;
+                    *c = parse_f64(tok.as_bytes())
+                        .ok_or_else(|| error(line_no, format!("vertex coordinate '{tok}' is not a number")))?;
                     if !c.is_finite() {
                         let v = raw.positions.len() + 1;
                         return Err(error(
@@ -123,9 +123,8 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                     0 | 3 => {}
                     1 => {
                         let v = raw.positions.len() + 1;
-                        let w: f64 = rest[0]
-                            .parse()
-                            .map_err(|_| error(line_no, format!("vertex weight '{}' is not a number", rest[0])))?;
+                        let w = parse_f64(rest[0].as_bytes())
+                            .ok_or_else(|| error(line_no, format!("vertex weight '{}' is not a number", rest[0])))?;
                         if w == 0.0 || !w.is_finite() {
                             return Err(error(
                                 line_no,
@@ -275,8 +274,8 @@ impl Extras {
             if n == max {
                 break;
             }
-            match tok.parse::<f64>() {
-                Ok(x) if x.is_finite() => v[n] = x,
+            match parse_f64(tok.as_bytes()) {
+                Some(x) if x.is_finite() => v[n] = x,
                 _ => self.note(kind, line, || format!("'{}' is not a finite number", shown(tok))),
             }
             n += 1;
@@ -299,8 +298,8 @@ impl Extras {
             return;
         }
         for &tok in rest {
-            match tok.parse::<f64>() {
-                Ok(x) if x.is_finite() => self.colors.push(x),
+            match parse_f64(tok.as_bytes()) {
+                Some(x) if x.is_finite() => self.colors.push(x),
                 _ => {
                     self.note(Kind::Color, line, || format!("'{}' is not a finite number", shown(tok)));
                     self.colors.push(0.0);
@@ -542,7 +541,7 @@ fn parse_index(tok: &str) -> Option<i64> {
 /// then `f` lines.
 pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> std::io::Result<()> {
     write_lines(w, positions, |p, line| {
-        let mut fmt = ryu::Buffer::new();
+        let mut fmt = zmij::Buffer::new();
         line.push(b'v');
         for &c in p {
             line.push(b' ');
@@ -581,7 +580,7 @@ pub fn set_write_threads(n: usize) {
 /// those of a sequential loop, and memory stays one block per thread.
 fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut Vec<u8>) + Sync) -> std::io::Result<()> {
     let threads = match WRITE_THREADS.load(Ordering::Relaxed) {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        0 => crate::parallel::cores(),
         n => n,
     };
     let blocks: Vec<&[T]> = items.chunks(BLOCK_LINES).collect();
@@ -628,7 +627,7 @@ pub fn write_obj_with_attributes(
     if attributes.is_empty() {
         return write_obj(w, positions, triangles);
     }
-    let mut fmt = ryu::Buffer::new();
+    let mut fmt = zmij::Buffer::new();
     let mut line = Vec::with_capacity(128);
     for lib in &attributes.mtllib {
         writeln!(w, "mtllib {lib}")?;

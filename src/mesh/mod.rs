@@ -89,6 +89,10 @@ impl Surface {
     ) -> Result<Surface, TopologyError> {
         let topo = Topology::from_triangles(positions.len(), triangles)?;
         let n = positions.len();
+        // Room for about as many splits as edges, as in the topology.
+        let spare = topo.n_edges() + 16;
+        let mut positions = positions;
+        positions.reserve_exact(spare);
         let input_edges = (0..topo.n_edges())
             .map(|e| {
                 let h = EdgeId(e as u32).halfedge();
@@ -97,8 +101,16 @@ impl Surface {
             })
             .collect();
         let mut s = Surface {
-            edge_input: (0..topo.n_edges() as u32).collect(),
-            carriers: (0..n as u32).map(Carrier::Vertex).collect(),
+            edge_input: {
+                let mut v = Vec::with_capacity(topo.n_edges() + 3 * spare);
+                v.extend(0..topo.n_edges() as u32);
+                v
+            },
+            carriers: {
+                let mut v = Vec::with_capacity(n + spare);
+                v.extend((0..n as u32).map(Carrier::Vertex));
+                v
+            },
             face_region: Vec::new(),
             n_input_vertices: n,
             n_regions: 0,
@@ -129,27 +141,30 @@ impl Surface {
             }
             x
         }
-        for e in 0..self.topo.n_edges() {
+        // The exact test on every interior edge (read-only: on every core),
+        // then the joins (sequential, cheap).
+        let flat = crate::parallel::filter_indices(self.topo.n_edges(), |e| {
             let e = EdgeId(e as u32);
-            if !self.topo.is_interior(e) {
+            self.topo.is_interior(e) && {
+                let [a, b, c, d] = self.edge_quad(e);
+                geometry::flat_pair(a, b, c, d)
+            }
+        });
+        for e in flat {
+            let h = EdgeId(e).halfedge();
+            let (f1, f2) = (self.topo.face(h).0, self.topo.face(h.twin()).0);
+            if cut(f1, f2) {
                 continue;
             }
-            let [a, b, c, d] = self.edge_quad(e);
-            if geometry::flat_pair(a, b, c, d) {
-                let h = e.halfedge();
-                let (f1, f2) = (self.topo.face(h).0, self.topo.face(h.twin()).0);
-                if cut(f1, f2) {
-                    continue;
-                }
-                let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
-                if r1 != r2 {
-                    parent[r1.max(r2) as usize] = r1.min(r2);
-                }
+            let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
+            if r1 != r2 {
+                parent[r1.max(r2) as usize] = r1.min(r2);
             }
         }
         let mut id = vec![u32::MAX; n_faces];
         let mut next = 0u32;
-        self.face_region = (0..n_faces as u32)
+        self.face_region = Vec::with_capacity(n_faces + 2 * self.topo.n_edges() + 32);
+        self.face_region.extend((0..n_faces as u32)
             .map(|f| {
                 let r = root(&mut parent, f) as usize;
                 if id[r] == u32::MAX {
@@ -157,8 +172,7 @@ impl Surface {
                     next += 1;
                 }
                 id[r]
-            })
-            .collect();
+            }));
         self.n_regions = next as usize;
         // Each region's plane, from its first face (any face gives the same:
         // see `RegionPlane::of_face`).
@@ -169,9 +183,7 @@ impl Surface {
                 first[r] = FaceId(f as u32);
             }
         }
-        self.region_plane = (first.into_iter())
-            .map(|f| RegionPlane::of_face(self.face_positions(f)))
-            .collect();
+        self.region_plane = crate::parallel::map(first.len(), |r| RegionPlane::of_face(self.face_positions(first[r])));
     }
 
     /// Positions (a, b, c, d) of the interior edge `e` = a→b (its first
@@ -415,12 +427,11 @@ impl Surface {
         // The smallest angle of a triangle is opposite its shortest side and
         // is acute, where tan = |u × v| / (u · v) grows with the angle: keep
         // the smallest tangent, and take one atan2 at the end.
-        let (mut best_sin, mut best_cos) = (1.0f64, 0.0f64);
-        for f in 0..self.topo.n_faces() {
-            let [a, b, c] = self
-                .topo
-                .face_vertices(FaceId(f as u32))
-                .map(|v| self.positions[v.idx()]);
+        // Each face's smallest corner (sine and cosine, up to a common
+        // factor) on every core; the comparison then runs in face order,
+        // exactly as a sequential loop would.
+        let corners = crate::parallel::map(self.topo.n_faces(), |f| {
+            let [a, b, c] = self.face_positions(FaceId(f as u32));
             let (ab, bc, ca) = (
                 (b - a).length_squared(),
                 (c - b).length_squared(),
@@ -435,7 +446,10 @@ impl Surface {
                 (b, c, a)
             };
             let (u, v) = (p - apex, q - apex);
-            let (sin, cos) = (u.cross(v).length(), u.dot(v));
+            (u.cross(v).length(), u.dot(v))
+        });
+        let (mut best_sin, mut best_cos) = (1.0f64, 0.0f64);
+        for (sin, cos) in corners {
             // sin/cos < best_sin/best_cos without dividing (cosines are ≥ 0).
             if sin * best_cos < best_sin * cos {
                 (best_sin, best_cos) = (sin, cos);
@@ -446,12 +460,14 @@ impl Surface {
         } else {
             best_sin.atan2(best_cos)
         };
-        let (mut min_edge, mut max_edge) = (f64::INFINITY, 0.0f64);
-        for e in 0..self.topo.n_edges() {
-            let l = self.edge_length(EdgeId(e as u32));
-            min_edge = min_edge.min(l);
-            max_edge = max_edge.max(l);
-        }
+        // Minimum and maximum are exact, so the ranges combine in any order.
+        let lengths = crate::parallel::map_ranges(self.topo.n_edges(), |r| {
+            r.map(|e| self.edge_length(EdgeId(e as u32)))
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), l| (lo.min(l), hi.max(l)))
+        });
+        let (min_edge, max_edge) = lengths
+            .into_iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
         InputFigures {
             min_angle,
             min_edge,

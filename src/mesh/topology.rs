@@ -177,7 +177,12 @@ impl Topology {
         // Pair corners into edges.
         const UNSET: u32 = u32::MAX;
         let mut corner_he = vec![UNSET; n_corners];
-        let mut he_origin = Vec::with_capacity(n_corners + n_corners / 8);
+        // Room for the half-edges, faces and vertices of as many splits as
+        // about the number of edges (what `refine` reserves): capacity is
+        // address space until used, and growing the arrays later would copy
+        // them (and fault their pages in again).
+        let spare = n_corners / 2 + 16;
+        let mut he_origin = Vec::with_capacity(n_corners + n_corners / 8 + 6 * spare);
         for c in 0..n_corners {
             if corner_he[c] != UNSET {
                 continue;
@@ -221,9 +226,14 @@ impl Topology {
             }
         }
         let n_he = he_origin.len();
-        let mut he_next = vec![HalfEdgeId::NONE; n_he];
-        let mut he_face = vec![FaceId::NONE; n_he];
-        let mut face_he = Vec::with_capacity(triangles.len());
+        fn with_room<T>(len: usize, room: usize) -> Vec<T> {
+            Vec::with_capacity(len + room)
+        }
+        let mut he_next = with_room(n_he, 6 * spare);
+        he_next.resize(n_he, HalfEdgeId::NONE);
+        let mut he_face = with_room(n_he, 6 * spare);
+        he_face.resize(n_he, FaceId::NONE);
+        let mut face_he = with_room(triangles.len(), 2 * spare);
         for f in 0..triangles.len() {
             for i in 0..3 {
                 let c = 3 * f + i;
@@ -238,7 +248,11 @@ impl Topology {
             he_next,
             he_face,
             face_he,
-            vertex_he: vec![HalfEdgeId::NONE; n_vertices],
+            vertex_he: {
+                let mut v = with_room(n_vertices, spare);
+                v.resize(n_vertices, HalfEdgeId::NONE);
+                v
+            },
         };
         // One outgoing half-edge per vertex; on the boundary, the first of the fan.
         for h in 0..n_he {

@@ -1,0 +1,115 @@
+//! Decimal numbers of the text formats (OBJ, ASCII PLY and OFF), read
+//! exactly as `str::parse::<f64>` reads them, faster for the usual forms.
+
+/// Exact powers of ten: every 10^k with k ≤ 22 is an `f64`.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
+    1e20, 1e21, 1e22,
+];
+
+/// The `f64` nearest to the decimal number `tok` (the same value as
+/// `str::parse::<f64>`, which it falls back to), or `None` if `tok` is not
+/// a number that `str::parse` accepts.
+#[inline]
+pub fn parse_f64(tok: &[u8]) -> Option<f64> {
+    match short_decimal(tok) {
+        Some(x) => Some(x),
+        None => std::str::from_utf8(tok).ok()?.parse().ok(),
+    }
+}
+
+/// `[+-]digits[.digits]` with at most 19 digits whose integer m is at most
+/// 2^53, as m / 10^k (k the digits after the point, at most 22): m and 10^k
+/// are exact, so the one division rounds correctly (Clinger's fast path).
+/// `None` for anything else (exponents, long mantissas, "inf", ...).
+#[inline]
+fn short_decimal(tok: &[u8]) -> Option<f64> {
+    let (negative, rest) = match tok.split_first()? {
+        (b'-', rest) => (true, rest),
+        (b'+', rest) => (false, rest),
+        _ => (false, tok),
+    };
+    let mut m: u64 = 0;
+    let mut digits = 0usize;
+    let mut fraction = None;
+    for (i, &b) in rest.iter().enumerate() {
+        match b {
+            b'0'..=b'9' => {
+                m = m.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                digits += 1;
+            }
+            b'.' if fraction.is_none() => fraction = Some(rest.len() - i - 1),
+            _ => return None,
+        }
+    }
+    let k = fraction.unwrap_or(0);
+    if digits == 0 || digits > 19 || k > 22 || m > 1 << 53 {
+        return None;
+    }
+    let x = m as f64 / POW10[k];
+    Some(if negative { -x } else { x })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn std_parse(s: &str) -> Option<f64> {
+        s.parse().ok()
+    }
+
+    fn same(s: &str) {
+        let (got, want) = (parse_f64(s.as_bytes()), std_parse(s));
+        assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{s:?}");
+    }
+
+    #[test]
+    fn agrees_with_std_on_edge_cases() {
+        for s in [
+            "0", "-0", "+0", "0.0", "-0.0", "1.", ".5", "-.5", "+.5", ".", "-", "+", "", "1..2", "1.2.3", "--1", "+-1",
+            "1e5", "1E-5", "-52.9283", "67.3194", "0.1", "0.3", "9007199254740992", "9007199254740993",
+            "9007199254740992.0", "0.9007199254740993", "1234567890123456789", "12345678901234567890",
+            "0.0000000000000000000001", "0.00000000000000000000001", "000000000000000000001.5", "inf", "-inf",
+            "NaN", "nan", "infinity", "1_0", " 1", "1 ", "0x10", "1.7976931348623157e308", "4.9e-324",
+            "179769313486231570000000000000000000000", "1/2", "٣",
+        ] {
+            same(s);
+        }
+    }
+
+    #[test]
+    fn agrees_with_std_on_random_decimals() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut buffer = zmij::Buffer::new();
+        for _ in 0..200_000 {
+            let r = next();
+            // Short decimals as meshes write them, and shortest round-trip
+            // forms of arbitrary doubles.
+            let digits = (r % 20) as usize;
+            let point = (r >> 8) as usize % (digits + 1);
+            let mut s = String::new();
+            if r & (1 << 40) != 0 {
+                s.push('-');
+            }
+            let mut v = next();
+            for i in 0..digits.max(1) {
+                if i == point && i > 0 {
+                    s.push('.');
+                }
+                s.push(char::from(b'0' + (v % 10) as u8));
+                v /= 10;
+            }
+            same(&s);
+            let x = f64::from_bits(next());
+            if x.is_finite() {
+                same(buffer.format_finite(x));
+            }
+        }
+    }
+}
