@@ -681,7 +681,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Write {
             name: file_name(&output),
         });
-        let notes = write_output(&output, &surface, transfer.as_ref())?;
+        let notes = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
         let write_s = t1.elapsed().as_secs_f64();
         progress::phase(Phase::Idle);
         let run = stats_json::RunRecord {
@@ -722,6 +722,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     options.max_added = args.max_added;
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
+    let mut vertex_lines = io::obj::VertexLines::default();
     let result = if args.smallest {
         let start = Instant::now();
         smallest(surface, &first_pass, input_path, &options, args.jobs).map(|(o, mut out)| {
@@ -730,7 +731,23 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             out
         })
     } else {
-        refine_once(surface, &first_pass, input_path, &options, args.prune)
+        // The input's vertex lines do not change: on a spare core, format
+        // them while this thread refines (OBJ output without attributes).
+        let ahead = transfer.is_none()
+            && io::output_format(&output) == io::Format::Obj
+            && delmesh::parallel::cores() > 1
+            && args.jobs.is_none_or(|j| j > 1);
+        std::thread::scope(|scope| {
+            let lines = ahead.then(|| {
+                let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
+                scope.spawn(move || io::obj::VertexLines::new(positions))
+            });
+            let out = refine_once(surface, &first_pass, input_path, &options, args.prune);
+            vertex_lines = lines
+                .map(|h| h.join().expect("formatting does not panic"))
+                .unwrap_or_default();
+            out
+        })
     };
     let out = match result {
         Ok(out) => out,
@@ -749,7 +766,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Write {
         name: file_name(&output),
     });
-    let notes = write_output(&output, &out.surface, transfer.as_ref())?;
+    let notes = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
@@ -970,11 +987,18 @@ struct RowFigures {
 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written.
-fn write_output(path: &Path, surface: &Surface, transfer: Option<&Transfer>) -> anyhow::Result<Vec<String>> {
+/// Writes the refined mesh, with its attributes if it has some; `done`: the
+/// OBJ lines of the input's vertices if formatted already (else empty).
+fn write_output(
+    path: &Path,
+    surface: &Surface,
+    transfer: Option<&Transfer>,
+    done: &io::obj::VertexLines,
+) -> anyhow::Result<Vec<String>> {
     let triangles = surface.triangles();
     Ok(match transfer {
         None => {
-            io::write_mesh(path, &surface.positions, &triangles)?;
+            io::write_mesh_after(path, done, &surface.positions, &triangles)?;
             Vec::new()
         }
         Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
@@ -1005,7 +1029,7 @@ fn run_combination(
 ) -> anyhow::Result<RowFigures> {
     let out = refine_once(surface.clone(), first_pass, input_path, options, prune)?;
     let t = Instant::now();
-    write_output(file, &out.surface, transfer)?;
+    write_output(file, &out.surface, transfer, &Default::default())?;
     let seconds_write = t.elapsed().as_secs_f64();
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),

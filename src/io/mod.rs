@@ -483,7 +483,9 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         .tempfile_in(&dir)
         .map_err(err)?;
     {
-        let mut w = BufWriter::with_capacity(1 << 20, tmp.as_file_mut());
+        // Small: the OBJ writer hands over blocks of about a megabyte, which
+        // a buffer this size passes straight to the file instead of copying.
+        let mut w = BufWriter::with_capacity(1 << 16, tmp.as_file_mut());
         fill(&mut w).map_err(err)?;
         w.flush().map_err(err)?;
     }
@@ -526,10 +528,21 @@ pub fn output_format(path: &Path) -> Format {
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
 /// (OBJ, OFF, PLY binary, STL binary; OBJ when the extension says nothing).
 pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
+    write_mesh_after(path, &obj::VertexLines::default(), positions, triangles)
+}
+
+/// [`write_mesh`], with the OBJ lines of the first vertices formatted
+/// already (used only if `path` names an OBJ file).
+pub fn write_mesh_after(
+    path: &Path,
+    done: &obj::VertexLines,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
     let positions: &[[f64; 3]] = bytemuck_positions(positions);
     let format = output_format(path);
     write_atomic(path, |w| match format {
-        Format::Obj => obj::write_obj(w, positions, triangles),
+        Format::Obj => obj::write_obj_after(w, done, positions, triangles),
         Format::Off => formats::write_off(w, positions, triangles),
         Format::Ply => formats::write_ply_binary(w, positions, triangles, None),
         Format::Stl => formats::write_stl_binary(w, positions, triangles),

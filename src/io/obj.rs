@@ -540,21 +540,60 @@ fn parse_index(tok: &str) -> Option<i64> {
 /// Writes a triangle mesh as OBJ: `v` lines in shortest round-trip form,
 /// then `f` lines.
 pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> std::io::Result<()> {
-    write_lines(w, positions, |p, line| {
-        let mut fmt = zmij::Buffer::new();
-        line.push(b'v');
-        for &c in p {
-            line.push(b' ');
-            line.extend_from_slice(fmt.format_finite(c).as_bytes());
+    write_obj_after(w, &VertexLines::default(), positions, triangles)
+}
+
+/// The `v` lines of the first vertices of a mesh, formatted ahead of time:
+/// the CLI formats the input's vertices (which refining never moves) on a
+/// spare core while the main thread refines.
+#[derive(Clone, Debug, Default)]
+pub struct VertexLines {
+    count: usize,
+    text: Vec<u8>,
+}
+
+impl VertexLines {
+    /// The `v` lines of `positions`, exactly as [`write_obj`] writes them.
+    pub fn new(positions: &[[f64; 3]]) -> VertexLines {
+        let mut text = Vec::with_capacity(64 * positions.len());
+        for p in positions {
+            vertex_line(p, &mut text);
         }
-        line.push(b'\n');
-    })?;
+        VertexLines {
+            count: positions.len(),
+            text,
+        }
+    }
+}
+
+/// Appends the `v` line of `p`.
+#[inline]
+fn vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
+    let mut fmt = zmij::Buffer::new();
+    line.push(b'v');
+    for &c in p {
+        line.push(b' ');
+        line.extend_from_slice(fmt.format_finite(c).as_bytes());
+    }
+    line.push(b'\n');
+}
+
+/// [`write_obj`], with the lines of the first vertices given already
+/// formatted (`done`, which must have been made from those positions).
+pub fn write_obj_after(
+    w: &mut dyn Write,
+    done: &VertexLines,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+) -> std::io::Result<()> {
+    w.write_all(&done.text)?;
+    write_lines(w, &positions[done.count.min(positions.len())..], vertex_line)?;
     write_lines(w, triangles, |t, line| {
-        let mut int = DecimalBuf::default();
+        let mut int = itoa::Buffer::new();
         line.push(b'f');
         for &v in t {
             line.push(b' ');
-            line.extend_from_slice(int.format(v as u64 + 1));
+            line.extend_from_slice(int.format(v as u64 + 1).as_bytes());
         }
         line.push(b'\n');
     })
@@ -588,6 +627,9 @@ fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut V
     let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); threads];
     let fill = |block: &[T], buffer: &mut Vec<u8>| {
         buffer.clear();
+        // About 64 bytes a line (three shortest round-trip coordinates):
+        // growing by doubling would copy the block once or twice more.
+        buffer.reserve(64 * block.len());
         for item in block {
             line(item, buffer);
         }
@@ -675,7 +717,7 @@ pub fn write_obj_with_attributes(
     order.sort_by_key(|&f| group_of(f));
     let mut written = Group::default();
     let mut current_group = None;
-    let mut int = DecimalBuf::default();
+    let mut int = itoa::Buffer::new();
     for f in order {
         let g = group_of(f);
         if current_group != Some(g) {
@@ -688,21 +730,21 @@ pub fn write_obj_with_attributes(
         line.push(b'f');
         for (k, &v) in triangles[f].iter().enumerate() {
             line.push(b' ');
-            line.extend_from_slice(int.format(v as u64 + 1));
+            line.extend_from_slice(int.format(v as u64 + 1).as_bytes());
             let corner = |c: &Option<Channel>| c.as_ref().and_then(|c| c.corners.get(3 * f + k)).copied();
             match (corner(&attributes.texcoords), corner(&attributes.normals)) {
                 (None, None) => {}
                 (Some(t), None) => {
                     line.push(b'/');
-                    line.extend_from_slice(int.format(t as u64 + 1));
+                    line.extend_from_slice(int.format(t as u64 + 1).as_bytes());
                 }
                 (t, Some(n)) => {
                     line.push(b'/');
                     if let Some(t) = t {
-                        line.extend_from_slice(int.format(t as u64 + 1));
+                        line.extend_from_slice(int.format(t as u64 + 1).as_bytes());
                     }
                     line.push(b'/');
-                    line.extend_from_slice(int.format(n as u64 + 1));
+                    line.extend_from_slice(int.format(n as u64 + 1).as_bytes());
                 }
             }
         }
@@ -736,26 +778,6 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
         }
     }
     Ok(())
-}
-
-/// Decimal digits of a `u64`, written backwards into a fixed buffer (no
-/// allocation).
-#[derive(Default)]
-struct DecimalBuf([u8; 20]);
-
-impl DecimalBuf {
-    fn format(&mut self, mut x: u64) -> &[u8] {
-        let mut i = 20;
-        loop {
-            i -= 1;
-            self.0[i] = b'0' + (x % 10) as u8;
-            x /= 10;
-            if x == 0 {
-                break;
-            }
-        }
-        &self.0[i..]
-    }
 }
 
 #[cfg(test)]

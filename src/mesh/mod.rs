@@ -164,15 +164,14 @@ impl Surface {
         let mut id = vec![u32::MAX; n_faces];
         let mut next = 0u32;
         self.face_region = Vec::with_capacity(n_faces + 2 * self.topo.n_edges() + 32);
-        self.face_region.extend((0..n_faces as u32)
-            .map(|f| {
-                let r = root(&mut parent, f) as usize;
-                if id[r] == u32::MAX {
-                    id[r] = next;
-                    next += 1;
-                }
-                id[r]
-            }));
+        self.face_region.extend((0..n_faces as u32).map(|f| {
+            let r = root(&mut parent, f) as usize;
+            if id[r] == u32::MAX {
+                id[r] = next;
+                next += 1;
+            }
+            id[r]
+        }));
         self.n_regions = next as usize;
         // Each region's plane, from its first face (any face gives the same:
         // see `RegionPlane::of_face`).
