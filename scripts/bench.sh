@@ -3,7 +3,9 @@
 #   scripts/bench.sh [RUNS]        (default 5 runs per measurement)
 # Meshes: armadillo (../shared/meshes, 52k faces), the dragon at ~202k faces
 # and the full dragon (871k faces), both fetched by scripts/fetch-dragon.sh
-# and read with --repair (they are real scans with defects). Per mesh it
+# and read with --repair (they are real scans with defects), and the full
+# dragon once more as an OBJ repaired beforehand (read like the armadillo:
+# the linear-scaling comparison). Per mesh it
 # prints the faces, the median seconds of each phase as delmesh reports them,
 # the median end-to-end wall time (hyperfine if installed, else a loop), the
 # peak memory (/usr/bin/time -v), and the I/O floor: the same command with
@@ -58,6 +60,12 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
 bench_mesh armadillo ../shared/meshes/armadillo.obj
 bench_mesh dragon-202k "$data/dragon_vrip_res2.ply.gz" --repair
 bench_mesh dragon-871k "$data/dragon_vrip.ply.gz" --repair
+# Linear scaling, like for like: the same pipeline as the armadillo (an OBJ
+# that needs no repair), on the full dragon once repaired and converted.
+if [ -f "$data/dragon_vrip.ply.gz" ]; then
+  "$bin" -q -i "$data/dragon_vrip.ply.gz" --repair --repaired "$out/dragon.obj" --no-refine -o "$out/x.obj"
+  bench_mesh dragon-obj "$out/dragon.obj"
+fi
 
 mkdir -p "$out/all"
 par=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all)

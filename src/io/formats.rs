@@ -20,7 +20,7 @@
 //!   out-of-range indices are all errors naming the element (and the line, for
 //!   text); trailing bytes after the last element are ignored.
 //!
-//! Dependencies: `flate2` (default pure-Rust `miniz_oxide` backend) for `.gz`
+//! Dependencies: `flate2` (pure-Rust `zlib-rs` backend) for `.gz`
 //! input and `zmij` for shortest round-trip formatting of `f64`, so that
 //! positions survive OFF and ASCII PLY round trips bit for bit.
 //!
@@ -364,6 +364,9 @@ fn parse_f64(tok: &[u8]) -> Option<f64> {
 
 /// An integer, also written as an integral decimal ("3.0").
 fn parse_int(tok: &[u8]) -> Option<i64> {
+    if let Some(v) = super::number::short_integer(tok) {
+        return Some(v);
+    }
     let s = std::str::from_utf8(tok).ok()?;
     if let Ok(v) = s.parse::<i64>() {
         return Some(v);

@@ -50,6 +50,29 @@ fn short_decimal(tok: &[u8]) -> Option<f64> {
     Some(if negative { -x } else { x })
 }
 
+/// `[+-]digits` with at most 18 digits (so that it fits in an `i64`), the
+/// value `str::parse::<i64>` gives it; `None` for anything else, which the
+/// caller then reads the slow way.
+#[inline]
+pub fn short_integer(tok: &[u8]) -> Option<i64> {
+    let (negative, digits) = match tok.split_first()? {
+        (b'-', rest) => (true, rest),
+        (b'+', rest) => (false, rest),
+        _ => (false, tok),
+    };
+    if digits.is_empty() || digits.len() > 18 {
+        return None;
+    }
+    let mut v: i64 = 0;
+    for &d in digits {
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        v = v * 10 + i64::from(d - b'0');
+    }
+    Some(if negative { -v } else { v })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,6 +138,34 @@ mod tests {
         ] {
             same(s);
         }
+    }
+
+    #[test]
+    fn short_integers_agree_with_std() {
+        for s in [
+            "0",
+            "-0",
+            "+7",
+            "42",
+            "-42",
+            "999999999999999999",
+            "-999999999999999999",
+            "9999999999999999999",
+            "",
+            "-",
+            "+",
+            "1.0",
+            "1e3",
+            " 1",
+            "0x1",
+            "--1",
+        ] {
+            if let Some(v) = short_integer(s.as_bytes()) {
+                assert_eq!(Some(v), s.parse::<i64>().ok(), "{s:?}");
+            }
+        }
+        assert_eq!(short_integer(b"9999999999999999999"), None);
+        assert_eq!(short_integer(b"1.0"), None);
     }
 
     #[test]

@@ -266,28 +266,29 @@ impl Topology {
                 topo.vertex_he[v.idx()] = h;
             }
         }
-        // Every vertex must be a single fan: walking it must meet all its faces.
-        for v in 0..n_vertices {
-            let degree = start[v + 1] - start[v];
-            if degree == 0 {
-                continue;
-            }
-            let walked = topo.fan_len(VertexId(v as u32));
-            if walked != degree as usize {
-                return Err(TopologyError::NonManifoldVertex { vertex: v as u32 });
-            }
+        // Every vertex must be a single fan: walking it must meet all its
+        // faces. (Read-only checks, on every core; the first failure in
+        // vertex or edge order is reported, whatever the number of threads.)
+        let pinched = crate::parallel::filter_indices(n_vertices, |v| {
+            let degree = (start[v + 1] - start[v]) as usize;
+            degree != 0 && topo.fan_len(VertexId(v as u32)) != degree
+        });
+        if let Some(&v) = pinched.first() {
+            return Err(TopologyError::NonManifoldVertex { vertex: v });
         }
         // An edge with the same vertex opposite on both sides: its two faces
         // share all three vertices (nothing could split or flip it soundly).
-        for e in 0..topo.n_edges() as u32 {
+        let pillows = crate::parallel::filter_indices(topo.n_edges(), |e| {
+            let h = EdgeId(e as u32).halfedge();
+            topo.is_interior(EdgeId(e as u32)) && topo.apex(h) == topo.apex(h.twin())
+        });
+        if let Some(&e) = pillows.first() {
             let h = EdgeId(e).halfedge();
-            if topo.is_interior(EdgeId(e)) && topo.apex(h) == topo.apex(h.twin()) {
-                let (f1, f2) = (topo.face(h).idx(), topo.face(h.twin()).idx());
-                return Err(TopologyError::SameThreeVertices {
-                    first: f1.min(f2),
-                    face: f1.max(f2),
-                });
-            }
+            let (f1, f2) = (topo.face(h).idx(), topo.face(h.twin()).idx());
+            return Err(TopologyError::SameThreeVertices {
+                first: f1.min(f2),
+                face: f1.max(f2),
+            });
         }
         Ok(topo)
     }
@@ -719,9 +720,7 @@ impl Topology {
 
     /// The faces as vertex triples, in face order.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
-        (0..self.n_faces())
-            .map(|f| self.face_vertices(FaceId(f as u32)).map(|v| v.0))
-            .collect()
+        crate::parallel::map(self.n_faces(), |f| self.face_vertices(FaceId(f as u32)).map(|v| v.0))
     }
 
     /// Checks every invariant of the structure; `Err` describes the first one
