@@ -76,7 +76,7 @@ fn tan_of_tolerance(t: f64) -> f64 {
 ///
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
 /// that common case is decided without a square root.
-#[inline]
+#[inline(always)]
 pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> bool {
     let (u1, v1) = (a - c, b - c);
     let (u2, v2) = (a - d, b - d);
@@ -201,7 +201,7 @@ fn fast_range(coords: &[f64]) -> bool {
 /// The sign of `robust::orient2d(a, b, c)`: 1 when (a, b, c) turn
 /// counter-clockwise, -1 clockwise, 0 when collinear; exact for every finite
 /// input.
-#[inline]
+#[inline(always)]
 fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     if fast_range(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
         robust_orient2d_sign(a, b, c)
@@ -322,7 +322,7 @@ const PLANES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 /// coordinate axis `axis` (component `axis` of its exact normal
 /// `(b - a) x (c - a)`; the other two coordinates in cyclic order). Exact for
 /// every finite input.
-#[inline]
+#[inline(always)]
 pub fn projected_orientation([a, b, c]: [DVec3; 3], axis: usize) -> i8 {
     let (i, j) = [(1, 2), (2, 0), (0, 1)][axis];
     let (a, b, c) = (a.to_array(), b.to_array(), c.to_array());

@@ -187,7 +187,7 @@ impl Surface {
 
     /// Positions (a, b, c, d) of the interior edge `e` = a→b (its first
     /// half-edge) with faces (a, b, c) and (b, a, d).
-    #[inline]
+    #[inline(always)]
     pub fn edge_quad(&self, e: EdgeId) -> [DVec3; 4] {
         let h = e.halfedge();
         let t = &self.topo;
@@ -213,7 +213,7 @@ impl Surface {
 
     /// Whether `e` is interior and its opposite angles exceed π by more than
     /// `tolerance`.
-    #[inline]
+    #[inline(always)]
     pub fn is_non_delaunay(&self, e: EdgeId, tolerance: f64) -> bool {
         if !self.topo.is_interior(e) {
             return false;

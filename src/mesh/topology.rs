@@ -356,10 +356,12 @@ impl Topology {
     pub fn face_halfedge(&self, f: FaceId) -> HalfEdgeId {
         self.face_he[f.idx()]
     }
-    /// Whether a half-edge lies on the boundary (has no face).
+    /// Whether a half-edge lies on the boundary (has no face). Read from
+    /// `next` (also `NONE` there, see [`Topology::validate`]): the callers
+    /// nearly always read it next, so the face array stays out of the cache.
     #[inline]
     pub fn is_boundary_he(&self, h: HalfEdgeId) -> bool {
-        self.he_face[h.idx()].is_none()
+        self.he_next[h.idx()].is_none()
     }
     /// Whether an edge has faces on both sides.
     #[inline]
@@ -740,6 +742,9 @@ impl Topology {
                 return Err(format!("{h:?} is a loop at {v:?}"));
             }
             let f = self.face(h);
+            if f.is_none() != self.next(h).is_none() {
+                return Err(format!("{h:?}: face {f:?} but next {:?}", self.next(h)));
+            }
             if f.is_none() {
                 if self.is_boundary_he(h.twin()) {
                     return Err(format!("edge {:?} has no face on either side", h.edge()));
