@@ -106,6 +106,7 @@ pub struct EdgeFrame {
 
 impl EdgeFrame {
     /// The frame of the edge from `a` to `b`.
+    #[inline]
     pub fn new(a: DVec3, b: DVec3) -> Self {
         let d = b - a;
         let length = d.length();
@@ -118,6 +119,7 @@ impl EdgeFrame {
 
     /// Unfolds `q` (a vertex of a triangle on the edge) to the upper (`up =
     /// true`) or lower half plane, keeping its distances to a and b.
+    #[inline]
     pub fn unfold(&self, q: DVec3, up: bool) -> DVec2 {
         let r = q - self.origin;
         let x = r.dot(self.axis);
@@ -130,6 +132,7 @@ impl EdgeFrame {
 /// `p3`, `q3` are the 3D positions of that edge: the result keeps the 3D
 /// distances to p and q and lies on the opposite side of the line p2q2 from
 /// `inside` (a 2D point on this side).
+#[inline]
 pub fn unfold_across(p3: DVec3, q3: DVec3, x3: DVec3, p2: DVec2, q2: DVec2, inside: DVec2) -> DVec2 {
     let frame = EdgeFrame::new(p3, q3);
     let local = frame.unfold(x3, true);
@@ -146,6 +149,7 @@ pub fn unfold_across(p3: DVec3, q3: DVec3, x3: DVec3, p2: DVec2, q2: DVec2, insi
 ///
 /// Infinite or NaN when the three points are collinear (no finite circle);
 /// callers treat such a value as "no breakpoint".
+#[inline]
 pub fn second_axis_crossing(anchor: f64, p: DVec2, q: DVec2) -> f64 {
     // Translate the anchor to the origin: a circle through the origin is
     // x² + y² − 2 ox x − 2 oy y = 0, which meets y = 0 again at x = 2 ox.
@@ -350,16 +354,27 @@ impl RegionPlane {
     /// check` applies the same rule: the two agree even on faces whose
     /// rounded corners are not exactly in the plane.
     pub fn of_face(triangle: [DVec3; 3]) -> RegionPlane {
+        // The three components estimated once; the exact fallbacks are those
+        // of `normal_component_larger` and `projected_orientation`, whose
+        // answers these are.
+        let n = normal_estimates(triangle);
         let mut axis = 0;
         for other in [1, 2] {
-            if normal_component_larger(triangle, other, axis) {
+            let larger = estimate_larger(n[other], n[axis])
+                .unwrap_or_else(|| exact::normal_component_larger(triangle.map(|p| p.to_array()), other, axis));
+            if larger {
                 axis = other;
             }
         }
-        RegionPlane {
-            axis: axis as u8,
-            sign: projected_orientation(triangle, axis),
-        }
+        // The projected orientation is the sign of that component, certain
+        // when it exceeds its error bound.
+        let (value, error) = n[axis];
+        let sign = if value.is_finite() && error.is_finite() && value.abs() > error {
+            sign(value)
+        } else {
+            projected_orientation(triangle, axis)
+        };
+        RegionPlane { axis: axis as u8, sign }
     }
 
     /// Exactly: does `triangle` have the region's orientation, with non-zero
@@ -376,27 +391,40 @@ impl RegionPlane {
 /// point when the two differ by more than its rounding can (nearly always),
 /// with integers otherwise.
 pub fn normal_component_larger(triangle: [DVec3; 3], i: usize, j: usize) -> bool {
-    let [a, b, c] = triangle;
+    let n = normal_estimates(triangle);
+    estimate_larger(n[i], n[j]).unwrap_or_else(|| exact::normal_component_larger(triangle.map(|p| p.to_array()), i, j))
+}
+
+/// The components of the normal `(b - a) x (c - a)` of `triangle` in
+/// floating point, each with a bound on its error: each difference and
+/// product rounds once (relative 2^-53), the subtraction once; 8 ulps of the
+/// terms' magnitudes, plus what underflow can lose.
+#[inline]
+fn normal_estimates([a, b, c]: [DVec3; 3]) -> [(f64, f64); 3] {
     let (d1, d2) = (b - a, c - a);
-    // Component k and a bound on its error: each difference and product
-    // rounds once (relative 2^-53), the subtraction once; 8 ulps of the
-    // terms' magnitudes, plus what underflow can lose.
-    let component = |k: usize| {
+    [0, 1, 2].map(|k| {
         let (p, q) = ((k + 1) % 3, (k + 2) % 3);
         let (left, right) = (d1[p] * d2[q], d1[q] * d2[p]);
         let error = 8.0 * f64::EPSILON / 2.0 * (left.abs() + right.abs()) + 8.0 * f64::from_bits(1);
-        ((left - right).abs(), error)
-    };
-    let ((ni, ei), (nj, ej)) = (component(i), component(j));
-    if ni.is_finite() && nj.is_finite() && ei.is_finite() && ej.is_finite() {
-        if ni - ei > nj + ej {
-            return true;
-        }
-        if nj - ej >= ni + ei {
-            return false;
-        }
+        (left - right, error)
+    })
+}
+
+/// Whether `|n_i| > |n_j|` for two estimates of [`normal_estimates`], when
+/// their error bounds decide it (`None` otherwise).
+#[inline]
+fn estimate_larger((ni, ei): (f64, f64), (nj, ej): (f64, f64)) -> Option<bool> {
+    let (ni, nj) = (ni.abs(), nj.abs());
+    if !(ni.is_finite() && nj.is_finite() && ei.is_finite() && ej.is_finite()) {
+        return None;
     }
-    exact::normal_component_larger(triangle.map(|p| p.to_array()), i, j)
+    if ni - ei > nj + ej {
+        Some(true)
+    } else if nj - ej >= ni + ei {
+        Some(false)
+    } else {
+        None
+    }
 }
 
 /// Exact test: are the points collinear (the triangle has zero area)? Exact
@@ -955,21 +983,24 @@ mod tests {
                 let exact = exact::normal_component_larger(t.map(|p| p.to_array()), i, j);
                 assert_eq!(exact, expected, "{t:?} {i} {j}");
             }
-            let plane = RegionPlane::of_face(tiny);
-            let axis = plane.axis as usize;
-            assert!((0..3).all(|j| normal[axis].abs() >= normal[j].abs()));
-            assert!(
-                (0..axis).all(|j| normal[axis].abs() > normal[j].abs()),
-                "ties go to the lower axis"
-            );
-            assert_eq!(
-                plane.sign as f64,
-                if normal == DVec3::ZERO {
-                    0.0
-                } else {
-                    normal[axis].signum()
-                }
-            );
+            for triangle in [t, tiny, huge] {
+                let plane = RegionPlane::of_face(triangle);
+                let axis = plane.axis as usize;
+                assert!((0..3).all(|j| normal[axis].abs() >= normal[j].abs()));
+                assert!(
+                    (0..axis).all(|j| normal[axis].abs() > normal[j].abs()),
+                    "ties go to the lower axis"
+                );
+                assert_eq!(
+                    plane.sign as f64,
+                    if normal == DVec3::ZERO {
+                        0.0
+                    } else {
+                        normal[axis].signum()
+                    }
+                );
+                assert_eq!(plane.sign, projected_orientation(triangle, axis));
+            }
         }
         // The fuzz finding: a needle whose float normal underflows; its exact
         // normal is about (1e-589, 1.5e-323, 6.8e-305): the plane is along z.

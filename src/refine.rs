@@ -369,6 +369,7 @@ impl Run<'_> {
         ]
     }
 
+    #[inline(always)]
     fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {
         if !self.is_stuck(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
             ds.push(e, || self.s.edge_length(e));
