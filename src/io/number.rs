@@ -24,30 +24,43 @@ pub fn parse_f64(tok: &[u8]) -> Option<f64> {
 /// `None` for anything else (exponents, long mantissas, "inf", ...).
 #[inline]
 fn short_decimal(tok: &[u8]) -> Option<f64> {
-    let (negative, rest) = match tok.split_first()? {
-        (b'-', rest) => (true, rest),
-        (b'+', rest) => (false, rest),
-        _ => (false, tok),
+    match short_decimal_prefix(tok)? {
+        (x, end) if end == tok.len() => Some(x),
+        _ => None,
+    }
+}
+
+/// The short decimal (as [`short_decimal`]) that `bytes` start with and
+/// where it ends: it stops at the first byte that is not a digit or the
+/// (one) point. `None` if that prefix is not a short decimal.
+#[inline]
+pub fn short_decimal_prefix(bytes: &[u8]) -> Option<(f64, usize)> {
+    let (negative, start) = match bytes.first()? {
+        b'-' => (true, 1),
+        b'+' => (false, 1),
+        _ => (false, 0),
     };
     let mut m: u64 = 0;
     let mut digits = 0usize;
-    let mut fraction = None;
-    for (i, &b) in rest.iter().enumerate() {
-        match b {
-            b'0'..=b'9' => {
+    let mut point = None;
+    let mut i = start;
+    while i < bytes.len() {
+        match bytes[i] {
+            b @ b'0'..=b'9' => {
                 m = m.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
                 digits += 1;
             }
-            b'.' if fraction.is_none() => fraction = Some(rest.len() - i - 1),
-            _ => return None,
+            b'.' if point.is_none() => point = Some(i),
+            _ => break,
         }
+        i += 1;
     }
-    let k = fraction.unwrap_or(0);
+    let k = point.map_or(0, |p| i - p - 1);
     if digits == 0 || digits > 19 || k > 22 || m > 1 << 53 {
         return None;
     }
     let x = m as f64 / POW10[k];
-    Some(if negative { -x } else { x })
+    Some((if negative { -x } else { x }, i))
 }
 
 /// `[+-]digits` with at most 18 digits (so that it fits in an `i64`), the

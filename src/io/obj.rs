@@ -94,6 +94,12 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             "v" => {
                 let mut xyz = [0.0f64; 3];
                 for (k, c) in xyz.iter_mut().enumerate() {
+                    // Plain decimals are read as they are scanned; anything
+                    // else goes the general way below.
+                    if let Some(x) = tokens.next_short_decimal() {
+                        *c = x;
+                        continue;
+                    }
                     let tok = tokens
                         .next()
                         .ok_or_else(|| error(line_no, format!("vertex has {k} coordinates, needs 3")))?;
@@ -163,9 +169,24 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                     raw.face_start.push(0);
                 }
                 let start = raw.indices.len();
-                while let Some(tok) = tokens.next() {
-                    let value = parse_index(tok)
-                        .ok_or_else(|| error(line_no, format!("face index '{tok}' is not an integer")))?;
+                // Without `vt`/`vn` corners so far, plain indices ("12") are
+                // read as they are scanned (the same values as `parse_index`,
+                // and no corner to note); anything else goes the general way.
+                loop {
+                    let fast = if extra.has_corners() {
+                        None
+                    } else {
+                        tokens.next_plain_index()
+                    };
+                    let (value, tok) = match fast {
+                        Some(value) => (value, ""),
+                        None => {
+                            let Some(tok) = tokens.next() else { break };
+                            let value = parse_index(tok)
+                                .ok_or_else(|| error(line_no, format!("face index '{tok}' is not an integer")))?;
+                            (value, tok)
+                        }
+                    };
                     let resolved = match value {
                         0 => return Err(error(line_no, "face index 0 (OBJ indices start at 1)".into())),
                         v if v > 0 => v - 1,
@@ -484,6 +505,51 @@ impl<'a> Tokens<'a> {
         code.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\r' | '\x0c' | '\x0b'))
     }
 
+    /// Skips blanks; then, if the next token is a short decimal (see
+    /// [`super::number::short_decimal`]), returns its value with the cursor
+    /// past it, scanning it once. Otherwise returns `None` with the cursor at
+    /// the token (or comment, or line end), for [`Tokens::next`].
+    #[inline]
+    fn next_short_decimal(&mut self) -> Option<f64> {
+        let b = self.s.as_bytes();
+        self.skip_blanks();
+        let (value, end) = super::number::short_decimal_prefix(&b[self.i..])?;
+        let after = self.i + end;
+        if after < b.len() && !is_token_end(b[after]) {
+            return None;
+        }
+        self.i = after;
+        Some(value)
+    }
+
+    /// As [`Tokens::next_short_decimal`], for a token of 1 to 18 digits
+    /// (no sign, no slash): its value.
+    #[inline]
+    fn next_plain_index(&mut self) -> Option<i64> {
+        let b = self.s.as_bytes();
+        self.skip_blanks();
+        let mut i = self.i;
+        let mut v: i64 = 0;
+        while i < b.len() && b[i].is_ascii_digit() && i - self.i < 18 {
+            v = v * 10 + i64::from(b[i] - b'0');
+            i += 1;
+        }
+        if i == self.i || (i < b.len() && !is_token_end(b[i])) {
+            return None;
+        }
+        self.i = i;
+        Some(v)
+    }
+
+    /// Moves the cursor past blanks (not past a line end).
+    #[inline]
+    fn skip_blanks(&mut self) {
+        let b = self.s.as_bytes();
+        while self.i < b.len() && matches!(b[self.i], b' ' | b'\t' | b'\r' | 0x0c | 0x0b) {
+            self.i += 1;
+        }
+    }
+
     /// The next token of the current line, or `None` at its end; the cursor
     /// then rests at the start of the next line (a comment is skipped whole).
     #[inline]
@@ -511,6 +577,12 @@ impl<'a> Tokens<'a> {
         // Both ends are at ASCII bytes (or the end of the text): char boundaries.
         self.s.get(start..self.i)
     }
+}
+
+/// Whether `b` ends a token: a blank, a line end or a comment.
+#[inline]
+fn is_token_end(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | 0x0c | 0x0b | b'\n' | b'#')
 }
 
 /// The vertex index of a face token `i`, `i/t`, `i//n` or `i/t/n`: a
@@ -842,12 +914,24 @@ mod tests {
                     4..=6 => {
                         nv += 1;
                         let extra = if rnd(3) == 0 { " 1.0" } else { "" };
-                        let c = if rnd(4) == 0 { " # c" } else { "" };
+                        let c = match rnd(5) {
+                            0 => " # c",
+                            1 => "#c",
+                            _ => "",
+                        };
+                        // Short decimals (read while scanned) and other forms.
+                        let z = match rnd(6) {
+                            0 => format!("{}", rnd(5)),
+                            1 => format!("+{}.", rnd(5)),
+                            2 => format!("-.{}", rnd(50)),
+                            3 => format!("00{}.{:03}", rnd(9), rnd(1000)),
+                            4 => format!("{}e1", rnd(5)),
+                            _ => format!("{}", 1.0 / (1.0 + rnd(7) as f64)),
+                        };
                         text.push_str(&format!(
-                            "{b}v{b}{}{b}-{}e-3 {}{extra}{c}",
+                            "{b}v{b}{}{b}-{}e-3 {z}{extra}{c}",
                             rnd(1000) as f64 / 7.0,
                             rnd(99),
-                            rnd(5)
                         ));
                     }
                     _ if nv >= 3 => {
@@ -855,9 +939,11 @@ mod tests {
                         let mut f = String::from("f");
                         for _ in 0..k {
                             let i = rnd(nv) as i64;
-                            let tok = match rnd(3) {
+                            let tok = match rnd(5) {
                                 0 => format!("{}", i + 1),
                                 1 => format!("{}/{}", i + 1, i + 1),
+                                2 => format!("{:04}", i + 1),
+                                3 => format!("+{}", i + 1),
                                 _ => format!("{}//7", i - nv as i64),
                             };
                             f.push_str(b);
