@@ -90,7 +90,7 @@ while read -r name prefine ptotal; do
   [ -f "$mesh" ] || continue
   for _ in $(seq "$runs"); do
     "$bin" -q -i "$mesh" -o "$out/p.obj" --stats-json "$out/p.json"
-    python3 -c "import json;print(json.load(open('$out/p.json'))['runs'][0]['seconds_refine'])"
+    python3 -c "import json;print('%.9f' % json.load(open('$out/p.json'))['runs'][0]['seconds_refine'])"
   done > "$out/refine"
   r=$(median < "$out/refine")
   t=$(wall "$bin" -q -i "$mesh" -o "$out/p.obj")

@@ -38,7 +38,7 @@ pub enum Error {
     /// Some non-Delaunay edge can be neither split (no sample left strictly
     /// inside it) nor flipped (its quad is numerically degenerate), so the
     /// algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a numerically degenerate quad); worst: alpha+beta-pi = {worst_excess:.3e} rad")]
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a numerically degenerate quad); worst: {}", worst_text(*.worst_excess))]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
@@ -70,3 +70,13 @@ pub enum Error {
 
 /// Result with the library's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// The worst excess of [`Error::Unsplittable`] in words: not positive only
+/// when the angles underflowed (a needle a subnormal distance from its edge).
+fn worst_text(excess: f64) -> String {
+    if excess > 0.0 {
+        format!("alpha+beta-pi = {excess:.3e} rad")
+    } else {
+        "angles too thin for f64 to measure (coordinates differ by subnormal amounts)".into()
+    }
+}

@@ -88,8 +88,13 @@ pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -
     // y = 0 with x < 0 is α + β = 0 or 2π, and 0 (two zero angles, both
     // dot products positive) returned above: here both sines underflowed to
     // 0 (needles a subnormal distance from the edge's line) and both angles
-    // are nearly π.
-    exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0)
+    // are nearly π. y = x = 0 cannot come from two proper triangles (it
+    // needs s₁ = c₁ = 0 or s₂ = c₂ = 0): sines and a cosine all underflowed,
+    // and nothing can be told. Such an edge is called non-Delaunay, so that
+    // it is flipped, split or, in the end, refused (`Unsplittable`) rather
+    // than written as if it were Delaunay (a fuzz finding: a needle
+    // 1e-323 from its edge's line, whose true excess was about π/2).
+    exceeds(y, x, tolerance) || (y == 0.0 && x <= 0.0)
 }
 
 /// Positions of a triangle pair unfolded into the plane of the edge (a, b):
@@ -961,6 +966,37 @@ mod tests {
             robust_wrong > 1000,
             "the scaled cases must defeat robust itself ({robust_wrong})"
         );
+    }
+
+    #[test]
+    fn underflowing_angles_are_not_called_delaunay() {
+        // The pipeline fuzz finding (tests/regressions/fuzz-pipeline-dbeb…):
+        // the apexes lie 1e-323 and 0 from the edge's line; every sine and
+        // one cosine underflow, (sin, cos) of the excess is (0, 0). The true
+        // excess is about π/2.
+        let (a, b) = (DVec3::new(0.25, 0.0, 0.0), DVec3::new(0.2, 2e-323, 0.0));
+        let (c, d) = (DVec3::new(0.225, 0.0, 0.0), DVec3::new(0.25, 1e-323, 0.0));
+        for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
+            assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0));
+            assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
+        }
+        // A proper pair is never (0, 0): a square's diagonal is exactly
+        // cocircular (excess 0, cosine positive) and stays Delaunay.
+        let square = [
+            DVec3::ZERO,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+        ];
+        let (y, x) = excess_sin_cos(square[0], square[1], square[2], square[3]);
+        assert!(y.abs() < 1e-15 && x > 0.0);
+        assert!(!is_non_delaunay(
+            square[0],
+            square[1],
+            square[2],
+            square[3],
+            ALGORITHM_TOLERANCE
+        ));
     }
 
     #[test]

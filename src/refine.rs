@@ -380,6 +380,14 @@ impl Run<'_> {
         if !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
             return;
         }
+        if self.s.excess_sin_cos(e) == Some((0.0, 0.0)) {
+            // Underflow left nothing to decide with (see
+            // `geometry::is_non_delaunay`): flipping or splitting would act
+            // on noise (and splitting such a needle makes more of them).
+            // Left for the final count, which refuses it.
+            self.mark_stuck(e);
+            return;
+        }
         let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
         if self.s.is_flippable(e) {
             if !self.s.flip_is_valid(e) {

@@ -555,9 +555,7 @@ impl<'a> Tokens<'a> {
     #[inline]
     fn next(&mut self) -> Option<&'a str> {
         let b = self.s.as_bytes();
-        while self.i < b.len() && matches!(b[self.i], b' ' | b'\t' | b'\r' | 0x0c | 0x0b) {
-            self.i += 1;
-        }
+        self.skip_blanks();
         if self.i < b.len() && b[self.i] == b'#' {
             while self.i < b.len() && b[self.i] != b'\n' {
                 self.i += 1;
@@ -571,7 +569,7 @@ impl<'a> Tokens<'a> {
             return None;
         }
         let start = self.i;
-        while self.i < b.len() && !matches!(b[self.i], b' ' | b'\t' | b'\r' | 0x0c | 0x0b | b'\n' | b'#') {
+        while self.i < b.len() && !is_token_end(b[self.i]) {
             self.i += 1;
         }
         // Both ends are at ASCII bytes (or the end of the text): char boundaries.
@@ -591,22 +589,7 @@ fn is_token_end(b: u8) -> bool {
 fn parse_index(tok: &str) -> Option<i64> {
     let b = tok.as_bytes();
     let end = b.iter().position(|&c| c == b'/').unwrap_or(b.len());
-    let (negative, digits) = match b[..end].split_first() {
-        Some((b'-', rest)) => (true, rest),
-        Some((b'+', rest)) => (false, rest),
-        _ => (false, &b[..end]),
-    };
-    if digits.is_empty() || digits.len() > 18 {
-        return None;
-    }
-    let mut v: i64 = 0;
-    for &d in digits {
-        if !d.is_ascii_digit() {
-            return None;
-        }
-        v = v * 10 + (d - b'0') as i64;
-    }
-    Some(if negative { -v } else { v })
+    super::number::short_integer(&b[..end])
 }
 
 /// Writes a triangle mesh as OBJ: `v` lines in shortest round-trip form,
