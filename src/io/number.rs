@@ -30,9 +30,11 @@ fn short_decimal(tok: &[u8]) -> Option<f64> {
     }
 }
 
-/// The short decimal (as [`short_decimal`]) that `bytes` start with and
-/// where it ends: it stops at the first byte that is not a digit or the
-/// (one) point. `None` if that prefix is not a short decimal.
+/// The short decimal that `bytes` start with (`[+-]digits[.digits]`, at
+/// most 19 digits, at most 22 after the point, a value of at most 2^53
+/// before the point is placed: the fast path of [`parse_f64`]) and where it
+/// ends: it stops at the first byte that is not a digit or the (one) point.
+/// `None` if that prefix is not such a number.
 #[inline]
 pub fn short_decimal_prefix(bytes: &[u8]) -> Option<(f64, usize)> {
     let (negative, start) = match bytes.first()? {

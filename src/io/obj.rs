@@ -506,9 +506,9 @@ impl<'a> Tokens<'a> {
     }
 
     /// Skips blanks; then, if the next token is a short decimal (see
-    /// [`super::number::short_decimal`]), returns its value with the cursor
-    /// past it, scanning it once. Otherwise returns `None` with the cursor at
-    /// the token (or comment, or line end), for [`Tokens::next`].
+    /// [`super::number::short_decimal_prefix`]), returns its value with the
+    /// cursor past it, scanning it once. Otherwise returns `None` with the
+    /// cursor at the token (or comment, or line end), for [`Tokens::next`].
     #[inline]
     fn next_short_decimal(&mut self) -> Option<f64> {
         let b = self.s.as_bytes();
