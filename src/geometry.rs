@@ -72,17 +72,35 @@ fn tan_of_tolerance(t: f64) -> f64 {
 }
 
 /// Whether the edge (a, b) with opposite vertices `c`, `d` violates the
-/// Delaunay condition by more than `tolerance` radians.
+/// Delaunay condition by more than `tolerance` radians (an edge whose angles
+/// underflow entirely counts as violating it: see [`delaunay_test`]).
+#[inline(always)]
+pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> bool {
+    delaunay_test(a, b, c, d, tolerance) != DelaunayTest::Delaunay
+}
+
+/// What [`delaunay_test`] says of an edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DelaunayTest {
+    /// α + β − π ≤ the tolerance.
+    Delaunay,
+    /// α + β − π > the tolerance.
+    NonDelaunay,
+    /// Every sine and a cosine underflowed: f64 cannot tell.
+    Underflow,
+}
+
+/// The Delaunay test of the edge (a, b) with opposite vertices `c`, `d`.
 ///
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
 /// that common case is decided without a square root.
 #[inline(always)]
-pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> bool {
+pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> DelaunayTest {
     let (u1, v1) = (a - c, b - c);
     let (u2, v2) = (a - d, b - d);
     let (c1, c2) = (u1.dot(v1), u2.dot(v2));
     if c1 >= 0.0 && c2 >= 0.0 {
-        return false;
+        return DelaunayTest::Delaunay;
     }
     let (y, x) = excess_sin_cos(a, b, c, d);
     // y = 0 with x < 0 is α + β = 0 or 2π, and 0 (two zero angles, both
@@ -90,11 +108,15 @@ pub fn is_non_delaunay(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -
     // 0 (needles a subnormal distance from the edge's line) and both angles
     // are nearly π. y = x = 0 cannot come from two proper triangles (it
     // needs s₁ = c₁ = 0 or s₂ = c₂ = 0): sines and a cosine all underflowed,
-    // and nothing can be told. Such an edge is called non-Delaunay, so that
-    // it is flipped, split or, in the end, refused (`Unsplittable`) rather
-    // than written as if it were Delaunay (a fuzz finding: a needle
-    // 1e-323 from its edge's line, whose true excess was about π/2).
-    exceeds(y, x, tolerance) || (y == 0.0 && x <= 0.0)
+    // and nothing can be told (a fuzz finding: a needle 1e-323 from its
+    // edge's line, whose true excess was about π/2, was called Delaunay).
+    if y == 0.0 && x == 0.0 {
+        DelaunayTest::Underflow
+    } else if exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0) {
+        DelaunayTest::NonDelaunay
+    } else {
+        DelaunayTest::Delaunay
+    }
 }
 
 /// Positions of a triangle pair unfolded into the plane of the edge (a, b):
@@ -978,6 +1000,7 @@ mod tests {
         let (c, d) = (DVec3::new(0.225, 0.0, 0.0), DVec3::new(0.25, 1e-323, 0.0));
         for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
             assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0));
+            assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Underflow);
             assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
         }
         // A proper pair is never (0, 0): a square's diagonal is exactly

@@ -8,7 +8,7 @@ use std::collections::{BinaryHeap, VecDeque};
 use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
-use crate::geometry::{self, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
+use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
 use crate::hash::FastMap;
 use crate::mesh::{EdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
@@ -377,16 +377,16 @@ impl Run<'_> {
     }
 
     fn process(&mut self, e: EdgeId, ds: &mut Ds) {
-        if !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
-            return;
-        }
-        if self.s.excess_sin_cos(e) == Some((0.0, 0.0)) {
-            // Underflow left nothing to decide with (see
-            // `geometry::is_non_delaunay`): flipping or splitting would act
-            // on noise (and splitting such a needle makes more of them).
-            // Left for the final count, which refuses it.
-            self.mark_stuck(e);
-            return;
+        match self.s.delaunay_test(e, ALGORITHM_TOLERANCE) {
+            DelaunayTest::Delaunay => return,
+            DelaunayTest::NonDelaunay => {}
+            DelaunayTest::Underflow => {
+                // Nothing to decide with: flipping or splitting would act on
+                // noise (and splitting such a needle makes more of them).
+                // Left for the final count, which refuses it.
+                self.mark_stuck(e);
+                return;
+            }
         }
         let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
         if self.s.is_flippable(e) {

@@ -11,7 +11,7 @@ mod topology;
 
 pub use topology::{EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
 
-use crate::geometry::{self, RegionPlane, ALGORITHM_TOLERANCE};
+use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
 use glam::DVec3;
 
@@ -215,11 +215,17 @@ impl Surface {
     /// `tolerance`.
     #[inline(always)]
     pub fn is_non_delaunay(&self, e: EdgeId, tolerance: f64) -> bool {
+        self.delaunay_test(e, tolerance) != DelaunayTest::Delaunay
+    }
+
+    /// [`geometry::delaunay_test`] of `e`; a boundary edge is Delaunay.
+    #[inline(always)]
+    pub fn delaunay_test(&self, e: EdgeId, tolerance: f64) -> DelaunayTest {
         if !self.topo.is_interior(e) {
-            return false;
+            return DelaunayTest::Delaunay;
         }
         let [a, b, c, d] = self.edge_quad(e);
-        geometry::is_non_delaunay(a, b, c, d, tolerance)
+        geometry::delaunay_test(a, b, c, d, tolerance)
     }
 
     /// α + β − π of an interior edge (radians); `None` on the boundary.
