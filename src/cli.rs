@@ -535,8 +535,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     check_output_dir(&output)?;
     io::set_sync_writes(args.sync);
     if let Some(jobs) = args.jobs {
-        io::obj::set_write_threads(usize::from(jobs));
-        refine::set_pass_threads(usize::from(jobs));
+        delmesh::parallel::set_threads(usize::from(jobs));
     }
     if let Some(repaired) = &args.repaired {
         check_output_dir(repaired)?;
@@ -877,8 +876,9 @@ fn smallest(
         None => delmesh::parallel::cores(),
     }
     .max(1);
-    // The runs share the cores: each scans on one thread.
-    refine::set_pass_threads(1);
+    // The runs share the cores: each scans on one thread (the chosen mesh
+    // is then written with the threads `--jobs` allows again).
+    delmesh::parallel::set_threads(1);
     // The best so far, by (vertices, index of its settings).
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     let first_error = std::sync::Mutex::new(None);
@@ -921,6 +921,7 @@ fn smallest(
             }
         });
     }
+    delmesh::parallel::set_threads(jobs.map_or(0, usize::from));
     match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some((_, i, out)) => Ok((settings[i], out)),
         None => Err(first_error
@@ -987,8 +988,8 @@ struct RowFigures {
 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written.
-/// Writes the refined mesh, with its attributes if it has some; `done`: the
-/// OBJ lines of the input's vertices if formatted already (else empty).
+/// `done`: the OBJ lines of the input's vertices if formatted already (else
+/// empty).
 fn write_output(
     path: &Path,
     surface: &Surface,
@@ -1082,8 +1083,7 @@ fn run_all(
     };
     // The combinations already share the cores: each writes and scans on one
     // thread (so that `--jobs 1` really uses one core).
-    io::obj::set_write_threads(1);
-    refine::set_pass_threads(1);
+    delmesh::parallel::set_threads(1);
     // Longest first, so that no core is left with a long run at the end: the
     // runs without the median and with "all equal" (then "weighted center")
     // split next to vertices and often take most of the sweep. Only the

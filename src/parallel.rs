@@ -1,6 +1,7 @@
 //! Read-only passes over large meshes, split between threads: each thread
 //! takes one contiguous range of the items and the results are put back in
-//! order, so they never depend on the number of threads.
+//! order, so they never depend on the number of threads. The one thread
+//! setting here also governs the OBJ writer's formatting threads.
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -12,8 +13,9 @@ pub const MIN_PARALLEL_ITEMS: usize = 1 << 15;
 /// How many threads a pass uses: 0 (the default) means one per core, up to 8.
 static THREADS: AtomicUsize = AtomicUsize::new(0);
 
-/// Sets how many threads each pass uses (0: one per core). The CLI sets it
-/// from `--jobs`, and to 1 while several runs already share the cores.
+/// Sets how many threads each pass (and the OBJ writer) uses (0: one per
+/// core, up to 8). The CLI sets it from `--jobs`, and to 1 while several
+/// runs already share the cores.
 pub fn set_threads(n: usize) {
     THREADS.store(n, Ordering::Relaxed);
 }
@@ -25,12 +27,20 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |t| t.get()))
 }
 
-/// The threads a pass over `n` items uses.
-fn threads_for(n: usize) -> usize {
+/// The threads a pass uses, as set by [`set_threads`].
+pub fn threads() -> usize {
     match THREADS.load(Ordering::Relaxed) {
-        _ if n < MIN_PARALLEL_ITEMS => 1,
         0 => cores().min(8),
         t => t,
+    }
+}
+
+/// The threads a pass over `n` items uses.
+fn threads_for(n: usize) -> usize {
+    if n < MIN_PARALLEL_ITEMS {
+        1
+    } else {
+        threads()
     }
 }
 

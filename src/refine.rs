@@ -286,9 +286,11 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         "a non-Delaunay edge was neither queued nor stuck"
     );
     // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
-    // may still be within the acceptance tolerance.
+    // may still be within the acceptance tolerance: they alone are counted.
     if !run.stuck.is_empty() {
-        let (after, worst) = run.s.count_non_delaunay(ACCEPT_TOLERANCE);
+        let (after, worst) = run
+            .s
+            .count_non_delaunay_among(run.stuck.keys().copied(), ACCEPT_TOLERANCE);
         run.stats.non_delaunay_after = after;
         if after > 0 {
             return Err(Error::Unsplittable {
@@ -298,13 +300,6 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         }
     }
     Ok(run.stats)
-}
-
-/// Sets how many threads the full passes over the edges use (0: one per
-/// core); see [`crate::parallel::set_threads`]. The result never depends on
-/// it.
-pub fn set_pass_threads(n: usize) {
-    crate::parallel::set_threads(n);
 }
 
 /// The interior edges of `s` non-Delaunay by more than
@@ -398,9 +393,10 @@ impl Run<'_> {
             }
             self.s.flip(e);
             self.stats.flips += 1;
-            // The new diagonal is Delaunay in exact arithmetic; rounding on a
-            // nearly cocircular quad may say otherwise.
-            for x in [e].into_iter().chain(around) {
+            // The new diagonal itself is Delaunay: `flip_is_valid` tested it
+            // with the same positions (the test is symmetric in the edge's
+            // direction and in its two apexes, bit for bit).
+            for x in around {
                 self.push_if_bad(ds, x);
             }
             return;

@@ -486,21 +486,32 @@ fn filter_faces(positions: &[[f64; 3]], triangles: &[[u32; 3]], rep: &[u32], rep
         verts: Vec::with_capacity(triangles.len()),
         source: Vec::with_capacity(triangles.len()),
     };
-    // The exact zero-area test on every core; then, in face order, the
-    // bookkeeping.
-    let zero_area = crate::parallel::map(triangles.len(), |t| {
+    // Each face judged on every core (the exact zero-area test is the
+    // costly part); then, in face order, the bookkeeping.
+    #[derive(Clone, Copy, PartialEq)]
+    enum Verdict {
+        Keep,
+        RepeatedVertex,
+        ZeroArea,
+    }
+    let verdicts = crate::parallel::map(triangles.len(), |t| {
         let v = triangles[t].map(|i| rep[i as usize]);
-        v[0] != v[1] && v[1] != v[2] && v[2] != v[0] && is_zero_area(&v.map(|i| positions[i as usize]))
-    });
-    for (t, tri) in triangles.iter().enumerate() {
-        let v = tri.map(|i| rep[i as usize]);
         if v[0] == v[1] || v[1] == v[2] || v[2] == v[0] {
-            report.repeated_vertex_faces += 1;
-        } else if zero_area[t] {
-            report.zero_area_faces += 1;
+            Verdict::RepeatedVertex
+        } else if is_zero_area(&v.map(|i| positions[i as usize])) {
+            Verdict::ZeroArea
         } else {
-            candidates.verts.push(v);
-            candidates.source.push(ix(t));
+            Verdict::Keep
+        }
+    });
+    for (t, (tri, verdict)) in triangles.iter().zip(verdicts).enumerate() {
+        match verdict {
+            Verdict::RepeatedVertex => report.repeated_vertex_faces += 1,
+            Verdict::ZeroArea => report.zero_area_faces += 1,
+            Verdict::Keep => {
+                candidates.verts.push(tri.map(|i| rep[i as usize]));
+                candidates.source.push(ix(t));
+            }
         }
     }
     let duplicate = find_duplicates(&candidates.verts, positions.len());

@@ -27,7 +27,7 @@ pub use formats::{Format, FormatError, OriginKind, PlyColumn, RawMesh};
 use crate::attributes::{Attributes, Kind, PerVertex, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
-use crate::mesh::{Surface, TopologyError};
+use crate::mesh::{room_for_splits, Surface, TopologyError};
 use crate::repair::{self, RepairOptions, RepairReport};
 
 /// The largest decompressed size accepted from a `.gz` input (16 GiB).
@@ -405,8 +405,8 @@ pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
     } else {
         &keep_apart
     };
-    // With room for the splits to come (see `Surface::with_region_cuts`).
-    let mut positions = Vec::with_capacity(2 * input.positions.len() + input.triangles.len() + 16);
+    // With room for the splits to come (no copy when the surface reserves it).
+    let mut positions = Vec::with_capacity(input.positions.len() + room_for_splits(input.triangles.len()));
     positions.extend_from_slice(&input.positions);
     Surface::with_region_cuts(positions, &input.triangles, cut).map_err(|e| {
         let at = |face: usize| {

@@ -8,7 +8,6 @@
 //! never refuses the file: that attribute is dropped, with a note.
 
 use std::io::Write;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::formats::{FormatError, OriginKind, RawMesh};
 use super::number::parse_f64;
@@ -657,26 +656,13 @@ pub fn write_obj_after(
 /// Lines per block of [`write_lines`]: about 1 MB of text.
 const BLOCK_LINES: usize = 1 << 14;
 
-/// How many threads [`write_lines`] formats with: 0 (the default) means one
-/// per core.
-static WRITE_THREADS: AtomicUsize = AtomicUsize::new(0);
-
-/// Sets how many threads format OBJ text (0: one per core). `-all`, which
-/// already runs one combination per core, sets 1.
-pub fn set_write_threads(n: usize) {
-    WRITE_THREADS.store(n, Ordering::Relaxed);
-}
-
 /// Writes one line per item, appended to a buffer by `line`. Formatting
 /// (shortest round-trip floats, mostly) costs more than writing, so on
 /// several cores blocks of [`BLOCK_LINES`] consecutive items are formatted
 /// at once on scoped threads, then written in order: the bytes are exactly
 /// those of a sequential loop, and memory stays one block per thread.
 fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut Vec<u8>) + Sync) -> std::io::Result<()> {
-    let threads = match WRITE_THREADS.load(Ordering::Relaxed) {
-        0 => crate::parallel::cores(),
-        n => n,
-    };
+    let threads = crate::parallel::threads();
     let blocks: Vec<&[T]> = items.chunks(BLOCK_LINES).collect();
     let threads = threads.min(blocks.len()).max(1);
     let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); threads];

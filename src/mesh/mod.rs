@@ -9,7 +9,7 @@
 
 mod topology;
 
-pub use topology::{EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
+pub use topology::{room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
 
 use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
@@ -89,8 +89,7 @@ impl Surface {
     ) -> Result<Surface, TopologyError> {
         let topo = Topology::from_triangles(positions.len(), triangles)?;
         let n = positions.len();
-        // Room for about as many splits as edges, as in the topology.
-        let spare = topo.n_edges() + 16;
+        let spare = room_for_splits(triangles.len());
         let mut positions = positions;
         positions.reserve_exact(spare);
         let input_edges = (0..topo.n_edges())
@@ -163,7 +162,7 @@ impl Surface {
         }
         let mut id = vec![u32::MAX; n_faces];
         let mut next = 0u32;
-        self.face_region = Vec::with_capacity(n_faces + 2 * self.topo.n_edges() + 32);
+        self.face_region = Vec::with_capacity(n_faces + 2 * room_for_splits(n_faces));
         self.face_region.extend((0..n_faces as u32).map(|f| {
             let r = root(&mut parent, f) as usize;
             if id[r] == u32::MAX {
@@ -481,12 +480,16 @@ impl Surface {
     }
 
     /// Number of interior edges whose opposite angles exceed π by more than
-    /// `tolerance`, and the largest excess over all interior edges.
+    /// `tolerance`, and the largest excess among them.
     pub fn count_non_delaunay(&self, tolerance: f64) -> (usize, f64) {
+        self.count_non_delaunay_among((0..self.topo.n_edges() as u32).map(EdgeId), tolerance)
+    }
+
+    /// [`Surface::count_non_delaunay`] among `edges` only.
+    pub fn count_non_delaunay_among(&self, edges: impl IntoIterator<Item = EdgeId>, tolerance: f64) -> (usize, f64) {
         let mut count = 0;
         let mut worst = f64::NEG_INFINITY;
-        for e in 0..self.topo.n_edges() {
-            let e = EdgeId(e as u32);
+        for e in edges {
             if self.is_non_delaunay(e, tolerance) {
                 count += 1;
                 worst = worst.max(self.delaunay_excess(e).unwrap_or(0.0));

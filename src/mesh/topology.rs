@@ -107,6 +107,14 @@ pub enum TopologyError {
     SameThreeVertices { first: usize, face: usize },
 }
 
+/// How many splits the arrays of a mesh built from `n_triangles` triangles
+/// have room for from the start: about one per edge, what `refine`
+/// reserves. Capacity is address space until used, and growing the arrays
+/// later would copy them (and fault their pages in again).
+pub fn room_for_splits(n_triangles: usize) -> usize {
+    3 * n_triangles / 2 + 16
+}
+
 /// One saved entry of a [`Topology`], for undoing local changes.
 #[derive(Clone, Copy, Debug)]
 pub enum Saved {
@@ -177,11 +185,7 @@ impl Topology {
         // Pair corners into edges.
         const UNSET: u32 = u32::MAX;
         let mut corner_he = vec![UNSET; n_corners];
-        // Room for the half-edges, faces and vertices of as many splits as
-        // about the number of edges (what `refine` reserves): capacity is
-        // address space until used, and growing the arrays later would copy
-        // them (and fault their pages in again).
-        let spare = n_corners / 2 + 16;
+        let spare = room_for_splits(triangles.len());
         let mut he_origin = Vec::with_capacity(n_corners + n_corners / 8 + 6 * spare);
         for c in 0..n_corners {
             if corner_he[c] != UNSET {
