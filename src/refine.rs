@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use crate::error::{Error, Result};
 use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
 use crate::hash::FastMap;
-use crate::mesh::{EdgeId, Surface, VertexId, NO_INPUT_EDGE};
+use crate::mesh::{room_for_splits, EdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
 
 // The first pass of [`make_delaunay`] relies on it.
@@ -234,9 +234,11 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         stuck: FastMap::default(),
     };
     run.stats.constants = Some(constants);
-    // Room for as many splits as the mesh has edges: untouched capacity costs
+    // Room for about one split per edge, as a freshly built mesh already has
+    // (`room_for_splits`: then this copies nothing): untouched capacity costs
     // no memory, and typical runs then never copy their arrays.
-    run.s.reserve_splits(run.s.topo.n_edges().min(options.max_added));
+    run.s
+        .reserve_splits(room_for_splits(run.s.topo.n_faces()).min(options.max_added));
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
     for &e in first_pass {

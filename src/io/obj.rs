@@ -642,15 +642,59 @@ pub fn write_obj_after(
 ) -> std::io::Result<()> {
     w.write_all(&done.text)?;
     write_lines(w, &positions[done.count.min(positions.len())..], vertex_line)?;
-    write_lines(w, triangles, |t, line| {
-        let mut int = itoa::Buffer::new();
-        line.push(b'f');
-        for &v in t {
-            line.push(b' ');
-            line.extend_from_slice(int.format(v as u64 + 1).as_bytes());
-        }
-        line.push(b'\n');
-    })
+    write_lines(w, triangles, face_line)
+}
+
+/// Appends the `f` line of `t` (indices written from 1). The line is built
+/// in a fixed-size array and appended with one fixed-size copy: three
+/// variable-length copies per line, each a call into libc, cost more than
+/// the digits (5% of the dragon's whole run).
+#[inline]
+fn face_line(t: &[u32; 3], line: &mut Vec<u8>) {
+    // "f", three times a blank and at most 10 digits, a newline: 1 + 3 × 11 + 1.
+    let mut buf = [0u8; 40];
+    buf[0] = b'f';
+    let mut n = 1;
+    for &v in t {
+        buf[n] = b' ';
+        n += 1 + put_decimal(&mut buf, n + 1, u64::from(v) + 1);
+    }
+    buf[n] = b'\n';
+    let end = line.len() + n + 1;
+    line.extend_from_slice(&buf);
+    line.truncate(end);
+}
+
+/// "00", "01", .., "99": two digits per division.
+const DIGIT_PAIRS: [u8; 200] = {
+    let mut pairs = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        pairs[2 * i] = b'0' + (i / 10) as u8;
+        pairs[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    pairs
+};
+
+/// Writes the decimal digits of `v` into `buf` from `at`; returns how many.
+#[inline]
+fn put_decimal(buf: &mut [u8], at: usize, mut v: u64) -> usize {
+    let len = v.checked_ilog10().unwrap_or(0) as usize + 1;
+    let mut i = at + len;
+    while v >= 100 {
+        let r = 2 * (v % 100) as usize;
+        v /= 100;
+        i -= 2;
+        buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
+    }
+    if v >= 10 {
+        let r = 2 * v as usize;
+        buf[i - 2..i].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
+    } else {
+        buf[i - 1] = b'0' + v as u8;
+    }
+    len
 }
 
 /// Lines per block of [`write_lines`]: about 1 MB of text.
@@ -824,6 +868,49 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn face_lines_are_the_formatted_indices() {
+        let mut values = vec![
+            0u32,
+            1,
+            8,
+            9,
+            10,
+            98,
+            99,
+            100,
+            12_345,
+            999_999_999,
+            u32::MAX - 1,
+            u32::MAX,
+        ];
+        values.extend((0..32).map(|k| 1u32 << k));
+        values.extend((1..10).map(|k| 10u32.pow(k) - 2));
+        let mut line = b"v 1 2 3\n".to_vec();
+        let mut expected = line.clone();
+        for w in values.windows(3) {
+            face_line(&[w[0], w[1], w[2]], &mut line);
+            expected.extend(format!("f {} {} {}\n", w[0] as u64 + 1, w[1] as u64 + 1, w[2] as u64 + 1).bytes());
+        }
+        assert_eq!(String::from_utf8(line).unwrap(), String::from_utf8(expected).unwrap());
+        for v in [
+            0u64,
+            7,
+            10,
+            99,
+            100,
+            101,
+            4_294_967_296,
+            9_999_999_999_999_999,
+            u64::MAX,
+        ] {
+            let mut buf = [b'x'; 24];
+            let len = put_decimal(&mut buf, 2, v);
+            assert_eq!(&buf[2..2 + len], v.to_string().as_bytes());
+            assert!(buf[..2].iter().chain(&buf[2 + len..]).all(|&b| b == b'x'));
+        }
+    }
 
     /// The obvious reader: split lines, cut comments, split on whitespace.
     fn reference(text: &str) -> (Vec<[f64; 3]>, Vec<u32>, Vec<u32>, Vec<u32>) {
