@@ -2205,6 +2205,7 @@ fn fmt_face(t: &[u32; 3]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
 
     #[test]
     fn normals_are_accurate_far_from_the_origin_and_for_needles() {
@@ -2265,22 +2266,6 @@ mod tests {
         let collinear = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(2.0, 4.0, 6.0)];
         assert!(exactly_degenerate(collinear));
         assert_eq!(Projection::of_face(collinear).sign, 0);
-    }
-
-    /// A small xorshift generator.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        /// An integer in [-n, n].
-        fn int(&mut self, n: u64) -> f64 {
-            (self.next() % (2 * n + 1)) as f64 - n as f64
-        }
     }
 
     #[test]

@@ -740,6 +740,7 @@ pub mod exact {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
     use std::f64::consts::PI;
 
     #[test]
@@ -778,13 +779,8 @@ mod tests {
     fn excess_agrees_with_angle_sums_everywhere() {
         // Random quads, including nearly flat triangles whose opposite angles
         // approach π (so that α + β approaches 2π).
-        let mut seed = 12345u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = Rng(12345);
+        let mut rnd = move || rng.centered();
         for i in 0..20000 {
             let a = DVec3::new(-1.0, 0.0, 0.0);
             let b = DVec3::new(1.0, 0.0, 0.0);
@@ -884,25 +880,6 @@ mod tests {
         assert!(!flat_pair(a, b, c, DVec3::new(2.0, 0.0, 0.0)));
         // Out of plane.
         assert!(!flat_pair(a, b, c, DVec3::new(0.0, 1.0, 1e-300)));
-    }
-
-    /// A small xorshift generator for the predicate tests.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        /// An integer in [-n, n].
-        fn int(&mut self, n: i64) -> f64 {
-            (self.next() % (2 * n as u64 + 1)) as i64 as f64 - n as f64
-        }
-        fn below(&mut self, n: u64) -> u64 {
-            self.next() % n
-        }
     }
 
     fn robust2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {

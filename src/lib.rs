@@ -51,6 +51,8 @@ pub mod refine;
 pub mod render;
 pub mod repair;
 pub mod samples;
+#[cfg(test)]
+mod test_rng;
 
 pub use error::{Error, Result};
 pub use mesh::Surface;

@@ -185,13 +185,8 @@ mod tests {
 
     #[test]
     fn agrees_with_std_on_random_decimals() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::test_rng::Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.next();
         let mut buffer = zmij::Buffer::new();
         for _ in 0..200_000 {
             let r = next();

@@ -665,6 +665,13 @@ fn face_line(t: &[u32; 3], line: &mut Vec<u8>) {
     line.truncate(end);
 }
 
+/// Appends index `i` as OBJ writes it (from 1).
+fn push_index(line: &mut Vec<u8>, i: u32) {
+    let mut digits = [0u8; 10];
+    let len = put_decimal(&mut digits, 0, u64::from(i) + 1);
+    line.extend_from_slice(&digits[..len]);
+}
+
 /// "00", "01", .., "99": two digits per division.
 const DIGIT_PAIRS: [u8; 200] = {
     let mut pairs = [0u8; 200];
@@ -802,7 +809,6 @@ pub fn write_obj_with_attributes(
     order.sort_by_key(|&f| group_of(f));
     let mut written = Group::default();
     let mut current_group = None;
-    let mut int = itoa::Buffer::new();
     for f in order {
         let g = group_of(f);
         if current_group != Some(g) {
@@ -815,21 +821,21 @@ pub fn write_obj_with_attributes(
         line.push(b'f');
         for (k, &v) in triangles[f].iter().enumerate() {
             line.push(b' ');
-            line.extend_from_slice(int.format(v as u64 + 1).as_bytes());
+            push_index(&mut line, v);
             let corner = |c: &Option<Channel>| c.as_ref().and_then(|c| c.corners.get(3 * f + k)).copied();
             match (corner(&attributes.texcoords), corner(&attributes.normals)) {
                 (None, None) => {}
                 (Some(t), None) => {
                     line.push(b'/');
-                    line.extend_from_slice(int.format(t as u64 + 1).as_bytes());
+                    push_index(&mut line, t);
                 }
                 (t, Some(n)) => {
                     line.push(b'/');
                     if let Some(t) = t {
-                        line.extend_from_slice(int.format(t as u64 + 1).as_bytes());
+                        push_index(&mut line, t);
                     }
                     line.push(b'/');
-                    line.extend_from_slice(int.format(n as u64 + 1).as_bytes());
+                    push_index(&mut line, n);
                 }
             }
         }
