@@ -31,6 +31,17 @@
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
 //!
+//! # How files are read
+//!
+//! Polygons are fan-triangulated and bit-identical positions welded, as the construction reads
+//! its input. Then what `delmesh --repair` cut apart on purpose, by giving faces their own
+//! copies of vertices at one position, is kept apart: where welding would put more than two
+//! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
+//! ends stay apart; a vertex whose faces form several fans becomes one vertex per fan; and
+//! [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it has fewer
+//! vertices at one position than the INPUT ([`Mesh3::read_like`]). A mesh the construction accepts
+//! without `--repair` is read welded, nothing kept apart.
+//!
 //! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind) with
 //! 1-based vertex and face numbers. [`Mesh3::read_obj`] numbers vertices in the order of their
 //! first `v` line, so the numbers are the OBJ numbers whenever the file has neither duplicated
@@ -210,14 +221,15 @@ impl fmt::Display for CheckReport {
     }
 }
 
-/// Reads both files with [`Mesh3::read_obj`] and checks OUTPUT against INPUT.
+/// Reads INPUT with [`Mesh3::read`] and OUTPUT with [`Mesh3::read_like`] it, and checks
+/// OUTPUT against INPUT.
 ///
 /// Errors when a file cannot be read, is not an OBJ mesh, has no faces, or when the input
 /// is itself invalid (see [`CheckError::InvalidInput`]). Everything wrong with the output is
 /// reported as failure lines in the [`CheckReport`].
 pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckError> {
     let input_mesh = Mesh3::read(input)?;
-    let output_mesh = Mesh3::read(output)?;
+    let output_mesh = Mesh3::read_like(output, &input_mesh)?;
     check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
         reason,
@@ -244,8 +256,48 @@ impl Mesh3 {
     /// code the judge shares with the construction, for formats `tobj` does not read — followed
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
+        let (mesh, file_corners) = Welded::read(path.as_ref())?;
+        Ok(settle(mesh, &file_corners, &[]))
+    }
+
+    /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
+    /// does, except where that gives fewer vertices at a position than `input` has (a surface
+    /// `--repair` cut apart there, whose refined copy need not keep the edges that tell where
+    /// welding must be undone, see `split_welded_sheets`): there the file's own vertices are
+    /// kept apart instead of welded.
+    pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
+        let (welded, file_corners) = Welded::read(path.as_ref())?;
+        let settled = settle(welded.clone(), &file_corners, &[]);
+        let mut count: FastMap<[u64; 3], i64> = FastMap::default();
+        for p in &input.positions {
+            *count.entry(bits(*p)).or_insert(0) += 1;
+        }
+        for p in &settled.positions {
+            if let Some(c) = count.get_mut(&bits(*p)) {
+                *c -= 1;
+            }
+        }
+        let short: Vec<bool> = welded
+            .positions
+            .iter()
+            .map(|p| count.get(&bits(*p)).is_some_and(|&c| c > 0))
+            .collect();
+        if !short.contains(&true) {
+            return Ok(settled);
+        }
+        Ok(settle(welded, &file_corners, &short))
+    }
+}
+
+/// A mesh file read with bit-identical positions welded, with the file's own vertex of each
+/// corner of its triangles.
+struct Welded;
+
+impl Welded {
+    /// Reads a mesh file: OBJ with [`Welded::read_obj_bytes`]; OFF, PLY and STL (possibly
+    /// gzip-compressed) with the readers of [`crate::io::formats`].
+    fn read(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         use crate::io::formats;
-        let path = path.as_ref();
         let parse_error = |reason: String| CheckError::Parse {
             path: path.to_path_buf(),
             reason,
@@ -258,7 +310,7 @@ impl Mesh3 {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
         let raw = match format {
-            None | Some(formats::Format::Obj) => return Mesh3::read_obj_bytes(path, &bytes),
+            None | Some(formats::Format::Obj) => return Welded::read_obj_bytes(path, &bytes),
             Some(formats::Format::Off) => formats::read_off(&bytes),
             Some(formats::Format::Ply) => formats::read_ply(&bytes),
             Some(formats::Format::Stl) => formats::read_stl(&bytes),
@@ -266,6 +318,11 @@ impl Mesh3 {
         .map_err(|e| parse_error(e.to_string()))?;
         let mut welder = Welder::default();
         let mut triangles = Vec::new();
+        // The file's own vertex of each corner: OFF and PLY share vertices
+        // between faces by index; STL has none to share (every facet lists
+        // its own corners), so there its vertices are only ever welded.
+        let mut file_corners = Vec::new();
+        let shares_vertices = format != Some(formats::Format::Stl);
         let ids: Vec<u32> = raw
             .positions
             .iter()
@@ -275,7 +332,13 @@ impl Mesh3 {
         for f in 0..raw.face_start.len().saturating_sub(1) {
             let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
             for i in 1..poly.len().saturating_sub(1) {
-                triangles.push([poly[0], poly[i], poly[i + 1]].map(|v| ids[v as usize]));
+                let corners = [poly[0], poly[i], poly[i + 1]];
+                triangles.push(corners.map(|v| ids[v as usize]));
+                file_corners.push(if shares_vertices {
+                    corners
+                } else {
+                    corners.map(|v| ids[v as usize])
+                });
             }
         }
         if triangles.is_empty() {
@@ -295,9 +358,11 @@ impl Mesh3 {
             }
         }
         let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
-        Ok(split_pinched_vertices(Mesh3 { positions, triangles }))
+        Ok((Mesh3 { positions, triangles }, file_corners))
     }
+}
 
+impl Mesh3 {
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
     /// fan-triangulated, points and lines ignored, vertices with bit-identical positions welded,
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
@@ -316,6 +381,14 @@ impl Mesh3 {
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
+        let (mesh, file_corners) = Welded::read_obj_bytes(path, bytes)?;
+        Ok(settle(mesh, &file_corners, &[]))
+    }
+}
+
+impl Welded {
+    /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone.
+    fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         let parse_error = |reason: String| CheckError::Parse {
             path: path.to_path_buf(),
             reason,
@@ -333,15 +406,28 @@ impl Mesh3 {
 
         let mut welder = Welder::default();
         let mut triangles = Vec::new();
+        // The file's own vertex of each corner, as (model, tobj index)
+        // numbers: `geometry_lines` leaves tobj no `o` or `g` line, so there
+        // is one model, whose indices tell the file's vertices apart.
+        let mut file_corners = Vec::new();
+        let mut base = 0u32;
         for model in &models {
             welder.add_model(&model.mesh, &mut triangles).map_err(parse_error)?;
+            file_corners.extend(
+                model
+                    .mesh
+                    .indices
+                    .chunks_exact(3)
+                    .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
+            );
+            base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
         }
         if triangles.is_empty() {
             return Err(CheckError::NoFaces {
                 path: path.to_path_buf(),
             });
         }
-        let mesh = split_pinched_vertices(renumber_by_obj_order(welder.positions, triangles, bytes));
+        let mesh = renumber_by_obj_order(welder.positions, triangles, bytes);
         if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(parse_error(format!(
                 "vertex {} {} has a non-finite coordinate",
@@ -349,7 +435,7 @@ impl Mesh3 {
                 fmt_point(mesh.positions[i])
             )));
         }
-        Ok(mesh)
+        Ok((mesh, file_corners))
     }
 }
 
@@ -393,6 +479,85 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
         out.push(b'\n');
     }
     out
+}
+
+/// The last steps of reading a welded mesh: the file's own vertices kept apart at the welded
+/// vertices flagged in `keep_apart` (indexed by vertex; missing flags are false), then
+/// [`split_welded_sheets`] and [`split_pinched_vertices`].
+fn settle(mesh: Mesh3, file_corners: &[[u32; 3]], keep_apart: &[bool]) -> Mesh3 {
+    let mesh = if keep_apart.contains(&true) {
+        unweld(mesh, file_corners, keep_apart)
+    } else {
+        mesh
+    };
+    split_pinched_vertices(split_welded_sheets(mesh, file_corners))
+}
+
+/// At every vertex flagged in `at`, the first file vertex welded into it (in corner order)
+/// keeps it and every other gets a new vertex at the same position, in all its faces.
+fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
+    debug_assert_eq!(mesh.triangles.len(), file_corners.len());
+    let mut first_file = vec![u32::MAX; mesh.positions.len()];
+    let mut own: FastMap<u32, u32> = FastMap::default();
+    for (t, file) in mesh.triangles.iter_mut().zip(file_corners) {
+        for (v, &fv) in t.iter_mut().zip(file) {
+            if !at.get(*v as usize).copied().unwrap_or(false) {
+                continue;
+            }
+            let first = &mut first_file[*v as usize];
+            if *first == u32::MAX {
+                *first = fv;
+            }
+            if *first != fv {
+                let p = mesh.positions[*v as usize];
+                let next = mesh.positions.len() as u32;
+                *v = *own.entry(fv).or_insert(next);
+                if *v == next {
+                    mesh.positions.push(p);
+                }
+            }
+        }
+    }
+    mesh
+}
+
+/// Undoes welding where it would put more than two faces on an edge, or two faces running along
+/// it the same way, if the file itself keeps those faces apart.
+///
+/// `delmesh --repair` cuts a non-manifold edge by giving every pair of its faces beyond the
+/// first its own copies of the edge's two vertices, at the same positions, and cuts a
+/// non-orientable surface (a Möbius band) open the same way: welded by position, the edge has
+/// all its faces again. So, for every such edge after welding, every file vertex at one of its ends that is not the first file vertex at that position
+/// (`file_corners`: the file's vertex of each corner of `mesh.triangles`, first in corner
+/// order) keeps its own vertex, in all its faces. Such a file then reads back as the surface it
+/// was written from; a mesh whose welded edges have at most two faces, oppositely oriented
+/// (every mesh the construction accepts without `--repair`), is unchanged, and an edge the
+/// file itself gives more than two faces, or two the same way, stays an error.
+fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
+    // Faces of each undirected welded edge, by sorting (edge, direction); an edge is crowded
+    // with more than two faces, or two running along it the same way.
+    let mut edges: Vec<([u32; 2], bool)> = Vec::with_capacity(3 * mesh.triangles.len());
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            edges.push(([a.min(b), a.max(b)], a < b));
+        }
+    }
+    edges.sort_unstable();
+    let mut crowded_ends: Vec<u32> = Vec::new();
+    for run in edges.chunk_by(|x, y| x.0 == y.0) {
+        if run.len() > 2 || (run.len() == 2 && run[0].1 == run[1].1) {
+            crowded_ends.extend_from_slice(&run[0].0);
+        }
+    }
+    if crowded_ends.is_empty() {
+        return mesh;
+    }
+    let mut crowded = vec![false; mesh.positions.len()];
+    for &v in &crowded_ends {
+        crowded[v as usize] = true;
+    }
+    unweld(mesh, file_corners, &crowded)
 }
 
 /// Gives every fan of a pinched vertex but the first its own vertex at the same position.

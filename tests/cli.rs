@@ -482,6 +482,105 @@ fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
     check_passes(&repaired, &output);
 }
 
+/// Runs `delmesh -i input --repair --repaired R -o O` in `dir`; returns (R, O, stdout).
+fn repair_and_refine(dir: &Path, input: &Path) -> (std::path::PathBuf, std::path::PathBuf, String) {
+    let repaired = dir.join("repaired.obj");
+    let output = dir.join("dm.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(input)
+        .arg("-o")
+        .arg(&output)
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    (repaired, output, stdout)
+}
+
+#[test]
+fn repair_cuts_a_non_manifold_edge_and_the_output_checks_against_the_repaired_input() {
+    // A book of four pages on the edge (0,0,0)-(1,0,0). Repair glues the pages in pairs and gives
+    // the second pair its own copies of the edge's ends: welded by position, the repaired file
+    // has four faces on that edge again, which `check` must read as the two sheets it is. The
+    // first pair's apexes are close to the edge (non-Delaunay), so its copy of the edge is split
+    // and the other one not.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("book.obj");
+    std::fs::write(
+        &input,
+        "v 0 0 0\nv 1 0 0\nv 0.5 0.1 0\nv 0.5 0 0.1\nv 0.5 -2 0\nv 0.5 0 -2\n\
+         f 1 2 3\nf 2 1 4\nf 1 2 5\nf 2 1 6\n",
+    )
+    .unwrap();
+    let (repaired, output, stdout) = repair_and_refine(dir.path(), &input);
+    assert!(stdout.contains("repair  cut 1 non-manifold edge"), "{stdout}");
+    assert!(stdout.contains("2 added vertices"), "{stdout}");
+    check_passes(&repaired, &output);
+}
+
+#[test]
+fn repair_cuts_a_moebius_band_open_and_the_output_checks_against_the_repaired_input() {
+    // Twelve quads around a circle, the last one joined with a half twist. Repair cuts one edge
+    // to orient it: the two faces along that edge keep it in the same direction when welded.
+    let (n, w) = (12, 0.3f64);
+    let mut text = String::new();
+    for i in 0..n {
+        let t = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        for s in [-1.0, 1.0] {
+            let r = 1.0 + s * w * (t / 2.0).cos();
+            text += &format!("v {:?} {:?} {:?}\n", r * t.cos(), r * t.sin(), s * w * (t / 2.0).sin());
+        }
+    }
+    let rail = |i: usize, upper: bool| 2 * (i % n) + usize::from(upper) + 1;
+    for i in 0..n {
+        let (a, b) = (rail(i, false), rail(i, true));
+        let (c, d) = if i + 1 < n {
+            (rail(i + 1, false), rail(i + 1, true))
+        } else {
+            (rail(0, true), rail(0, false)) // the half twist
+        };
+        text += &format!("f {a} {c} {b}\nf {b} {c} {d}\n");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("moebius.obj");
+    std::fs::write(&input, text).unwrap();
+    let (repaired, output, stdout) = repair_and_refine(dir.path(), &input);
+    assert!(
+        stdout.contains("repair  cut 1 edge to orient a non-orientable surface"),
+        "{stdout}"
+    );
+    check_passes(&repaired, &output);
+}
+
+#[test]
+fn repaired_dragon_excerpt_checks_with_the_files_own_vertices_at_cuts() {
+    // 65 faces of the Stanford dragon scan around a non-manifold edge (data/repair/README.md).
+    // Refining splits the cut edge differently on its two sheets, so in the output no edge has
+    // more than two faces any more and welding by position alone would stitch the sheets
+    // together at one vertex; `check` keeps the output's own vertices apart where the repaired
+    // input has several vertices at one position.
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("repair/dragon-cut.obj");
+    let (repaired, output, stdout) = repair_and_refine(dir.path(), &input);
+    assert!(stdout.contains("repair  cut 1 non-manifold edge"), "{stdout}");
+    check_passes(&repaired, &output);
+    // What welding alone would make of the output: a wrong surface, with a non-Delaunay edge.
+    let input_mesh = delmesh::check::Mesh3::read(&repaired).unwrap();
+    let welded = delmesh::check::Mesh3::read(&output).unwrap();
+    let kept = delmesh::check::Mesh3::read_like(&output, &input_mesh).unwrap();
+    assert_eq!(kept.positions.len(), welded.positions.len() + 1);
+    let report = delmesh::check::check_meshes(&input_mesh, &welded);
+    assert!(
+        report.failures.iter().any(|f| f.contains("non-Delaunay edge")),
+        "{:?}",
+        report.failures
+    );
+}
+
 #[test]
 fn repair_makes_the_shipped_teapot_usable() {
     let teapot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/nonmanifold/teapot.obj");

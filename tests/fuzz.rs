@@ -1510,12 +1510,23 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 if input_bits != output_bits || s.positions.len() != n + stats.splits {
                     return Err(format!("{tag}: input vertices changed or wrong vertex count"));
                 }
-                // `Mesh3` promises welded positions: a repaired mesh whose
-                // non-manifold parts were cut apart has distinct vertices at
-                // one position, which the checker cannot tell apart.
+                // A repaired mesh whose non-manifold parts were cut apart has
+                // distinct vertices at one position: only the files tell the
+                // checker which (`--repaired` and the output, as a user has them).
                 let mut seen = HashSet::new();
                 let welded = input_bits.iter().all(|p| seen.insert(*p));
-                if welded {
+                if !welded {
+                    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+                    let (r, o) = (dir.path().join("repaired.obj"), dir.path().join("output.obj"));
+                    io::write_mesh(&r, &input.positions, &input.triangles).map_err(|e| e.to_string())?;
+                    io::write_mesh(&o, &s.positions, &s.triangles()).map_err(|e| e.to_string())?;
+                    match delmesh::check::check_files(&r, &o) {
+                        Ok(report) if report.passed() => {}
+                        Ok(report) => return Err(format!("{tag}: check of the files failed: {:?}", report.failures)),
+                        Err(e) => return Err(format!("{tag}: check of the files refused: {e}")),
+                    }
+                    sig.push_str(" cut");
+                } else {
                     let report = check_meshes(
                         &Mesh3 {
                             positions: input.positions.clone(),
