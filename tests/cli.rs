@@ -441,6 +441,25 @@ fn every_format_in_and_out() {
         .success();
 }
 
+/// Runs `delmesh -i input --repair --repaired R -o O` in `dir`; returns (R, O, stdout).
+fn repair_and_refine(dir: &Path, input: &Path) -> (std::path::PathBuf, std::path::PathBuf, String) {
+    let repaired = dir.join("repaired.obj");
+    let output = dir.join("dm.obj");
+    let out = delmesh()
+        .arg("-i")
+        .arg(input)
+        .arg("-o")
+        .arg(&output)
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    (repaired, output, stdout)
+}
+
 #[test]
 fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
     let dir = tempfile::tempdir().unwrap();
@@ -459,20 +478,7 @@ fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--repair would fix this"));
-    let repaired = dir.path().join("bow-repaired.obj");
-    let output = dir.path().join("bow-dm.obj");
-    let out = delmesh()
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&output)
-        .arg("--repair")
-        .arg("--repaired")
-        .arg(&repaired)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    let (repaired, output, stdout) = repair_and_refine(dir.path(), &input);
     assert!(stdout.contains("repair  welded 1 vertex"), "{stdout}");
     assert!(
         stdout.contains("repair  removed 1 face with a repeated vertex"),
@@ -480,25 +486,6 @@ fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
     );
     assert!(stdout.contains("repair  split 1 non-manifold vertex"), "{stdout}");
     check_passes(&repaired, &output);
-}
-
-/// Runs `delmesh -i input --repair --repaired R -o O` in `dir`; returns (R, O, stdout).
-fn repair_and_refine(dir: &Path, input: &Path) -> (std::path::PathBuf, std::path::PathBuf, String) {
-    let repaired = dir.join("repaired.obj");
-    let output = dir.join("dm.obj");
-    let out = delmesh()
-        .arg("-i")
-        .arg(input)
-        .arg("-o")
-        .arg(&output)
-        .arg("--repair")
-        .arg("--repaired")
-        .arg(&repaired)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    (repaired, output, stdout)
 }
 
 #[test]
@@ -588,20 +575,7 @@ fn repair_makes_the_shipped_teapot_usable() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let repaired = dir.path().join("teapot-repaired.obj");
-    let output = dir.path().join("teapot-dm.obj");
-    let out = delmesh()
-        .arg("-i")
-        .arg(&teapot)
-        .arg("-o")
-        .arg(&output)
-        .arg("--repair")
-        .arg("--repaired")
-        .arg(&repaired)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    let (repaired, output, stdout) = repair_and_refine(dir.path(), &teapot);
     assert!(
         stdout.contains("welded 263 vertices") && stdout.contains("split 1 non-manifold vertex"),
         "{stdout}"
