@@ -256,8 +256,8 @@ impl Mesh3 {
     /// code the judge shares with the construction, for formats `tobj` does not read — followed
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners) = Welded::read(path.as_ref())?;
-        Ok(settle(mesh, &file_corners, &[]))
+        let (mesh, file_corners) = read_welded(path.as_ref())?;
+        Ok(settle(mesh, &file_corners))
     }
 
     /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
@@ -266,12 +266,17 @@ impl Mesh3 {
     /// welding must be undone, see `split_welded_sheets`): there the file's own vertices are
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
-        let (welded, file_corners) = Welded::read(path.as_ref())?;
-        let settled = settle(welded.clone(), &file_corners, &[]);
+        let (welded, file_corners) = read_welded(path.as_ref())?;
+        // How many vertices the input has at each position it has several at (usually none).
         let mut count: FastMap<[u64; 3], i64> = FastMap::default();
         for p in &input.positions {
             *count.entry(bits(*p)).or_insert(0) += 1;
         }
+        count.retain(|_, c| *c > 1);
+        if count.is_empty() {
+            return Ok(settle(welded, &file_corners));
+        }
+        let settled = settle(welded.clone(), &file_corners);
         for p in &settled.positions {
             if let Some(c) = count.get_mut(&bits(*p)) {
                 *c -= 1;
@@ -285,84 +290,9 @@ impl Mesh3 {
         if !short.contains(&true) {
             return Ok(settled);
         }
-        Ok(settle(welded, &file_corners, &short))
+        Ok(settle(unweld(welded, &file_corners, &short), &file_corners))
     }
-}
 
-/// A mesh file read with bit-identical positions welded, with the file's own vertex of each
-/// corner of its triangles.
-struct Welded;
-
-impl Welded {
-    /// Reads a mesh file: OBJ with [`Welded::read_obj_bytes`]; OFF, PLY and STL (possibly
-    /// gzip-compressed) with the readers of [`crate::io::formats`].
-    fn read(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
-        use crate::io::formats;
-        let parse_error = |reason: String| CheckError::Parse {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| parse_error(e.to_string()))?;
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
-        let raw = match format {
-            None | Some(formats::Format::Obj) => return Welded::read_obj_bytes(path, &bytes),
-            Some(formats::Format::Off) => formats::read_off(&bytes),
-            Some(formats::Format::Ply) => formats::read_ply(&bytes),
-            Some(formats::Format::Stl) => formats::read_stl(&bytes),
-        }
-        .map_err(|e| parse_error(e.to_string()))?;
-        let mut welder = Welder::default();
-        let mut triangles = Vec::new();
-        // The file's own vertex of each corner: OFF and PLY share vertices
-        // between faces by index; STL has none to share (every facet lists
-        // its own corners), so there its vertices are only ever welded.
-        let mut file_corners = Vec::new();
-        let shares_vertices = format != Some(formats::Format::Stl);
-        let ids: Vec<u32> = raw
-            .positions
-            .iter()
-            .map(|p| welder.insert(DVec3::from_array(*p)))
-            .collect::<Result<_, _>>()
-            .map_err(parse_error)?;
-        for f in 0..raw.face_start.len().saturating_sub(1) {
-            let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
-            for i in 1..poly.len().saturating_sub(1) {
-                let corners = [poly[0], poly[i], poly[i + 1]];
-                triangles.push(corners.map(|v| ids[v as usize]));
-                file_corners.push(if shares_vertices {
-                    corners
-                } else {
-                    corners.map(|v| ids[v as usize])
-                });
-            }
-        }
-        if triangles.is_empty() {
-            return Err(CheckError::NoFaces {
-                path: path.to_path_buf(),
-            });
-        }
-        // Keep only used vertices, in file order (welded ids are already in first-seen order).
-        let mut used = vec![false; welder.positions.len()];
-        triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
-        let mut new_id = vec![u32::MAX; used.len()];
-        let mut positions = Vec::new();
-        for (i, p) in welder.positions.iter().enumerate() {
-            if used[i] {
-                new_id[i] = positions.len() as u32;
-                positions.push(*p);
-            }
-        }
-        let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
-        Ok((Mesh3 { positions, triangles }, file_corners))
-    }
-}
-
-impl Mesh3 {
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
     /// fan-triangulated, points and lines ignored, vertices with bit-identical positions welded,
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
@@ -381,62 +311,128 @@ impl Mesh3 {
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners) = Welded::read_obj_bytes(path, bytes)?;
-        Ok(settle(mesh, &file_corners, &[]))
+        let (mesh, file_corners) = read_obj_welded(path, bytes)?;
+        Ok(settle(mesh, &file_corners))
     }
 }
 
-impl Welded {
-    /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone.
-    fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
-        let parse_error = |reason: String| CheckError::Parse {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let bytes = &geometry_lines(bytes);
-        let options = tobj::LoadOptions {
-            triangulate: true,
-            single_index: false,
-            ignore_points: true,
-            ignore_lines: true,
-        };
-        let (models, _materials) =
-            tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
-                .map_err(|e| parse_error(e.to_string()))?;
-
-        let mut welder = Welder::default();
-        let mut triangles = Vec::new();
-        // The file's own vertex of each corner, as (model, tobj index)
-        // numbers: `geometry_lines` leaves tobj no `o` or `g` line, so there
-        // is one model, whose indices tell the file's vertices apart.
-        let mut file_corners = Vec::new();
-        let mut base = 0u32;
-        for model in &models {
-            welder.add_model(&model.mesh, &mut triangles).map_err(parse_error)?;
-            file_corners.extend(
-                model
-                    .mesh
-                    .indices
-                    .chunks_exact(3)
-                    .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
-            );
-            base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
-        }
-        if triangles.is_empty() {
-            return Err(CheckError::NoFaces {
-                path: path.to_path_buf(),
+/// Reads a mesh file with bit-identical positions welded, and the file's own vertex of each
+/// corner of its triangles: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
+/// gzip-compressed) with the readers of [`crate::io::formats`].
+fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
+    use crate::io::formats;
+    let parse_error = |reason: String| CheckError::Parse {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| parse_error(e.to_string()))?;
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
+    let raw = match format {
+        None | Some(formats::Format::Obj) => return read_obj_welded(path, &bytes),
+        Some(formats::Format::Off) => formats::read_off(&bytes),
+        Some(formats::Format::Ply) => formats::read_ply(&bytes),
+        Some(formats::Format::Stl) => formats::read_stl(&bytes),
+    }
+    .map_err(|e| parse_error(e.to_string()))?;
+    let mut welder = Welder::default();
+    let mut triangles = Vec::new();
+    // The file's own vertex of each corner: OFF and PLY share vertices
+    // between faces by index; STL has none to share (every facet lists
+    // its own corners), so there its vertices are only ever welded.
+    let mut file_corners = Vec::new();
+    let shares_vertices = format != Some(formats::Format::Stl);
+    let ids: Vec<u32> = raw
+        .positions
+        .iter()
+        .map(|p| welder.insert(DVec3::from_array(*p)))
+        .collect::<Result<_, _>>()
+        .map_err(parse_error)?;
+    for f in 0..raw.face_start.len().saturating_sub(1) {
+        let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+        for i in 1..poly.len().saturating_sub(1) {
+            let corners = [poly[0], poly[i], poly[i + 1]];
+            triangles.push(corners.map(|v| ids[v as usize]));
+            file_corners.push(if shares_vertices {
+                corners
+            } else {
+                corners.map(|v| ids[v as usize])
             });
         }
-        let mesh = renumber_by_obj_order(welder.positions, triangles, bytes);
-        if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
-            return Err(parse_error(format!(
-                "vertex {} {} has a non-finite coordinate",
-                i + 1,
-                fmt_point(mesh.positions[i])
-            )));
-        }
-        Ok((mesh, file_corners))
     }
+    if triangles.is_empty() {
+        return Err(CheckError::NoFaces {
+            path: path.to_path_buf(),
+        });
+    }
+    // Keep only used vertices, in file order (welded ids are already in first-seen order).
+    let mut used = vec![false; welder.positions.len()];
+    triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
+    let mut new_id = vec![u32::MAX; used.len()];
+    let mut positions = Vec::new();
+    for (i, p) in welder.positions.iter().enumerate() {
+        if used[i] {
+            new_id[i] = positions.len() as u32;
+            positions.push(*p);
+        }
+    }
+    let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+    Ok((Mesh3 { positions, triangles }, file_corners))
+}
+
+/// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
+/// with the file's own vertex of each corner.
+fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
+    let parse_error = |reason: String| CheckError::Parse {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let bytes = &geometry_lines(bytes);
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
+        .map_err(|e| parse_error(e.to_string()))?;
+
+    let mut welder = Welder::default();
+    let mut triangles = Vec::new();
+    // The file's own vertex of each corner, as (model, tobj index)
+    // numbers: `geometry_lines` leaves tobj no `o` or `g` line, so there
+    // is one model, whose indices tell the file's vertices apart.
+    let mut file_corners = Vec::new();
+    let mut base = 0u32;
+    for model in &models {
+        welder.add_model(&model.mesh, &mut triangles).map_err(parse_error)?;
+        file_corners.extend(
+            model
+                .mesh
+                .indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
+        );
+        base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
+    }
+    if triangles.is_empty() {
+        return Err(CheckError::NoFaces {
+            path: path.to_path_buf(),
+        });
+    }
+    let mesh = renumber_by_obj_order(welder.positions, triangles, bytes);
+    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        return Err(parse_error(format!(
+            "vertex {} {} has a non-finite coordinate",
+            i + 1,
+            fmt_point(mesh.positions[i])
+        )));
+    }
+    Ok((mesh, file_corners))
 }
 
 /// The lines of an OBJ file that say what its surface is: `v` lines without colours, and `f`
@@ -481,15 +477,9 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The last steps of reading a welded mesh: the file's own vertices kept apart at the welded
-/// vertices flagged in `keep_apart` (indexed by vertex; missing flags are false), then
-/// [`split_welded_sheets`] and [`split_pinched_vertices`].
-fn settle(mesh: Mesh3, file_corners: &[[u32; 3]], keep_apart: &[bool]) -> Mesh3 {
-    let mesh = if keep_apart.contains(&true) {
-        unweld(mesh, file_corners, keep_apart)
-    } else {
-        mesh
-    };
+/// The last steps of reading a welded mesh: [`split_welded_sheets`], then
+/// [`split_pinched_vertices`].
+fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
     split_pinched_vertices(split_welded_sheets(mesh, file_corners))
 }
 
@@ -527,37 +517,62 @@ fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
 /// `delmesh --repair` cuts a non-manifold edge by giving every pair of its faces beyond the
 /// first its own copies of the edge's two vertices, at the same positions, and cuts a
 /// non-orientable surface (a Möbius band) open the same way: welded by position, the edge has
-/// all its faces again. So, for every such edge after welding, every file vertex at one of its ends that is not the first file vertex at that position
-/// (`file_corners`: the file's vertex of each corner of `mesh.triangles`, first in corner
-/// order) keeps its own vertex, in all its faces. Such a file then reads back as the surface it
+/// all its faces again. So, for every such edge after welding, every file vertex at one of its
+/// ends that is not the first file vertex at that position (`file_corners`: the file's vertex
+/// of each corner of `mesh.triangles`, first in corner order) keeps its own vertex, in all its
+/// faces. Such a file then reads back as the surface it
 /// was written from; a mesh whose welded edges have at most two faces, oppositely oriented
 /// (every mesh the construction accepts without `--repair`), is unchanged, and an edge the
 /// file itself gives more than two faces, or two the same way, stays an error.
 fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
-    // Faces of each undirected welded edge, by sorting (edge, direction); an edge is crowded
-    // with more than two faces, or two running along it the same way.
-    let mut edges: Vec<([u32; 2], bool)> = Vec::with_capacity(3 * mesh.triangles.len());
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            edges.push(([a.min(b), a.max(b)], a < b));
+    // The corners' edges grouped by their lower end (counting sort: the lists are short), each
+    // as (higher end, direction); an edge is crowded with more than two faces, or two running
+    // along it the same way.
+    let n = mesh.positions.len();
+    let edges = || {
+        mesh.triangles.iter().flat_map(|t| {
+            [0, 1, 2].map(|i| {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                (a.min(b) as usize, (a.max(b), a < b))
+            })
+        })
+    };
+    let (start, mut higher) = grouped(n, edges);
+    let mut crowded = vec![false; n];
+    let mut any = false;
+    for low in 0..n {
+        let list = &mut higher[start[low]..start[low + 1]];
+        list.sort_unstable();
+        for run in list.chunk_by(|x, y| x.0 == y.0) {
+            if run.len() > 2 || (run.len() == 2 && run[0].1 == run[1].1) {
+                (crowded[low], crowded[run[0].0 as usize], any) = (true, true, true);
+            }
         }
     }
-    edges.sort_unstable();
-    let mut crowded_ends: Vec<u32> = Vec::new();
-    for run in edges.chunk_by(|x, y| x.0 == y.0) {
-        if run.len() > 2 || (run.len() == 2 && run[0].1 == run[1].1) {
-            crowded_ends.extend_from_slice(&run[0].0);
-        }
-    }
-    if crowded_ends.is_empty() {
+    if !any {
         return mesh;
     }
-    let mut crowded = vec![false; mesh.positions.len()];
-    for &v in &crowded_ends {
-        crowded[v as usize] = true;
-    }
     unweld(mesh, file_corners, &crowded)
+}
+
+/// The values of `items()` (pairs of a key below `n` and a value) grouped by key, in order:
+/// the values of key `k` are `values[start[k]..start[k + 1]]`. A counting sort: `items` is
+/// called twice.
+fn grouped<T: Copy + Default, I: Iterator<Item = (usize, T)>>(n: usize, items: impl Fn() -> I) -> (Vec<usize>, Vec<T>) {
+    let mut start = vec![0usize; n + 1];
+    for (k, _) in items() {
+        start[k + 1] += 1;
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut values = vec![T::default(); start[n]];
+    for (k, value) in items() {
+        values[fill[k]] = value;
+        fill[k] += 1;
+    }
+    (start, values)
 }
 
 /// Gives every fan of a pinched vertex but the first its own vertex at the same position.
@@ -570,24 +585,9 @@ fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
 /// deterministic; edges with more than two faces are not cut (they stay errors).
 fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
     let n = mesh.positions.len();
-    // Faces around each vertex, compressed.
-    let mut start = vec![0usize; n + 1];
-    for t in &mesh.triangles {
-        for &v in t {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..n {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut around = vec![0u32; start[n]];
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for &v in t {
-            around[fill[v as usize]] = f as u32;
-            fill[v as usize] += 1;
-        }
-    }
+    // Faces around each vertex.
+    let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
+    let (start, around) = grouped(n, corners);
     let mut parent: Vec<usize> = Vec::new();
     let mut by_neighbour: Vec<(u32, usize)> = Vec::new();
     for v in 0..n {
