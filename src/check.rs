@@ -1301,7 +1301,11 @@ fn exactly_degenerate(triangle: [DVec3; 3]) -> bool {
 
 /// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
 fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    if orient3d_sign(a, b, c, d) != 0 {
+    // Four points with one coordinate equal lie in that axis plane: decided without the exact
+    // predicate, which would run its slowest stage to prove the zero (most flat pairs of CAD
+    // meshes are such).
+    let in_axis_plane = (0..3).any(|k| a[k] == b[k] && a[k] == c[k] && a[k] == d[k]);
+    if !in_axis_plane && orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
     for axis in 0..3 {
@@ -2403,6 +2407,42 @@ mod tests {
             assert_eq!(projected_orientation(rotated, 2), 1);
             assert!(!exactly_degenerate(rotated));
         }
+    }
+
+    /// The axis-plane shortcut of `coplanar_and_flat` decides as the exact determinant does:
+    /// random quads with one coordinate shared (0.0 and -0.0 mixed), some moved one ulp off.
+    #[test]
+    fn axis_plane_quads_are_judged_as_the_exact_determinant_says() {
+        let mut rng = Rng(0xa715_91a9);
+        let (mut flat, mut not_flat) = (0, 0);
+        for case in 0..4000 {
+            let axis = rng.below(3) as usize;
+            let level = [0.0, 0.1, 3.0][rng.below(3) as usize];
+            let mut p = [0; 4].map(|_| DVec3::new(rng.centered(), rng.centered(), rng.centered()));
+            for q in &mut p {
+                q[axis] = if level == 0.0 && rng.below(2) == 0 { -0.0 } else { level };
+            }
+            if case % 5 == 0 {
+                p[3][axis] = p[3][axis].next_up();
+            }
+            let [a, b, c, d] = p;
+            if exactly_degenerate([a, b, c]) || exactly_degenerate([b, a, d]) {
+                continue;
+            }
+            let rows = [a, b, c, d].map(|v| [v.x, v.y, v.z, 1.0]);
+            let coplanar = exact_determinant_sign(rows) == 0;
+            let expected = coplanar && {
+                let k = (0..3).find(|&k| projected_orientation([a, b, c], k) != 0).unwrap();
+                projected_orientation([a, b, c], k) == -projected_orientation([a, b, d], k)
+            };
+            assert_eq!(coplanar_and_flat(a, b, c, d), expected, "case {case}: {p:?}");
+            if expected {
+                flat += 1;
+            } else {
+                not_flat += 1;
+            }
+        }
+        assert!(flat > 1000 && not_flat > 1000, "{flat} flat, {not_flat} not");
     }
 
     #[test]

@@ -482,7 +482,7 @@ pub fn flat_pair(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
         return flat_pair_slow(a, b, c, d);
     }
-    if robust_orient3d_sign(a, b, c, d) != 0 {
+    if !in_axis_plane(a, b, c, d) && robust_orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
     // Coplanar: project on a coordinate plane where (a, b, c) does not
@@ -497,11 +497,22 @@ pub fn flat_pair(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     false
 }
 
+/// Whether the four points have one coordinate equal, bit for bit: they
+/// then lie in a plane `x = const` (or y, z), and orient3d is exactly zero
+/// (one column of its determinant of differences is zero). Most flat pairs
+/// of CAD meshes are such, and this costs three comparisons where the
+/// exact predicate, whose floating-point filter cannot decide zero, would
+/// run its exact stage (a quarter of fandisk's build).
+#[inline(always)]
+fn in_axis_plane(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    (0..3).any(|i| a[i] == b[i] && a[i] == c[i] && a[i] == d[i])
+}
+
 /// [`flat_pair`] outside the fast range (same steps, exact signs).
 #[cold]
 #[inline(never)]
 fn flat_pair_slow(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    if orient3d_sign(a, b, c, d) != 0 {
+    if !in_axis_plane(a, b, c, d) && orient3d_sign(a, b, c, d) != 0 {
         return false;
     }
     for (i, j) in PLANES {
@@ -880,6 +891,54 @@ mod tests {
         assert!(!flat_pair(a, b, c, DVec3::new(2.0, 0.0, 0.0)));
         // Out of plane.
         assert!(!flat_pair(a, b, c, DVec3::new(0.0, 1.0, 1e-300)));
+    }
+
+    /// The shortcut for four points in one axis plane (`in_axis_plane`)
+    /// decides as the exact predicates do: random quads with one coordinate
+    /// shared (0.0 and -0.0 mixed), some folded, some one ulp off the plane.
+    #[test]
+    fn flat_pair_in_axis_planes_agrees_with_the_exact_predicates() {
+        let by_predicates = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
+            let side = |(i, j): (usize, usize), p: DVec3| exact::orient2d([a[i], a[j]], [b[i], b[j]], [p[i], p[j]]);
+            exact::orient3d(a.into(), b.into(), c.into(), d.into()) == 0
+                && PLANES
+                    .into_iter()
+                    .find(|&plane| side(plane, c) != 0)
+                    .is_some_and(|plane| side(plane, c) * side(plane, d) < 0)
+        };
+        let mut rng = Rng(0x5eed_a715);
+        let (mut flat, mut not_flat) = (0, 0);
+        for case in 0..4000 {
+            let axis = rng.below(3) as usize;
+            let level = [0.0, -0.0, 0.1, 3.0][rng.below(4) as usize];
+            let mut p = [0; 4].map(|_| DVec3::new(rng.centered(), rng.centered(), rng.centered()));
+            for q in &mut p {
+                // 0.0 and -0.0 are one plane (they compare equal).
+                q[axis] = if level == 0.0 && rng.below(2) == 0 {
+                    -level
+                } else {
+                    level
+                };
+            }
+            if case % 5 == 0 {
+                // One ulp off the plane: no longer flat.
+                p[3][axis] = p[3][axis].next_up();
+            }
+            let [a, b, c, d] = p;
+            if collinear(a, b, c) || collinear(b, a, d) {
+                continue;
+            }
+            let expected = by_predicates(a, b, c, d);
+            assert_eq!(flat_pair(a, b, c, d), expected, "case {case}: {p:?}");
+            if expected {
+                flat += 1;
+            } else {
+                not_flat += 1;
+            }
+        }
+        // Both outcomes were exercised (flat about half the time: d on the
+        // far side of ab).
+        assert!(flat > 1000 && not_flat > 1000, "{flat} flat, {not_flat} not");
     }
 
     fn robust2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
