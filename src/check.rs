@@ -96,6 +96,14 @@ pub const ON_EDGE_TOLERANCE: f64 = 16e-12;
 /// in one `... and N more` line.
 pub const MAX_LINES_PER_KIND: usize = 20;
 
+/// Files together at least this large are read on two threads at once (when allowed), and
+/// meshes with at least [`PARALLEL_FACES`] faces together are examined so: below, starting a
+/// thread costs about what it saves.
+const PARALLEL_BYTES: u64 = 1 << 20;
+
+/// See [`PARALLEL_BYTES`].
+const PARALLEL_FACES: usize = 1 << 15;
+
 /// A triangle mesh as the checker sees it: welded positions and triangles indexing them.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Mesh3 {
@@ -228,8 +236,14 @@ impl fmt::Display for CheckReport {
 /// is itself invalid (see [`CheckError::InvalidInput`]). Everything wrong with the output is
 /// reported as failure lines in the [`CheckReport`].
 pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckError> {
-    let input_mesh = Mesh3::read(input)?;
-    let output_mesh = Mesh3::read_like(output, &input_mesh)?;
+    // The two files are read at once when they are large enough to repay a thread (the input's
+    // error, if any, is still the one reported first).
+    let size = |path: &Path| std::fs::metadata(path).map_or(0, |m| m.len());
+    let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
+    let (input_mesh, output_read) = crate::parallel::join(worth_it, || Mesh3::read(input), || read_welded(output));
+    let input_mesh = input_mesh?;
+    let (welded, file_corners) = output_read?;
+    let output_mesh = settle_like(welded, &file_corners, &input_mesh);
     check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
         reason,
@@ -267,30 +281,7 @@ impl Mesh3 {
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let (welded, file_corners) = read_welded(path.as_ref())?;
-        // How many vertices the input has at each position it has several at (usually none).
-        let mut count: FastMap<[u64; 3], i64> = FastMap::default();
-        for p in &input.positions {
-            *count.entry(bits(*p)).or_insert(0) += 1;
-        }
-        count.retain(|_, c| *c > 1);
-        if count.is_empty() {
-            return Ok(settle(welded, &file_corners));
-        }
-        let settled = settle(welded.clone(), &file_corners);
-        for p in &settled.positions {
-            if let Some(c) = count.get_mut(&bits(*p)) {
-                *c -= 1;
-            }
-        }
-        let short: Vec<bool> = welded
-            .positions
-            .iter()
-            .map(|p| count.get(&bits(*p)).is_some_and(|&c| c > 0))
-            .collect();
-        if !short.contains(&true) {
-            return Ok(settled);
-        }
-        Ok(settle(unweld(welded, &file_corners, &short), &file_corners))
+        Ok(settle_like(welded, &file_corners, input))
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -314,6 +305,34 @@ impl Mesh3 {
         let (mesh, file_corners) = read_obj_welded(path, bytes)?;
         Ok(settle(mesh, &file_corners))
     }
+}
+
+/// [`Mesh3::read_like`] on a file already read by [`read_welded`].
+fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3) -> Mesh3 {
+    // How many vertices the input has at each position it has several at (usually none).
+    let mut count: FastMap<[u64; 3], i64> = FastMap::default();
+    for p in &input.positions {
+        *count.entry(bits(*p)).or_insert(0) += 1;
+    }
+    count.retain(|_, c| *c > 1);
+    if count.is_empty() {
+        return settle(welded, file_corners);
+    }
+    let settled = settle(welded.clone(), file_corners);
+    for p in &settled.positions {
+        if let Some(c) = count.get_mut(&bits(*p)) {
+            *c -= 1;
+        }
+    }
+    let short: Vec<bool> = welded
+        .positions
+        .iter()
+        .map(|p| count.get(&bits(*p)).is_some_and(|&c| c > 0))
+        .collect();
+    if !short.contains(&true) {
+        return settled;
+    }
+    settle(unweld(welded, file_corners, &short), file_corners)
 }
 
 /// Reads a mesh file with bit-identical positions welded, and the file's own vertex of each
@@ -450,16 +469,20 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
         match words.next() {
             Some(b"v") => {
                 // A colour (x y z r g b) is dropped; a weight (x y z w) kept.
-                let numbers: Vec<&[u8]> = words.collect();
-                let keep = if numbers.len() == 6 {
-                    &numbers[..3]
-                } else {
-                    &numbers[..]
-                };
                 out.push(b'v');
-                for n in keep {
+                let mut cut = out.len();
+                let mut count = 0;
+                for n in words {
+                    count += 1;
                     out.push(b' ');
                     out.extend_from_slice(n);
+                    if count == 3 {
+                        // Where the fourth word would start: cut back here for a colour.
+                        cut = out.len();
+                    }
+                }
+                if count == 6 {
+                    out.truncate(cut);
                 }
             }
             Some(b"f") => {
@@ -715,6 +738,11 @@ fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
     let mut first_line = FastMap::default();
     let mut count = 0usize;
     for line in bytes.split(|&c| c == b'\n') {
+        // Only `v` lines count (a quick look at the first byte skips the rest without
+        // decoding them).
+        if line.trim_ascii_start().first() != Some(&b'v') {
+            continue;
+        }
         let Ok(line) = std::str::from_utf8(line) else {
             continue;
         };
@@ -722,13 +750,28 @@ fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
         if words.next() != Some("v") {
             continue;
         }
-        let rest: Vec<&str> = words.collect();
-        let coords: Vec<f64> = rest.iter().take(3).filter_map(|w| w.parse().ok()).collect();
-        if coords.len() < 3 {
+        // The first four words after `v`, and how many there are.
+        let mut rest = [""; 4];
+        let mut n = 0;
+        for word in words {
+            if let Some(slot) = rest.get_mut(n) {
+                *slot = word;
+            }
+            n += 1;
+        }
+        let mut coords = [0.0; 3];
+        let mut parsed = 0;
+        for word in &rest[..n.min(3)] {
+            if let Ok(x) = word.parse() {
+                coords[parsed] = x;
+                parsed += 1;
+            }
+        }
+        if parsed < 3 {
             continue;
         }
-        let mut p = DVec3::new(coords[0], coords[1], coords[2]);
-        if rest.len() == 4 {
+        let mut p = DVec3::from_array(coords);
+        if n == 4 {
             if let Ok(w) = rest[3].parse::<f64>() {
                 p = DVec3::new(p.x / w, p.y / w, p.z / w);
             }
@@ -745,23 +788,38 @@ fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
 
 /// Runs every check; `Err` carries why the input is invalid.
 fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
-    let model = InputModel::new(input)?;
+    // Independent pieces run on two threads for large meshes (see `crate::parallel::join`):
+    // the input's model beside the output's edges, then the output's Delaunay test beside the
+    // geometry rules. Failures are recorded in the same order either way.
+    let worth_it = input.triangles.len() + output.triangles.len() >= PARALLEL_FACES;
+    let mut fail = Failures::default();
+    let (model, out) = crate::parallel::join(
+        worth_it,
+        || InputModel::new(input),
+        || Prepared::new(output, "output", &mut fail),
+    );
+    let model = model?;
     let mut report = CheckReport::empty(input, output);
     report.input_vertices = model.prepared.stats.vertices;
     report.input_regions = model.regions.area.len();
 
-    let mut fail = Failures::default();
-    if let Some(out) = Prepared::new(output, "output", &mut fail) {
+    if let Some(out) = out {
         report.output_vertices = out.stats.vertices;
-        let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
-        report.added_vertices = candidates.added;
-        let mut assignment = assign_faces(&model.regions, output, &candidates, &mut fail);
-        let rounding = rounding_allowance(&model, &candidates.edge_has_added);
-        check_areas(&model.regions, &mut assignment, &rounding, &mut fail);
-        compare_topology(&model.prepared.stats, &out.stats, &mut fail);
-        let delaunay = delaunay_edges(output, &out.edges, &mut fail);
+        let (delaunay, ()) = crate::parallel::join(
+            worth_it,
+            || delaunay_edges(output, &out.edges),
+            || {
+                let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
+                report.added_vertices = candidates.added;
+                let mut assignment = assign_faces(&model.regions, output, &candidates, &mut fail);
+                let rounding = rounding_allowance(&model, &candidates.edge_has_added);
+                check_areas(&model.regions, &mut assignment, &rounding, &mut fail);
+                compare_topology(&model.prepared.stats, &out.stats, &mut fail);
+            },
+        );
+        delaunay.report(&mut fail);
         report.interior_edges = delaunay.interior;
-        report.non_delaunay_edges = delaunay.non_delaunay;
+        report.non_delaunay_edges = delaunay.bad.len();
         report.max_excess = delaunay.max_excess;
     }
     report.failures = fail.finish();
@@ -2111,8 +2169,24 @@ fn check_areas(regions: &Regions, assignment: &mut Assignment, rounding_of: &[f6
 /// Result of the Delaunay check.
 struct DelaunayStats {
     interior: usize,
-    non_delaunay: usize,
     max_excess: f64,
+    /// The non-Delaunay edges `(excess, lo, hi)`, worst first.
+    bad: Vec<(f64, u32, u32)>,
+}
+
+impl DelaunayStats {
+    /// Records the non-Delaunay edges as failures, worst first.
+    fn report(&self, fail: &mut Failures) {
+        for &(x, lo, hi) in &self.bad {
+            fail.push(KIND_DELAUNAY, || {
+                format!(
+                    "non-Delaunay edge (v{}, v{}): alpha+beta-pi = {x:.3e} rad",
+                    lo + 1,
+                    hi + 1
+                )
+            });
+        }
+    }
 }
 
 /// The angle between two vectors, in `[0, pi]`.
@@ -2125,15 +2199,14 @@ fn excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     angle(a - c, b - c) + angle(a - d, b - d) - PI
 }
 
-/// Checks rule 6 on every interior output edge; reports the worst edges first.
-fn delaunay_edges(output: &Mesh3, edges: &[Edge], fail: &mut Failures) -> DelaunayStats {
+/// Rule 6 on every interior output edge (see [`DelaunayStats::report`]).
+fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     let p = |v: u32| output.positions[v as usize];
     let mut stats = DelaunayStats {
         interior: 0,
-        non_delaunay: 0,
         max_excess: f64::NEG_INFINITY,
+        bad: Vec::new(),
     };
-    let mut bad: Vec<(f64, u32, u32)> = Vec::new();
     for e in edges.iter().filter(|e| e.is_interior()) {
         let (a, b, f, g) = e.oriented();
         let c = third(&output.triangles[f as usize], a, b);
@@ -2143,20 +2216,10 @@ fn delaunay_edges(output: &Mesh3, edges: &[Edge], fail: &mut Failures) -> Delaun
         stats.max_excess = stats.max_excess.max(x);
         let delaunay = x <= DELAUNAY_TOLERANCE; // false for NaN too
         if !delaunay {
-            bad.push((x, e.lo, e.hi));
+            stats.bad.push((x, e.lo, e.hi));
         }
     }
-    stats.non_delaunay = bad.len();
-    bad.sort_by(|x, y| y.0.total_cmp(&x.0));
-    for (x, lo, hi) in bad {
-        fail.push(KIND_DELAUNAY, || {
-            format!(
-                "non-Delaunay edge (v{}, v{}): alpha+beta-pi = {x:.3e} rad",
-                lo + 1,
-                hi + 1
-            )
-        });
-    }
+    stats.bad.sort_by(|x, y| y.0.total_cmp(&x.0));
     stats
 }
 

@@ -75,6 +75,25 @@ pub fn map<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     parts.into_iter().flatten().collect()
 }
 
+/// `(a(), b())`: `b` on a second thread when `worth_it` and more than one
+/// thread is allowed, else one after the other. For two independent pieces
+/// of work (the judge reads its two files at once); the results do not
+/// depend on which way they ran.
+pub fn join<A: Send, B: Send>(worth_it: bool, a: impl FnOnce() -> A + Send, b: impl FnOnce() -> B + Send) -> (A, B) {
+    if !worth_it || threads() < 2 {
+        let first = a();
+        return (first, b());
+    }
+    std::thread::scope(|scope| {
+        let second = scope.spawn(b);
+        let first = a();
+        match second.join() {
+            Ok(second) => (first, second),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,5 +112,11 @@ mod tests {
         }
         set_threads(0);
         assert_eq!(filter_indices(10, keep), vec![3]);
+        for worth_it in [false, true] {
+            assert_eq!(
+                join(worth_it, || map(n, |i| i % 3), || filter_indices(n, keep)),
+                (map(n, |i| i % 3), expected.clone())
+            );
+        }
     }
 }

@@ -701,3 +701,62 @@ fn real_pinched_mesh_reads_as_separate_fans() {
         assert_eq!(other.count(), 0, "{report}");
     }
 }
+
+/// The judge's report does not depend on how many threads it may use: a bumpy grid large
+/// enough for the two-thread paths (40k faces, about 2 MB of files), against a copy with a
+/// moved vertex, a removed face and flipped diagonals, read and judged with one thread and with
+/// two. The report has failures of several kinds, in the same order.
+#[test]
+fn report_does_not_depend_on_threads() {
+    let n = 100usize;
+    let mut rng = Rng(0xc4ec_0002);
+    let id = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+    let vertices: Vec<[f64; 3]> = (0..=n)
+        .flat_map(|i| (0..=n).map(move |j| (i, j)))
+        .map(|(i, j)| [i as f64, j as f64, rng.range(0.0, 0.4)])
+        .collect();
+    let mut faces = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            faces.push([a, b, c]);
+            faces.push([a, c, d]);
+        }
+    }
+    let mut moved = vertices.clone();
+    moved[5 * (n + 1) + 7][2] += 0.25;
+    let mut changed = faces.clone();
+    for q in [40 * n + 40, 60 * n + 13] {
+        // Flip the diagonal of one quad: (a, b, c), (a, c, d) -> (a, b, d), (b, c, d).
+        let ([a, b, c], [_, _, d]) = (changed[2 * q], changed[2 * q + 1]);
+        changed[2 * q] = [a, b, d];
+        changed[2 * q + 1] = [b, c, d];
+    }
+    changed.remove(3 * n + 11);
+    let dir = TempDir::new().expect("tempdir");
+    let input = write(&dir, "input.obj", &obj(&vertices, &faces));
+    let output = write(&dir, "output.obj", &obj(&moved, &changed));
+    let size = |p: &Path| std::fs::metadata(p).unwrap().len();
+    assert!(
+        size(&input) + size(&output) > 1 << 20,
+        "large enough for the parallel reading"
+    );
+    let reports: Vec<CheckReport> = [1, 2]
+        .into_iter()
+        .map(|threads| {
+            delmesh::parallel::set_threads(threads);
+            let report = check_files(&input, &output).expect("both files are valid meshes");
+            delmesh::parallel::set_threads(0);
+            report
+        })
+        .collect();
+    assert_eq!(reports[0], reports[1]);
+    for needle in [
+        "non-Delaunay edge",
+        "missing from output",
+        "Euler characteristic",
+        "does not lie inside",
+    ] {
+        assert_failure(&reports[0], needle);
+    }
+}
