@@ -4,14 +4,18 @@
 //! Targets, one `#[test]` each: `fuzz_obj`, `fuzz_off`, `fuzz_ply`,
 //! `fuzz_stl`, `fuzz_gzip` and `fuzz_pipeline` (OBJ bytes → finish, with and
 //! without repair → build_surface → make_delaunay with a small work limit →
-//! validate and `check_meshes`). Each starts from small valid files made
-//! here (and `data/cube.obj`) and mutates them: bit flips, byte and chunk
-//! insertion, deletion and duplication, numbers replaced by extreme values
-//! (1e308, 5e-324, nan, inf, -0, huge and negative integers...), lines
-//! duplicated, removed, swapped or inserted from a dictionary of format
-//! keywords, truncation, splicing two inputs, binary fields overwritten with
-//! extreme integers and floats. Inputs whose outcome (the error message with
-//! its numbers removed, or the size of what was read) is new join the corpus.
+//! validate and `check_meshes`, or, for a repaired mesh that repair cut
+//! apart, `check_files` on the written files). Each starts from small valid
+//! files made here (and `data/cube.obj`; the pipeline also from small meshes
+//! that repair must cut, `cut_seed_meshes`) and mutates them: bit flips,
+//! byte and chunk insertion, deletion and duplication, numbers replaced by
+//! extreme values (1e308, 5e-324, nan, inf, -0, huge and negative
+//! integers...), lines duplicated, removed, swapped or inserted from a
+//! dictionary of format keywords, truncation, splicing two inputs, binary
+//! fields overwritten with extreme integers and floats. Inputs whose outcome
+//! (the error message with its numbers removed, or the size of what was
+//! read) is new join the corpus. The pipeline's summary counts the repaired
+//! meshes with cuts it checked through the files, by kind of cut.
 //!
 //! Every input must finish without a panic, within `FUZZ_INPUT_SECONDS`
 //! (default 2 s), without a single allocation above 1 GiB and with at most
@@ -26,8 +30,10 @@
 //! Environment: `FUZZ_SECONDS` per target (default 2), `FUZZ_SEED` (default
 //! fixed), `FUZZ_STRICT=1` to fail on the known bugs of `KNOWN_BUGS` too (by
 //! default they are counted and reported but tolerated: each has an ignored
-//! regression test). The list is empty now: no known bug is open, so every
-//! finding fails the run with or without it.
+//! regression test). The list is empty now, so every finding fails the run
+//! with or without it; one bug is open but not listed (the checker's angle
+//! at needles ~1e-300 wide, `regression_checker_subnormal_right_angle`,
+//! found in long runs only).
 //! Run long with e.g.
 //! `FUZZ_SECONDS=600 cargo test --release --test fuzz fuzz_ply -- --nocapture`.
 //! A failing input is printed escaped and saved under
@@ -414,6 +420,269 @@ fn seed_meshes() -> Vec<SeedMesh> {
     v
 }
 
+/// Small meshes that `--repair` must cut apart, for the pipeline target's
+/// branch that checks repaired meshes through their files (distinct vertices
+/// at one position): books of 3-5 triangle or quad pages on one edge, fins on
+/// open and closed surfaces, two tetrahedra and two open fans pinched at one
+/// vertex, bow-ties, Möbius bands of quads, two cubes sharing an edge, and
+/// sheets with two faces along an edge in the same direction. Some have flat
+/// (coplanar) parts so that flips happen, some slivers so that splits
+/// happen; the coordinates vary (scaled and moved, axis-aligned planes kept
+/// exact).
+fn cut_seed_meshes() -> Vec<SeedMesh> {
+    let mut rng = Rng::new(0xC07);
+    let mut v = Vec::new();
+    // Books: k pages on the spine (0,0,0)-(1,0,0); pages are triangles or
+    // quads, at spread or random angles, in random directions along the
+    // spine; variant 1 has two pages at 0 and 180 degrees (one flat sheet)
+    // and variant 2 a sliver page (apex 1e-3 from the spine).
+    for variant in 0..6 {
+        let k = 3 + variant % 3;
+        let mut positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+        let mut faces = Vec::new();
+        for page in 0..k {
+            let angle = match variant % 2 {
+                0 => std::f64::consts::TAU * page as f64 / k as f64 + rng.range(-0.2, 0.2),
+                _ if page < 2 => std::f64::consts::PI * page as f64,
+                _ => rng.range(0.0, std::f64::consts::TAU),
+            };
+            let width = if variant == 2 && page == 0 {
+                1e-3
+            } else {
+                rng.range(0.3, 1.5)
+            };
+            let (c, s) = if variant % 2 == 1 && page < 2 {
+                (if page == 0 { 1.0 } else { -1.0 }, 0.0)
+            } else {
+                (angle.cos(), angle.sin())
+            };
+            let at = |x: f64, w: f64| [x, w * c, w * s];
+            let n = positions.len() as u32;
+            let quad = variant >= 3 && page % 2 == 0;
+            if quad {
+                positions.push(at(1.0, width));
+                positions.push(at(0.0, width));
+                faces.push(if rng.below(2) == 0 {
+                    vec![0, 1, n, n + 1]
+                } else {
+                    vec![n + 1, n, 1, 0]
+                });
+            } else {
+                positions.push(at(rng.range(0.05, 0.95), width));
+                faces.push(if rng.below(2) == 0 {
+                    vec![0, 1, n]
+                } else {
+                    vec![1, 0, n]
+                });
+            }
+        }
+        v.push(SeedMesh { positions, faces });
+    }
+    // Fins on a flat grid (open, flat: flips) and on a cube (closed).
+    for variant in 0..3 {
+        let n = 3;
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let z = if variant == 2 { rng.range(-0.1, 0.1) } else { 0.0 };
+                positions.push([i as f64 / n as f64, j as f64 / n as f64 * 0.7, z]);
+            }
+        }
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let mut faces = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if variant == 0 {
+                    faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                } else {
+                    faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    faces.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
+            }
+        }
+        // The fin stands on the interior edge (1,1)-(2,1); with variant 1 a
+        // second, near-flat sliver fin hangs on (1,2)-(2,2).
+        let apex = positions.len() as u32;
+        positions.push([0.5, 0.7 / 3.0 + rng.range(-0.2, 0.2), rng.range(0.3, 1.0)]);
+        faces.push(vec![id(1, 1), id(2, 1), apex]);
+        if variant == 1 {
+            positions.push([0.5, 1.4 / 3.0 + 0.3, 1e-4]);
+            faces.push(vec![id(2, 2), id(1, 2), apex + 1]);
+        }
+        v.push(SeedMesh { positions, faces });
+    }
+    for variant in 0..2 {
+        let mut positions: Vec<[f64; 3]> = (0..8)
+            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+            .collect();
+        let mut faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        // A fin on edge 0-1 going outwards (variant 0: in the plane of the
+        // bottom face, so coplanar with it) and one inwards (variant 1).
+        positions.push(if variant == 0 {
+            [0.5, -0.8, 0.0]
+        } else {
+            [0.4, 0.5, rng.range(0.2, 0.8)]
+        });
+        faces.push(vec![0, 1, 8]);
+        v.push(SeedMesh { positions, faces });
+    }
+    // Two tetrahedra touching at one vertex (pinch), one tetrahedron with a
+    // sliver face.
+    for variant in 0..2 {
+        let mut positions = vec![[0.0, 0.0, 0.0]];
+        for sign in [1.0, -1.0] {
+            positions.push([sign, rng.range(-0.3, 0.3), 0.2]);
+            positions.push([sign * rng.range(0.5, 1.5), 1.0, rng.range(-0.3, 0.3)]);
+            let z = if variant == 1 && sign < 0.0 {
+                1e-3
+            } else {
+                rng.range(0.5, 1.0)
+            };
+            positions.push([sign * 0.8, 0.1, -z]);
+        }
+        let mut faces = Vec::new();
+        for t in 0..2u32 {
+            let (a, b, c) = (1 + 3 * t, 2 + 3 * t, 3 + 3 * t);
+            let tet = [vec![0, b, a], vec![0, a, c], vec![0, c, b], vec![a, b, c]];
+            // Orientation as a tetrahedron, one whole part reversed for the second.
+            faces.extend(tet.into_iter().map(|mut f| {
+                if t == 1 {
+                    f.reverse();
+                }
+                f
+            }));
+        }
+        v.push(SeedMesh { positions, faces });
+    }
+    // Two open fans (cones) around one vertex, flat or not; a bow-tie is
+    // the case of one triangle each.
+    for variant in 0..4 {
+        let sides = [1, 1, 3, 5][variant];
+        let mut positions = vec![[0.0, 0.0, 0.0]];
+        let mut faces = Vec::new();
+        for side in 0..2 {
+            let base = if side == 0 { 0.0 } else { std::f64::consts::PI };
+            let first = positions.len() as u32;
+            for i in 0..=sides {
+                let a = base + 0.2 + 2.6 * i as f64 / sides as f64 * rng.range(0.9, 1.0);
+                let r = rng.range(0.5, 1.5);
+                let z = if variant % 2 == 0 { 0.0 } else { rng.range(-0.4, 0.4) };
+                positions.push([r * a.cos(), r * a.sin(), z]);
+            }
+            for i in 0..sides as u32 {
+                faces.push(vec![0, first + i, first + i + 1]);
+            }
+        }
+        v.push(SeedMesh { positions, faces });
+    }
+    // Möbius bands of n quads (some triangulated), radius 2, half-width w.
+    for (variant, n) in [5usize, 6, 9, 12].into_iter().enumerate() {
+        let w = rng.range(0.2, 0.8);
+        let mut positions = Vec::new();
+        for i in 0..n {
+            let theta = std::f64::consts::TAU * i as f64 / n as f64;
+            let phi = theta / 2.0;
+            let centre = [2.0 * theta.cos(), 2.0 * theta.sin(), 0.0];
+            let dir = [phi.cos() * theta.cos(), phi.cos() * theta.sin(), phi.sin()];
+            positions.push([0, 1, 2].map(|k| centre[k] + w * dir[k]));
+            positions.push([0, 1, 2].map(|k| centre[k] - w * dir[k]));
+        }
+        let mut faces = Vec::new();
+        for i in 0..n {
+            let (top, bottom) = (2 * i as u32, 2 * i as u32 + 1);
+            let (next_top, next_bottom) = if i + 1 < n { (top + 2, bottom + 2) } else { (1, 0) };
+            if variant % 2 == 1 && i % 2 == 0 {
+                faces.push(vec![top, bottom, next_bottom]);
+                faces.push(vec![top, next_bottom, next_top]);
+            } else {
+                faces.push(vec![top, bottom, next_bottom, next_top]);
+            }
+        }
+        v.push(SeedMesh { positions, faces });
+    }
+    // Two cubes sharing an edge (four faces on it).
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut faces = Vec::new();
+    for (cube, origin) in [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]].into_iter().enumerate() {
+        let first = positions.len() as u32;
+        for i in 0..8 {
+            positions.push([
+                origin[0] + (i & 1) as f64 * if cube == 0 { 1.0 } else { 0.6 },
+                origin[1] + ((i >> 1) & 1) as f64 * if cube == 0 { 1.0 } else { 0.6 },
+                origin[2] + ((i >> 2) & 1) as f64,
+            ]);
+        }
+        for f in [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            faces.push(f.iter().map(|i| first + i).collect());
+        }
+    }
+    v.push(SeedMesh { positions, faces });
+    // Sheets with two faces along an edge in the same direction: a flat
+    // strip with one face turned over, and a closed band (cylinder) of quads
+    // with one quad turned over.
+    let mut positions = Vec::new();
+    for i in 0..5 {
+        positions.push([i as f64 * 0.5, 0.0, 0.0]);
+        positions.push([i as f64 * 0.5 + 0.25, rng.range(0.3, 0.6), 0.0]);
+    }
+    let mut faces: Vec<Vec<u32>> = (0..8u32)
+        .map(|i| {
+            if i % 2 == 0 {
+                vec![i, i + 2, i + 1]
+            } else {
+                vec![i, i + 1, i + 2]
+            }
+        })
+        .collect();
+    faces[3].reverse();
+    v.push(SeedMesh { positions, faces });
+    let n = 6;
+    let mut positions = Vec::new();
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        positions.push([a.cos(), a.sin(), 0.0]);
+        positions.push([a.cos(), a.sin(), rng.range(0.3, 1.0)]);
+    }
+    let mut faces: Vec<Vec<u32>> = (0..n as u32)
+        .map(|i| {
+            let j = (i + 1) % n as u32;
+            vec![2 * i, 2 * j, 2 * j + 1, 2 * i + 1]
+        })
+        .collect();
+    faces[2].reverse();
+    v.push(SeedMesh { positions, faces });
+    // Vary the coordinates: scale by a power of two or a random factor and
+    // move (axis-aligned planes stay exactly flat).
+    for (k, m) in v.iter_mut().enumerate() {
+        let scale = match k % 3 {
+            0 => 1.0,
+            1 => 2f64.powi(rng.below(20) as i32 - 10),
+            _ => rng.range(0.1, 10.0),
+        };
+        let offset = [0, 1, 2].map(|_| if k % 2 == 0 { 0.0 } else { rng.range(-100.0, 100.0) });
+        for p in &mut m.positions {
+            for (c, o) in p.iter_mut().zip(offset) {
+                *c = *c * scale + o;
+            }
+        }
+    }
+    v
+}
+
 fn obj_text(m: &SeedMesh, style: usize) -> Vec<u8> {
     let mut s = String::new();
     let nl = if style == 3 { "\r\n" } else { "\n" };
@@ -649,8 +918,15 @@ fn gzip_seeds() -> Vec<Vec<u8>> {
     v
 }
 
+/// The OBJ seeds and the meshes that repair must cut (`cut_seed_meshes`),
+/// written in the OBJ styles without attributes (repair drops them) and one
+/// with them.
 fn pipeline_seeds() -> Vec<Vec<u8>> {
-    obj_seeds()
+    let mut v = obj_seeds();
+    for (k, m) in cut_seed_meshes().iter().enumerate() {
+        v.push(obj_text(m, [0, 2, 3, 0, 1][k % 5]));
+    }
+    v
 }
 
 // ---------------------------------------------------------------------------
@@ -1525,7 +1801,20 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                         Ok(report) => return Err(format!("{tag}: check of the files failed: {:?}", report.failures)),
                         Err(e) => return Err(format!("{tag}: check of the files refused: {e}")),
                     }
-                    sig.push_str(" cut");
+                    // Which cuts: non-manifold edges, vertices, Möbius (orientation) cuts.
+                    let mut kinds = String::new();
+                    if let Some(r) = &input.repair {
+                        for (n, c) in [
+                            (r.non_manifold_edges, 'e'),
+                            (r.non_manifold_vertices, 'v'),
+                            (r.orientation_cuts, 'm'),
+                        ] {
+                            if n > 0 {
+                                kinds.push(c);
+                            }
+                        }
+                    }
+                    sig.push_str(&format!(" cut[{kinds}]"));
                 } else {
                     let report = check_meshes(
                         &Mesh3 {
@@ -1612,6 +1901,8 @@ fn fuzz(target: Target) {
     let mut rich: Vec<Vec<u8>> = Vec::new();
     let mut other: Vec<Vec<u8>> = Vec::new();
     let mut rich_runs = 0u64;
+    let (mut cut_runs, mut cut_splits, mut cut_flips) = (0u64, 0u64, 0u64);
+    let mut cut_kinds: BTreeMap<String, usize> = BTreeMap::new();
     let mut seen: HashSet<String> = HashSet::new();
     let mut findings: Vec<String> = Vec::new();
     let mut finding_kinds: HashSet<String> = HashSet::new();
@@ -1700,7 +1991,22 @@ fn fuzz(target: Target) {
             .result
             .clone()
             .unwrap_or_else(|e| format!("violation {}", error_kind(&e)));
-        let short = sig.split(' ').take(3).collect::<Vec<_>>().join(" ");
+        let mut short = sig.split(' ').take(3).collect::<Vec<_>>().join(" ");
+        if let Some(at) = sig.find(" cut[") {
+            // A repaired mesh with cuts, checked through the files: which
+            // cuts, and whether its refinement split and flipped.
+            let words: Vec<&str> = sig[at + 1..].split(' ').collect();
+            short.push_str(" ... ");
+            short.push_str(words[0]);
+            cut_runs += 1;
+            *cut_kinds.entry(words[0].to_string()).or_default() += 1;
+            if words.get(2).is_some_and(|w| *w != "s0") {
+                cut_splits += 1;
+            }
+            if words.get(3).is_some_and(|w| *w != "f0") {
+                cut_flips += 1;
+            }
+        }
         *outcomes.entry(short).or_default() += 1;
         let is_rich = ["built", "refined", "WorkLimit", "Unsplittable"]
             .iter()
@@ -1720,11 +2026,18 @@ fn fuzz(target: Target) {
     if std::env::var_os("FUZZ_QUIET").is_none() {
         let mut top: Vec<(&String, &usize)> = outcomes.iter().collect();
         top.sort_by(|a, b| b.1.cmp(a.1));
+        let cut: Vec<String> = top
+            .iter()
+            .filter(|(k, _)| k.contains(" cut["))
+            .take(8)
+            .map(|(k, v)| format!("{v} × {k}"))
+            .collect();
         let top: Vec<String> = top.iter().take(8).map(|(k, v)| format!("{v} × {k}")).collect();
         eprintln!(
-            "fuzz {}: {elapsed:.1} s, {iterations} iterations ({rich_runs} reached a mesh), corpus {} + {} + {}, \
+            "fuzz {}: {elapsed:.1} s, {iterations} iterations ({rich_runs} reached a mesh, {cut_runs} cut by repair \
+             and checked through files), corpus {} + {} + {}, \
              slowest {:.1} ms ({slowest_len} bytes), largest peak allocation {:.2} MiB ({biggest_peak_len} bytes), \
-             findings {}, known bugs {known:?}\n  outcomes: {}",
+             findings {}, known bugs {known:?}\n  outcomes: {}{}",
             target.name,
             target.seeds.len(),
             rich.len(),
@@ -1732,7 +2045,16 @@ fn fuzz(target: Target) {
             slowest.as_secs_f64() * 1e3,
             biggest_peak as f64 / (1 << 20) as f64,
             findings.len(),
-            top.join("; ")
+            top.join("; "),
+            if cut.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "\n  cut by repair (e: non-manifold edges, v: vertices, m: Möbius): {cut_kinds:?}, \
+                     {cut_splits} with splits, {cut_flips} with flips\n  outcomes with cuts: {}",
+                    cut.join("; ")
+                )
+            }
         );
     }
     assert!(
@@ -1828,6 +2150,27 @@ fn special_pipeline(rng: &mut Rng, corpus: &[Vec<u8>]) -> Vec<u8> {
     }
     d.truncate(16 << 10);
     d
+}
+
+/// The meshes of `cut_seed_meshes` reach the pipeline's branch for repaired
+/// meshes with cuts (checked through the files), all but the two sheets with
+/// one face turned over, which repair only reorients.
+#[test]
+fn cut_seeds_reach_the_cut_branch() {
+    let meshes = cut_seed_meshes();
+    let mut missed = Vec::new();
+    for (k, m) in meshes.iter().enumerate() {
+        let sig = target_pipeline(&obj_text(m, 0)).unwrap_or_else(|e| panic!("cut seed {k}: {e}"));
+        eprintln!("cut seed {k} ({} faces): {sig}", m.faces.len());
+        if !sig.contains(" cut") {
+            missed.push(k);
+        }
+    }
+    assert_eq!(
+        missed,
+        vec![meshes.len() - 2, meshes.len() - 1],
+        "cut seeds that were not cut"
+    );
 }
 
 #[test]
@@ -2228,6 +2571,48 @@ fn regression_checker_needle_faces() {
         if !report.passed() {
             failures.push(format!("refined box: {:?}", report.failures));
         }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Found by `fuzz_pipeline` (seed 2026112201, session of branch
+/// fuzz-nonmanifold; `tests/regressions/untriaged/README.md`), open: the
+/// checker's `angle` (in `check.rs`) works on unscaled vectors, so at a
+/// needle face about 1e-323 wide the cross product's squared length
+/// underflows to 0, and with a dot product of -0.0 the right angle opposite
+/// the edge comes out as atan2(0, -0) = pi: a Delaunay edge (exact excess
+/// -0.0855 rad) is reported as exceeding by 1.485 rad. Such faces only
+/// arise in outputs (the construction refuses input edges below 1e-75):
+/// the second file, refined with any `-nomedian` setting (rho = 0, splits
+/// at an edge's end), gives one.
+#[test]
+#[ignore = "open: the checker's angle underflows at needles 1e-323 wide"]
+fn regression_checker_subnormal_right_angle() {
+    let m = Mesh3::read_obj(regression_file("untriaged/checker-subnormal-right-angle.obj")).unwrap();
+    let report = check_meshes(&m, &m);
+    let mut failures = Vec::new();
+    if !report.passed() {
+        failures.push(format!("an untouched Delaunay pair: {:?}", report.failures));
+    }
+    let input = io::read_mesh(
+        &regression_file("untriaged/checker-subnormal-right-angle-pipeline.obj"),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let mut s = io::build_surface(&input, Path::new("pipeline")).unwrap();
+    make_delaunay(&mut s, &Options::new(Worklist::Queue, Score::AlwaysCenter, false)).unwrap();
+    let report = check_meshes(
+        &Mesh3 {
+            positions: input.positions.clone(),
+            triangles: input.triangles.clone(),
+        },
+        &Mesh3 {
+            positions: s.positions.clone(),
+            triangles: s.triangles(),
+        },
+    );
+    if !report.passed() {
+        failures.push(format!("refined: {:?}", report.failures));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
