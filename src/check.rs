@@ -2189,9 +2189,33 @@ impl DelaunayStats {
     }
 }
 
-/// The angle between two vectors, in `[0, pi]`.
+/// The angle between two vectors, in `[0, pi]`. Each vector is first scaled by a power of two
+/// that brings its largest coordinate to `[1, 2)` ([`power_of_two_scaled`]): the directions are
+/// unchanged, exactly, and for vectors of ordinary length so is every rounding (the result is
+/// what the unscaled formula gives), but the products no longer underflow at needles: a right
+/// angle at a face 1e-323 wide, whose unscaled cross product has length 0 and dot product -0,
+/// was taken for pi.
 fn angle(u: DVec3, v: DVec3) -> f64 {
+    let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
     u.cross(v).length().atan2(u.dot(v))
+}
+
+/// `v` times the power of two that brings its largest coordinate magnitude into `[1, 2)`
+/// (exact: only exponents change); `v` itself when it is zero or not finite.
+fn power_of_two_scaled(v: DVec3) -> DVec3 {
+    let largest = v.abs().max_element();
+    if largest == 0.0 || !largest.is_finite() {
+        return v;
+    }
+    let bits = largest.to_bits();
+    let exponent = match (bits >> 52) as i32 {
+        0 => -1074 + 63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32, // subnormal
+        biased => biased - 1023,
+    };
+    // 2^-exponent in two factors, each a normal number (|exponent| <= 1074).
+    let factor = |k: i32| f64::from_bits(((k + 1023) as u64) << 52);
+    let half = -exponent / 2;
+    v * factor(half) * factor(-exponent - half)
 }
 
 /// `alpha + beta - pi` of interior edge `(a, b)` with faces `(a, b, c)` and `(b, a, d)`.
@@ -2506,6 +2530,28 @@ mod tests {
             }
         }
         assert!(flat > 1000 && not_flat > 1000, "{flat} flat, {not_flat} not");
+    }
+
+    /// `angle` scales its vectors exactly: at ordinary lengths it gives what the plain formula
+    /// gives, bit for bit; at needles whose products underflow it still finds right angles.
+    #[test]
+    fn angles_do_not_underflow_at_needles() {
+        let plain = |u: DVec3, v: DVec3| u.cross(v).length().atan2(u.dot(v));
+        let mut rng = Rng(0x0a4c_1e5);
+        for _ in 0..1000 {
+            let u = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * 1e3;
+            let v = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * 1e-3;
+            assert_eq!(angle(u, v).to_bits(), plain(u, v).to_bits());
+        }
+        // The fuzz finding: the apex of a face 1.5e-323 wide sees its edge under a right angle.
+        let (u, v) = (DVec3::new(-1.5e-323, 0.0, -0.0), DVec3::new(0.0, -1.0 / 3.0, 0.0));
+        assert_eq!(plain(u, v), PI, "the case must defeat the plain formula");
+        assert_eq!(angle(u, v), PI / 2.0);
+        for k in [1e-300, 1e-200, 1e-160] {
+            let (u, v) = (DVec3::new(k, k, 0.0), DVec3::new(-k, k, -0.0));
+            assert!((angle(u, v) - PI / 2.0).abs() < 1e-15, "{k}");
+        }
+        assert_eq!(angle(DVec3::ZERO, DVec3::X), 0.0);
     }
 
     #[test]

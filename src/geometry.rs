@@ -90,6 +90,45 @@ pub enum DelaunayTest {
     Underflow,
 }
 
+/// Dot products above this are far from underflow: their sign is that of
+/// the exact dot product, up to the usual rounding (about 1e-16 of |u||v|).
+const TINY_DOT: f64 = 1e-280;
+
+/// [`delaunay_test`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
+/// each first multiplied by the power of two that brings its largest
+/// coordinate into [1, 2): exact, and each angle's sine and cosine are then
+/// its true ones times |u||v| ≥ 1 up to about 1e-15, where nothing can
+/// underflow but a sine below 1e-154 (an angle within 1e-154 of 0 or π).
+/// Both angles' (sine, cosine) pairs get different positive factors, which
+/// does not change the sign or the tangent of the excess.
+#[cold]
+#[inline(never)]
+fn delaunay_test_rescaled(vectors: [DVec3; 4], tolerance: f64) -> DelaunayTest {
+    let [u1, v1, u2, v2] = vectors.map(power_of_two_scaled);
+    let (s1, c1) = (u1.cross(v1).length(), u1.dot(v1));
+    let (s2, c2) = (u2.cross(v2).length(), u2.dot(v2));
+    let (y, x) = (-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2);
+    if exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0) {
+        DelaunayTest::NonDelaunay
+    } else {
+        DelaunayTest::Delaunay
+    }
+}
+
+/// `v` times the power of two that brings its largest coordinate magnitude
+/// into [1, 2) (exact: only exponents change); `v` itself when it is zero
+/// or not finite.
+fn power_of_two_scaled(v: DVec3) -> DVec3 {
+    let largest = v.abs().max_element();
+    if largest == 0.0 || !largest.is_finite() {
+        return v;
+    }
+    // 2^-e in two factors, each a normal number (|e| <= 1074).
+    let e = floor_log2(largest);
+    let half = -e / 2;
+    v * power_of_two(half) * power_of_two(-e - half)
+}
+
 /// The Delaunay test of the edge (a, b) with opposite vertices `c`, `d`.
 ///
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
@@ -100,7 +139,13 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
     let (u2, v2) = (a - d, b - d);
     let (c1, c2) = (u1.dot(v1), u2.dot(v2));
     if c1 >= 0.0 && c2 >= 0.0 {
-        return DelaunayTest::Delaunay;
+        // A dot product this small may have underflowed, and then its sign
+        // says nothing (a fuzz finding: at a needle 1e-323 wide every product
+        // is ±0); exact right angles land here too.
+        if c1.min(c2) > TINY_DOT {
+            return DelaunayTest::Delaunay;
+        }
+        return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
     }
     let (y, x) = excess_sin_cos(a, b, c, d);
     // y = 0 with x < 0 is α + β = 0 or 2π, and 0 (two zero angles, both
@@ -1039,6 +1084,32 @@ mod tests {
             assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Underflow);
             assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
         }
+        // Both dot products underflow to ±0, so the shortcut for two
+        // non-obtuse angles cannot trust them: an apex 1e-200 from `a` (angle
+        // nearly π) and a right angle, excess about π/2.
+        let (a, b) = (DVec3::ZERO, DVec3::new(1e-170, 0.0, 0.0));
+        let (c, d) = (DVec3::new(1e-200, 1e-210, 0.0), DVec3::new(5e-171, -5e-171, 0.0));
+        assert_eq!(
+            ((a - c).dot(b - c), (a - d).dot(b - d)),
+            (0.0, 0.0),
+            "the case must underflow"
+        );
+        assert_eq!(
+            delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
+            DelaunayTest::NonDelaunay
+        );
+        // The checker's fuzz finding (tests/regressions/bug-checker-subnormal-
+        // right-angle.obj): a right angle at a needle 1.5e-323 wide, whose dot
+        // product is -0, beside an angle of 1.485 rad: Delaunay, rescaled too.
+        let (a, b) = (DVec3::new(2e-323, 0.0, -0.0), DVec3::new(0.0, 0.33333333333333326, 0.0));
+        let c = DVec3::new(0.06982956419572245, 0.3216952016366297, 0.03274038839260605);
+        let d = DVec3::new(1.5e-323, 0.33333333333333326, 0.0);
+        assert_eq!((a - d).dot(b - d), 0.0);
+        assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Delaunay);
+        // Exact right angles at ordinary scale (a grid's diagonal): Delaunay.
+        let (a, b) = (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0));
+        let (c, d) = (DVec3::new(0.0, 1.0, 0.0), DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(delaunay_test(a, b, c, d, 0.0), DelaunayTest::Delaunay);
         // A proper pair is never (0, 0): a square's diagonal is exactly
         // cocircular (excess 0, cosine positive) and stays Delaunay.
         let square = [

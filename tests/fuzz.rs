@@ -30,10 +30,8 @@
 //! Environment: `FUZZ_SECONDS` per target (default 2), `FUZZ_SEED` (default
 //! fixed), `FUZZ_STRICT=1` to fail on the known bugs of `KNOWN_BUGS` too (by
 //! default they are counted and reported but tolerated: each has an ignored
-//! regression test). The list is empty now, so every finding fails the run
-//! with or without it; one bug is open but not listed (the checker's angle
-//! at needles ~1e-300 wide, `regression_checker_subnormal_right_angle`,
-//! found in long runs only).
+//! regression test). The list is empty now: no known bug is open, so every
+//! finding fails the run with or without it.
 //! Run long with e.g.
 //! `FUZZ_SECONDS=600 cargo test --release --test fuzz fuzz_ply -- --nocapture`.
 //! A failing input is printed escaped and saved under
@@ -2576,26 +2574,27 @@ fn regression_checker_needle_faces() {
 }
 
 /// Found by `fuzz_pipeline` (seed 2026112201, session of branch
-/// fuzz-nonmanifold; `tests/regressions/untriaged/README.md`), open: the
-/// checker's `angle` (in `check.rs`) works on unscaled vectors, so at a
+/// fuzz-nonmanifold; `tests/regressions/README.md`), fixed: the
+/// checker's `angle` (in `check.rs`) worked on unscaled vectors, so at a
 /// needle face about 1e-323 wide the cross product's squared length
 /// underflows to 0, and with a dot product of -0.0 the right angle opposite
 /// the edge comes out as atan2(0, -0) = pi: a Delaunay edge (exact excess
-/// -0.0855 rad) is reported as exceeding by 1.485 rad. Such faces only
+/// -0.0855 rad) was reported as exceeding by 1.485 rad. Such faces only
 /// arise in outputs (the construction refuses input edges below 1e-75):
 /// the second file, refined with any `-nomedian` setting (rho = 0, splits
-/// at an edge's end), gives one.
+/// at an edge's end), gives one. `angle` now scales each vector by a power
+/// of two first; the three fuzz inputs replay as `fuzz-pipeline-6105…`,
+/// `…-ad0c…` and `…-ba1b…` in `saved_fuzz_inputs_pass`.
 #[test]
-#[ignore = "open: the checker's angle underflows at needles 1e-323 wide"]
 fn regression_checker_subnormal_right_angle() {
-    let m = Mesh3::read_obj(regression_file("untriaged/checker-subnormal-right-angle.obj")).unwrap();
+    let m = Mesh3::read_obj(regression_file("bug-checker-subnormal-right-angle.obj")).unwrap();
     let report = check_meshes(&m, &m);
     let mut failures = Vec::new();
     if !report.passed() {
         failures.push(format!("an untouched Delaunay pair: {:?}", report.failures));
     }
     let input = io::read_mesh(
-        &regression_file("untriaged/checker-subnormal-right-angle-pipeline.obj"),
+        &regression_file("bug-checker-subnormal-right-angle-pipeline.obj"),
         &ReadOptions::default(),
     )
     .unwrap();
