@@ -2537,7 +2537,7 @@ mod tests {
     #[test]
     fn angles_do_not_underflow_at_needles() {
         let plain = |u: DVec3, v: DVec3| u.cross(v).length().atan2(u.dot(v));
-        let mut rng = Rng(0x0a4c_1e5);
+        let mut rng = Rng(0x0a4c_1e55);
         for _ in 0..1000 {
             let u = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * 1e3;
             let v = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * 1e-3;
