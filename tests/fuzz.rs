@@ -350,14 +350,7 @@ fn seed_meshes() -> Vec<SeedMesh> {
             positions: (0..8)
                 .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
                 .collect(),
-            faces: vec![
-                vec![0, 2, 3, 1],
-                vec![4, 5, 7, 6],
-                vec![0, 1, 5, 4],
-                vec![2, 6, 7, 3],
-                vec![0, 4, 6, 2],
-                vec![1, 3, 7, 5],
-            ],
+            faces: common::CUBE_QUADS.iter().map(|q| q.to_vec()).collect::<Vec<_>>(),
         },
         // The README's folded thin rhombus: one split needed.
         SeedMesh {
@@ -513,14 +506,7 @@ fn cut_seed_meshes() -> Vec<SeedMesh> {
         let mut positions: Vec<[f64; 3]> = (0..8)
             .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
             .collect();
-        let mut faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
+        let mut faces = common::CUBE_QUADS.iter().map(|q| q.to_vec()).collect::<Vec<_>>();
         // A fin on edge 0-1 going outwards (variant 0: in the plane of the
         // bottom face, so coplanar with it) and one inwards (variant 1).
         positions.push(if variant == 0 {
@@ -582,20 +568,9 @@ fn cut_seed_meshes() -> Vec<SeedMesh> {
     }
     // Möbius bands of n quads (some triangulated), radius 2, half-width w.
     for (variant, n) in [5usize, 6, 9, 12].into_iter().enumerate() {
-        let w = rng.range(0.2, 0.8);
-        let mut positions = Vec::new();
-        for i in 0..n {
-            let theta = std::f64::consts::TAU * i as f64 / n as f64;
-            let phi = theta / 2.0;
-            let centre = [2.0 * theta.cos(), 2.0 * theta.sin(), 0.0];
-            let dir = [phi.cos() * theta.cos(), phi.cos() * theta.sin(), phi.sin()];
-            positions.push([0, 1, 2].map(|k| centre[k] + w * dir[k]));
-            positions.push([0, 1, 2].map(|k| centre[k] - w * dir[k]));
-        }
+        let (positions, quads) = common::moebius_band(n, rng.range(0.2, 0.8));
         let mut faces = Vec::new();
-        for i in 0..n {
-            let (top, bottom) = (2 * i as u32, 2 * i as u32 + 1);
-            let (next_top, next_bottom) = if i + 1 < n { (top + 2, bottom + 2) } else { (1, 0) };
+        for (i, &[top, bottom, next_bottom, next_top]) in quads.iter().enumerate() {
             if variant % 2 == 1 && i % 2 == 0 {
                 faces.push(vec![top, bottom, next_bottom]);
                 faces.push(vec![top, next_bottom, next_top]);
@@ -617,14 +592,7 @@ fn cut_seed_meshes() -> Vec<SeedMesh> {
                 origin[2] + ((i >> 2) & 1) as f64,
             ]);
         }
-        for f in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
+        for f in common::CUBE_QUADS {
             faces.push(f.iter().map(|i| first + i).collect());
         }
     }
@@ -1814,16 +1782,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     }
                     sig.push_str(&format!(" cut[{kinds}]"));
                 } else {
-                    let report = check_meshes(
-                        &Mesh3 {
-                            positions: input.positions.clone(),
-                            triangles: input.triangles.clone(),
-                        },
-                        &Mesh3 {
-                            positions: s.positions.clone(),
-                            triangles: s.triangles(),
-                        },
-                    );
+                    let report = common::check_refined(&input, &s);
                     if !report.passed() {
                         return Err(format!("{tag}: check failed: {:?}", report.failures));
                     }
@@ -2405,16 +2364,7 @@ fn regression_extreme_scale() {
                 "{name}: returned unchanged, but the rhombus needs a split at any scale"
             ));
         }
-        let report = check_meshes(
-            &Mesh3 {
-                positions: input.positions.clone(),
-                triangles: input.triangles.clone(),
-            },
-            &Mesh3 {
-                positions: s.positions.clone(),
-                triangles: s.triangles(),
-            },
-        );
+        let report = common::check_refined(&input, &s);
         if !report.passed() {
             failures.push(format!("{name}: check: {:?}", report.failures));
         }
@@ -2600,16 +2550,7 @@ fn regression_checker_subnormal_right_angle() {
     .unwrap();
     let mut s = io::build_surface(&input, Path::new("pipeline")).unwrap();
     make_delaunay(&mut s, &Options::new(Worklist::Queue, Score::AlwaysCenter, false)).unwrap();
-    let report = check_meshes(
-        &Mesh3 {
-            positions: input.positions.clone(),
-            triangles: input.triangles.clone(),
-        },
-        &Mesh3 {
-            positions: s.positions.clone(),
-            triangles: s.triangles(),
-        },
-    );
+    let report = common::check_refined(&input, &s);
     if !report.passed() {
         failures.push(format!("refined: {:?}", report.failures));
     }
@@ -2706,16 +2647,7 @@ fn pipeline_outcome(name: &str, options: &Options) -> Result<Option<Stats>, Stri
     if let Err(e) = s.validate() {
         return Err(format!("{options:?}: output does not validate: {e}"));
     }
-    let report = check_meshes(
-        &Mesh3 {
-            positions: input.positions.clone(),
-            triangles: input.triangles.clone(),
-        },
-        &Mesh3 {
-            positions: s.positions.clone(),
-            triangles: s.triangles(),
-        },
-    );
+    let report = common::check_refined(&input, &s);
     if !report.passed() {
         return Err(format!(
             "{options:?}: check failed: {:?}",

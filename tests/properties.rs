@@ -947,16 +947,7 @@ fn assert_ok_or_refused(file: &str, options: Options) {
         return;
     };
     let valid = s.validate();
-    let report = check_meshes(
-        &Mesh3 {
-            positions: input.positions.clone(),
-            triangles: input.triangles.clone(),
-        },
-        &Mesh3 {
-            positions: s.positions.clone(),
-            triangles: s.triangles(),
-        },
-    );
+    let report = common::check_refined(&input, &s);
     assert!(
         valid.is_ok() && report.passed(),
         "{file}: {options:?}: {stats:?}: validate {valid:?}, check {:?}",

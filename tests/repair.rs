@@ -1,6 +1,8 @@
 //! Tests of the mesh repair step, each checked against an independent checker of the output
 //! guarantees (1–6 of `repair`'s documentation).
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 use std::time::Instant;
@@ -237,14 +239,7 @@ fn cube(origin: [f64; 3], first: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let positions = (0..8)
         .map(|i| [0, 1, 2].map(|k| origin[k] + f64::from((i >> k) & 1)))
         .collect();
-    let quads: [[u32; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
+    let quads = common::CUBE_QUADS;
     let triangles = quads
         .iter()
         .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
@@ -413,23 +408,8 @@ fn bow_tie_vertex_is_split() {
 
 /// A Möbius band of `n` quads (2n triangles), radius 2, half-width 0.5.
 fn moebius(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut positions = Vec::new();
-    for i in 0..n {
-        let theta = std::f64::consts::TAU * i as f64 / n as f64;
-        let phi = theta / 2.0;
-        let centre = [2.0 * theta.cos(), 2.0 * theta.sin(), 0.0];
-        let dir = [phi.cos() * theta.cos(), phi.cos() * theta.sin(), phi.sin()];
-        positions.push([0, 1, 2].map(|k| centre[k] + 0.5 * dir[k]));
-        positions.push([0, 1, 2].map(|k| centre[k] - 0.5 * dir[k]));
-    }
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        let (top, bottom) = (2 * i as u32, 2 * i as u32 + 1);
-        // after a full turn, top and bottom swap
-        let (next_top, next_bottom) = if i + 1 < n { (top + 2, bottom + 2) } else { (1, 0) };
-        triangles.push([top, bottom, next_bottom]);
-        triangles.push([top, next_bottom, next_top]);
-    }
+    let (positions, quads) = common::moebius_band(n, 0.5);
+    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
     (positions, triangles)
 }
 

@@ -43,3 +43,52 @@ pub fn fixtures() -> Vec<PathBuf> {
     v.sort();
     v
 }
+
+/// A Möbius band of `n` quads, radius 2, half-width `w`: its `2n` vertices (a top and a bottom
+/// one per step) and its quads `[top, bottom, next bottom, next top]`. After a full turn top
+/// and bottom swap, so no orientation of the quads is consistent.
+pub fn moebius_band(n: usize, w: f64) -> (Vec<[f64; 3]>, Vec<[u32; 4]>) {
+    let mut positions = Vec::new();
+    for i in 0..n {
+        let theta = std::f64::consts::TAU * i as f64 / n as f64;
+        let phi = theta / 2.0;
+        let centre = [2.0 * theta.cos(), 2.0 * theta.sin(), 0.0];
+        let dir = [phi.cos() * theta.cos(), phi.cos() * theta.sin(), phi.sin()];
+        positions.push([0, 1, 2].map(|k| centre[k] + w * dir[k]));
+        positions.push([0, 1, 2].map(|k| centre[k] - w * dir[k]));
+    }
+    let quads = (0..n)
+        .map(|i| {
+            let (top, bottom) = (2 * i as u32, 2 * i as u32 + 1);
+            let (next_top, next_bottom) = if i + 1 < n { (top + 2, bottom + 2) } else { (1, 0) };
+            [top, bottom, next_bottom, next_top]
+        })
+        .collect();
+    (positions, quads)
+}
+
+/// The quads of the unit cube whose corner `i` is at `(i & 1, (i >> 1) & 1, (i >> 2) & 1)`,
+/// each counter-clockwise seen from outside.
+pub const CUBE_QUADS: [[u32; 4]; 6] = [
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+];
+
+/// The checker's report on the refined surface `s` against the input it was built from.
+pub fn check_refined(input: &delmesh::io::InputMesh, s: &delmesh::mesh::Surface) -> delmesh::check::CheckReport {
+    use delmesh::check::{check_meshes, Mesh3};
+    check_meshes(
+        &Mesh3 {
+            positions: input.positions.clone(),
+            triangles: input.triangles.clone(),
+        },
+        &Mesh3 {
+            positions: s.positions.clone(),
+            triangles: s.triangles(),
+        },
+    )
+}
