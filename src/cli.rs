@@ -246,6 +246,12 @@ enum Command {
         input: PathBuf,
         /// The mesh to verify.
         output: PathBuf,
+        /// How many threads to use (default: one per core; two are used, to
+        /// read the files and run the independent rules side by side on
+        /// large meshes). `-j 1` when running many checks at once. The
+        /// report never depends on it.
+        #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+        jobs: Option<u16>,
     },
 }
 
@@ -296,7 +302,12 @@ fn legacy_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> Vec<std::f
 pub fn main() -> ExitCode {
     let cli = Cli::parse_from(legacy_args(std::env::args_os()));
     let result = match cli.command {
-        Some(Command::Check { input, output }) => run_check(&input, &output),
+        Some(Command::Check { input, output, jobs }) => {
+            if let Some(jobs) = jobs {
+                delmesh::parallel::set_threads(usize::from(jobs));
+            }
+            run_check(&input, &output)
+        }
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             let mut buf = Vec::new();

@@ -379,6 +379,19 @@ fn check_rejects_a_non_delaunay_output() {
     let out = delmesh().arg("check").arg(&bunny).arg(&bunny).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stdout).contains("FAIL"));
+    // The same report with one thread and with two (`check -j`).
+    for jobs in ["1", "2"] {
+        let with_jobs = delmesh()
+            .args(["check", "-j", jobs])
+            .arg(&bunny)
+            .arg(&bunny)
+            .output()
+            .unwrap();
+        assert_eq!(
+            (with_jobs.status.code(), &with_jobs.stdout),
+            (out.status.code(), &out.stdout)
+        );
+    }
 }
 
 #[test]
