@@ -548,10 +548,25 @@ fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
 /// (every mesh the construction accepts without `--repair`), is unchanged, and an edge the
 /// file itself gives more than two faces, or two the same way, stays an error.
 fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
+    // Where welding joined no two file vertices there is nothing to undo (every mesh whose
+    // file gives each position once): one pass over the corners instead of grouping edges.
+    let n = mesh.positions.len();
+    let mut file_vertex = vec![u32::MAX; n];
+    let mut joined = false;
+    for (t, f) in mesh.triangles.iter().zip(file_corners) {
+        for (&v, &file) in t.iter().zip(f) {
+            let slot = &mut file_vertex[v as usize];
+            joined |= *slot != u32::MAX && *slot != file;
+            *slot = file;
+        }
+    }
+    if !joined {
+        return mesh;
+    }
+    drop(file_vertex);
     // The corners' edges grouped by their lower end (counting sort: the lists are short), each
     // as (higher end, direction); an edge is crowded with more than two faces, or two running
     // along it the same way.
-    let n = mesh.positions.len();
     let edges = || {
         mesh.triangles.iter().flat_map(|t| {
             [0, 1, 2].map(|i| {
