@@ -2205,7 +2205,7 @@ impl DelaunayStats {
 }
 
 /// The angle between two vectors, in `[0, pi]`. Each vector is first scaled by a power of two
-/// that brings its largest coordinate to `[1, 2)` ([`power_of_two_scaled`]): the directions are
+/// that brings its largest coordinate to about `[1, 2)` ([`power_of_two_scaled`]): the directions are
 /// unchanged, exactly, and for vectors of ordinary length so is every rounding (the result is
 /// what the unscaled formula gives), but the products no longer underflow at needles: a right
 /// angle at a face 1e-323 wide, whose unscaled cross product has length 0 and dot product -0,
@@ -2215,22 +2215,16 @@ fn angle(u: DVec3, v: DVec3) -> f64 {
     u.cross(v).length().atan2(u.dot(v))
 }
 
-/// `v` times the power of two that brings its largest coordinate magnitude into `[1, 2)`
+/// `v` times the power of two that brings its largest coordinate magnitude to about `[1, 2)`
 /// (exact: only exponents change); `v` itself when it is zero or not finite.
 fn power_of_two_scaled(v: DVec3) -> DVec3 {
     let largest = v.abs().max_element();
     if largest == 0.0 || !largest.is_finite() {
         return v;
     }
-    let bits = largest.to_bits();
-    let exponent = match (bits >> 52) as i32 {
-        0 => -1074 + 63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32, // subnormal
-        biased => biased - 1023,
-    };
-    // 2^-exponent in two factors, each a normal number (|exponent| <= 1074).
-    let factor = |k: i32| f64::from_bits(((k + 1023) as u64) << 52);
-    let half = -exponent / 2;
-    v * factor(half) * factor(-exponent - half)
+    // As in `rescaled`: 2^k in two factors, each a normal number.
+    let k = -(largest.log2().floor() as i32); // within -1023 ..= 1074
+    v * 2f64.powi(k / 2) * 2f64.powi(k - k / 2)
 }
 
 /// `alpha + beta - pi` of interior edge `(a, b)` with faces `(a, b, c)` and `(b, a, d)`.

@@ -39,8 +39,14 @@ pub fn excess_sin_cos(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, f64) {
     // Scaled by 1/|ab|: products of four coordinates neither overflow nor
     // underflow, whatever the mesh's scale.
     let k = 1.0 / (b - a).length();
-    let (u1, v1) = ((a - c) * k, (b - c) * k);
-    let (u2, v2) = ((a - d) * k, (b - d) * k);
+    excess_from_vectors([(a - c) * k, (b - c) * k, (a - d) * k, (b - d) * k])
+}
+
+/// [`excess_sin_cos`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
+/// each scaled by any positive factor (every factor is common to both
+/// terms of sin and of cos).
+#[inline(always)]
+fn excess_from_vectors([u1, v1, u2, v2]: [DVec3; 4]) -> (f64, f64) {
     let (s1, c1) = (u1.cross(v1).length(), u1.dot(v1));
     let (s2, c2) = (u2.cross(v2).length(), u2.dot(v2));
     (-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2)
@@ -104,15 +110,8 @@ const TINY_DOT: f64 = 1e-280;
 #[cold]
 #[inline(never)]
 fn delaunay_test_rescaled(vectors: [DVec3; 4], tolerance: f64) -> DelaunayTest {
-    let [u1, v1, u2, v2] = vectors.map(power_of_two_scaled);
-    let (s1, c1) = (u1.cross(v1).length(), u1.dot(v1));
-    let (s2, c2) = (u2.cross(v2).length(), u2.dot(v2));
-    let (y, x) = (-(s1 * c2 + c1 * s2), s1 * s2 - c1 * c2);
-    if exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0) {
-        DelaunayTest::NonDelaunay
-    } else {
-        DelaunayTest::Delaunay
-    }
+    let (y, x) = excess_from_vectors(vectors.map(power_of_two_scaled));
+    decide(y, x, tolerance)
 }
 
 /// `v` times the power of two that brings its largest coordinate magnitude
@@ -148,8 +147,15 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
         return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
     }
     let (y, x) = excess_sin_cos(a, b, c, d);
+    decide(y, x, tolerance)
+}
+
+/// What `(y, x)` from [`excess_sin_cos`] says of the edge.
+#[inline(always)]
+fn decide(y: f64, x: f64, tolerance: f64) -> DelaunayTest {
     // y = 0 with x < 0 is α + β = 0 or 2π, and 0 (two zero angles, both
-    // dot products positive) returned above: here both sines underflowed to
+    // dot products positive) is the non-obtuse case `delaunay_test` decides
+    // before this: here both sines underflowed to
     // 0 (needles a subnormal distance from the edge's line) and both angles
     // are nearly π. y = x = 0 cannot come from two proper triangles (it
     // needs s₁ = c₁ = 0 or s₂ = c₂ = 0): sines and a cosine all underflowed,

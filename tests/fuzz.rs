@@ -347,9 +347,7 @@ fn seed_meshes() -> Vec<SeedMesh> {
         },
         // Cube of quads.
         SeedMesh {
-            positions: (0..8)
-                .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-                .collect(),
+            positions: common::cube_corners(),
             faces: common::CUBE_QUADS.iter().map(|q| q.to_vec()).collect::<Vec<_>>(),
         },
         // The README's folded thin rhombus: one split needed.
@@ -503,9 +501,7 @@ fn cut_seed_meshes() -> Vec<SeedMesh> {
         v.push(SeedMesh { positions, faces });
     }
     for variant in 0..2 {
-        let mut positions: Vec<[f64; 3]> = (0..8)
-            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-            .collect();
+        let mut positions = common::cube_corners();
         let mut faces = common::CUBE_QUADS.iter().map(|q| q.to_vec()).collect::<Vec<_>>();
         // A fin on edge 0-1 going outwards (variant 0: in the plane of the
         // bottom face, so coplanar with it) and one inwards (variant 1).

@@ -67,8 +67,12 @@ pub fn moebius_band(n: usize, w: f64) -> (Vec<[f64; 3]>, Vec<[u32; 4]>) {
     (positions, quads)
 }
 
-/// The quads of the unit cube whose corner `i` is at `(i & 1, (i >> 1) & 1, (i >> 2) & 1)`,
-/// each counter-clockwise seen from outside.
+/// The corners of the unit cube: corner `i` at `(i & 1, (i >> 1) & 1, (i >> 2) & 1)`.
+pub fn cube_corners() -> Vec<[f64; 3]> {
+    (0..8u32).map(|i| [0, 1, 2].map(|k| f64::from((i >> k) & 1))).collect()
+}
+
+/// The quads of the unit cube of [`cube_corners`], each counter-clockwise seen from outside.
 pub const CUBE_QUADS: [[u32; 4]; 6] = [
     [0, 2, 3, 1],
     [4, 5, 7, 6],
