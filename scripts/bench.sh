@@ -97,3 +97,22 @@ while read -r name prefine ptotal; do
   printf '%-10s %12.6f %12s %8.1f | %10.4f %10s %8.1f\n' "$name" "$r" "$prefine" \
     "$(echo "$prefine / $r" | bc -l)" "$t" "$ptotal" "$(echo "$ptotal / $t" | bc -l)"
 done <<< "$peers"
+
+# Many small files: the seven small meshes above, 30 copies each (210
+# files), refined with one process per file (a shell loop), and with one
+# `delmesh batch` (two files at a time on two cores, then one at a time).
+mkdir -p "$out/many/in" "$out/many/out"
+while read -r name _ _; do
+  [ "$name" = armadillo ] && continue
+  [ -f "../shared/meshes/$name.obj" ] || continue
+  for i in $(seq 30); do cp "../shared/meshes/$name.obj" "$out/many/in/$name-$i.obj"; done
+done <<< "$peers"
+files=$(ls "$out/many/in" | wc -l)
+cat > "$out/loop.sh" <<LOOP
+for f in $out/many/in/*.obj; do "$bin" -q -i "\$f" -o "$out/many/out/\${f##*/}"; done
+LOOP
+loop=$(wall bash "$out/loop.sh")
+together=$(wall "$bin" batch -q -d "$out/many/out" "$out/many/in")
+one=$(wall "$bin" batch -q -j 1 -d "$out/many/out" "$out/many/in")
+printf '\n%s small files: a process each %s s, batch %s s (x%.2f), batch -j 1 %s s (x%.2f)\n' "$files" \
+  "$loop" "$together" "$(echo "$loop / $together" | bc -l)" "$one" "$(echo "$loop / $one" | bc -l)"

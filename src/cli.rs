@@ -37,6 +37,8 @@ macro_rules! complain {
         });
     }};
 }
+mod batch;
+
 use delmesh::attributes::{Attributes, Transfer};
 use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
@@ -84,26 +86,8 @@ struct RunArgs {
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<PathBuf>,
 
-    /// Data structure holding the non-Delaunay edges [legacy: -ds].
-    #[arg(
-        long = "ds",
-        visible_alias = "data-structure",
-        value_enum,
-        default_value = "stack",
-        value_name = "DS"
-    )]
-    ds: DsArg,
-
-    /// Score of a sample: 0 all equal (the paper's), 1 weighted center,
-    /// 2 always center (the report's), 3 split-aware (delmesh's: as 2, but
-    /// outer edges that can be flipped cost nothing).
-    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3"], value_name = "N")]
-    score: String,
-
-    /// Take the first best sample from the edge's start instead of the median
-    /// of the best ones [legacy: -nomedian].
-    #[arg(long = "nomedian", visible_alias = "no-median")]
-    nomedian: bool,
+    #[command(flatten)]
+    settings: Settings,
 
     /// Run all 18 combinations (3 DS x 3 scores x median on/off), writing
     /// <stem>-<s|q|p>-<0|1|2>[-m].obj beside the output and printing a
@@ -116,30 +100,6 @@ struct RunArgs {
     #[arg(long = "extended", requires = "all")]
     extended: bool,
 
-    /// Work limit: stop (exit 1) once this many vertices have been added, or
-    /// three times as many edges flipped. Some settings (the first best sample
-    /// instead of the median, on inputs with tiny angles) would otherwise add
-    /// billions of vertices or flip quadratically often.
-    #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
-    max_added: usize,
-
-    /// Fix what would be refused: weld positions (see --weld-tolerance),
-    /// drop faces that repeat a vertex, zero-area and duplicate faces, orient
-    /// each component consistently, cut non-manifold edges and vertices apart.
-    /// Prints one line per kind of fix.
-    #[arg(long = "repair")]
-    repair: bool,
-
-    /// With --repair: weld vertices closer than this distance (0: only
-    /// bit-identical positions).
-    #[arg(
-        long = "weld-tolerance",
-        value_name = "DIST",
-        default_value_t = 0.0,
-        requires = "repair"
-    )]
-    weld_tolerance: f64,
-
     /// With --repair: also write the repaired input here, the mesh `delmesh
     /// check` should compare the output with.
     #[arg(long = "repaired", value_name = "FILE", requires = "repair")]
@@ -150,11 +110,6 @@ struct RunArgs {
     /// edges and for formatting the output. Results never depend on it.
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
-
-    /// Flush every file written to the disk before renaming it into place,
-    /// so that it survives a power loss too (writes are atomic either way).
-    #[arg(long = "sync")]
-    sync: bool,
 
     /// Also write every figure of the run (with -all: of every combination),
     /// the sample constants, seconds per phase and peak memory, as JSON.
@@ -183,6 +138,71 @@ struct RunArgs {
     #[arg(long = "no-refine", conflicts_with = "all")]
     no_refine: bool,
 
+    /// Fewest added vertices: run 18 settings with --prune (3 DS x scores 0-3
+    /// with the median, 3 DS x scores 2-3 without) on all cores (or -j), and
+    /// write the smallest result (ties: the first in that order); -ds, -s and
+    /// -nomedian are ignored.
+    #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
+    smallest: bool,
+
+    /// Print nothing but errors.
+    #[arg(short = 'q', long = "quiet")]
+    quiet: bool,
+}
+
+/// The settings a refinement takes, shared by the main command and `batch`.
+#[derive(clap::Args, Debug)]
+struct Settings {
+    /// Data structure holding the non-Delaunay edges [legacy: -ds].
+    #[arg(
+        long = "ds",
+        visible_alias = "data-structure",
+        value_enum,
+        default_value = "stack",
+        value_name = "DS"
+    )]
+    ds: DsArg,
+
+    /// Score of a sample: 0 all equal (the paper's), 1 weighted center,
+    /// 2 always center (the report's), 3 split-aware (delmesh's: as 2, but
+    /// outer edges that can be flipped cost nothing).
+    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3"], value_name = "N")]
+    score: String,
+
+    /// Take the first best sample from the edge's start instead of the median
+    /// of the best ones [legacy: -nomedian].
+    #[arg(long = "nomedian", visible_alias = "no-median")]
+    nomedian: bool,
+
+    /// Work limit: stop (exit 1) once this many vertices have been added, or
+    /// three times as many edges flipped. Some settings (the first best sample
+    /// instead of the median, on inputs with tiny angles) would otherwise add
+    /// billions of vertices or flip quadratically often.
+    #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
+    max_added: usize,
+
+    /// Fix what would be refused: weld positions (see --weld-tolerance),
+    /// drop faces that repeat a vertex, zero-area and duplicate faces, orient
+    /// each component consistently, cut non-manifold edges and vertices apart.
+    /// Prints one line per kind of fix.
+    #[arg(long = "repair")]
+    repair: bool,
+
+    /// With --repair: weld vertices closer than this distance (0: only
+    /// bit-identical positions).
+    #[arg(
+        long = "weld-tolerance",
+        value_name = "DIST",
+        default_value_t = 0.0,
+        requires = "repair"
+    )]
+    weld_tolerance: f64,
+
+    /// Flush every file written to the disk before renaming it into place,
+    /// so that it survives a power loss too (writes are atomic either way).
+    #[arg(long = "sync")]
+    sync: bool,
+
     /// After the construction, remove again every added vertex whose removal
     /// (with flips around it) keeps the mesh Delaunay. Fewer added vertices,
     /// same exact geometry; with -all, every combination is pruned.
@@ -195,17 +215,24 @@ struct RunArgs {
     /// distort them).
     #[arg(long = "drop-attributes")]
     drop_attributes: bool,
+}
 
-    /// Fewest added vertices: run 18 settings with --prune (3 DS x scores 0-3
-    /// with the median, 3 DS x scores 2-3 without) on all cores (or -j), and
-    /// write the smallest result (ties: the first in that order); -ds, -s and
-    /// -nomedian are ignored.
-    #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
-    smallest: bool,
+impl Settings {
+    /// The refinement's options: DS, score, median rule and work limit.
+    fn options(&self) -> Options {
+        let mut options = Options::new(self.ds.into(), score_of(&self.score), !self.nomedian);
+        options.max_added = self.max_added;
+        options
+    }
 
-    /// Print nothing but errors.
-    #[arg(short = 'q', long = "quiet")]
-    quiet: bool,
+    /// How inputs are read: with or without repair.
+    fn read_options(&self) -> io::ReadOptions {
+        io::ReadOptions {
+            repair: self.repair.then_some(delmesh::repair::RepairOptions {
+                weld_tolerance: self.weld_tolerance,
+            }),
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -239,6 +266,10 @@ enum Command {
         #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
         size: u32,
     },
+    /// Refine many meshes in one process, several at once: each INPUT is
+    /// written to the --out-dir folder under its own name, exactly as the
+    /// main command would write it. One line per file; exits 1 if any failed.
+    Batch(batch::BatchArgs),
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
     /// reading the two files only. Exits 0 if it is, 1 if not.
     Check {
@@ -308,6 +339,7 @@ pub fn main() -> ExitCode {
             }
             run_check(&input, &output)
         }
+        Some(Command::Batch(args)) => batch::run_batch(&args),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             let mut buf = Vec::new();
@@ -544,7 +576,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
     check_output_dir(&output)?;
-    io::set_sync_writes(args.sync);
+    io::set_sync_writes(args.settings.sync);
     if let Some(jobs) = args.jobs {
         delmesh::parallel::set_threads(usize::from(jobs));
     }
@@ -572,17 +604,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     }
     let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
     let t0 = Instant::now();
-    let read_options = io::ReadOptions {
-        repair: args.repair.then_some(delmesh::repair::RepairOptions {
-            weld_tolerance: args.weld_tolerance,
-        }),
-    };
+    let read_options = args.settings.read_options();
     progress::phase(Phase::Read {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
     let mut input = io::read_mesh(input_path, &read_options)?;
-    if args.drop_attributes {
+    if args.settings.drop_attributes {
         input.attributes = Default::default();
         input.notes.clear();
     }
@@ -728,8 +756,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let mut options = Options::new(args.ds.into(), score_of(&args.score), !args.nomedian);
-    options.max_added = args.max_added;
+    let mut options = args.settings.options();
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
     let mut vertex_lines = io::obj::VertexLines::default();
@@ -752,7 +779,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
                 scope.spawn(move || io::obj::VertexLines::new(positions))
             });
-            let out = refine_once(surface, &first_pass, input_path, &options, args.prune);
+            let out = refine_once(surface, &first_pass, input_path, &options, args.settings.prune);
             vertex_lines = lines
                 .map(|h| h.join().expect("formatting does not panic"))
                 .unwrap_or_default();
@@ -1073,7 +1100,7 @@ fn run_all(
     let combos: Vec<Options> = combos
         .into_iter()
         .map(|o| Options {
-            max_added: args.max_added,
+            max_added: args.settings.max_added,
             progress: progress::refine_hook(),
             ..o
         })
@@ -1122,7 +1149,15 @@ fn run_all(
                         break;
                     };
                     let file = combination_path(output, options);
-                    let result = run_combination(surface, first_pass, transfer, input_path, options, args.prune, &file);
+                    let result = run_combination(
+                        surface,
+                        first_pass,
+                        transfer,
+                        input_path,
+                        options,
+                        args.settings.prune,
+                        &file,
+                    );
                     progress::run_done();
                     rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                         options: *options,
@@ -1261,7 +1296,7 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> a
         "{}: added vertices, -all{}{} (fewest first)",
         file_name(input_path),
         if args.extended { " --extended" } else { "" },
-        if args.prune { " --prune" } else { "" }
+        if args.settings.prune { " --prune" } else { "" }
     );
     let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
     let bytes = canvas

@@ -324,9 +324,16 @@ pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]
 /// The CSV table of the runs: a header, then one row per run; the columns
 /// are `input` (the input path) and the fields of a run record.
 pub fn csv(input_path: &Path, runs: &[RunRecord]) -> String {
+    let rows: Vec<(&Path, &RunRecord)> = runs.iter().map(|r| (input_path, r)).collect();
+    csv_rows(&rows)
+}
+
+/// [`csv`] for runs of several inputs (`delmesh batch`): one row per
+/// (input, run), the same columns.
+pub fn csv_rows(rows: &[(&Path, &RunRecord)]) -> String {
     let mut s = format!("input,{}\n", RUN_FIELDS.join(","));
-    let input = Json::Str(input_path.display().to_string()).csv_cell();
-    for r in runs {
+    for (input_path, r) in rows {
+        let input = Json::Str(input_path.display().to_string()).csv_cell();
         let Json::Obj(fields) = run_object(r) else { continue };
         let cells: Vec<String> = fields.iter().map(|(_, v)| v.csv_cell()).collect();
         let _ = writeln!(s, "{input},{}", cells.join(","));

@@ -130,6 +130,7 @@ fn help_lists_every_flag() {
         "--score",
         "--nomedian",
         "--all",
+        "batch",
         "check",
         "-ds pqueue",
     ] {

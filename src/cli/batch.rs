@@ -1,0 +1,362 @@
+//! `delmesh batch`: many inputs in one process, several at once.
+//!
+//! Each input is read, refined and written exactly as `delmesh -i INPUT -o
+//! DIR/NAME` would (same settings, same bytes), on one of `-j` workers that
+//! take the files in the order given. A file that fails is reported on one
+//! line and the others go on; the exit status is 1 if any failed. Starting a
+//! process costs about a millisecond, as much as refining a small mesh, so
+//! a folder of small meshes goes several times faster this way than with a
+//! shell loop.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use clap::ValueEnum;
+
+use super::{check_output_dir, error_kind, one_line, refine_once, write_output, FirstPass, Settings};
+use crate::stats_json::{self, RunFigures, RunRecord};
+use delmesh::attributes::Transfer;
+use delmesh::io;
+use delmesh::refine::Options;
+
+/// The arguments of `delmesh batch`.
+#[derive(clap::Args, Debug)]
+pub(super) struct BatchArgs {
+    /// The meshes to refine: OBJ, OFF, PLY or STL, possibly gzip-compressed.
+    /// A folder stands for the mesh files in it (by extension, in name
+    /// order; not its subfolders).
+    #[arg(value_name = "INPUT", required = true)]
+    inputs: Vec<PathBuf>,
+
+    /// Folder of the outputs (created if missing). Each is named after its
+    /// input: the same name without `.gz`, with the extension of --format.
+    /// Never an input's own path: that is refused before any work.
+    #[arg(short = 'd', long = "out-dir", value_name = "DIR", required = true)]
+    out_dir: PathBuf,
+
+    /// Format of the outputs (default: each input's own; OBJ for names
+    /// without a mesh extension).
+    #[arg(long = "format", value_enum, value_name = "FORMAT")]
+    format: Option<FormatArg>,
+
+    #[command(flatten)]
+    settings: Settings,
+
+    /// How many files to refine at once (default: one per core). Each file's
+    /// output never depends on it.
+    #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    jobs: Option<u16>,
+
+    /// Also write the figures of every file as CSV, one row per input (the
+    /// columns of the main command's --stats-csv).
+    #[arg(long = "stats-csv", value_name = "FILE")]
+    stats_csv: Option<PathBuf>,
+
+    /// Print nothing but errors (one line per failed file).
+    #[arg(short = 'q', long = "quiet")]
+    quiet: bool,
+}
+
+/// An output format by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(super) enum FormatArg {
+    /// Wavefront OBJ (texture coordinates, normals and groups carried).
+    Obj,
+    /// Object File Format.
+    Off,
+    /// Binary PLY.
+    Ply,
+    /// Binary STL.
+    Stl,
+}
+
+impl FormatArg {
+    fn extension(self) -> &'static str {
+        match self {
+            FormatArg::Obj => "obj",
+            FormatArg::Off => "off",
+            FormatArg::Ply => "ply",
+            FormatArg::Stl => "stl",
+        }
+    }
+}
+
+/// The output file name of `input`: its name without `.gz`, with the
+/// extension of `format`, or its own if delmesh writes that format, or `obj`.
+fn output_name(input: &Path, format: Option<FormatArg>) -> Option<PathBuf> {
+    let mut name = Path::new(input.file_name()?);
+    if name.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
+        name = Path::new(name.file_stem()?);
+    }
+    let own = name.extension().and_then(|e| e.to_str()).and_then(|e| {
+        let e = e.to_ascii_lowercase();
+        FormatArg::from_str(&e, true).ok()
+    });
+    let extension = format.or(own).unwrap_or(FormatArg::Obj).extension();
+    let stem = if own.is_some() {
+        name.file_stem()?
+    } else {
+        name.as_os_str()
+    };
+    let mut out = stem.to_owned();
+    out.push(".");
+    out.push(extension);
+    Some(PathBuf::from(out))
+}
+
+/// The inputs: the files given, and in each folder given the files with a
+/// mesh extension (`.obj`, `.off`, `.ply`, `.stl`, each possibly `.gz`),
+/// in name order, not descending into subfolders.
+fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for input in inputs {
+        if !input.is_dir() {
+            files.push(input.clone());
+            continue;
+        }
+        let mut found = Vec::new();
+        for entry in std::fs::read_dir(input).with_context(|| input.display().to_string())? {
+            let path = entry.with_context(|| input.display().to_string())?.path();
+            let is_mesh = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| io::formats::format_from_name(n).is_some());
+            if is_mesh && !path.is_dir() {
+                found.push(path);
+            }
+        }
+        if found.is_empty() {
+            bail!("{}: no mesh files in this folder", input.display());
+        }
+        found.sort();
+        files.extend(found);
+    }
+    Ok(files)
+}
+
+/// The output path of every input, in order; refuses two inputs with one
+/// output, and an output that is an input.
+fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>) -> anyhow::Result<Vec<PathBuf>> {
+    // Where the outputs go, if the folder exists already (if not, no input
+    // is in it).
+    let dir = std::fs::canonicalize(out_dir).ok();
+    let canonical: Vec<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
+    let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
+    let mut outputs = Vec::with_capacity(inputs.len());
+    for input in inputs {
+        let Some(name) = output_name(input, format) else {
+            bail!("{}: not a file name", input.display());
+        };
+        let output = out_dir.join(&name);
+        if let Some(first) = taken.insert(name.clone(), input) {
+            bail!(
+                "{} and {} would both be written to {}",
+                first.display(),
+                input.display(),
+                output.display()
+            );
+        }
+        if dir.as_ref().is_some_and(|d| canonical.contains(&d.join(&name))) {
+            bail!("{}: would overwrite an input", output.display());
+        }
+        outputs.push(output);
+    }
+    Ok(outputs)
+}
+
+/// One file's result, as the summary line and the CSV row need it.
+struct Done {
+    record: RunRecord,
+    /// Repair's lines, if it fixed anything.
+    repairs: Vec<String>,
+    /// Attribute notes of the reader and the writer.
+    notes: Vec<String>,
+    seconds: f64,
+}
+
+/// Reads, refines and writes one file, as the main command would.
+fn refine_file(input: &Path, output: &Path, settings: &Settings, options: &Options) -> anyhow::Result<Done> {
+    let t0 = Instant::now();
+    let mut mesh = io::read_mesh(input, &settings.read_options())?;
+    if settings.drop_attributes {
+        mesh.attributes = Default::default();
+        mesh.notes.clear();
+    }
+    let surface = io::build_surface(&mesh, input)?;
+    let transfer = (!mesh.attributes.is_empty()).then(|| Transfer::new(mesh.attributes, &mesh.triangles, &surface));
+    let first_pass = FirstPass::new(&surface);
+    let out = refine_once(surface, &first_pass, input, options, settings.prune)?;
+    let t_write = Instant::now();
+    let mut notes = mesh.notes;
+    notes.extend(write_output(
+        output,
+        &out.surface,
+        transfer.as_ref(),
+        &Default::default(),
+    )?);
+    let seconds_write = t_write.elapsed().as_secs_f64();
+    let s = &out.surface;
+    Ok(Done {
+        record: RunRecord {
+            options: Some(*options),
+            output: output.display().to_string(),
+            result: Ok(RunFigures {
+                vertices: s.positions.len(),
+                faces: s.topo.n_faces(),
+                added_vertices: s.positions.len() - s.n_input_vertices,
+                pruned_vertices: out.pruned.map(|p| p.removed),
+                stats: Some(out.stats),
+                seconds_refine: out.seconds,
+                seconds_write,
+            }),
+        },
+        repairs: mesh.repair.map(|r| r.lines()).unwrap_or_default(),
+        notes,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// `delmesh batch`.
+pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
+    let t0 = Instant::now();
+    io::set_sync_writes(args.settings.sync);
+    let inputs = expand(&args.inputs)?;
+    let outputs = plan(&inputs, &args.out_dir, args.format)?;
+    std::fs::create_dir_all(&args.out_dir)
+        .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
+    check_output_dir(&outputs[0])?;
+    if let Some(csv) = &args.stats_csv {
+        check_output_dir(csv)?;
+        let same = |p: &Path| std::fs::canonicalize(p).ok() == std::fs::canonicalize(csv).ok();
+        if csv.exists() && inputs.iter().chain(&outputs).any(|p| same(p)) {
+            bail!("{}: would overwrite an input or an output", csv.display());
+        }
+    }
+    let n = inputs.len();
+    let workers = args.jobs.map_or_else(delmesh::parallel::cores, usize::from).clamp(1, n);
+    // Files share the cores: each runs on one thread. A lone worker keeps
+    // the passes over all edges parallel (within -j).
+    delmesh::parallel::set_threads(if workers > 1 {
+        1
+    } else {
+        args.jobs.map_or(0, usize::from)
+    });
+    let options = args.settings.options();
+    let next = AtomicUsize::new(0);
+    let (tx, rx) = std::sync::mpsc::channel();
+    let mut records: Vec<RunRecord> = Vec::with_capacity(n);
+    let (mut failed, mut added) = (0usize, 0usize);
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            let (tx, next, inputs, outputs, options) = (tx.clone(), &next, &inputs, &outputs, &options);
+            scope.spawn(move || loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= n {
+                    break;
+                }
+                let done = refine_file(&inputs[i], &outputs[i], &args.settings, options);
+                if tx.send((i, done)).is_err() {
+                    break;
+                }
+            });
+        }
+        drop(tx);
+        // Report in the order given, whatever order the files finish in.
+        let mut waiting = BTreeMap::new();
+        for (i, done) in rx {
+            waiting.insert(i, done);
+            while let Some(done) = waiting.remove(&records.len()) {
+                let i = records.len();
+                records.push(match done {
+                    Ok(done) => {
+                        let f = done.record.result.as_ref().ok();
+                        added += f.map_or(0, |f| f.added_vertices);
+                        if !args.quiet {
+                            report_done(&inputs[i], &done);
+                        }
+                        done.record
+                    }
+                    Err(e) => {
+                        failed += 1;
+                        complain!("delmesh: {}", one_line(&e));
+                        RunRecord {
+                            options: Some(options),
+                            output: outputs[i].display().to_string(),
+                            result: Err((error_kind(&e), one_line(&e))),
+                        }
+                    }
+                });
+            }
+        }
+    });
+    if let Some(csv) = &args.stats_csv {
+        let rows: Vec<(&Path, &RunRecord)> = inputs.iter().map(PathBuf::as_path).zip(&records).collect();
+        let table = stats_json::csv_rows(&rows);
+        io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
+    }
+    if !args.quiet {
+        say!(
+            "batch   {} file{}: {} written, {} failed; {} added vertices; {:.3} s ({} at a time)",
+            n,
+            if n == 1 { "" } else { "s" },
+            n - failed,
+            failed,
+            added,
+            t0.elapsed().as_secs_f64(),
+            workers
+        );
+    }
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// The line of a file written.
+fn report_done(input: &Path, done: &Done) {
+    let Ok(f) = &done.record.result else { return };
+    let mut line = format!(
+        "ok      {} -> {}: {} vertices, {} faces, {} added vertices",
+        input.display(),
+        done.record.output,
+        f.vertices,
+        f.faces,
+        f.added_vertices
+    );
+    if let Some(pruned) = f.pruned_vertices {
+        line += &format!(" ({pruned} pruned)");
+    }
+    if !done.repairs.is_empty() {
+        line += &format!("; repair: {}", done.repairs.join(", "));
+    }
+    if !done.notes.is_empty() {
+        line += &format!("; note: {}", done.notes.join("; "));
+    }
+    say!("{line} ({:.4} s)", done.seconds);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_names() {
+        let name = |p: &str, f| output_name(Path::new(p), f).map(|p| p.display().to_string());
+        assert_eq!(name("a/bunny.obj", None).as_deref(), Some("bunny.obj"));
+        assert_eq!(name("a/Dragon.PLY.gz", None).as_deref(), Some("Dragon.ply"));
+        assert_eq!(
+            name("a/dragon.ply.gz", Some(FormatArg::Obj)).as_deref(),
+            Some("dragon.obj")
+        );
+        assert_eq!(name("part.stl", Some(FormatArg::Off)).as_deref(), Some("part.off"));
+        assert_eq!(name("scan.v2", None).as_deref(), Some("scan.v2.obj"));
+        assert_eq!(name("mesh", None).as_deref(), Some("mesh.obj"));
+        assert_eq!(name("mesh.gz", None).as_deref(), Some("mesh.obj"));
+        assert_eq!(name("..", None), None);
+    }
+}

@@ -1,0 +1,235 @@
+//! `delmesh batch`: many inputs in one process write exactly what one run
+//! per input writes, a failing file does not stop the others, and what
+//! would overwrite an input or collide is refused before any work.
+
+mod common;
+
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn delmesh() -> Command {
+    Command::cargo_bin("delmesh").unwrap()
+}
+
+/// The shipped meshes (`data/*.obj` and the CAD rotor).
+fn inputs() -> Vec<PathBuf> {
+    let mut v = common::fixtures();
+    v.push(common::data_dir().join("cad/rotor.obj"));
+    v
+}
+
+/// Runs `delmesh batch ARGS`, returning (success, stdout, stderr).
+fn batch<P: AsRef<std::ffi::OsStr>>(args: &[&str], files: &[P]) -> (bool, String, String) {
+    let out = delmesh().arg("batch").args(args).args(files).output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The lines of a batch's stdout without their timings.
+fn without_seconds(stdout: &str) -> Vec<String> {
+    stdout
+        .lines()
+        .map(|l| l.rsplit_once(" (").map_or(l, |(head, _)| head).to_string())
+        .map(|l| l.split("; 0.").next().unwrap().to_string())
+        .collect()
+}
+
+fn check_passes(input: &Path, output: &Path) {
+    let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("PASS"),
+        "{}: {stdout}",
+        output.display()
+    );
+}
+
+#[test]
+fn batch_writes_what_one_run_per_input_writes() {
+    let files = inputs();
+    for settings in [&[][..], &["--ds", "queue", "-s", "0", "--prune"][..]] {
+        let dir = tempfile::tempdir().unwrap();
+        let out_dir = dir.path().join("out");
+        let mut args = vec!["-d", out_dir.to_str().unwrap(), "-j", "2"];
+        args.extend_from_slice(settings);
+        let (ok, stdout, stderr) = batch(&args, &files);
+        assert!(ok, "{stdout}{stderr}");
+        let lines: Vec<&str> = stdout.lines().collect();
+        assert_eq!(lines.len(), files.len() + 1, "{stdout}");
+        assert!(lines[files.len()].starts_with(&format!(
+            "batch   {} files: {} written, 0 failed",
+            files.len(),
+            files.len()
+        )));
+        for (file, line) in files.iter().zip(&lines) {
+            // Reported in the order given.
+            assert!(line.starts_with(&format!("ok      {} -> ", file.display())), "{line}");
+            let name = file.file_name().unwrap();
+            let written = out_dir.join(name);
+            let single = dir.path().join("single.obj");
+            let status = delmesh()
+                .arg("-q")
+                .arg("-i")
+                .arg(file)
+                .arg("-o")
+                .arg(&single)
+                .args(settings)
+                .output()
+                .unwrap();
+            assert!(status.status.success());
+            assert_eq!(
+                std::fs::read(&written).unwrap(),
+                std::fs::read(&single).unwrap(),
+                "{} {settings:?}: batch and single run differ",
+                file.display()
+            );
+            check_passes(file, &written);
+        }
+    }
+}
+
+#[test]
+fn batch_output_does_not_depend_on_jobs() {
+    let files = inputs();
+    let dir = tempfile::tempdir().unwrap();
+    let run = |jobs: &str| {
+        let out_dir = dir.path().join(format!("out-{jobs}"));
+        let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "-j", jobs], &files);
+        assert!(ok, "{stderr}");
+        let contents: Vec<Vec<u8>> = files
+            .iter()
+            .map(|f| std::fs::read(out_dir.join(f.file_name().unwrap())).unwrap())
+            .collect();
+        let lines: Vec<String> = without_seconds(&stdout)
+            .into_iter()
+            .map(|l| l.replace(&format!("out-{jobs}"), "out"))
+            .collect();
+        (contents, lines)
+    };
+    let (one, one_lines) = run("1");
+    let (two, two_lines) = run("2");
+    assert_eq!(one, two);
+    // The summary names the number of workers; every file's line is the same.
+    let n = files.len();
+    assert_eq!(one_lines[..n], two_lines[..n]);
+}
+
+#[test]
+fn a_failing_file_does_not_stop_the_others() {
+    let dir = tempfile::tempdir().unwrap();
+    // Three triangles on one edge: refused without --repair.
+    let book = dir.path().join("book.obj");
+    std::fs::write(
+        &book,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    let missing = dir.path().join("missing.obj");
+    let cube = common::data_dir().join("cube.obj");
+    let out_dir = dir.path().join("out");
+    let csv = dir.path().join("runs.csv");
+    let files = [book.clone(), missing.clone(), cube.clone()];
+    let (ok, stdout, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
+        &files,
+    );
+    assert!(!ok);
+    let errors: Vec<&str> = stderr.lines().collect();
+    assert_eq!(errors.len(), 2, "{stderr}");
+    assert!(
+        errors[0].starts_with(&format!("delmesh: {}", book.display())),
+        "{stderr}"
+    );
+    assert!(
+        errors[1].starts_with(&format!("delmesh: {}", missing.display())),
+        "{stderr}"
+    );
+    assert!(stdout.contains("batch   3 files: 1 written, 2 failed"), "{stdout}");
+    let written: Vec<_> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(written, ["cube.obj"]);
+    check_passes(&cube, &out_dir.join("cube.obj"));
+    // One CSV row per input, the main command's columns.
+    let table = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = table.lines().collect();
+    assert_eq!(rows.len(), 4, "{table}");
+    assert!(rows[0].starts_with("input,data_structure,score,median,output,ok,error_kind,error,"));
+    let ok_cell = |row: &str| row.split(',').nth(5).unwrap().to_string();
+    assert_eq!([1, 2, 3].map(|i| ok_cell(rows[i])), ["false", "false", "true"]);
+    assert!(rows[1].starts_with(&book.display().to_string()));
+    // With --repair the book goes through too.
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--repair"], &[&book]);
+    assert!(ok, "{stdout}{stderr}");
+    assert!(stdout.contains("repair: "), "{stdout}");
+}
+
+#[test]
+fn collisions_and_overwrites_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    std::fs::create_dir(&a).unwrap();
+    std::fs::create_dir(&b).unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    std::fs::copy(&cube, a.join("cube.obj")).unwrap();
+    std::fs::copy(&cube, b.join("cube.obj")).unwrap();
+    let out_dir = dir.path().join("out");
+    let (ok, _, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap()],
+        &[a.join("cube.obj"), b.join("cube.obj")],
+    );
+    assert!(!ok);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("would both be written to"), "{stderr}");
+    assert!(!out_dir.exists(), "the output folder was created");
+    // Into the input's own folder, in its own format: refused, input kept.
+    let before = std::fs::read(a.join("cube.obj")).unwrap();
+    let (ok, _, stderr) = batch(&["-d", a.to_str().unwrap()], &[a.join("cube.obj")]);
+    assert!(!ok);
+    assert!(stderr.contains("would overwrite an input"), "{stderr}");
+    assert_eq!(std::fs::read(a.join("cube.obj")).unwrap(), before);
+    // In another format it is a new file beside it.
+    let (ok, _, stderr) = batch(&["-d", a.to_str().unwrap(), "--format", "off"], &[a.join("cube.obj")]);
+    assert!(ok, "{stderr}");
+    assert!(a.join("cube.off").exists());
+    assert_eq!(std::fs::read(a.join("cube.obj")).unwrap(), before);
+}
+
+#[test]
+fn a_folder_stands_for_its_mesh_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    std::fs::copy(&cube, input.join("b.obj")).unwrap();
+    std::fs::copy(&cube, input.join("sub/ignored.obj")).unwrap();
+    std::fs::write(input.join("notes.txt"), "not a mesh").unwrap();
+    // A gzip-compressed copy, with an upper-case extension.
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, &std::fs::read(&cube).unwrap()).unwrap();
+    std::fs::write(input.join("a.OBJ.gz"), gz.finish().unwrap()).unwrap();
+    let out_dir = dir.path().join("out");
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--format", "ply"], &[&input]);
+    assert!(ok, "{stdout}{stderr}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{stdout}");
+    assert!(lines[0].starts_with(&format!("ok      {} -> ", input.join("a.OBJ.gz").display())));
+    assert!(lines[1].starts_with(&format!("ok      {} -> ", input.join("b.obj").display())));
+    let mut written: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["a.ply", "b.ply"]);
+    check_passes(&cube, &out_dir.join("a.ply"));
+    // A folder with no mesh in it is an error, not an empty success.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let (ok, _, stderr) = batch(&["-d", out_dir.to_str().unwrap()], &[empty]);
+    assert!(!ok);
+    assert!(stderr.contains("no mesh files"), "{stderr}");
+}
