@@ -523,6 +523,7 @@ fn error_kind(e: &anyhow::Error) -> &'static str {
         Some(delmesh::Error::WorkLimit { .. }) => "work_limit",
         Some(delmesh::Error::Unsplittable { .. }) => "unsplittable",
         Some(delmesh::Error::Write { .. }) => "write",
+        _ if e.downcast_ref::<batch::CheckFailed>().is_some() => "check",
         _ => "other",
     }
 }

@@ -92,6 +92,34 @@ fn batch_writes_what_one_run_per_input_writes() {
 }
 
 #[test]
+fn batch_check_verifies_every_output() {
+    let files = inputs();
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--check", "-s", "3"], &files);
+    assert!(ok, "{stdout}{stderr}");
+    assert_eq!(stdout.matches(", check PASS").count(), files.len(), "{stdout}");
+    // The repaired input is what a repaired output is checked against.
+    let book = dir.path().join("book.obj");
+    std::fs::write(
+        &book,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--check", "--repair"], &[&book]);
+    assert!(ok, "{stdout}{stderr}");
+    assert!(stdout.contains("check PASS"), "{stdout}");
+    // Nothing but the outputs is left in the folder.
+    let mut left: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    left.sort();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
 fn batch_output_does_not_depend_on_jobs() {
     let files = inputs();
     let dir = tempfile::tempdir().unwrap();

@@ -51,6 +51,13 @@ pub(super) struct BatchArgs {
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
 
+    /// Verify every output with `delmesh check` (against the input, or with
+    /// --repair the repaired input) before counting it as written. An
+    /// output that fails is renamed to NAME.rejected and the file counts as
+    /// failed. Checking takes a few times longer than refining.
+    #[arg(long = "check")]
+    check: bool,
+
     /// Also write the figures of every file as CSV, one row per input (the
     /// columns of the main command's --stats-csv).
     #[arg(long = "stats-csv", value_name = "FILE")]
@@ -175,11 +182,76 @@ struct Done {
     repairs: Vec<String>,
     /// Attribute notes of the reader and the writer.
     notes: Vec<String>,
+    /// Whether `delmesh check` passed it (false: not asked).
+    checked: bool,
     seconds: f64,
 }
 
-/// Reads, refines and writes one file, as the main command would.
-fn refine_file(input: &Path, output: &Path, settings: &Settings, options: &Options) -> anyhow::Result<Done> {
+/// An output that `delmesh check` refused (`error_kind` "check").
+#[derive(Debug)]
+pub(super) struct CheckFailed(String);
+
+impl std::fmt::Display for CheckFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for CheckFailed {}
+
+/// Runs the judge on `output` against `input` (or against the repaired
+/// input, written to a temporary file beside the output for the judge to
+/// read); an output that fails is renamed to `<output>.rejected`.
+fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
+    let repaired = match mesh.repair {
+        None => None,
+        Some(_) => {
+            let dir = output
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let file = tempfile::Builder::new()
+                .prefix(".delmesh-repaired-")
+                .suffix(".obj")
+                .tempfile_in(dir)
+                .with_context(|| dir.display().to_string())?;
+            io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
+            Some(file)
+        }
+    };
+    let reference = repaired.as_ref().map_or(input, |f| f.path());
+    let report = delmesh::check::check_files(reference, output)
+        .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
+    if report.passed() {
+        return Ok(());
+    }
+    let mut rejected = output.as_os_str().to_owned();
+    rejected.push(".rejected");
+    std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
+    let more = report.failures.len() - 1;
+    Err(CheckFailed(format!(
+        "{}: failed the check: {}{} (renamed to {})",
+        output.display(),
+        report.failures[0],
+        if more > 0 {
+            format!(" (and {more} more)")
+        } else {
+            String::new()
+        },
+        Path::new(&rejected).display()
+    ))
+    .into())
+}
+
+/// Reads, refines and writes one file, as the main command would (and
+/// checks it, with `check`).
+fn refine_file(
+    input: &Path,
+    output: &Path,
+    settings: &Settings,
+    options: &Options,
+    check: bool,
+) -> anyhow::Result<Done> {
     let t0 = Instant::now();
     let mut mesh = io::read_mesh(input, &settings.read_options())?;
     if settings.drop_attributes {
@@ -187,11 +259,12 @@ fn refine_file(input: &Path, output: &Path, settings: &Settings, options: &Optio
         mesh.notes.clear();
     }
     let surface = io::build_surface(&mesh, input)?;
-    let transfer = (!mesh.attributes.is_empty()).then(|| Transfer::new(mesh.attributes, &mesh.triangles, &surface));
+    let transfer = (!mesh.attributes.is_empty())
+        .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
     let first_pass = FirstPass::new(&surface);
     let out = refine_once(surface, &first_pass, input, options, settings.prune)?;
     let t_write = Instant::now();
-    let mut notes = mesh.notes;
+    let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(write_output(
         output,
         &out.surface,
@@ -199,6 +272,9 @@ fn refine_file(input: &Path, output: &Path, settings: &Settings, options: &Optio
         &Default::default(),
     )?);
     let seconds_write = t_write.elapsed().as_secs_f64();
+    if check {
+        check_output(input, &mesh, output)?;
+    }
     let s = &out.surface;
     Ok(Done {
         record: RunRecord {
@@ -216,6 +292,7 @@ fn refine_file(input: &Path, output: &Path, settings: &Settings, options: &Optio
         },
         repairs: mesh.repair.map(|r| r.lines()).unwrap_or_default(),
         notes,
+        checked: check,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }
@@ -258,7 +335,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 if i >= n {
                     break;
                 }
-                let done = refine_file(&inputs[i], &outputs[i], &args.settings, options);
+                let done = refine_file(&inputs[i], &outputs[i], &args.settings, options, args.check);
                 if tx.send((i, done)).is_err() {
                     break;
                 }
@@ -331,6 +408,9 @@ fn report_done(input: &Path, done: &Done) {
     if let Some(pruned) = f.pruned_vertices {
         line += &format!(" ({pruned} pruned)");
     }
+    if done.checked {
+        line += ", check PASS";
+    }
     if !done.repairs.is_empty() {
         line += &format!("; repair: {}", done.repairs.join(", "));
     }
@@ -358,5 +438,29 @@ mod tests {
         assert_eq!(name("mesh", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("mesh.gz", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("..", None), None);
+    }
+
+    #[test]
+    fn an_output_that_fails_the_check_is_renamed_and_reported() {
+        let dir = tempfile::tempdir().unwrap();
+        let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
+        let mesh = io::read_mesh(&cube, &Default::default()).unwrap();
+        // The input itself is not Delaunay (delmesh adds 5 vertices to it).
+        let output = dir.path().join("cube.obj");
+        std::fs::copy(&cube, &output).unwrap();
+        let e = check_output(&cube, &mesh, &output).unwrap_err();
+        assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
+        assert!(e.to_string().contains("failed the check"), "{e}");
+        assert!(!output.exists());
+        assert!(dir.path().join("cube.obj.rejected").exists());
+        // A refined one passes and stays.
+        let surface = {
+            let mut s = io::build_surface(&mesh, &cube).unwrap();
+            delmesh::make_delaunay(&mut s, &Default::default()).unwrap();
+            s
+        };
+        io::write_mesh(&output, &surface.positions, &surface.triangles()).unwrap();
+        check_output(&cube, &mesh, &output).unwrap();
+        assert!(output.exists());
     }
 }
