@@ -686,6 +686,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
+        if io::output_format(&output) == io::Format::Stl && !args.quiet {
+            say!("note    {STL_NOTE}");
+        }
         let (code, rows) = run_all(&surface, &first_pass, transfer.as_ref(), input_path, &output, args)?;
         let runs: Vec<stats_json::RunRecord> = rows
             .iter()
@@ -1025,8 +1028,14 @@ struct RowFigures {
     seconds_write: f64,
 }
 
+/// The note for an STL output: the format cannot hold the coordinates.
+const STL_NOTE: &str = "STL stores f32 coordinates: added vertices (and input coordinates that need \
+     more bits) are rounded, so this output is not exactly Delaunay with the input's geometry (OBJ, OFF \
+     and PLY keep every coordinate)";
+
 /// Writes a refined (or not) surface, with the input's attributes carried
-/// by `transfer` if there are any; returns notes on attributes not written.
+/// by `transfer` if there are any; returns notes on attributes not written
+/// (and on STL's rounding).
 /// `done`: the OBJ lines of the input's vertices if formatted already (else
 /// empty).
 fn write_output(
@@ -1036,13 +1045,17 @@ fn write_output(
     done: &io::obj::VertexLines,
 ) -> anyhow::Result<Vec<String>> {
     let triangles = surface.triangles();
-    Ok(match transfer {
+    let mut notes = match transfer {
         None => {
             io::write_mesh_after(path, done, &surface.positions, &triangles)?;
             Vec::new()
         }
         Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
-    })
+    };
+    if io::output_format(path) == io::Format::Stl {
+        notes.push(STL_NOTE.to_string());
+    }
+    Ok(notes)
 }
 
 /// What attributes an input has, for the printout.

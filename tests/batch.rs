@@ -220,6 +220,18 @@ fn collisions_and_overwrites_are_refused_before_any_work() {
     assert!(!ok);
     assert!(stderr.contains("would overwrite an input"), "{stderr}");
     assert_eq!(std::fs::read(a.join("cube.obj")).unwrap(), before);
+    // A CSV that would replace an output is refused too.
+    let (ok, _, stderr) = batch(
+        &[
+            "-d",
+            out_dir.to_str().unwrap(),
+            "--stats-csv",
+            out_dir.join("cube.obj").to_str().unwrap(),
+        ],
+        &[a.join("cube.obj")],
+    );
+    assert!(!ok);
+    assert!(stderr.contains("would overwrite an input or an output"), "{stderr}");
     // In another format it is a new file beside it.
     let (ok, _, stderr) = batch(&["-d", a.to_str().unwrap(), "--format", "off"], &[a.join("cube.obj")]);
     assert!(ok, "{stderr}");

@@ -867,3 +867,26 @@ fn extended_sweep_adds_score_3_and_prune_applies_to_every_run() {
         .assert()
         .failure();
 }
+
+#[test]
+fn an_stl_output_says_it_is_rounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cube.stl");
+    let run = delmesh()
+        .args(["-i", common::data_dir().join("cube.obj").to_str().unwrap(), "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(stdout.contains("note    STL stores f32 coordinates"), "{stdout}");
+    // OBJ, OFF and PLY keep every coordinate: no such note.
+    for ext in ["obj", "off", "ply"] {
+        let run = delmesh()
+            .args(["-i", common::data_dir().join("cube.obj").to_str().unwrap(), "-o"])
+            .arg(dir.path().join(format!("cube.{ext}")))
+            .output()
+            .unwrap();
+        assert!(!String::from_utf8_lossy(&run.stdout).contains("STL"), "{ext}");
+    }
+}

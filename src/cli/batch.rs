@@ -38,8 +38,9 @@ pub(super) struct BatchArgs {
     #[arg(short = 'd', long = "out-dir", value_name = "DIR", required = true)]
     out_dir: PathBuf,
 
-    /// Format of the outputs (default: each input's own; OBJ for names
-    /// without a mesh extension).
+    /// Format of the outputs (default: each input's own, but OBJ for STL
+    /// inputs, since STL holds f32 coordinates, and for names without a
+    /// mesh extension).
     #[arg(long = "format", value_enum, value_name = "FORMAT")]
     format: Option<FormatArg>,
 
@@ -93,7 +94,8 @@ impl FormatArg {
 }
 
 /// The output file name of `input`: its name without `.gz`, with the
-/// extension of `format`, or its own if delmesh writes that format, or `obj`.
+/// extension of `format`, or its own if delmesh writes that format exactly
+/// (OBJ, OFF, PLY), or `obj` (STL inputs too: STL holds f32 coordinates).
 fn output_name(input: &Path, format: Option<FormatArg>) -> Option<PathBuf> {
     let mut name = Path::new(input.file_name()?);
     if name.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
@@ -103,7 +105,8 @@ fn output_name(input: &Path, format: Option<FormatArg>) -> Option<PathBuf> {
         let e = e.to_ascii_lowercase();
         FormatArg::from_str(&e, true).ok()
     });
-    let extension = format.or(own).unwrap_or(FormatArg::Obj).extension();
+    let exact = own.filter(|&f| f != FormatArg::Stl);
+    let extension = format.or(exact).unwrap_or(FormatArg::Obj).extension();
     let stem = if own.is_some() {
         name.file_stem()?
     } else {
@@ -173,6 +176,17 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>) -> anyhow
         outputs.push(output);
     }
     Ok(outputs)
+}
+
+/// `p` with its folder resolved (symbolic links, `..`): comparable with a
+/// canonical path even if `p` does not exist yet. `None` if the folder does
+/// not exist.
+fn resolved(p: &Path) -> Option<PathBuf> {
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
 }
 
 /// One file's result, as the summary line and the CSV row need it.
@@ -301,6 +315,9 @@ fn refine_file(
 pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     io::set_sync_writes(args.settings.sync);
+    if args.check && args.format == Some(FormatArg::Stl) {
+        bail!("--check and --format stl do not go together: STL rounds the coordinates to f32");
+    }
     let inputs = expand(&args.inputs)?;
     let outputs = plan(&inputs, &args.out_dir, args.format)?;
     std::fs::create_dir_all(&args.out_dir)
@@ -308,8 +325,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     check_output_dir(&outputs[0])?;
     if let Some(csv) = &args.stats_csv {
         check_output_dir(csv)?;
-        let same = |p: &Path| std::fs::canonicalize(p).ok() == std::fs::canonicalize(csv).ok();
-        if csv.exists() && inputs.iter().chain(&outputs).any(|p| same(p)) {
+        let target = resolved(csv);
+        let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
+        if is_input || outputs.iter().any(|p| resolved(p) == target) {
             bail!("{}: would overwrite an input or an output", csv.display());
         }
     }
@@ -434,6 +452,9 @@ mod tests {
             Some("dragon.obj")
         );
         assert_eq!(name("part.stl", Some(FormatArg::Off)).as_deref(), Some("part.off"));
+        assert_eq!(name("part.stl", None).as_deref(), Some("part.obj"));
+        assert_eq!(name("part.STL.gz", Some(FormatArg::Stl)).as_deref(), Some("part.stl"));
+        assert_eq!(name("a.off.gz", None).as_deref(), Some("a.off"));
         assert_eq!(name("scan.v2", None).as_deref(), Some("scan.v2.obj"));
         assert_eq!(name("mesh", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("mesh.gz", None).as_deref(), Some("mesh.obj"));
