@@ -273,3 +273,44 @@ fn a_folder_stands_for_its_mesh_files() {
     assert!(!ok);
     assert!(stderr.contains("no mesh files"), "{stderr}");
 }
+
+#[test]
+fn skip_existing_resumes_a_batch() {
+    let files = inputs();
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let (ok, _, stderr) = batch(&["-d", out_dir.to_str().unwrap()], &files[..2]);
+    assert!(ok, "{stderr}");
+    let first = std::fs::read(out_dir.join(files[0].file_name().unwrap())).unwrap();
+    // Make the second look stale: it must be left alone all the same.
+    let second = out_dir.join(files[1].file_name().unwrap());
+    std::fs::write(&second, "stale").unwrap();
+    let csv = dir.path().join("runs.csv");
+    let (ok, stdout, stderr) = batch(
+        &[
+            "-d",
+            out_dir.to_str().unwrap(),
+            "--skip-existing",
+            "--stats-csv",
+            csv.to_str().unwrap(),
+        ],
+        &files,
+    );
+    assert!(ok, "{stderr}");
+    let n = files.len();
+    assert_eq!(stdout.matches("skip    ").count(), 2, "{stdout}");
+    assert!(
+        stdout.contains(&format!("batch   {n} files: {} written, 2 skipped, 0 failed", n - 2)),
+        "{stdout}"
+    );
+    assert_eq!(
+        std::fs::read(out_dir.join(files[0].file_name().unwrap())).unwrap(),
+        first
+    );
+    assert_eq!(std::fs::read_to_string(&second).unwrap(), "stale");
+    for f in &files[2..] {
+        check_passes(f, &out_dir.join(f.file_name().unwrap()));
+    }
+    // Only the files refined this time have a CSV row.
+    assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 1 + n - 2);
+}

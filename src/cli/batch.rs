@@ -59,8 +59,14 @@ pub(super) struct BatchArgs {
     #[arg(long = "check")]
     check: bool,
 
+    /// Skip the inputs whose output exists already, e.g. to resume an
+    /// interrupted batch (outputs are written atomically, so an existing
+    /// one is complete).
+    #[arg(long = "skip-existing")]
+    skip_existing: bool,
+
     /// Also write the figures of every file as CSV, one row per input (the
-    /// columns of the main command's --stats-csv).
+    /// columns of the main command's --stats-csv; skipped inputs have none).
     #[arg(long = "stats-csv", value_name = "FILE")]
     stats_csv: Option<PathBuf>,
 
@@ -343,8 +349,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let options = args.settings.options();
     let next = AtomicUsize::new(0);
     let (tx, rx) = std::sync::mpsc::channel();
-    let mut records: Vec<RunRecord> = Vec::with_capacity(n);
-    let (mut failed, mut added) = (0usize, 0usize);
+    // The CSV rows: (input index, record), in order.
+    let mut records: Vec<(usize, RunRecord)> = Vec::with_capacity(n);
+    let (mut failed, mut skipped, mut added) = (0usize, 0usize, 0usize);
     std::thread::scope(|scope| {
         for _ in 0..workers {
             let (tx, next, inputs, outputs, options) = (tx.clone(), &next, &inputs, &outputs, &options);
@@ -353,7 +360,11 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 if i >= n {
                     break;
                 }
-                let done = refine_file(&inputs[i], &outputs[i], &args.settings, options, args.check);
+                let done = if args.skip_existing && outputs[i].exists() {
+                    Ok(None)
+                } else {
+                    refine_file(&inputs[i], &outputs[i], &args.settings, options, args.check).map(Some)
+                };
                 if tx.send((i, done)).is_err() {
                     break;
                 }
@@ -362,43 +373,57 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         drop(tx);
         // Report in the order given, whatever order the files finish in.
         let mut waiting = BTreeMap::new();
+        let mut reported = 0;
         for (i, done) in rx {
             waiting.insert(i, done);
-            while let Some(done) = waiting.remove(&records.len()) {
-                let i = records.len();
-                records.push(match done {
-                    Ok(done) => {
+            while let Some(done) = waiting.remove(&reported) {
+                let i = reported;
+                reported += 1;
+                match done {
+                    Ok(Some(done)) => {
                         let f = done.record.result.as_ref().ok();
                         added += f.map_or(0, |f| f.added_vertices);
                         if !args.quiet {
                             report_done(&inputs[i], &done);
                         }
-                        done.record
+                        records.push((i, done.record));
+                    }
+                    Ok(None) => {
+                        skipped += 1;
+                        if !args.quiet {
+                            say!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
+                        }
                     }
                     Err(e) => {
                         failed += 1;
                         complain!("delmesh: {}", one_line(&e));
-                        RunRecord {
+                        let record = RunRecord {
                             options: Some(options),
                             output: outputs[i].display().to_string(),
                             result: Err((error_kind(&e), one_line(&e))),
-                        }
+                        };
+                        records.push((i, record));
                     }
-                });
+                }
             }
         }
     });
     if let Some(csv) = &args.stats_csv {
-        let rows: Vec<(&Path, &RunRecord)> = inputs.iter().map(PathBuf::as_path).zip(&records).collect();
+        let rows: Vec<(&Path, &RunRecord)> = records.iter().map(|(i, r)| (inputs[*i].as_path(), r)).collect();
         let table = stats_json::csv_rows(&rows);
         io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
     }
     if !args.quiet {
         say!(
-            "batch   {} file{}: {} written, {} failed; {} added vertices; {:.3} s ({} at a time)",
+            "batch   {} file{}: {} written, {}{} failed; {} added vertices; {:.3} s ({} at a time)",
             n,
             if n == 1 { "" } else { "s" },
-            n - failed,
+            n - failed - skipped,
+            if args.skip_existing {
+                format!("{skipped} skipped, ")
+            } else {
+                String::new()
+            },
             failed,
             added,
             t0.elapsed().as_secs_f64(),
