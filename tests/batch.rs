@@ -37,6 +37,18 @@ fn without_seconds(stdout: &str) -> Vec<String> {
         .collect()
 }
 
+/// A book of three triangles on one edge (non-manifold: refused without
+/// --repair), written into `dir`.
+fn write_book(dir: &Path) -> PathBuf {
+    let book = dir.join("book.obj");
+    std::fs::write(
+        &book,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    book
+}
+
 fn check_passes(input: &Path, output: &Path) {
     let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -100,12 +112,7 @@ fn batch_check_verifies_every_output() {
     assert!(ok, "{stdout}{stderr}");
     assert_eq!(stdout.matches(", check PASS").count(), files.len(), "{stdout}");
     // The repaired input is what a repaired output is checked against.
-    let book = dir.path().join("book.obj");
-    std::fs::write(
-        &book,
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
-    )
-    .unwrap();
+    let book = write_book(dir.path());
     let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--check", "--repair"], &[&book]);
     assert!(ok, "{stdout}{stderr}");
     assert!(stdout.contains("check PASS"), "{stdout}");
@@ -148,13 +155,7 @@ fn batch_output_does_not_depend_on_jobs() {
 #[test]
 fn a_failing_file_does_not_stop_the_others() {
     let dir = tempfile::tempdir().unwrap();
-    // Three triangles on one edge: refused without --repair.
-    let book = dir.path().join("book.obj");
-    std::fs::write(
-        &book,
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
-    )
-    .unwrap();
+    let book = write_book(dir.path());
     let missing = dir.path().join("missing.obj");
     let cube = common::data_dir().join("cube.obj");
     let out_dir = dir.path().join("out");
