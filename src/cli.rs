@@ -145,6 +145,12 @@ struct RunArgs {
     #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
     smallest: bool,
 
+    /// Verify the output with `delmesh check` once written (against the
+    /// input, or with --repair the repaired input); if it fails, it is
+    /// renamed to OUTPUT.rejected and the exit status is 1.
+    #[arg(long = "check", requires = "output", conflicts_with_all = ["all", "no_refine"])]
+    check: bool,
+
     /// Print nothing but errors.
     #[arg(short = 'q', long = "quiet")]
     quiet: bool,
@@ -523,7 +529,7 @@ fn error_kind(e: &anyhow::Error) -> &'static str {
         Some(delmesh::Error::WorkLimit { .. }) => "work_limit",
         Some(delmesh::Error::Unsplittable { .. }) => "unsplittable",
         Some(delmesh::Error::Write { .. }) => "write",
-        _ if e.downcast_ref::<batch::CheckFailed>().is_some() => "check",
+        _ if e.downcast_ref::<CheckFailed>().is_some() => "check",
         _ => "other",
     }
 }
@@ -595,6 +601,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         if extra == input_path {
             bail!("{}: would overwrite the input", extra.display());
         }
+    }
+    if args.check && io::output_format(&output) == io::Format::Stl {
+        bail!("--check and an STL output do not go together: STL rounds the coordinates to f32");
     }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if args.output.is_none() && compressed {
@@ -810,6 +819,17 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let notes = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
+    if args.check {
+        if let Err(e) = check_output(input_path, &input, &output) {
+            let run = stats_json::RunRecord {
+                options: Some(options),
+                output: output.display().to_string(),
+                result: Err((error_kind(&e), one_line(&e))),
+            };
+            report.write(&[run], true)?;
+            return Err(e);
+        }
+    }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = stats_json::RunRecord {
         options: Some(options),
@@ -865,6 +885,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 p.tried,
                 p.flips,
                 p.passes
+            );
+        }
+        if args.check {
+            say!(
+                "check   PASS: {} is a Delaunay mesh with the geometry of {}{}",
+                output.display(),
+                input_path.display(),
+                if input.repair.is_some() { " (as repaired)" } else { "" }
             );
         }
         say!(
@@ -1056,6 +1084,62 @@ fn write_output(
         notes.push(STL_NOTE.to_string());
     }
     Ok(notes)
+}
+
+/// An output that `delmesh check` refused (`error_kind` "check").
+#[derive(Debug)]
+struct CheckFailed(String);
+
+impl std::fmt::Display for CheckFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for CheckFailed {}
+
+/// Runs the judge on `output` against `input` (or against the repaired
+/// input, written to a temporary file beside the output for the judge to
+/// read); an output that fails is renamed to `<output>.rejected`.
+fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
+    let repaired = match mesh.repair {
+        None => None,
+        Some(_) => {
+            let dir = output
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let file = tempfile::Builder::new()
+                .prefix(".delmesh-repaired-")
+                .suffix(".obj")
+                .tempfile_in(dir)
+                .with_context(|| dir.display().to_string())?;
+            io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
+            Some(file)
+        }
+    };
+    let reference = repaired.as_ref().map_or(input, |f| f.path());
+    let report = delmesh::check::check_files(reference, output)
+        .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
+    if report.passed() {
+        return Ok(());
+    }
+    let mut rejected = output.as_os_str().to_owned();
+    rejected.push(".rejected");
+    std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
+    let more = report.failures.len() - 1;
+    Err(CheckFailed(format!(
+        "{}: failed the check: {}{} (renamed to {})",
+        output.display(),
+        report.failures[0],
+        if more > 0 {
+            format!(" (and {more} more)")
+        } else {
+            String::new()
+        },
+        Path::new(&rejected).display()
+    ))
+    .into())
 }
 
 /// What attributes an input has, for the printout.
@@ -1411,5 +1495,29 @@ mod tests {
         let o = Options::new(Worklist::PriorityQueue, Score::AlwaysCenter, false);
         assert_eq!(combination_path(Path::new("e.obj"), &o), Path::new("e-p-2.obj"));
         assert_eq!(all_combinations().len(), 18);
+    }
+
+    #[test]
+    fn an_output_that_fails_the_check_is_renamed_and_reported() {
+        let dir = tempfile::tempdir().unwrap();
+        let cube = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
+        let mesh = io::read_mesh(&cube, &Default::default()).unwrap();
+        // The input itself is not Delaunay (delmesh adds 5 vertices to it).
+        let output = dir.path().join("cube.obj");
+        std::fs::copy(&cube, &output).unwrap();
+        let e = check_output(&cube, &mesh, &output).unwrap_err();
+        assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
+        assert!(e.to_string().contains("failed the check"), "{e}");
+        assert!(!output.exists());
+        assert!(dir.path().join("cube.obj.rejected").exists());
+        // A refined one passes and stays.
+        let surface = {
+            let mut s = io::build_surface(&mesh, &cube).unwrap();
+            delmesh::make_delaunay(&mut s, &Default::default()).unwrap();
+            s
+        };
+        io::write_mesh(&output, &surface.positions, &surface.triangles()).unwrap();
+        check_output(&cube, &mesh, &output).unwrap();
+        assert!(output.exists());
     }
 }

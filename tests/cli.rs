@@ -890,3 +890,37 @@ fn an_stl_output_says_it_is_rounded() {
         assert!(!String::from_utf8_lossy(&run.stdout).contains("STL"), "{ext}");
     }
 }
+
+#[test]
+fn check_flag_verifies_the_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bunny.obj");
+    let bunny = common::data_dir().join("bunny.obj");
+    let run = delmesh()
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&out)
+        .arg("--check")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(stdout.contains("check   PASS: "), "{stdout}");
+    // STL cannot pass: refused before any work, nothing written.
+    let stl = dir.path().join("bunny.stl");
+    let run = delmesh()
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&stl)
+        .arg("--check")
+        .output()
+        .unwrap();
+    assert!(!run.status.success());
+    assert!(String::from_utf8_lossy(&run.stderr).contains("STL rounds the coordinates"));
+    assert!(!stl.exists());
+    // The input is never rewritten in place under --check: it needs -o.
+    let run = delmesh().arg("-i").arg(&bunny).arg("--check").output().unwrap();
+    assert!(!run.status.success());
+}

@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::ValueEnum;
 
-use super::{check_output_dir, error_kind, one_line, refine_once, write_output, FirstPass, Settings};
+use super::{check_output, check_output_dir, error_kind, one_line, refine_once, write_output, FirstPass, Settings};
 use crate::stats_json::{self, RunFigures, RunRecord};
 use delmesh::attributes::Transfer;
 use delmesh::io;
@@ -205,62 +205,6 @@ struct Done {
     /// Whether `delmesh check` passed it (false: not asked).
     checked: bool,
     seconds: f64,
-}
-
-/// An output that `delmesh check` refused (`error_kind` "check").
-#[derive(Debug)]
-pub(super) struct CheckFailed(String);
-
-impl std::fmt::Display for CheckFailed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for CheckFailed {}
-
-/// Runs the judge on `output` against `input` (or against the repaired
-/// input, written to a temporary file beside the output for the judge to
-/// read); an output that fails is renamed to `<output>.rejected`.
-fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
-    let repaired = match mesh.repair {
-        None => None,
-        Some(_) => {
-            let dir = output
-                .parent()
-                .filter(|d| !d.as_os_str().is_empty())
-                .unwrap_or(Path::new("."));
-            let file = tempfile::Builder::new()
-                .prefix(".delmesh-repaired-")
-                .suffix(".obj")
-                .tempfile_in(dir)
-                .with_context(|| dir.display().to_string())?;
-            io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
-            Some(file)
-        }
-    };
-    let reference = repaired.as_ref().map_or(input, |f| f.path());
-    let report = delmesh::check::check_files(reference, output)
-        .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
-    if report.passed() {
-        return Ok(());
-    }
-    let mut rejected = output.as_os_str().to_owned();
-    rejected.push(".rejected");
-    std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
-    let more = report.failures.len() - 1;
-    Err(CheckFailed(format!(
-        "{}: failed the check: {}{} (renamed to {})",
-        output.display(),
-        report.failures[0],
-        if more > 0 {
-            format!(" (and {more} more)")
-        } else {
-            String::new()
-        },
-        Path::new(&rejected).display()
-    ))
-    .into())
 }
 
 /// Reads, refines and writes one file, as the main command would (and
@@ -484,29 +428,5 @@ mod tests {
         assert_eq!(name("mesh", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("mesh.gz", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("..", None), None);
-    }
-
-    #[test]
-    fn an_output_that_fails_the_check_is_renamed_and_reported() {
-        let dir = tempfile::tempdir().unwrap();
-        let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
-        let mesh = io::read_mesh(&cube, &Default::default()).unwrap();
-        // The input itself is not Delaunay (delmesh adds 5 vertices to it).
-        let output = dir.path().join("cube.obj");
-        std::fs::copy(&cube, &output).unwrap();
-        let e = check_output(&cube, &mesh, &output).unwrap_err();
-        assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
-        assert!(e.to_string().contains("failed the check"), "{e}");
-        assert!(!output.exists());
-        assert!(dir.path().join("cube.obj.rejected").exists());
-        // A refined one passes and stays.
-        let surface = {
-            let mut s = io::build_surface(&mesh, &cube).unwrap();
-            delmesh::make_delaunay(&mut s, &Default::default()).unwrap();
-            s
-        };
-        io::write_mesh(&output, &surface.positions, &surface.triangles()).unwrap();
-        check_output(&cube, &mesh, &output).unwrap();
-        assert!(output.exists());
     }
 }
