@@ -523,6 +523,15 @@ fn file_name(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
+/// The record of a run of `options` that failed with `e`.
+fn failure_record(options: Options, output: &Path, e: &anyhow::Error) -> stats_json::RunRecord {
+    stats_json::RunRecord {
+        options: Some(options),
+        output: output.display().to_string(),
+        result: Err((error_kind(e), one_line(e))),
+    }
+}
+
 /// A short name for why a run failed (`error_kind` in the JSON and CSV).
 fn error_kind(e: &anyhow::Error) -> &'static str {
     match e.downcast_ref::<delmesh::Error>() {
@@ -803,12 +812,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         Ok(out) => out,
         Err(e) => {
             progress::phase(Phase::Idle);
-            let run = stats_json::RunRecord {
-                options: Some(options),
-                output: output.display().to_string(),
-                result: Err((error_kind(&e), one_line(&e))),
-            };
-            report.write(&[run], true)?;
+            report.write(&[failure_record(options, &output, &e)], true)?;
             return Err(e);
         }
     };
@@ -821,12 +825,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Idle);
     if args.check {
         if let Err(e) = check_output(input_path, &input, &output) {
-            let run = stats_json::RunRecord {
-                options: Some(options),
-                output: output.display().to_string(),
-                result: Err((error_kind(&e), one_line(&e))),
-            };
-            report.write(&[run], true)?;
+            report.write(&[failure_record(options, &output, &e)], true)?;
             return Err(e);
         }
     }

@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::ValueEnum;
 
-use super::{check_output, check_output_dir, error_kind, one_line, refine_once, write_output, FirstPass, Settings};
+use super::{check_output, check_output_dir, failure_record, one_line, refine_once, write_output, FirstPass, Settings};
 use crate::stats_json::{self, RunFigures, RunRecord};
 use delmesh::attributes::Transfer;
 use delmesh::io;
@@ -341,12 +341,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                     Err(e) => {
                         failed += 1;
                         complain!("delmesh: {}", one_line(&e));
-                        let record = RunRecord {
-                            options: Some(options),
-                            output: outputs[i].display().to_string(),
-                            result: Err((error_kind(&e), one_line(&e))),
-                        };
-                        records.push((i, record));
+                        records.push((i, failure_record(options, &outputs[i], &e)));
                     }
                 }
             }
