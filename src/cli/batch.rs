@@ -204,6 +204,7 @@ struct Done {
     notes: Vec<String>,
     /// Whether `delmesh check` passed it (false: not asked).
     checked: bool,
+    /// Wall seconds spent on the file, from reading to the check.
     seconds: f64,
 }
 
