@@ -145,6 +145,13 @@ struct RunArgs {
     #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
     smallest: bool,
 
+    /// Also write where each output vertex comes from, as CSV
+    /// (output_index,input_index_a,input_index_b,t; 0-based, input indices
+    /// in the input file's numbering): its position is exactly a + t(b - a)
+    /// in f64; input vertices are a,a,0. For carrying per-vertex data over.
+    #[arg(long = "vertex-map", value_name = "FILE", conflicts_with = "all")]
+    vertex_map: Option<PathBuf>,
+
     /// Verify the output with `delmesh check` once written (against the
     /// input, or with --repair the repaired input); if it fails, it is
     /// renamed to OUTPUT.rejected and the exit status is 1.
@@ -523,6 +530,13 @@ fn file_name(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
+/// Writes `--vertex-map` for `surface`, read from `input`.
+fn write_vertex_map(path: &Path, surface: &Surface, input: &io::InputMesh) -> anyhow::Result<()> {
+    let table = stats_json::vertex_map_csv(&surface.vertex_sources(), &input.vertex_number);
+    io::write_atomic(path, |w| w.write_all(table.as_bytes()))?;
+    Ok(())
+}
+
 /// The record of a run of `options` that failed with `e`.
 fn failure_record(options: Options, output: &Path, e: &anyhow::Error) -> stats_json::RunRecord {
     stats_json::RunRecord {
@@ -605,10 +619,16 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    for extra in [&args.stats_json, &args.stats_csv, &args.chart].into_iter().flatten() {
+    for extra in [&args.stats_json, &args.stats_csv, &args.chart, &args.vertex_map]
+        .into_iter()
+        .flatten()
+    {
         check_output_dir(extra)?;
         if extra == input_path {
             bail!("{}: would overwrite the input", extra.display());
+        }
+        if *extra == output {
+            bail!("{}: would overwrite the output", extra.display());
         }
     }
     if args.check && io::output_format(&output) == io::Format::Stl {
@@ -643,6 +663,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
+    if args.vertex_map.is_some() && transfer.is_some() && io::output_format(&output) == io::Format::Ply {
+        bail!(
+            "{}: --vertex-map with a PLY output of a mesh with attributes: PLY repeats the vertices at \
+             attribute seams, so rows and vertices would not match; write OBJ, or add --drop-attributes",
+            output.display()
+        );
+    }
     let figures = surface.input_figures;
     // The input's non-Delaunay edges: the first pass of every run, and where
     // the lower bound is counted.
@@ -742,6 +769,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             name: file_name(&output),
         });
         let notes = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
+        if let Some(map) = &args.vertex_map {
+            write_vertex_map(map, &surface, &input)?;
+        }
         let write_s = t1.elapsed().as_secs_f64();
         progress::phase(Phase::Idle);
         let run = stats_json::RunRecord {
@@ -828,6 +858,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             report.write(&[failure_record(options, &output, &e)], true)?;
             return Err(e);
         }
+    }
+    if let Some(map) = &args.vertex_map {
+        write_vertex_map(map, &out.surface, &input)?;
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = stats_json::RunRecord {

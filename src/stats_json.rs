@@ -341,6 +341,20 @@ pub fn csv_rows(rows: &[(&Path, &RunRecord)]) -> String {
     s
 }
 
+/// `--vertex-map`: one row per output vertex, in the output's order,
+/// `output_index,input_index_a,input_index_b,t` (0-based; the input indices
+/// count the input file's vertices, `vertex_number` being each mesh
+/// vertex's 1-based number there). Input vertices are `a,a,0`.
+pub fn vertex_map_csv(sources: &[(u32, u32, f64)], vertex_number: &[u32]) -> String {
+    let file_index = |v: u32| vertex_number.get(v as usize).map_or(v, |n| n - 1);
+    let mut s = String::with_capacity(24 * sources.len() + 48);
+    s.push_str("output_index,input_index_a,input_index_b,t\n");
+    for (i, &(a, b, t)) in sources.iter().enumerate() {
+        let _ = writeln!(s, "{i},{},{},{}", file_index(a), file_index(b), num(t));
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

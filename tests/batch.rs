@@ -221,6 +221,22 @@ fn collisions_and_overwrites_are_refused_before_any_work() {
     assert!(!ok);
     assert!(stderr.contains("would overwrite an input"), "{stderr}");
     assert_eq!(std::fs::read(a.join("cube.obj")).unwrap(), before);
+    // Vertex maps are named after the output's stem: a.obj and a.off would
+    // share one.
+    let off = dir.path().join("b/cube.off");
+    let run = delmesh()
+        .args(["-i", cube.to_str().unwrap(), "-o", off.to_str().unwrap(), "-q"])
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let (ok, _, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--vertex-maps"],
+        &[a.join("cube.obj"), off.clone()],
+    );
+    assert!(!ok);
+    assert!(stderr.contains("cube.vertex-map.csv"), "{stderr}");
+    let (ok, _, stderr) = batch(&["-d", out_dir.to_str().unwrap()], &[a.join("cube.obj"), off]);
+    assert!(ok, "{stderr}");
     // A CSV that would replace an output is refused too.
     let (ok, _, stderr) = batch(
         &[

@@ -17,7 +17,10 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::ValueEnum;
 
-use super::{check_output, check_output_dir, failure_record, one_line, refine_once, write_output, FirstPass, Settings};
+use super::{
+    check_output, check_output_dir, failure_record, one_line, refine_once, write_output, write_vertex_map, FirstPass,
+    Settings,
+};
 use crate::stats_json::{self, RunFigures, RunRecord};
 use delmesh::attributes::Transfer;
 use delmesh::io;
@@ -58,6 +61,11 @@ pub(super) struct BatchArgs {
     /// failed. Checking takes a few times longer than refining.
     #[arg(long = "check")]
     check: bool,
+
+    /// Also write beside each output where its vertices come from, as the
+    /// main command's --vertex-map does: NAME.vertex-map.csv for NAME.obj.
+    #[arg(long = "vertex-maps")]
+    vertex_maps: bool,
 
     /// Skip the inputs whose output exists already, e.g. to resume an
     /// interrupted batch (outputs are written atomically, so an existing
@@ -156,7 +164,7 @@ fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 
 /// The output path of every input, in order; refuses two inputs with one
 /// output, and an output that is an input.
-fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>) -> anyhow::Result<Vec<PathBuf>> {
+fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: bool) -> anyhow::Result<Vec<PathBuf>> {
     // Where the outputs go, if the folder exists already (if not, no input
     // is in it).
     let dir = std::fs::canonicalize(out_dir).ok();
@@ -168,16 +176,20 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>) -> anyhow
             bail!("{}: not a file name", input.display());
         };
         let output = out_dir.join(&name);
-        if let Some(first) = taken.insert(name.clone(), input) {
-            bail!(
-                "{} and {} would both be written to {}",
-                first.display(),
-                input.display(),
-                output.display()
-            );
-        }
-        if dir.as_ref().is_some_and(|d| canonical.contains(&d.join(&name))) {
-            bail!("{}: would overwrite an input", output.display());
+        let map = maps.then(|| vertex_map_path(&output));
+        for written in std::iter::once(&output).chain(&map) {
+            let name = PathBuf::from(written.file_name().unwrap_or_default());
+            if let Some(first) = taken.insert(name.clone(), input) {
+                bail!(
+                    "{} and {} would both be written to {}",
+                    first.display(),
+                    input.display(),
+                    written.display()
+                );
+            }
+            if dir.as_ref().is_some_and(|d| canonical.contains(&d.join(&name))) {
+                bail!("{}: would overwrite an input", written.display());
+            }
         }
         outputs.push(output);
     }
@@ -208,15 +220,17 @@ struct Done {
     seconds: f64,
 }
 
+/// The vertex map written beside `output` with --vertex-maps.
+fn vertex_map_path(output: &Path) -> PathBuf {
+    let mut name = output.file_stem().unwrap_or_default().to_owned();
+    name.push(".vertex-map.csv");
+    output.with_file_name(name)
+}
+
 /// Reads, refines and writes one file, as the main command would (and
 /// checks it, with `check`).
-fn refine_file(
-    input: &Path,
-    output: &Path,
-    settings: &Settings,
-    options: &Options,
-    check: bool,
-) -> anyhow::Result<Done> {
+fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> anyhow::Result<Done> {
+    let (settings, check) = (&args.settings, args.check);
     let t0 = Instant::now();
     let mut mesh = io::read_mesh(input, &settings.read_options())?;
     if settings.drop_attributes {
@@ -224,6 +238,13 @@ fn refine_file(
         mesh.notes.clear();
     }
     let surface = io::build_surface(&mesh, input)?;
+    if args.vertex_maps && !mesh.attributes.is_empty() && io::output_format(output) == io::Format::Ply {
+        bail!(
+            "{}: --vertex-maps with a PLY output of a mesh with attributes: PLY repeats the vertices at \
+             attribute seams; write OBJ, or add --drop-attributes",
+            output.display()
+        );
+    }
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
     let first_pass = FirstPass::new(&surface);
@@ -239,6 +260,9 @@ fn refine_file(
     let seconds_write = t_write.elapsed().as_secs_f64();
     if check {
         check_output(input, &mesh, output)?;
+    }
+    if args.vertex_maps {
+        write_vertex_map(&vertex_map_path(output), &out.surface, &mesh)?;
     }
     let s = &out.surface;
     Ok(Done {
@@ -270,7 +294,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         bail!("--check and --format stl do not go together: STL rounds the coordinates to f32");
     }
     let inputs = expand(&args.inputs)?;
-    let outputs = plan(&inputs, &args.out_dir, args.format)?;
+    let outputs = plan(&inputs, &args.out_dir, args.format, args.vertex_maps)?;
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
     check_output_dir(&outputs[0])?;
@@ -308,7 +332,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 let done = if args.skip_existing && outputs[i].exists() {
                     Ok(None)
                 } else {
-                    refine_file(&inputs[i], &outputs[i], &args.settings, options, args.check).map(Some)
+                    refine_file(&inputs[i], &outputs[i], args, options).map(Some)
                 };
                 if tx.send((i, done)).is_err() {
                     break;

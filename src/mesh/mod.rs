@@ -267,6 +267,22 @@ impl Surface {
         }
     }
 
+    /// Where each vertex comes from: `(a, b, t)` with input vertices `a`,
+    /// `b` and its position exactly `p_a + t·(p_b − p_a)` in f64 (the
+    /// formula of [`point_on_edge`]). An input vertex is `(i, i, 0)`.
+    pub fn vertex_sources(&self) -> Vec<(u32, u32, f64)> {
+        self.carriers
+            .iter()
+            .map(|c| match *c {
+                Carrier::Vertex(i) => (i, i, 0.0),
+                Carrier::Edge { edge, t } => {
+                    let [a, b] = self.input_edges[edge as usize];
+                    (a, b, t)
+                }
+            })
+            .collect()
+    }
+
     /// End points of input edge `edge`.
     #[inline]
     pub fn input_edge_ends(&self, edge: u32) -> [DVec3; 2] {
