@@ -238,13 +238,20 @@ impl Settings {
         options
     }
 
-    /// How inputs are read: with or without repair.
-    fn read_options(&self) -> io::ReadOptions {
-        io::ReadOptions {
+    /// Reads `path`, with or without repair, and without its attributes
+    /// under --drop-attributes.
+    fn read(&self, path: &Path) -> anyhow::Result<io::InputMesh> {
+        let options = io::ReadOptions {
             repair: self.repair.then_some(delmesh::repair::RepairOptions {
                 weld_tolerance: self.weld_tolerance,
             }),
+        };
+        let mut input = io::read_mesh(path, &options)?;
+        if self.drop_attributes {
+            input.attributes = Default::default();
+            input.notes.clear();
         }
+        Ok(input)
     }
 }
 
@@ -486,6 +493,26 @@ struct Outcome {
     seconds: f64,
 }
 
+impl Outcome {
+    /// The record of this run, written to `output` in `seconds_write`.
+    fn record(&self, options: Options, output: &Path, seconds_write: f64) -> stats_json::RunRecord {
+        let s = &self.surface;
+        stats_json::RunRecord {
+            options: Some(options),
+            output: output.display().to_string(),
+            result: Ok(stats_json::RunFigures {
+                vertices: s.positions.len(),
+                faces: s.topo.n_faces(),
+                added_vertices: s.positions.len() - s.n_input_vertices,
+                pruned_vertices: self.pruned.map(|p| p.removed),
+                stats: Some(self.stats),
+                seconds_refine: self.seconds,
+                seconds_write,
+            }),
+        }
+    }
+}
+
 /// The first pass of Algorithm 2 on the input, shared by the runs: its
 /// non-Delaunay edges, and the seconds it took (counted in every run's
 /// refine time).
@@ -528,6 +555,20 @@ fn refine_once(
 fn file_name(path: &Path) -> String {
     path.file_name()
         .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// Refuses a vertex map for a PLY output of a mesh with attributes: the
+/// writer repeats vertices at attribute seams, so the map's rows would not
+/// be the file's vertices.
+fn refuse_map_through_seams(input: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
+    if !input.attributes.is_empty() && io::output_format(output) == io::Format::Ply {
+        bail!(
+            "{}: no vertex map for a PLY output of a mesh with attributes: PLY repeats the vertices at \
+             attribute seams, so rows and vertices would not match; write OBJ, or add --drop-attributes",
+            output.display()
+        );
+    }
+    Ok(())
 }
 
 /// Writes `--vertex-map` for `surface`, read from `input`.
@@ -643,15 +684,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     }
     let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
     let t0 = Instant::now();
-    let read_options = args.settings.read_options();
     progress::phase(Phase::Read {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let mut input = io::read_mesh(input_path, &read_options)?;
-    if args.settings.drop_attributes {
-        input.attributes = Default::default();
-        input.notes.clear();
+    let input = args.settings.read(input_path)?;
+    if args.vertex_map.is_some() {
+        refuse_map_through_seams(&input, &output)?;
     }
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
@@ -663,13 +702,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
-    if args.vertex_map.is_some() && transfer.is_some() && io::output_format(&output) == io::Format::Ply {
-        bail!(
-            "{}: --vertex-map with a PLY output of a mesh with attributes: PLY repeats the vertices at \
-             attribute seams, so rows and vertices would not match; write OBJ, or add --drop-attributes",
-            output.display()
-        );
-    }
     let figures = surface.input_figures;
     // The input's non-Delaunay edges: the first pass of every run, and where
     // the lower bound is counted.
@@ -863,19 +895,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         write_vertex_map(map, &out.surface, &input)?;
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
-    let run = stats_json::RunRecord {
-        options: Some(options),
-        output: output.display().to_string(),
-        result: Ok(stats_json::RunFigures {
-            vertices: out.surface.positions.len(),
-            faces: out.surface.topo.n_faces(),
-            added_vertices: added,
-            pruned_vertices: out.pruned.map(|p| p.removed),
-            stats: Some(out.stats),
-            seconds_refine: out.seconds,
-            seconds_write: write_s,
-        }),
-    };
+    let run = out.record(options, &output, write_s);
     let total = report.write(&[run], true)?;
     if !args.quiet {
         let s = &out.stats;

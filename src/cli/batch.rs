@@ -8,7 +8,7 @@
 //! a folder of small meshes goes several times faster this way than with a
 //! shell loop.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -18,10 +18,10 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, one_line, refine_once, write_output, write_vertex_map, FirstPass,
-    Settings,
+    check_output, check_output_dir, failure_record, one_line, refine_once, refuse_map_through_seams, write_output,
+    write_vertex_map, FirstPass, Settings,
 };
-use crate::stats_json::{self, RunFigures, RunRecord};
+use crate::stats_json::{self, RunRecord};
 use delmesh::attributes::Transfer;
 use delmesh::io;
 use delmesh::refine::Options;
@@ -168,7 +168,7 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: boo
     // Where the outputs go, if the folder exists already (if not, no input
     // is in it).
     let dir = std::fs::canonicalize(out_dir).ok();
-    let canonical: Vec<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
+    let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
     for input in inputs {
@@ -214,8 +214,6 @@ struct Done {
     repairs: Vec<String>,
     /// Attribute notes of the reader and the writer.
     notes: Vec<String>,
-    /// Whether `delmesh check` passed it (false: not asked).
-    checked: bool,
     /// Wall seconds spent on the file, from reading to the check.
     seconds: f64,
 }
@@ -232,19 +230,11 @@ fn vertex_map_path(output: &Path) -> PathBuf {
 fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> anyhow::Result<Done> {
     let (settings, check) = (&args.settings, args.check);
     let t0 = Instant::now();
-    let mut mesh = io::read_mesh(input, &settings.read_options())?;
-    if settings.drop_attributes {
-        mesh.attributes = Default::default();
-        mesh.notes.clear();
+    let mut mesh = settings.read(input)?;
+    if args.vertex_maps {
+        refuse_map_through_seams(&mesh, output)?;
     }
     let surface = io::build_surface(&mesh, input)?;
-    if args.vertex_maps && !mesh.attributes.is_empty() && io::output_format(output) == io::Format::Ply {
-        bail!(
-            "{}: --vertex-maps with a PLY output of a mesh with attributes: PLY repeats the vertices at \
-             attribute seams; write OBJ, or add --drop-attributes",
-            output.display()
-        );
-    }
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
     let first_pass = FirstPass::new(&surface);
@@ -264,24 +254,10 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     if args.vertex_maps {
         write_vertex_map(&vertex_map_path(output), &out.surface, &mesh)?;
     }
-    let s = &out.surface;
     Ok(Done {
-        record: RunRecord {
-            options: Some(*options),
-            output: output.display().to_string(),
-            result: Ok(RunFigures {
-                vertices: s.positions.len(),
-                faces: s.topo.n_faces(),
-                added_vertices: s.positions.len() - s.n_input_vertices,
-                pruned_vertices: out.pruned.map(|p| p.removed),
-                stats: Some(out.stats),
-                seconds_refine: out.seconds,
-                seconds_write,
-            }),
-        },
+        record: out.record(*options, output, seconds_write),
         repairs: mesh.repair.map(|r| r.lines()).unwrap_or_default(),
         notes,
-        checked: check,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }
@@ -353,7 +329,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                         let f = done.record.result.as_ref().ok();
                         added += f.map_or(0, |f| f.added_vertices);
                         if !args.quiet {
-                            report_done(&inputs[i], &done);
+                            report_done(&inputs[i], &done, args.check);
                         }
                         records.push((i, done.record));
                     }
@@ -401,8 +377,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// The line of a file written.
-fn report_done(input: &Path, done: &Done) {
+/// The line of a file written (and, with `checked`, passed by the check).
+fn report_done(input: &Path, done: &Done, checked: bool) {
     let Ok(f) = &done.record.result else { return };
     let mut line = format!(
         "ok      {} -> {}: {} vertices, {} faces, {} added vertices",
@@ -415,7 +391,7 @@ fn report_done(input: &Path, done: &Done) {
     if let Some(pruned) = f.pruned_vertices {
         line += &format!(" ({pruned} pruned)");
     }
-    if done.checked {
+    if checked {
         line += ", check PASS";
     }
     if !done.repairs.is_empty() {
