@@ -10,7 +10,8 @@
 # the median end-to-end wall time (hyperfine if installed, else a loop), the
 # peak memory (/usr/bin/time -v), and the I/O floor: the same command with
 # --no-refine (read, validate, write). Also `-all` on armadillo, parallel
-# against sequential (--jobs 1). Then every mesh of ../shared/meshes that
+# against sequential (--jobs 1), and --prune on the armadillo and the
+# dragon at 202k faces. Then every mesh of ../shared/meshes that
 # ../shared/reference/peers.md times, against those figures. Timings are
 # never asserted.
 set -euo pipefail
@@ -71,6 +72,25 @@ mkdir -p "$out/all"
 par=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all)
 seq1=$(wall "$bin" -q -i ../shared/meshes/armadillo.obj -o "$out/all/a.obj" -all --jobs 1)
 printf -- '-all armadillo: %s s with one job per core, %s s with --jobs 1 (x%.2f)\n' "$par" "$seq1" "$(echo "$seq1 / $par" | bc -l)"
+
+# --prune: the construction then pruning, median wall time of the whole
+# process (no repetitions of the full dragon, about two minutes: set
+# BENCH_PRUNE_FULL=1 for one run of it).
+echo
+prune_row() { # name path [flags...]
+  local name=$1 path=$2; shift 2
+  [ -f "$path" ] || return 0
+  local w; w=$(wall "$bin" -q -i "$path" -o "$out/p.obj" --prune "$@")
+  printf -- '--prune %-12s %8s s  (%s)\n' "$name" "$w" "$("$bin" -i "$path" -o "$out/p.obj" --prune "$@" 2>&1 | grep '^prune')"
+}
+prune_row armadillo ../shared/meshes/armadillo.obj
+prune_row dragon-202k "$data/dragon_vrip_res2.ply.gz" --repair
+if [ "${BENCH_PRUNE_FULL:-0}" = 1 ] && [ -f "$data/dragon_vrip.ply.gz" ]; then
+  s=$(date +%s.%N)
+  line=$("$bin" -i "$data/dragon_vrip.ply.gz" --repair -o "$out/p.obj" --prune 2>&1 | grep '^prune')
+  e=$(date +%s.%N)
+  printf -- '--prune %-12s %8.2f s  (%s; one run)\n' dragon-871k "$(echo "$e - $s" | bc -l)" "$line"
+fi
 
 # Mesh by mesh against the public C++ re-implementation of Liu et al.
 # (SplitToDelaunay, ../shared/reference/peers.md: refine s, total s), with

@@ -542,7 +542,7 @@ fn refine_once(
     let start = Instant::now();
     let stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
         .with_context(|| path.display().to_string())?;
-    let pruned = prune.then(|| delmesh::prune::prune(&mut surface, options));
+    let pruned = prune.then(|| delmesh::prune::prune_with_progress(&mut surface, options, progress::prune_hook()));
     Ok(Outcome {
         surface,
         stats,
@@ -1012,12 +1012,19 @@ fn smallest(
     // Two phases keep the result independent of the number of threads.
     let most_splits = std::sync::atomic::AtomicUsize::new(0);
     let n_median = settings.iter().filter(|o| o.median).count();
+    progress::phase(Phase::Sweep {
+        label: "--smallest",
+        total: settings.len(),
+    });
     for phase in [0..n_median, n_median..settings.len()] {
         let cap = 100 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 10_000;
         let next = std::sync::atomic::AtomicUsize::new(phase.start);
         std::thread::scope(|scope| {
-            for _ in 0..threads.min(phase.len()) {
-                scope.spawn(|| loop {
+            for worker in 0..threads.min(phase.len()) {
+                let (next, settings, surface, best, first_error, most_splits, phase) =
+                    (&next, &settings, &surface, &best, &first_error, &most_splits, &phase);
+                scope.spawn(move || loop {
+                    progress::use_slot(worker);
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     if i >= phase.end {
                         break;
@@ -1039,6 +1046,7 @@ fn smallest(
                             first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
                         }
                     }
+                    progress::run_done();
                 });
             }
         });
@@ -1287,7 +1295,10 @@ fn run_all(
     });
     let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
-    progress::phase(Phase::Sweep { total: combos.len() });
+    progress::phase(Phase::Sweep {
+        label: "-all",
+        total: combos.len(),
+    });
     std::thread::scope(|scope| {
         for worker in 0..threads {
             let (next, rows, combos, order) = (&next, &rows, &combos, &order);

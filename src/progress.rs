@@ -16,6 +16,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::Relaxed};
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
+use delmesh::prune::{PruneHook, PruneStats};
 use delmesh::refine::{ProgressHook, Stats};
 
 /// When to draw (`--progress`).
@@ -54,8 +55,10 @@ pub enum Phase {
         /// The file's name.
         name: String,
     },
-    /// The `-all` sweep.
+    /// Several runs at once: the `-all` sweep or `--smallest`.
     Sweep {
+        /// What the line starts with (`-all`, `--smallest`).
+        label: &'static str,
         /// Runs in the sweep.
         total: usize,
     },
@@ -68,6 +71,12 @@ struct Slot {
     splits: AtomicUsize,
     flips: AtomicUsize,
     pending: AtomicUsize,
+    /// Pruning (`--prune`) has begun in this slot's run.
+    pruning: AtomicBool,
+    pass: AtomicUsize,
+    removed: AtomicUsize,
+    /// Added vertices the pass has still to visit.
+    to_visit: AtomicUsize,
 }
 
 #[allow(clippy::declare_interior_mutable_const)]
@@ -75,7 +84,23 @@ const EMPTY_SLOT: Slot = Slot {
     splits: AtomicUsize::new(0),
     flips: AtomicUsize::new(0),
     pending: AtomicUsize::new(0),
+    pruning: AtomicBool::new(false),
+    pass: AtomicUsize::new(0),
+    removed: AtomicUsize::new(0),
+    to_visit: AtomicUsize::new(0),
 };
+
+impl Slot {
+    fn reset(&self) {
+        self.splits.store(0, Relaxed);
+        self.flips.store(0, Relaxed);
+        self.pending.store(0, Relaxed);
+        self.pruning.store(false, Relaxed);
+        self.pass.store(0, Relaxed);
+        self.removed.store(0, Relaxed);
+        self.to_visit.store(0, Relaxed);
+    }
+}
 static SLOT_COUNTS: [Slot; SLOTS] = [EMPTY_SLOT; SLOTS];
 static RUNS_DONE: AtomicUsize = AtomicUsize::new(0);
 static ENABLED: AtomicBool = AtomicBool::new(false);
@@ -185,6 +210,23 @@ pub fn on_refine(stats: &Stats, pending: usize) {
     slot.pending.store(pending, Relaxed);
 }
 
+/// The prune hook to pass to `prune_with_progress` when drawing, else `None`.
+pub fn prune_hook() -> Option<PruneHook> {
+    ENABLED.load(Relaxed).then_some(PruneHook(&on_prune))
+}
+
+/// The pruning progress hook: records the counts of this thread's run.
+pub fn on_prune(stats: &PruneStats, to_visit: usize) {
+    let slot = &SLOT_COUNTS[MY_SLOT.with(|s| s.get()) % SLOTS];
+    slot.pruning.store(true, Relaxed);
+    slot.pass.store(stats.passes, Relaxed);
+    slot.removed.store(stats.removed, Relaxed);
+    slot.to_visit.store(to_visit, Relaxed);
+    // Called every few thousand vertices (milliseconds apart): draw now, so
+    // that even a short pruning shows once the delay has passed.
+    tick();
+}
+
 /// Makes the calling thread report its refine counts in slot `k` (one per
 /// `-all` worker), starting from zero.
 pub fn use_slot(k: usize) {
@@ -193,10 +235,7 @@ pub fn use_slot(k: usize) {
 }
 
 fn reset_slot() {
-    let slot = &SLOT_COUNTS[MY_SLOT.with(|s| s.get()) % SLOTS];
-    slot.splits.store(0, Relaxed);
-    slot.flips.store(0, Relaxed);
-    slot.pending.store(0, Relaxed);
+    SLOT_COUNTS[MY_SLOT.with(|s| s.get()) % SLOTS].reset();
 }
 
 /// One `-all` run has ended (its thread's counts go back to zero).
@@ -212,9 +251,7 @@ pub fn phase(p: Phase) {
     }
     if matches!(p, Phase::Refine | Phase::Sweep { .. }) {
         for slot in &SLOT_COUNTS {
-            slot.splits.store(0, Relaxed);
-            slot.flips.store(0, Relaxed);
-            slot.pending.store(0, Relaxed);
+            slot.reset();
         }
         RUNS_DONE.store(0, Relaxed);
     }
@@ -309,6 +346,16 @@ fn describe(s: &State) -> String {
             _ => format!("reading {name}  {secs:.1} s"),
         },
         Phase::Build { faces } => format!("building the mesh  {} faces  {secs:.1} s", count(*faces)),
+        // One run (not a sweep): slot 0 only.
+        Phase::Refine if SLOT_COUNTS[0].pruning.load(Relaxed) => {
+            let slot = &SLOT_COUNTS[0];
+            format!(
+                "pruning  pass {}  {} removed  {} to visit  {secs:.1} s",
+                slot.pass.load(Relaxed),
+                count(slot.removed.load(Relaxed)),
+                count(slot.to_visit.load(Relaxed))
+            )
+        }
         Phase::Refine if splits + flips + pending == 0 => format!("refining  {secs:.1} s"),
         Phase::Refine => format!(
             "refining  {} splits  {} flips  {} edges waiting  {secs:.1} s",
@@ -320,16 +367,16 @@ fn describe(s: &State) -> String {
             Some((_, w)) => format!("writing {name}  {}  {secs:.1} s", megabytes(w)),
             None => format!("writing {name}  {secs:.1} s"),
         },
-        Phase::Sweep { total } => {
+        Phase::Sweep { label, total } => {
             let done = RUNS_DONE.load(Relaxed).min(*total);
             let bar_len = 12;
             let filled = (done * bar_len).checked_div(*total).unwrap_or(0);
             let bar = format!("{}{}", "#".repeat(filled), ".".repeat(bar_len - filled));
             if splits + flips == 0 {
-                format!("-all [{bar}] {done}/{total} runs | {secs:.0} s")
+                format!("{label} [{bar}] {done}/{total} runs | {secs:.0} s")
             } else {
                 format!(
-                    "-all [{bar}] {done}/{total} runs | running: {} splits {} flips | {secs:.0} s",
+                    "{label} [{bar}] {done}/{total} runs | running: {} splits {} flips | {secs:.0} s",
                     count(splits),
                     count(flips)
                 )

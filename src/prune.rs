@@ -27,10 +27,11 @@
 //!       y1    y2                 y1----y2            y
 //! ```
 
-use crate::geometry::ALGORITHM_TOLERANCE;
+use crate::geometry::{self, ALGORITHM_TOLERANCE};
 use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
 use crate::refine::{self, Options};
-use crate::samples::{point_on_edge, EdgeSamples, SampleConstants, Score};
+use crate::samples::{point_on_edge, EdgeSamples, Pieces, SampleConstants, Score};
+use glam::DVec3;
 
 /// What pruning did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -73,12 +74,27 @@ const VARIANTS: [(Score, bool); 8] = [
 /// finds what earlier removals made possible).
 const MAX_PASSES: usize = 8;
 
+/// A progress callback for [`prune_with_progress`]: the figures so far and
+/// how many added vertices the current pass has still to visit. `'static`
+/// like [`crate::refine::ProgressHook`].
+#[derive(Clone, Copy)]
+pub struct PruneHook(pub &'static (dyn Fn(&PruneStats, usize) + Sync));
+
+/// How many added vertices are visited between two calls of a [`PruneHook`].
+pub const PRUNE_PROGRESS_INTERVAL: usize = 1 << 12;
+
 /// Removes added vertices of the Delaunay mesh `surface` wherever it stays
 /// Delaunay with fewer, and compacts the mesh (the remaining vertices keep
 /// their order). `surface` must be the result of a successful
 /// [`crate::make_delaunay`]; `options` choose the samples of the local
 /// re-refinements (their work limit is not used).
 pub fn prune(surface: &mut Surface, options: &Options) -> PruneStats {
+    prune_with_progress(surface, options, None)
+}
+
+/// [`prune`], calling `hook` (if any) every [`PRUNE_PROGRESS_INTERVAL`]
+/// added vertices visited; the result does not depend on it.
+pub fn prune_with_progress(surface: &mut Surface, options: &Options, hook: Option<PruneHook>) -> PruneStats {
     let constants = refine::sample_constants(surface);
     let mut run = Pruner {
         constants,
@@ -104,6 +120,11 @@ pub fn prune(surface: &mut Surface, options: &Options) -> PruneStats {
         let before = run.stats.removed;
         // Newest first: a vertex added late was placed knowing the others.
         for v in (first_added..run.s.topo.n_vertices()).rev() {
+            if let Some(PruneHook(hook)) = hook {
+                if (v - first_added) % PRUNE_PROGRESS_INTERVAL == 0 {
+                    hook(&run.stats, v - first_added);
+                }
+            }
             let v = VertexId(v as u32);
             if run.dirty.get(v.idx()).copied().unwrap_or(true) && !run.s.topo.is_dead_vertex(v) {
                 run.dirty[v.idx()] = false;
@@ -555,8 +576,21 @@ impl Pruner<'_> {
             }
         }
         let mark = self.mark();
+        let last_split = self.splits + 1 >= budget;
         for bad in bad_edges {
-            for t in self.candidates(bad) {
+            let candidates = self.candidates(bad);
+            for &t in candidates.as_slice() {
+                if last_split && self.split_is_doomed(bad, t) {
+                    // Debug builds (every test) check the claim: the trial
+                    // itself fails, and leaves nothing behind once undone.
+                    #[cfg(debug_assertions)]
+                    {
+                        self.split(bad, t);
+                        assert!(!self.refine_locally(budget), "a doomed split ended Delaunay");
+                        self.undo_to(mark);
+                    }
+                    continue;
+                }
                 self.split(bad, t);
                 if self.refine_locally(budget) {
                     return Attempt::Kept;
@@ -567,24 +601,89 @@ impl Pruner<'_> {
         Attempt::Failed
     }
 
+    /// Whether splitting the non-flippable edge `bad` at `t`, as the
+    /// attempt's last split, certainly leaves an edge non-Delaunay: then the
+    /// trial would fail, and is skipped (the result is the same, only
+    /// sooner). Six edges are looked at, those whose quads the split makes:
+    ///
+    /// ```text
+    ///          x1     x0
+    ///           \ c  /          the halves a-p, p-b; the outer edges
+    ///        b ---p--- a        a-c, c-b, b-d, d-a with the apexes
+    ///           / d  \          x0..x3 beyond them
+    ///          x2     x3
+    /// ```
+    ///
+    /// An edge's quad changes only if a face of it does, and after this
+    /// split only flips can change faces. Flippability never changes (a
+    /// flip or split keeps each face's region), p-c and p-d are never
+    /// flipped (the flip would make the face (a, p, b) on one input edge,
+    /// which `flip_is_valid` refuses) and the halves are not flippable (as
+    /// `bad` is not). So a half keeps its quad if the two outer edges at its
+    /// end (a-c and d-a for a-p) are not flippable, and an outer edge that
+    /// is not flippable keeps its quad if the other two edges of the face
+    /// beyond it are not. Such an edge that the split leaves non-Delaunay
+    /// stays so: the test here is the one `settle` makes, on the same four
+    /// positions (it is symmetric in the edge's ends and in its apexes).
+    fn split_is_doomed(&self, bad: EdgeId, t: f64) -> bool {
+        let s = &*self.s;
+        let topo = &s.topo;
+        let [a, b, c, d] = s.edge_quad(bad);
+        let [e0, e1] = s.input_edge_ends(s.edge_input[bad.idx()]);
+        let p = point_on_edge(e0, e1, t);
+        let outer = topo.outer_halfedges(bad); // c→a, b→c, d→b, a→d
+        let fixed = outer.map(|x| !s.is_flippable(x.edge()));
+        let bad_edge = |q: [DVec3; 4]| geometry::is_non_delaunay(q[0], q[1], q[2], q[3], ALGORITHM_TOLERANCE);
+        if (fixed[0] && fixed[3] && bad_edge([a, p, c, d])) || (fixed[1] && fixed[2] && bad_edge([p, b, c, d])) {
+            return true;
+        }
+        // Outer edge i runs between `ends[i]`; its new apex on this side is p.
+        let ends = [[c, a], [b, c], [d, b], [a, d]];
+        (0..4).any(|i| {
+            let beyond = outer[i].twin();
+            if !fixed[i] || topo.face(beyond).is_none() {
+                return false;
+            }
+            let (n1, n2) = (topo.next(beyond), topo.next(topo.next(beyond)));
+            !s.is_flippable(n1.edge())
+                && !s.is_flippable(n2.edge())
+                && bad_edge([ends[i][0], ends[i][1], p, s.positions[topo.dest(n1).idx()]])
+        })
+    }
+
     /// Where to split the non-flippable edge `bad`: the sample each of
     /// [`VARIANTS`] would choose, then a few samples spread along it (the six
     /// conditions the scores weigh see only the quad, not the other vertices
     /// around); each parameter once.
-    fn candidates(&self, bad: EdgeId) -> Vec<f64> {
-        let mut ts: Vec<f64> = Vec::with_capacity(VARIANTS.len() + SPREAD.len());
-        for (score, median) in VARIANTS {
-            let options = Options {
-                score,
-                median,
-                ..self.options
+    fn candidates(&self, bad: EdgeId) -> Candidates {
+        let mut ts = Candidates::default();
+        // One query and one cut into pieces for all variants (the unfolding
+        // and the searches are most of the cost: only the scoring differs).
+        // A parameter already listed passed `split_is_valid`, so it is not
+        // tested again; the middle of the sub-edge is the same for all.
+        refine::with_split_query(self.s, &self.constants, bad, true, |q| {
+            let Some(pieces) = Pieces::new(q) else {
+                return; // no sample inside the sub-edge
             };
-            if let Some(choice) = refine::choose_sample(self.s, &self.constants, &options, bad) {
-                if !ts.contains(&choice.t) {
-                    ts.push(choice.t);
+            let valid = |t: f64| self.s.split_is_valid(bad, t);
+            let mut middle = None;
+            for (score, median) in VARIANTS {
+                q.score = score;
+                q.median = median;
+                let t = pieces.choose(q).t;
+                let t = if ts.contains(t) || valid(t) {
+                    t
+                } else {
+                    match *middle.get_or_insert_with(|| Some(pieces.middle().t).filter(|&t| valid(t))) {
+                        Some(t) => t,
+                        None => continue,
+                    }
+                };
+                if !ts.contains(t) {
+                    ts.push(t);
                 }
             }
-        }
+        });
         let input = self.s.edge_input[bad.idx()];
         let h = bad.halfedge();
         let (a, b) = (self.s.topo.origin(h), self.s.topo.dest(h));
@@ -596,11 +695,34 @@ impl Pruner<'_> {
         for f in SPREAD {
             let t = samples.t(samples.nearest(lo + f * (hi - lo)));
             let p = point_on_edge(ends[0], ends[1], t);
-            if t > lo && t < hi && !ts.contains(&t) && p != pa && p != pb && self.s.split_is_valid(bad, t) {
+            if t > lo && t < hi && !ts.contains(t) && p != pa && p != pb && self.s.split_is_valid(bad, t) {
                 ts.push(t);
             }
         }
         ts
+    }
+}
+
+/// The split parameters [`Pruner::candidates`] lists, in order, each once
+/// (a fixed array: this runs for every removal attempt).
+#[derive(Default)]
+struct Candidates {
+    ts: [f64; VARIANTS.len() + SPREAD.len()],
+    len: usize,
+}
+
+impl Candidates {
+    fn contains(&self, t: f64) -> bool {
+        self.ts[..self.len].contains(&t)
+    }
+
+    fn push(&mut self, t: f64) {
+        self.ts[self.len] = t;
+        self.len += 1;
+    }
+
+    fn as_slice(&self) -> &[f64] {
+        &self.ts[..self.len]
     }
 }
 

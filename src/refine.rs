@@ -431,6 +431,30 @@ pub(crate) fn choose_sample(
     options: &Options,
     e: EdgeId,
 ) -> Option<samples::Choice> {
+    // Only the split-aware score reads which outer edges are flippable:
+    // skip the face lookups otherwise.
+    let flippable = options.score == Score::SplitAware;
+    with_split_query(s, constants, e, flippable, |query| {
+        query.score = options.score;
+        query.median = options.median;
+        choose_valid(s, e, query)
+    })
+    .flatten()
+}
+
+/// Builds the [`SplitQuery`] of the non-flippable edge `e` (its six
+/// conditions, the samples of its input edge; which outer edges can be
+/// flipped only if `flippable`, else none) and hands it to `f`, which may
+/// set the score and median rule and choose several times: the costly part,
+/// unfolding the quad and its neighbours, is done once. `None` if `e` lies
+/// on no input edge.
+pub(crate) fn with_split_query<R>(
+    s: &Surface,
+    constants: &SampleConstants,
+    e: EdgeId,
+    flippable: bool,
+    f: impl FnOnce(&mut SplitQuery) -> R,
+) -> Option<R> {
     let input = s.edge_input[e.idx()];
     if input == NO_INPUT_EDGE {
         return None; // cannot happen: such edges lie inside a region
@@ -447,7 +471,7 @@ pub(crate) fn choose_sample(
     let (halves, outer) = split_conditions(quad, beyond);
     let ends = s.input_edge_ends(input);
     let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), constants);
-    let query = SplitQuery {
+    let mut query = SplitQuery {
         samples: &edge_samples,
         edge_ends: ends,
         t_a: s.param_on(a, input),
@@ -456,20 +480,24 @@ pub(crate) fn choose_sample(
         pos_b: quad[1],
         halves,
         outer,
-        // Only the split-aware score reads it: skip the face lookups otherwise.
-        outer_flippable: if options.score == Score::SplitAware {
+        outer_flippable: if flippable {
             outer_halfedges.map(|x| s.is_flippable(x.edge()))
         } else {
             [false; 4]
         },
-        score: options.score,
-        median: options.median,
+        score: Score::AlwaysCenter,
+        median: true,
     };
-    // The chosen point, rounded, must still make properly oriented faces;
-    // if it does not (it lies within rounding of a vertex or of a line
-    // through one), the middle of the sub-edge is the best hope.
+    Some(f(&mut query))
+}
+
+/// The sample `query` chooses on edge `e` of `s`, if its rounded position
+/// makes properly oriented faces; if not (it lies within rounding of a
+/// vertex or of a line through one), the middle of the sub-edge, the best
+/// hope, if that does.
+pub(crate) fn choose_valid(s: &Surface, e: EdgeId, query: &SplitQuery) -> Option<samples::Choice> {
     let valid = |c: &samples::Choice| s.split_is_valid(e, c.t);
-    samples::choose(&query)
+    samples::choose(query)
         .filter(valid)
-        .or_else(|| samples::middle(&query).filter(valid))
+        .or_else(|| samples::middle(query).filter(valid))
 }

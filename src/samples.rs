@@ -236,15 +236,18 @@ pub struct Choice {
 
 /// The samples strictly inside a sub-edge, listed from `a` to `b`:
 /// local index j ↦ sample index k.
+#[derive(Clone, Copy)]
 struct Window<'a> {
-    q: &'a SplitQuery<'a>,
+    samples: &'a EdgeSamples,
+    /// Parameter of the sub-edge's start `a`.
+    t_a: f64,
     first: u64,
     count: u64,
     forward: bool,
 }
 
 impl<'a> Window<'a> {
-    fn new(q: &'a SplitQuery<'a>) -> Option<Self> {
+    fn new(q: &SplitQuery<'a>) -> Option<Self> {
         let s = q.samples;
         let forward = q.t_a < q.t_b;
         let (t_lo, t_hi, p_lo, p_hi) = if forward {
@@ -258,7 +261,8 @@ impl<'a> Window<'a> {
         // ... and first sample at or past the high end.
         let end = first_true(s.count, s.guess(t_hi), |k| !(s.t(k) < t_hi && pos(k) != p_hi));
         (first < end).then_some(Window {
-            q,
+            samples: q.samples,
+            t_a: q.t_a,
             first,
             count: end - first,
             forward,
@@ -278,18 +282,18 @@ impl<'a> Window<'a> {
     /// non-decreasing in j.
     #[inline]
     fn x(&self, j: u64) -> f64 {
-        let t = self.q.samples.t(self.k(j));
-        let d = if self.forward { t - self.q.t_a } else { self.q.t_a - t };
-        d * self.q.samples.len
+        let t = self.samples.t(self.k(j));
+        let d = if self.forward { t - self.t_a } else { self.t_a - t };
+        d * self.samples.len
     }
 
     /// Local index about at distance `x` from `a`.
     fn guess(&self, x: f64) -> f64 {
-        let s = self.q.samples;
+        let s = self.samples;
         let t = if self.forward {
-            self.q.t_a + x / s.len
+            self.t_a + x / s.len
         } else {
-            self.q.t_a - x / s.len
+            self.t_a - x / s.len
         };
         let k = s.guess(t);
         if self.forward {
@@ -373,71 +377,121 @@ pub fn first_true(n: u64, guess: f64, pred: impl Fn(u64) -> bool) -> u64 {
 /// samples, ordered from `a` to `b`, it takes the median (the lower one of an
 /// even count) or the first.
 pub fn choose(q: &SplitQuery) -> Option<Choice> {
-    let w = Window::new(q)?;
-    let conds: [&Condition; 6] = [
-        &q.halves[0],
-        &q.halves[1],
-        &q.outer[0],
-        &q.outer[1],
-        &q.outer[2],
-        &q.outer[3],
-    ];
-    let mut cuts = [0u64; 6];
-    for (cut, c) in cuts.iter_mut().zip(conds) {
-        *cut = w.cut(c);
-    }
-    // Piece boundaries: 0, the cuts, count.
-    let mut bounds = [0u64; 8];
-    bounds[1..7].copy_from_slice(&cuts);
-    bounds[7] = w.count;
-    bounds.sort_unstable();
-    let holds = |i: usize, j: u64| match conds[i].side {
-        _ if conds[i].breakpoint.is_nan() => true,
-        Side::AtMost => j < cuts[i],
-        Side::AtLeast => j >= cuts[i],
-    };
-    let piece_score = |j: u64| {
-        let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i, j)).count() as u32;
-        q.score.doubled([holds(0, j), holds(1, j)], outer)
-    };
-    // The non-empty pieces (lo, hi, score), each scored once.
-    let mut pieces = [(0u64, 0u64, 0u32); 7];
-    let mut n_pieces = 0;
-    for b in bounds.windows(2).filter(|b| b[0] < b[1]) {
-        pieces[n_pieces] = (b[0], b[1], piece_score(b[0]));
-        n_pieces += 1;
-    }
-    let pieces = &pieces[..n_pieces];
-    let best = pieces.iter().map(|p| p.2).max()?;
-    let j = if q.median {
-        let total: u64 = pieces.iter().filter(|p| p.2 == best).map(|p| p.1 - p.0).sum();
-        let mut rank = (total - 1) / 2;
-        let mut found = 0;
-        for &(lo, hi, s) in pieces {
-            if s != best {
-                continue;
-            }
-            if rank < hi - lo {
-                found = lo + rank;
-                break;
-            }
-            rank -= hi - lo;
-        }
-        found
-    } else {
-        pieces.iter().find(|p| p.2 == best).map(|p| p.0)?
-    };
-    let k = w.k(j);
-    Some(Choice { k, t: q.samples.t(k) })
+    Some(Pieces::new(q)?.choose(q))
 }
 
 /// The sample in the middle of the sub-edge of `q` (by index), whatever
 /// the score: the fallback when the chosen sample lands too close to a
 /// vertex for the coordinates to resolve (`None`: no sample inside).
 pub fn middle(q: &SplitQuery) -> Option<Choice> {
-    let w = Window::new(q)?;
-    let k = w.k(w.count / 2);
-    Some(Choice { k, t: q.samples.t(k) })
+    Some(Pieces::new(q)?.middle())
+}
+
+/// The samples inside a sub-edge cut into at most seven pieces (runs of
+/// consecutive samples) on each of which every one of the six conditions
+/// either holds or not: what [`choose`] computes before scoring. The
+/// pieces do not depend on the score or the median rule, so one `Pieces`
+/// serves every variant of a query ([`Pieces::choose`]).
+#[derive(Clone, Copy)]
+pub struct Pieces<'a> {
+    w: Window<'a>,
+    /// (first local index, end, which conditions hold: bit i for condition
+    /// i, the halves 0 and 1 then the outer edges 2..6).
+    pieces: [(u64, u64, u8); 7],
+    len: usize,
+}
+
+impl<'a> Pieces<'a> {
+    /// The pieces of the sub-edge of `q`; `None` if no sample lies strictly
+    /// inside it.
+    pub fn new(q: &SplitQuery<'a>) -> Option<Self> {
+        let w = Window::new(q)?;
+        let conds: [&Condition; 6] = [
+            &q.halves[0],
+            &q.halves[1],
+            &q.outer[0],
+            &q.outer[1],
+            &q.outer[2],
+            &q.outer[3],
+        ];
+        let mut cuts = [0u64; 6];
+        for (cut, c) in cuts.iter_mut().zip(conds) {
+            *cut = w.cut(c);
+        }
+        // Piece boundaries: 0, the cuts, count.
+        let mut bounds = [0u64; 8];
+        bounds[1..7].copy_from_slice(&cuts);
+        bounds[7] = w.count;
+        bounds.sort_unstable();
+        let holds = |i: usize, j: u64| match conds[i].side {
+            _ if conds[i].breakpoint.is_nan() => true,
+            Side::AtMost => j < cuts[i],
+            Side::AtLeast => j >= cuts[i],
+        };
+        let mut pieces = [(0u64, 0u64, 0u8); 7];
+        let mut len = 0;
+        for b in bounds.windows(2).filter(|b| b[0] < b[1]) {
+            let mask = (0..6).filter(|&i| holds(i, b[0])).fold(0u8, |m, i| m | 1 << i);
+            pieces[len] = (b[0], b[1], mask);
+            len += 1;
+        }
+        Some(Pieces { w, pieces, len })
+    }
+
+    /// The sample that the score and median rule of `q` choose (`q` being
+    /// the query these pieces were made from, or one differing from it only
+    /// in those two).
+    pub fn choose(&self, q: &SplitQuery) -> Choice {
+        let pieces = &self.pieces[..self.len];
+        let score = |mask: u8| {
+            let holds = |i: usize| mask & (1 << i) != 0;
+            let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i)).count() as u32;
+            q.score.doubled([holds(0), holds(1)], outer)
+        };
+        // Each non-empty piece scored once.
+        let mut scores = [0u32; 7];
+        for (s, p) in scores.iter_mut().zip(pieces) {
+            *s = score(p.2);
+        }
+        let scores = &scores[..self.len];
+        let best = *scores.iter().max().expect("a window has at least one piece");
+        let j = if q.median {
+            let total: u64 = (pieces.iter().zip(scores))
+                .filter(|(_, &s)| s == best)
+                .map(|(p, _)| p.1 - p.0)
+                .sum();
+            let mut rank = (total - 1) / 2;
+            let mut found = 0;
+            for (&(lo, hi, _), &s) in pieces.iter().zip(scores) {
+                if s != best {
+                    continue;
+                }
+                if rank < hi - lo {
+                    found = lo + rank;
+                    break;
+                }
+                rank -= hi - lo;
+            }
+            found
+        } else {
+            let first = scores.iter().position(|&s| s == best).expect("best is a score");
+            pieces[first].0
+        };
+        let k = self.w.k(j);
+        Choice {
+            k,
+            t: self.w.samples.t(k),
+        }
+    }
+
+    /// The sample in the middle of the sub-edge (by index).
+    pub fn middle(&self) -> Choice {
+        let k = self.w.k(self.w.count / 2);
+        Choice {
+            k,
+            t: self.w.samples.t(k),
+        }
+    }
 }
 
 /// The test oracle for [`choose`]: scores every sample inside the sub-edge

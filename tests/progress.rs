@@ -7,6 +7,7 @@ mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use assert_cmd::Command;
+use delmesh::prune::{prune, prune_with_progress, PruneHook, PruneStats};
 use delmesh::refine::{ProgressHook, Stats, PROGRESS_INTERVAL};
 use delmesh::{make_delaunay, Options, Surface};
 use glam::DVec3;
@@ -65,6 +66,16 @@ fn progress_always_draws_each_phase_and_erases_it() {
     let (ok, stderr) = stderr_of(&["-o", "all/b.obj", "-all", "--progress", "always"], dir.path());
     assert!(ok, "{stderr}");
     assert!(stderr.contains("/18 runs"), "{stderr:?}");
+    // Pruning has a line of its own, and --smallest counts its runs.
+    let (ok, stderr) = stderr_of(&["-o", "b.obj", "--prune", "--progress", "always"], dir.path());
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("pruning  pass 1"), "{stderr:?}");
+    let (ok, stderr) = stderr_of(&["-o", "b.obj", "--smallest", "--progress", "always"], dir.path());
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("--smallest [") && stderr.contains("/18 runs"),
+        "{stderr:?}"
+    );
 }
 
 /// A wavy strip of long thin triangles: every diagonal is non-Delaunay and,
@@ -117,4 +128,29 @@ fn the_refine_hook_is_called_on_long_runs_and_changes_nothing() {
     );
     assert!(calls >= 1, "{calls} calls for {operations} operations");
     assert!(LAST_SPLITS.load(Ordering::Relaxed) <= hooked.splits);
+}
+
+static PRUNE_CALLS: AtomicUsize = AtomicUsize::new(0);
+static MOST_TO_VISIT: AtomicUsize = AtomicUsize::new(0);
+
+fn count_prune_calls(_stats: &PruneStats, to_visit: usize) {
+    PRUNE_CALLS.fetch_add(1, Ordering::Relaxed);
+    MOST_TO_VISIT.fetch_max(to_visit, Ordering::Relaxed);
+}
+
+#[test]
+fn the_prune_hook_is_called_and_changes_nothing() {
+    let (p, t) = wavy_strip(40, 40);
+    let mut a = Surface::new(p, &t).unwrap();
+    let options = Options::default();
+    let refined = make_delaunay(&mut a, &options).unwrap();
+    let mut b = a.clone();
+    let plain = prune(&mut a, &options);
+    let hooked = prune_with_progress(&mut b, &options, Some(PruneHook(&count_prune_calls)));
+    assert_eq!(plain, hooked);
+    assert_eq!(a.positions, b.positions);
+    assert!(plain.removed > 0, "nothing to prune: the test would see little");
+    // At least once per pass, and never more vertices to visit than were added.
+    assert!(PRUNE_CALLS.load(Ordering::Relaxed) >= plain.passes);
+    assert!(MOST_TO_VISIT.load(Ordering::Relaxed) < refined.splits);
 }
