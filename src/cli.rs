@@ -462,11 +462,14 @@ fn ds_name(w: Worklist) -> &'static str {
 }
 
 /// Refuses an output path that cannot be written, before any work starts.
+/// A device or pipe (`/dev/null`, `/dev/stdout`) is written into directly
+/// ([`io::write_atomic`]) and needs no folder.
 fn check_output_dir(path: &Path) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
+    if io::is_stream(path) {
+        return Ok(());
+    }
+    let (_, dir) = io::write_target(path);
+    let dir = dir.as_path();
     if !dir.is_dir() {
         bail!("{}: output folder {} does not exist", path.display(), dir.display());
     }
@@ -480,6 +483,42 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
         .tempfile_in(dir)
     {
         bail!("{}: cannot write in folder {}: {e}", path.display(), dir.display());
+    }
+    Ok(())
+}
+
+/// The file `p` names, comparable between paths: symbolic links and `..`
+/// resolved, also for a file that does not exist yet (its folder then
+/// must). `None` if neither resolves.
+fn file_key(p: &Path) -> Option<PathBuf> {
+    std::fs::canonicalize(p).ok().or_else(|| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+    })
+}
+
+/// Refuses two of the files a run writes (`written`: what, path) that are
+/// one file, which the second written would replace, and any that is the
+/// input, except `written[i]` for `in_place` = `Some(i)` (the output of a
+/// run without -o). Devices and pipes (`/dev/null`, `/dev/stdout`) may be
+/// named more than once.
+fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, PathBuf)]) -> anyhow::Result<()> {
+    let input_key = file_key(input);
+    let keys: Vec<Option<PathBuf>> = written
+        .iter()
+        .map(|(_, p)| if io::is_stream(p) { None } else { file_key(p) })
+        .collect();
+    for (i, (what, path)) in written.iter().enumerate() {
+        let Some(key) = &keys[i] else { continue };
+        if in_place != Some(i) && Some(key) == input_key.as_ref() {
+            bail!("{}: {what} would overwrite the input", path.display());
+        }
+        if let Some(j) = keys[..i].iter().position(|k| k.as_ref() == Some(key)) {
+            bail!("{}: {what} and {} name the same file", path.display(), written[j].0);
+        }
     }
     Ok(())
 }
@@ -651,29 +690,43 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if let Some(jobs) = args.jobs {
         delmesh::parallel::set_threads(usize::from(jobs));
     }
-    if let Some(repaired) = &args.repaired {
-        check_output_dir(repaired)?;
-        if repaired == input_path || *repaired == output {
-            bail!(
-                "{}: --repaired must name a file other than the input and the output",
-                repaired.display()
-            );
+    // Every file this run writes, with what it is: no two may be one file.
+    let mut written: Vec<(String, PathBuf)> = Vec::new();
+    if args.all {
+        for o in sweep_combinations(args.extended) {
+            let path = combination_path(&output, &o);
+            written.push((format!("the -all output {}", path.display()), path));
+        }
+    } else {
+        written.push(("the output".into(), output.clone()));
+    }
+    let extras = [
+        ("--repaired", &args.repaired),
+        ("--stats-json", &args.stats_json),
+        ("--stats-csv", &args.stats_csv),
+        ("--chart", &args.chart),
+        ("--vertex-map", &args.vertex_map),
+    ];
+    for (flag, path) in extras {
+        if let Some(path) = path {
+            check_output_dir(path)?;
+            written.push((flag.into(), path.clone()));
         }
     }
-    for extra in [&args.stats_json, &args.stats_csv, &args.chart, &args.vertex_map]
-        .into_iter()
-        .flatten()
-    {
-        check_output_dir(extra)?;
-        if extra == input_path {
-            bail!("{}: would overwrite the input", extra.display());
-        }
-        if *extra == output {
-            bail!("{}: would overwrite the output", extra.display());
-        }
+    // (Without -o the output is the input, rewritten in place by design.)
+    let in_place = (args.output.is_none() && !args.all).then_some(0);
+    refuse_same_files(input_path, in_place, &written)?;
+    if args.output.is_none() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
+        bail!(
+            "{}: not a regular file, so it cannot be rewritten in place; give an output with -o",
+            input_path.display()
+        );
     }
-    if args.check && io::output_format(&output) == io::Format::Stl {
-        bail!("--check and an STL output do not go together: STL rounds the coordinates to f32");
+    if args.check && io::is_stream(&output) {
+        bail!("{}: --check needs an output file it can read back", output.display());
+    }
+    if !args.no_refine && io::output_format(&output) == io::Format::Stl {
+        bail!("{}: {STL_REFUSED}", output.display());
     }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if args.output.is_none() && compressed {
@@ -763,9 +816,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
-        if io::output_format(&output) == io::Format::Stl && !args.quiet {
-            say!("note    {STL_NOTE}");
-        }
         let (code, rows) = run_all(&surface, &first_pass, transfer.as_ref(), input_path, &output, args)?;
         let runs: Vec<stats_json::RunRecord> = rows
             .iter()
@@ -859,10 +909,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             && delmesh::parallel::cores() > 1
             && args.jobs.is_none_or(|j| j > 1);
         std::thread::scope(|scope| {
-            let lines = ahead.then(|| {
-                let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
-                scope.spawn(move || io::obj::VertexLines::new(positions))
-            });
+            // (None if the thread cannot be started: the writer then
+            // formats the lines itself.)
+            let lines = ahead
+                .then(|| {
+                    let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
+                    delmesh::parallel::try_spawn(scope, move || io::obj::VertexLines::new(positions))
+                })
+                .flatten();
             let out = refine_once(surface, &first_pass, input_path, &options, args.settings.prune);
             vertex_lines = lines
                 .map(|h| h.join().expect("formatting does not panic"))
@@ -1019,37 +1073,32 @@ fn smallest(
     for phase in [0..n_median, n_median..settings.len()] {
         let cap = 100 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 10_000;
         let next = std::sync::atomic::AtomicUsize::new(phase.start);
-        std::thread::scope(|scope| {
-            for worker in 0..threads.min(phase.len()) {
-                let (next, settings, surface, best, first_error, most_splits, phase) =
-                    (&next, &settings, &surface, &best, &first_error, &most_splits, &phase);
-                scope.spawn(move || loop {
-                    progress::use_slot(worker);
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    if i >= phase.end {
-                        break;
-                    }
-                    let mut options = settings[i];
-                    if !options.median {
-                        options.max_added = options.max_added.min(cap);
-                    }
-                    match refine_once(surface.clone(), first_pass, input_path, &options, true) {
-                        Ok(out) => {
-                            most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
-                            let key = (out.surface.positions.len(), i);
-                            let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
-                            if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
-                                *best = Some((key.0, key.1, out));
-                            }
-                        }
-                        Err(e) => {
-                            first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
-                        }
-                    }
-                    progress::run_done();
-                });
+        let worker = |worker: usize| loop {
+            progress::use_slot(worker);
+            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            if i >= phase.end {
+                break;
             }
-        });
+            let mut options = settings[i];
+            if !options.median {
+                options.max_added = options.max_added.min(cap);
+            }
+            match refine_once(surface.clone(), first_pass, input_path, &options, true) {
+                Ok(out) => {
+                    most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
+                    let key = (out.surface.positions.len(), i);
+                    let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
+                    if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
+                        *best = Some((key.0, key.1, out));
+                    }
+                }
+                Err(e) => {
+                    first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                }
+            }
+            progress::run_done();
+        };
+        std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads.min(phase.len()), &worker));
     }
     delmesh::parallel::set_threads(jobs.map_or(0, usize::from));
     match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
@@ -1059,6 +1108,20 @@ fn smallest(
             .unwrap_or_else(|p| p.into_inner())
             .unwrap_or_else(|| anyhow::anyhow!("no setting ran"))),
     }
+}
+
+/// The runs of `-all`: the 18 combinations, and with `--extended` score 3
+/// with each DS, with and without the median.
+fn sweep_combinations(extended: bool) -> Vec<Options> {
+    let mut combos = all_combinations();
+    if extended {
+        for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+            for median in [true, false] {
+                combos.push(Options::new(worklist, Score::SplitAware, median));
+            }
+        }
+    }
+    combos
 }
 
 /// The 18 combinations, in the report's naming order.
@@ -1116,10 +1179,16 @@ struct RowFigures {
     seconds_write: f64,
 }
 
-/// The note for an STL output: the format cannot hold the coordinates.
-const STL_NOTE: &str = "STL stores f32 coordinates: added vertices (and input coordinates that need \
-     more bits) are rounded, so this output is not exactly Delaunay with the input's geometry (OBJ, OFF \
-     and PLY keep every coordinate)";
+/// Why a refined mesh is never written as STL: every output must pass
+/// `delmesh check`, and rounded coordinates cannot.
+pub(crate) const STL_REFUSED: &str = "STL stores f32 coordinates: the added vertices would be rounded off \
+     the input's edges, so the output would have neither the input's exact geometry nor the Delaunay \
+     property; write OBJ, OFF or PLY (STL is written only with --no-refine)";
+
+/// The note for an STL output (with --no-refine): the format cannot hold
+/// every coordinate.
+const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need more bits are rounded \
+     (OBJ, OFF and PLY keep every coordinate)";
 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written
@@ -1247,15 +1316,7 @@ fn run_all(
     output: &Path,
     args: &RunArgs,
 ) -> anyhow::Result<(ExitCode, Vec<Row>)> {
-    let mut combos = all_combinations();
-    if args.extended {
-        for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
-            for median in [true, false] {
-                combos.push(Options::new(worklist, Score::SplitAware, median));
-            }
-        }
-    }
-    let combos: Vec<Options> = combos
+    let combos: Vec<Options> = sweep_combinations(args.extended)
         .into_iter()
         .map(|o| Options {
             max_added: args.settings.max_added,
@@ -1299,36 +1360,32 @@ fn run_all(
         label: "-all",
         total: combos.len(),
     });
-    std::thread::scope(|scope| {
-        for worker in 0..threads {
-            let (next, rows, combos, order) = (&next, &rows, &combos, &order);
-            scope.spawn(move || {
-                progress::use_slot(worker);
-                loop {
-                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(options) = order.get(k).map(|&i| &combos[i]) else {
-                        break;
-                    };
-                    let file = combination_path(output, options);
-                    let result = run_combination(
-                        surface,
-                        first_pass,
-                        transfer,
-                        input_path,
-                        options,
-                        args.settings.prune,
-                        &file,
-                    );
-                    progress::run_done();
-                    rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
-                        options: *options,
-                        file,
-                        result,
-                    });
-                }
+    let worker = |worker: usize| {
+        progress::use_slot(worker);
+        loop {
+            let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(options) = order.get(k).map(|&i| &combos[i]) else {
+                break;
+            };
+            let file = combination_path(output, options);
+            let result = run_combination(
+                surface,
+                first_pass,
+                transfer,
+                input_path,
+                options,
+                args.settings.prune,
+                &file,
+            );
+            progress::run_done();
+            rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
+                options: *options,
+                file,
+                result,
             });
         }
-    });
+    };
+    std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads, &worker));
     progress::phase(Phase::Idle);
     let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
     // Sorted by faces as the report's tables; failed runs last.

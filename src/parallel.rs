@@ -27,12 +27,72 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |t| t.get()))
 }
 
+/// The most threads a pass uses, whatever [`set_threads`] asked: more
+/// than cores gain nothing, and thousands could exhaust the system's
+/// thread limit.
+pub const MAX_THREADS: usize = 64;
+
 /// The threads a pass uses, as set by [`set_threads`].
 pub fn threads() -> usize {
     match THREADS.load(Ordering::Relaxed) {
         0 => cores().min(8),
-        t => t,
+        t => t.min(MAX_THREADS),
     }
+}
+
+/// Starts `f` on a new thread of `scope`; `None` if the system refuses
+/// (a thread limit, no memory for a stack): every caller then does the
+/// work on its own thread instead, so such a limit costs speed, never a
+/// failure.
+///
+/// [`refuse_threads`], or the environment variable `DELMESH_NO_THREADS=1`,
+/// makes every start fail as a thread limit would: the tests run the
+/// fallbacks so.
+pub fn try_spawn<'scope, T: Send + 'scope>(
+    scope: &'scope std::thread::Scope<'scope, '_>,
+    f: impl FnOnce() -> T + Send + 'scope,
+) -> Option<std::thread::ScopedJoinHandle<'scope, T>> {
+    static FROM_ENV: std::sync::Once = std::sync::Once::new();
+    FROM_ENV.call_once(|| {
+        if std::env::var_os("DELMESH_NO_THREADS").is_some_and(|v| v == "1") {
+            refuse_threads(true);
+        }
+    });
+    if REFUSE_THREADS.load(Ordering::Relaxed) {
+        return None;
+    }
+    std::thread::Builder::new().spawn_scoped(scope, f).ok()
+}
+
+static REFUSE_THREADS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Makes [`try_spawn`] fail (`true`) or try again (`false`): for testing
+/// that every result is the same when no thread can be started.
+pub fn refuse_threads(refuse: bool) {
+    REFUSE_THREADS.store(refuse, Ordering::Relaxed);
+}
+
+/// Starts `n` workers in `scope`, worker `k` running `worker(k)`, for
+/// workers that share their work (each takes the next item from a common
+/// counter until none is left): one that cannot be started only leaves
+/// more to the others. If none can, the calling thread runs `worker(0)`
+/// itself before returning (and with `n` = 1 it always does). Returns
+/// which workers run (or ran).
+pub fn spawn_workers<'scope, F: Fn(usize) + Sync>(
+    scope: &'scope std::thread::Scope<'scope, '_>,
+    n: usize,
+    worker: &'scope F,
+) -> Vec<bool> {
+    let mut started: Vec<bool> = if n > 1 {
+        (0..n).map(|k| try_spawn(scope, move || worker(k)).is_some()).collect()
+    } else {
+        vec![false; n.max(1)]
+    };
+    if !started.contains(&true) {
+        worker(0);
+        started[0] = true;
+    }
+    started
 }
 
 /// The threads a pass over `n` items uses.
@@ -53,12 +113,16 @@ pub fn map_ranges<T: Send>(n: usize, f: impl Fn(Range<usize>) -> T + Sync) -> Ve
     }
     let chunk = n.div_ceil(threads);
     let f = &f;
+    let range = |i: usize| (i * chunk).min(n)..((i + 1) * chunk).min(n);
     std::thread::scope(|scope| {
         let parts: Vec<_> = (1..threads)
-            .map(|i| scope.spawn(move || f((i * chunk).min(n)..((i + 1) * chunk).min(n))))
+            .map(|i| (i, try_spawn(scope, move || f(range(i)))))
             .collect();
-        let mut results = vec![f(0..chunk.min(n))];
-        results.extend(parts.into_iter().map(|p| p.join().expect("a pass does not panic")));
+        let mut results = vec![f(range(0))];
+        results.extend(parts.into_iter().map(|(i, part)| match part {
+            Some(part) => part.join().expect("a pass does not panic"),
+            None => f(range(i)),
+        }));
         results
     })
 }
@@ -84,13 +148,19 @@ pub fn join<A: Send, B: Send>(worth_it: bool, a: impl FnOnce() -> A + Send, b: i
         let first = a();
         return (first, b());
     }
+    // `b` goes to the thread inside an Option, so that it is still here if
+    // the thread cannot be started.
+    let b = std::sync::Mutex::new(Some(b));
     std::thread::scope(|scope| {
-        let second = scope.spawn(b);
+        let run_b = || b.lock().unwrap_or_else(|p| p.into_inner()).take().map(|b| b());
+        let second = try_spawn(scope, run_b);
         let first = a();
-        match second.join() {
-            Ok(second) => (first, second),
-            Err(panic) => std::panic::resume_unwind(panic),
-        }
+        let second = match second.map(|s| s.join()) {
+            Some(Ok(second)) => second,
+            Some(Err(panic)) => std::panic::resume_unwind(panic),
+            None => run_b(),
+        };
+        (first, second.expect("b runs once"))
     })
 }
 
@@ -110,6 +180,18 @@ mod tests {
             assert_eq!(map(n, |i| (i * i) as u64), squares);
             assert_eq!(map_ranges(n, |r| r.len()).iter().sum::<usize>(), n);
         }
+        // The same when no thread can be started (a thread limit).
+        refuse_threads(true);
+        set_threads(4);
+        assert_eq!(filter_indices(n, keep), expected);
+        assert_eq!(map(n, |i| (i * i) as u64), squares);
+        assert_eq!(join(true, || map(n, |i| i % 3), || 7), (map(n, |i| i % 3), 7));
+        let ran = std::sync::Mutex::new(Vec::new());
+        let worker = |k: usize| ran.lock().unwrap().push(k);
+        let started = std::thread::scope(|scope| spawn_workers(scope, 3, &worker));
+        assert_eq!(started, vec![true, false, false]);
+        assert_eq!(*ran.lock().unwrap(), vec![0]);
+        refuse_threads(false);
         set_threads(0);
         assert_eq!(filter_indices(10, keep), vec![3]);
         for worth_it in [false, true] {

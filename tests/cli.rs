@@ -408,6 +408,8 @@ fn every_format_in_and_out() {
             .arg(&cube)
             .arg("-o")
             .arg(&out)
+            // STL is only a conversion target (see below).
+            .args(if ext == "stl" { &["--no-refine"][..] } else { &[] })
             .assert()
             .success();
         let back = dir.path().join(format!("from-{ext}.obj"));
@@ -869,12 +871,55 @@ fn extended_sweep_adds_score_3_and_prune_applies_to_every_run() {
 }
 
 #[test]
-fn an_stl_output_says_it_is_rounded() {
+fn a_refined_stl_output_is_refused_and_a_conversion_says_it_is_rounded() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cube.stl");
-    let run = delmesh()
-        .args(["-i", common::data_dir().join("cube.obj").to_str().unwrap(), "-o"])
+    let cube = common::data_dir().join("cube.obj");
+    // f32 coordinates cannot hold the added vertices: every output must
+    // pass check, so a refined STL is refused before any work, for -o, for
+    // -all, and for an STL input rewritten in place (the input is kept).
+    for args in [
+        &["-o", out.to_str().unwrap()][..],
+        &["-o", out.to_str().unwrap(), "-all"],
+    ] {
+        let run = delmesh().arg("-i").arg(&cube).args(args).output().unwrap();
+        assert_eq!(run.status.code(), Some(1), "{args:?}");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            stderr.contains("STL stores f32 coordinates") && stderr.lines().count() == 1,
+            "{stderr}"
+        );
+        assert!(
+            std::fs::read_dir(dir.path()).unwrap().next().is_none(),
+            "something was written"
+        );
+    }
+    delmesh()
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
         .arg(&out)
+        .arg("--no-refine")
+        .assert()
+        .success();
+    let before = std::fs::read(&out).unwrap();
+    delmesh().arg("-i").arg(&out).assert().code(1);
+    assert_eq!(std::fs::read(&out).unwrap(), before, "the STL input was rewritten");
+    let batch_out = dir.path().join("b");
+    delmesh()
+        .args(["batch", "--format", "stl", "-d"])
+        .arg(&batch_out)
+        .arg(&cube)
+        .assert()
+        .code(1);
+    assert!(!batch_out.exists());
+    // As a conversion (--no-refine) it is written, with a note.
+    let run = delmesh()
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&out)
+        .arg("--no-refine")
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
@@ -918,9 +963,215 @@ fn check_flag_verifies_the_output() {
         .output()
         .unwrap();
     assert!(!run.status.success());
-    assert!(String::from_utf8_lossy(&run.stderr).contains("STL rounds the coordinates"));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("STL stores f32 coordinates"));
     assert!(!stl.exists());
     // The input is never rewritten in place under --check: it needs -o.
     let run = delmesh().arg("-i").arg(&bunny).arg("--check").output().unwrap();
     assert!(!run.status.success());
+}
+
+/// Where no thread can be started (a process limit, as on some clusters;
+/// simulated by `DELMESH_NO_THREADS=1`), every command still works, on the
+/// calling thread, and writes the same bytes.
+#[test]
+fn without_threads_every_command_writes_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    for (name, no_threads) in [("threads", "0"), ("none", "1")] {
+        let d = dir.path().join(name);
+        std::fs::create_dir(&d).unwrap();
+        let run = |args: &[&str]| {
+            let out = delmesh()
+                .env("DELMESH_NO_THREADS", no_threads)
+                .current_dir(&d)
+                .args(args)
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+            assert!(out.status.success(), "{args:?} {no_threads}: {stderr}");
+        };
+        let b = bunny.to_str().unwrap();
+        run(&["-q", "-i", b, "-o", "default.obj", "--prune"]);
+        run(&["-q", "-i", b, "-o", "all.obj", "-all", "-j", "2"]);
+        run(&["-q", "-i", b, "-o", "smallest.obj", "--smallest", "-j", "2"]);
+        run(&["batch", "-q", "-j", "2", "-d", "batch", b, "default.obj"]);
+        run(&["check", "-j", "2", b, "default.obj"]);
+    }
+    let files = |name: &str| {
+        let mut v: Vec<_> = walk(&dir.path().join(name));
+        v.sort();
+        v
+    };
+    let (a, b) = (files("threads"), files("none"));
+    assert_eq!(a.len(), 22, "{:?}", a.iter().map(|p| &p.0).collect::<Vec<_>>()); // 1 + 18 + 1 + batch's 2
+    assert_eq!(
+        a.iter().map(|p| p.0.clone()).collect::<Vec<_>>(),
+        b.iter().map(|p| p.0.clone()).collect::<Vec<_>>()
+    );
+    for (x, y) in a.iter().zip(&b) {
+        assert!(x.1 == y.1, "{} differs without threads", x.0);
+    }
+}
+
+/// (relative name, bytes) of every file under `dir`.
+fn walk(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            let sub = p.file_name().unwrap().to_string_lossy().into_owned();
+            out.extend(walk(&p).into_iter().map(|(n, b)| (format!("{sub}/{n}"), b)));
+        } else {
+            out.push((
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            ));
+        }
+    }
+    out
+}
+
+/// A device or pipe is written into, never replaced (`-o /dev/null`,
+/// `--stats-json /dev/stdout`); a symbolic link is followed and kept; an
+/// input that is not a regular file is never rewritten in place.
+#[cfg(unix)]
+#[test]
+fn devices_pipes_and_links_are_written_through() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bunny)
+        .args(["-o", "/dev/null", "--stats-json", "/dev/stdout"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("\"delmesh_version\""));
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    // A link to a file: the file is replaced, the link stays.
+    let target = dir.path().join("target.obj");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.path().join("link.obj");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&link)
+        .assert()
+        .success();
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    check_passes(&bunny, &target);
+    // --check cannot read a device back; a FIFO input cannot be rewritten.
+    let run = delmesh()
+        .arg("-i")
+        .arg(&bunny)
+        .args(["-o", "/dev/null", "--check"])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    let fifo = dir.path().join("in.fifo");
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        let run = delmesh().arg("-i").arg(&fifo).output().unwrap();
+        assert_eq!(run.status.code(), Some(1));
+        assert!(String::from_utf8_lossy(&run.stderr).contains("not a regular file"));
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    }
+}
+
+/// Two files of one run that are one file (by name, `./`, or a link) are
+/// refused before any work: the second written would replace the first.
+#[cfg(unix)]
+#[test]
+fn two_outputs_naming_one_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    std::fs::write(dir.path().join("real.obj"), "x").unwrap();
+    std::os::unix::fs::symlink(dir.path().join("real.obj"), dir.path().join("link.obj")).unwrap();
+    for args in [
+        &[
+            "-o",
+            "o.obj",
+            "--repair",
+            "--repaired",
+            "r.obj",
+            "--vertex-map",
+            "r.obj",
+        ][..],
+        &["-o", "o.obj", "--stats-json", "s.json", "--stats-csv", "./s.json"],
+        &["-o", "real.obj", "--vertex-map", "link.obj"],
+        &["-o", "o.obj", "-all", "--chart", "o-s-2-m.obj"],
+        &["-o", "o.obj", "--stats-json", bunny.to_str().unwrap()],
+    ] {
+        let run = delmesh()
+            .current_dir(dir.path())
+            .arg("-i")
+            .arg(&bunny)
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(1), "{args:?}");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            stderr.contains("name the same file") || stderr.contains("would overwrite the input"),
+            "{stderr}"
+        );
+        assert_eq!(std::fs::read_to_string(dir.path().join("real.obj")).unwrap(), "x");
+        assert!(!dir.path().join("o.obj").exists() && !dir.path().join("o-s-2-m.obj").exists());
+    }
+}
+
+/// An output named `.gz` is gzip-compressed (as inputs may be), and an OBJ
+/// that starts with a UTF-8 byte order mark reads like one without.
+#[test]
+fn gzip_outputs_and_byte_order_marks() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let out = dir.path().join("c.obj.gz");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&out)
+        .arg("--check")
+        .assert()
+        .success();
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(bytes[..2], [0x1f, 0x8b], "not gzip");
+    let plain = dir.path().join("c.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&cube)
+        .arg("-o")
+        .arg(&plain)
+        .assert()
+        .success();
+    let mut inflated = Vec::new();
+    std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut inflated).unwrap();
+    assert_eq!(inflated, std::fs::read(&plain).unwrap());
+    let bom = dir.path().join("bom.obj");
+    let mut text = b"\xEF\xBB\xBF".to_vec();
+    text.extend(std::fs::read(&cube).unwrap());
+    std::fs::write(&bom, text).unwrap();
+    let from_bom = dir.path().join("from-bom.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bom)
+        .arg("-o")
+        .arg(&from_bom)
+        .assert()
+        .success();
+    assert_eq!(std::fs::read(&from_bom).unwrap(), std::fs::read(&plain).unwrap());
+    check_passes(&bom, &from_bom);
 }

@@ -92,7 +92,8 @@ pub(super) enum FormatArg {
     Off,
     /// Binary PLY.
     Ply,
-    /// Binary STL.
+    /// Binary STL: refused (its f32 coordinates cannot hold a refined mesh
+    /// exactly).
     Stl,
 }
 
@@ -266,8 +267,8 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
 pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     io::set_sync_writes(args.settings.sync);
-    if args.check && args.format == Some(FormatArg::Stl) {
-        bail!("--check and --format stl do not go together: STL rounds the coordinates to f32");
+    if args.format == Some(FormatArg::Stl) {
+        bail!("--format stl: {}", super::STL_REFUSED);
     }
     let inputs = expand(&args.inputs)?;
     let outputs = plan(&inputs, &args.out_dir, args.format, args.vertex_maps)?;
@@ -278,8 +279,16 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         check_output_dir(csv)?;
         let target = resolved(csv);
         let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
-        if is_input || outputs.iter().any(|p| resolved(p) == target) {
-            bail!("{}: would overwrite an input or an output", csv.display());
+        let map = |p: &PathBuf| args.vertex_maps.then(|| resolved(&vertex_map_path(p))).flatten();
+        if is_input
+            || outputs
+                .iter()
+                .any(|p| resolved(p) == target || (target.is_some() && map(p) == target))
+        {
+            bail!(
+                "{}: would overwrite an input or an output (or a vertex map)",
+                csv.display()
+            );
         }
     }
     let n = inputs.len();
@@ -297,25 +306,38 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     // The CSV rows: (input index, record), in order.
     let mut records: Vec<(usize, RunRecord)> = Vec::with_capacity(n);
     let (mut failed, mut skipped, mut added) = (0usize, 0usize, 0usize);
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            let (tx, next, inputs, outputs, options) = (tx.clone(), &next, &inputs, &outputs, &options);
-            scope.spawn(move || loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                if i >= n {
-                    break;
-                }
-                let done = if args.skip_existing && outputs[i].exists() {
-                    Ok(None)
-                } else {
-                    refine_file(&inputs[i], &outputs[i], args, options).map(Some)
-                };
-                if tx.send((i, done)).is_err() {
-                    break;
-                }
-            });
+    // Worker k sends with its own clone of `tx`, taken from `senders[k]`;
+    // the results end when every clone is dropped.
+    let senders: Vec<_> = (0..workers.max(1))
+        .map(|_| std::sync::Mutex::new(Some(tx.clone())))
+        .collect();
+    drop(tx);
+    let take = |k: usize| senders[k].lock().unwrap_or_else(|p| p.into_inner()).take();
+    let worker = |k: usize| {
+        let Some(tx) = take(k) else { return };
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= n {
+                break;
+            }
+            let done = if args.skip_existing && outputs[i].exists() {
+                Ok(None)
+            } else {
+                refine_file(&inputs[i], &outputs[i], args, &options).map(Some)
+            };
+            if tx.send((i, done)).is_err() {
+                break;
+            }
         }
-        drop(tx);
+    };
+    std::thread::scope(|scope| {
+        // (If no thread can be started, this runs every file first, then
+        // reports them: the channel holds any number.)
+        let started = delmesh::parallel::spawn_workers(scope, workers.max(1), &worker);
+        // A worker that never started never takes its sender: drop it here.
+        for (k, _) in started.iter().enumerate().filter(|(_, &s)| !s) {
+            drop(take(k));
+        }
         // Report in the order given, whatever order the files finish in.
         let mut waiting = BTreeMap::new();
         let mut reported = 0;

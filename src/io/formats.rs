@@ -199,7 +199,8 @@ pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
 /// How many bytes of a file the text sniffers look at.
 const SNIFF_WINDOW: usize = 64 * 1024;
 
-fn strip_bom(bytes: &[u8]) -> &[u8] {
+/// `bytes` without a leading UTF-8 byte order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 

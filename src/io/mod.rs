@@ -464,19 +464,48 @@ pub fn set_sync_writes(sync: bool) {
     SYNC_WRITES.store(sync, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// Whether `path` names something that exists and is neither a regular
+/// file nor a folder (following symbolic links): a device such as
+/// `/dev/null`, a terminal or pipe such as `/dev/stdout`, a FIFO. Such a
+/// target is written into, never replaced.
+pub fn is_stream(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// The file a write to `path` replaces, and the folder its temporary file
+/// goes in: a symbolic link is followed (the file it points to is
+/// replaced, the link kept), anything else is `path` itself.
+pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned()),
+        _ => path.to_owned(),
+    };
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    (target, dir)
+}
+
 /// Writes what `fill` produces to `path` atomically: into a temporary file
 /// in the same directory, renamed over `path` only when complete (flushed
 /// to the disk first with [`set_sync_writes`]). On any error `path` is
-/// untouched and the temporary file removed.
+/// untouched and the temporary file removed. A symbolic link is followed
+/// and kept; a target that is not a regular file ([`is_stream`]: a device,
+/// a pipe) is written into directly, there being no file to replace.
 pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let err = |source| Error::Write {
         path: path.to_owned(),
         source,
     };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-        _ => PathBuf::from("."),
-    };
+    if is_stream(path) {
+        let file = std::fs::OpenOptions::new().write(true).open(path).map_err(err)?;
+        let mut w = BufWriter::with_capacity(1 << 16, file);
+        fill_compressed_if_gz(path, &mut w, fill).map_err(err)?;
+        return w.flush().map_err(err);
+    }
+    let (target, dir) = write_target(path);
+    let path = target.as_path();
     let mut tmp = tempfile::Builder::new()
         .prefix(".delmesh-")
         .suffix(".tmp")
@@ -486,7 +515,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         // Small: the OBJ writer hands over blocks of about a megabyte, which
         // a buffer this size passes straight to the file instead of copying.
         let mut w = BufWriter::with_capacity(1 << 16, tmp.as_file_mut());
-        fill(&mut w).map_err(err)?;
+        fill_compressed_if_gz(path, &mut w, fill).map_err(err)?;
         w.flush().map_err(err)?;
     }
     if SYNC_WRITES.load(std::sync::atomic::Ordering::Relaxed) {
@@ -499,6 +528,22 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     };
     tmp.as_file().set_permissions(perms).map_err(err)?;
     tmp.persist(path).map_err(|e| err(e.error))?;
+    Ok(())
+}
+
+/// `fill(w)`, gzip-compressed if `path` ends in `.gz` (as the readers
+/// accept it).
+fn fill_compressed_if_gz(
+    path: &Path,
+    w: &mut dyn Write,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
+        return fill(w);
+    }
+    let mut gz = flate2::write::GzEncoder::new(w, flate2::Compression::default());
+    fill(&mut gz)?;
+    gz.finish()?;
     Ok(())
 }
 

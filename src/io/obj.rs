@@ -60,6 +60,9 @@ fn error(line: usize, what: String) -> FormatError {
 /// bytes, `#` ends a line, coordinates go through [`parse_f64`] (exact)
 /// and indices are parsed by hand.
 pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    // A UTF-8 byte order mark (some Windows exporters write one) is no
+    // statement.
+    let bytes = crate::io::formats::strip_bom(bytes);
     let lossy;
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
@@ -730,12 +733,25 @@ fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut V
         if round.len() == 1 {
             fill(round[0], &mut buffers[0]);
         } else {
-            std::thread::scope(|scope| {
-                let (first, rest) = buffers.split_at_mut(1);
-                for (block, buffer) in round[1..].iter().zip(rest.iter_mut()) {
-                    scope.spawn(|| fill(block, buffer));
+            let (first, rest) = buffers.split_at_mut(1);
+            // Each other block with its buffer, taken by its thread, or
+            // here if the thread could not be started.
+            let jobs: Vec<_> = (round[1..].iter().zip(rest.iter_mut()))
+                .map(|job| std::sync::Mutex::new(Some(job)))
+                .collect();
+            let run = |job: &std::sync::Mutex<Option<(&&[T], &mut Vec<u8>)>>| {
+                if let Some((block, buffer)) = job.lock().unwrap_or_else(|p| p.into_inner()).take() {
+                    fill(block, buffer);
                 }
+            };
+            std::thread::scope(|scope| {
+                let started: Vec<bool> = (jobs.iter())
+                    .map(|job| crate::parallel::try_spawn(scope, move || run(job)).is_some())
+                    .collect();
                 fill(round[0], &mut first[0]);
+                for (job, _) in jobs.iter().zip(started).filter(|(_, started)| !started) {
+                    run(job);
+                }
             });
         }
         for buffer in &buffers[..round.len()] {
