@@ -1244,10 +1244,10 @@ fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Re
                 .tempfile_in(dir)
                 .with_context(|| dir.display().to_string())?;
             io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
-            Some(file)
+            Some((io::temporary::register(file.path()), file))
         }
     };
-    let reference = repaired.as_ref().map_or(input, |f| f.path());
+    let reference = repaired.as_ref().map_or(input, |(_, f)| f.path());
     let report = delmesh::check::check_files(reference, output)
         .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
     if report.passed() {

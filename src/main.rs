@@ -6,8 +6,41 @@ mod stats_json;
 
 fn main() -> std::process::ExitCode {
     keep_freed_memory();
+    remove_temporary_files_on_signals();
     cli::main()
 }
+
+/// Ctrl-C (SIGINT), `kill` (SIGTERM) and a closed terminal (SIGHUP) end
+/// the process as before, but first remove the temporary file of any
+/// output being written ([`delmesh::io::temporary`]): an interrupted run
+/// leaves nothing behind (its outputs are either complete or absent
+/// anyway). A signal the parent set to be ignored (`nohup`) stays ignored.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn remove_temporary_files_on_signals() {
+    extern "C" fn on_signal(signal: libc::c_int) {
+        delmesh::io::temporary::remove_all();
+        // SAFETY: signal and raise are async-signal-safe. The signal is
+        // blocked while this handler runs: it is delivered, with its
+        // default action (the process ends, killed by it), on return.
+        unsafe {
+            libc::signal(signal, libc::SIG_DFL);
+            libc::raise(signal);
+        }
+    }
+    for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+        // SAFETY: installs a handler that only does async-signal-safe work;
+        // called before any other thread exists.
+        unsafe {
+            let mut old: libc::sigaction = std::mem::zeroed();
+            if libc::sigaction(signal, std::ptr::null(), &mut old) == 0 && old.sa_sigaction != libc::SIG_IGN {
+                libc::signal(signal, on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t);
+            }
+        }
+    }
+}
+
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn remove_temporary_files_on_signals() {}
 
 /// glibc's malloc hands blocks above 128 KiB back to the kernel when they are
 /// freed, and each new one is then faulted in again page by page, at about

@@ -16,6 +16,7 @@
 pub mod formats;
 pub mod number;
 pub mod obj;
+pub mod temporary;
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -511,6 +512,9 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         .suffix(".tmp")
         .tempfile_in(&dir)
         .map_err(err)?;
+    // Removed by the signal handler if the run is interrupted; unregistered
+    // when this function returns (renamed into place, or removed on error).
+    let _registered = temporary::register(tmp.path());
     {
         // Small: the OBJ writer hands over blocks of about a megabyte, which
         // a buffer this size passes straight to the file instead of copying.
