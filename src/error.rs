@@ -36,9 +36,9 @@ pub enum Error {
         what: String,
     },
     /// Some non-Delaunay edge can be neither split (no sample left strictly
-    /// inside it) nor flipped (its quad is numerically degenerate), so the
-    /// algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a numerically degenerate quad); worst: {}", worst_text(*.worst_excess))]
+    /// inside it) nor flipped (the flip would fold a face or duplicate an
+    /// edge), so the algorithm cannot make it Delaunay.
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}", worst_text(*.worst_excess))]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
