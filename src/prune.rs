@@ -14,10 +14,11 @@
 //! every change is undone from a journal. When removing p alone fails,
 //! pruning tries to replace p and the next one or two added vertices along E,
 //! or p and one or two added neighbours, by one vertex fewer: it removes them
-//! all, then runs Algorithm 2 locally (several sample choices in turn) with a
-//! budget of one split fewer than it removed. Only added vertices
-//! are ever removed, and new ones are samples of input edges, so the geometry
-//! stays exactly the input's.
+//! all, then runs Algorithm 2 locally (several split points in turn for the
+//! first new vertex) with a budget of one split fewer than it removed. Only
+//! added vertices are ever removed, and new ones lie on input edges (samples,
+//! or for the first one possibly the middle of the best stretch between
+//! them), so the geometry stays exactly the input's.
 //!
 //! ```text
 //!        x1   x2                 x1---x2              x
@@ -30,7 +31,7 @@
 use crate::geometry::{self, ALGORITHM_TOLERANCE};
 use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
 use crate::refine::{self, Options};
-use crate::samples::{point_on_edge, EdgeSamples, Pieces, SampleConstants, Score};
+use crate::samples::{self, point_on_edge, EdgeSamples, Pieces, SampleConstants, Score};
 use glam::DVec3;
 
 /// What pruning did.
@@ -654,14 +655,21 @@ impl Pruner<'_> {
     /// Where to split the non-flippable edge `bad`: the sample each of
     /// [`VARIANTS`] would choose, then a few samples spread along it (the six
     /// conditions the scores weigh see only the quad, not the other vertices
-    /// around); each parameter once.
+    /// around), then the middle of the stretch where score 2 is best, which
+    /// need not be a sample ([`samples::best_interval_middle`]); each
+    /// parameter once.
     fn candidates(&self, bad: EdgeId) -> Candidates {
         let mut ts = Candidates::default();
         // One query and one cut into pieces for all variants (the unfolding
         // and the searches are most of the cost: only the scoring differs).
         // A parameter already listed passed `split_is_valid`, so it is not
         // tested again; the middle of the sub-edge is the same for all.
+        // The middle of the best stretch (score 2), which need not be a
+        // sample: tried last.
+        let mut between = None;
         refine::with_split_query(self.s, &self.constants, bad, true, |q| {
+            q.score = Score::AlwaysCenter;
+            between = samples::best_interval_middle(q);
             let Some(pieces) = Pieces::new(q) else {
                 return; // no sample inside the sub-edge
             };
@@ -699,6 +707,12 @@ impl Pruner<'_> {
                 ts.push(t);
             }
         }
+        if let Some(t) = between {
+            let p = point_on_edge(ends[0], ends[1], t);
+            if !ts.contains(t) && p != pa && p != pb && self.s.split_is_valid(bad, t) {
+                ts.push(t);
+            }
+        }
         ts
     }
 }
@@ -707,7 +721,7 @@ impl Pruner<'_> {
 /// (a fixed array: this runs for every removal attempt).
 #[derive(Default)]
 struct Candidates {
-    ts: [f64; VARIANTS.len() + SPREAD.len()],
+    ts: [f64; VARIANTS.len() + SPREAD.len() + 1],
     len: usize,
 }
 

@@ -494,6 +494,50 @@ impl<'a> Pieces<'a> {
     }
 }
 
+/// The middle of the longest stretch of the sub-edge of `q` where its score
+/// is best, as a parameter on the input edge: unlike [`choose`], any point
+/// of the sub-edge, not only a sample (the split point of SplitToDelaunay,
+/// the public C++ re-implementation of Liu et al.). `None` if that middle
+/// is not strictly inside the sub-edge (it has no length).
+///
+/// Algorithm 2 never splits there (only samples bound its work); pruning
+/// tries it as one more place for the vertex that replaces others: a point
+/// between two samples can keep more edges Delaunay than either.
+pub fn best_interval_middle(q: &SplitQuery) -> Option<f64> {
+    let len = q.samples.len * (q.t_b - q.t_a).abs();
+    let conds = [q.halves[0], q.halves[1], q.outer[0], q.outer[1], q.outer[2], q.outer[3]];
+    // Stretch ends: 0, the breakpoints inside the sub-edge, its length.
+    let mut ends = [0.0f64; 8];
+    let mut n = 1;
+    for c in &conds {
+        if c.breakpoint > 0.0 && c.breakpoint < len {
+            ends[n] = c.breakpoint;
+            n += 1;
+        }
+    }
+    ends[n] = len;
+    let ends = &mut ends[..n + 1];
+    ends.sort_by(f64::total_cmp);
+    // (score, start, end) of the best stretch so far; the first longest wins.
+    let mut best: Option<(u32, f64, f64)> = None;
+    for w in ends.windows(2).filter(|w| w[1] > w[0]) {
+        let x = 0.5 * (w[0] + w[1]);
+        let outer = (2..6).filter(|&i| q.free_outer(i - 2) || conds[i].holds(x)).count() as u32;
+        let score = q.score.doubled([conds[0].holds(x), conds[1].holds(x)], outer);
+        if best.is_none_or(|(s, lo, hi)| score > s || (score == s && w[1] - w[0] > hi - lo)) {
+            best = Some((score, w[0], w[1]));
+        }
+    }
+    let (_, lo, hi) = best?;
+    let x = 0.5 * (lo + hi);
+    let t = if q.t_a < q.t_b {
+        q.t_a + x / q.samples.len
+    } else {
+        q.t_a - x / q.samples.len
+    };
+    (t > q.t_a.min(q.t_b) && t < q.t_a.max(q.t_b)).then_some(t)
+}
+
 /// The test oracle for [`choose`]: scores every sample inside the sub-edge
 /// one by one with `holds(condition index, x)` evaluated pointwise, where
 /// conditions 0 and 1 are the halves and 2..6 the outer edges. Only usable
@@ -596,6 +640,64 @@ mod tests {
         let n = u64::MAX / 4;
         assert_eq!(first_true(n, 12.0, |j| j >= n / 3), n / 3);
         assert_eq!(first_true(n, 1e300, |j| j >= 7), 7);
+    }
+
+    #[test]
+    fn the_best_interval_middle_has_the_best_score() {
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
+        let samples = EdgeSamples::new(10.0, &c);
+        let cond = |side, breakpoint| Condition { side, breakpoint };
+        let mut q = SplitQuery {
+            samples: &samples,
+            edge_ends: [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)],
+            t_a: 0.2,
+            t_b: 0.9,
+            pos_a: DVec3::new(2.0, 0.0, 0.0),
+            pos_b: DVec3::new(9.0, 0.0, 0.0),
+            // Both halves Delaunay on x in [2.5, 4.0] (from a), outer edges
+            // on [0, 3.2], [3.0, 7], never, always.
+            halves: [cond(Side::AtMost, 4.0), cond(Side::AtLeast, 2.5)],
+            outer: [
+                cond(Side::AtMost, 3.2),
+                cond(Side::AtLeast, 3.0),
+                cond(Side::AtMost, -1.0),
+                cond(Side::AtLeast, f64::NAN),
+            ],
+            outer_flippable: [false; 4],
+            score: Score::AlwaysCenter,
+            median: true,
+        };
+        let score_at = |q: &SplitQuery, x: f64| {
+            let conds = [q.halves[0], q.halves[1], q.outer[0], q.outer[1], q.outer[2], q.outer[3]];
+            let outer = (2..6).filter(|&i| conds[i].holds(x)).count() as u32;
+            q.score.doubled([conds[0].holds(x), conds[1].holds(x)], outer)
+        };
+        for forward in [true, false] {
+            if !forward {
+                // The same sub-edge walked from its other end.
+                q.t_a = 0.9;
+                q.t_b = 0.2;
+                q.halves = [cond(Side::AtMost, 4.5), cond(Side::AtLeast, 3.0)];
+                q.outer = [
+                    cond(Side::AtMost, 4.0),
+                    cond(Side::AtLeast, 3.8),
+                    cond(Side::AtMost, -1.0),
+                    cond(Side::AtLeast, f64::NAN),
+                ];
+            }
+            let t = best_interval_middle(&q).unwrap();
+            assert!(t > 0.2 && t < 0.9);
+            let x = (t - q.t_a).abs() * 10.0;
+            let best = (1..700).map(|i| score_at(&q, i as f64 * 0.01)).max().unwrap();
+            assert_eq!(score_at(&q, x), best, "forward {forward}: x {x}");
+        }
+        // Forward: best (both halves, outer 0, 1, 3) on [3.0, 3.2]: its middle.
+        q.t_a = 0.2;
+        q.t_b = 0.9;
+        q.halves = [cond(Side::AtMost, 4.0), cond(Side::AtLeast, 2.5)];
+        q.outer[0] = cond(Side::AtMost, 3.2);
+        q.outer[1] = cond(Side::AtLeast, 3.0);
+        assert!((best_interval_middle(&q).unwrap() - 0.51).abs() < 1e-12);
     }
 
     #[test]
