@@ -80,9 +80,12 @@ struct RunArgs {
     #[arg(short = 'i', long = "input", value_name = "FILE", required = true)]
     input: Option<PathBuf>,
 
-    /// Output mesh: OBJ, OFF, PLY (binary) or STL by extension, OBJ if none.
-    /// Without it the input file is rewritten, only after success. With -all,
-    /// the stem, folder and extension of the 18 output files.
+    /// Output mesh: OBJ, OFF or PLY (binary) by extension, OBJ if none;
+    /// gzip-compressed if the name ends in .gz; STL only with --no-refine
+    /// (its f32 coordinates cannot hold a refined mesh). A device or pipe
+    /// (/dev/null, /dev/stdout) is written into. Without it the input file
+    /// is rewritten, only after success. With -all, the stem, folder and
+    /// extension of the 18 output files.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<PathBuf>,
 
