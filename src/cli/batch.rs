@@ -18,8 +18,8 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, one_line, refine_once, refuse_map_through_seams, write_output,
-    write_vertex_map, FirstPass, Settings,
+    check_output, check_output_dir, failure_record, file_key, one_line, refine_once, refuse_map_through_seams,
+    write_output, write_vertex_map, FirstPass, Settings,
 };
 use crate::stats_json::{self, RunRecord};
 use delmesh::attributes::Transfer;
@@ -197,17 +197,6 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: boo
     Ok(outputs)
 }
 
-/// `p` with its folder resolved (symbolic links, `..`): comparable with a
-/// canonical path even if `p` does not exist yet. `None` if the folder does
-/// not exist.
-fn resolved(p: &Path) -> Option<PathBuf> {
-    let dir = match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
-}
-
 /// One file's result, as the summary line and the CSV row need it.
 struct Done {
     record: RunRecord,
@@ -277,13 +266,13 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     check_output_dir(&outputs[0])?;
     if let Some(csv) = &args.stats_csv {
         check_output_dir(csv)?;
-        let target = resolved(csv);
+        let target = file_key(csv);
         let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
-        let map = |p: &PathBuf| args.vertex_maps.then(|| resolved(&vertex_map_path(p))).flatten();
+        let map = |p: &PathBuf| args.vertex_maps.then(|| file_key(&vertex_map_path(p))).flatten();
         if is_input
             || outputs
                 .iter()
-                .any(|p| resolved(p) == target || (target.is_some() && map(p) == target))
+                .any(|p| file_key(p) == target || (target.is_some() && map(p) == target))
         {
             bail!(
                 "{}: would overwrite an input or an output (or a vertex map)",
