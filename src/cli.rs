@@ -280,10 +280,10 @@ enum Command {
         #[arg(short = 'i', long = "input", value_name = "FILE")]
         input: Option<PathBuf>,
         /// View direction: degrees around the vertical axis.
-        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true, value_parser = finite_degrees)]
         azimuth: f64,
         /// View direction: degrees above the horizon.
-        #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 20.0, allow_negative_numbers = true, value_parser = finite_degrees)]
         elevation: f64,
         /// Picture width and height in pixels.
         #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
@@ -453,6 +453,15 @@ fn score_name(s: Score) -> &'static str {
         Score::WeightedCenter => "weighted center",
         Score::AlwaysCenter => "always center",
         Score::SplitAware => "split-aware",
+    }
+}
+
+/// An angle in degrees for `render`: any finite number (NaN or an
+/// infinity would draw nothing).
+fn finite_degrees(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("{s:?} is not a finite number of degrees")),
     }
 }
 
@@ -1435,8 +1444,13 @@ fn run_all(
         }
     }
     if failed > 0 {
+        let table = if args.quiet {
+            "the table, without -q, says why"
+        } else {
+            "see the table"
+        };
         complain!(
-            "delmesh: {failed} of {} combinations failed (see the table); the others were written",
+            "delmesh: {failed} of {} combinations failed ({table}); the others were written",
             rows.len()
         );
         return Ok((ExitCode::from(1), rows));
@@ -1594,6 +1608,14 @@ mod tests {
             .into_iter()
             .map(|a| a.into_string().unwrap())
             .collect()
+    }
+
+    #[test]
+    fn render_angles_must_be_finite() {
+        assert_eq!(finite_degrees("-30.5"), Ok(-30.5));
+        for bad in ["nan", "inf", "-inf", "1e999", "ten"] {
+            assert!(finite_degrees(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

@@ -49,7 +49,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; the median rule (the default) with -s 2 usually needs far less")]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input{}", if *limit < 1000 { "; raise --max-added" } else { "; the median rule (the default) with -s 2 usually needs far less" })]
     WorkLimit {
         /// Splits done.
         splits: usize,
