@@ -1050,6 +1050,23 @@ fn devices_pipes_and_links_are_written_through() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stdout).contains("\"delmesh_version\""));
     assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    // Standard output redirected to a file: the JSON goes where the printout
+    // goes, in order, and the file is not replaced (nor opened again).
+    let log = dir.path().join("log.txt");
+    let status = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .arg("-i")
+        .arg(&bunny)
+        .args(["-o", "/dev/null", "--stats-json", "/dev/stdout"])
+        .stdout(std::fs::File::create(&log).unwrap())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&log).unwrap();
+    let (json, summary) = (
+        text.find("\"delmesh_version\"").unwrap(),
+        text.find("seconds ").unwrap(),
+    );
+    assert!(text.starts_with("input ") && json < summary, "{text}");
     // A link to a file: the file is replaced, the link stays.
     let target = dir.path().join("target.obj");
     std::fs::write(&target, "old").unwrap();

@@ -470,7 +470,20 @@ pub fn set_sync_writes(sync: bool) {
 /// `/dev/null`, a terminal or pipe such as `/dev/stdout`, a FIFO. Such a
 /// target is written into, never replaced.
 pub fn is_stream(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+    standard_stream(path).is_some() || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Which standard stream `path` names, 1 (stdout) or 2 (stderr), by its
+/// usual names: written through the process's own descriptor, so that
+/// `--stats-json /dev/stdout > log` appends to `log` where the printout
+/// goes, instead of opening the file again at its start (or replacing it).
+fn standard_stream(path: &Path) -> Option<u8> {
+    let name = path.to_str()?;
+    match name {
+        "/dev/stdout" | "/dev/fd/1" | "/proc/self/fd/1" => Some(1),
+        "/dev/stderr" | "/dev/fd/2" | "/proc/self/fd/2" => Some(2),
+        _ => None,
+    }
 }
 
 /// The file a write to `path` replaces, and the folder its temporary file
@@ -499,6 +512,15 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         path: path.to_owned(),
         source,
     };
+    if let Some(fd) = standard_stream(path) {
+        let mut w: Box<dyn Write> = if fd == 1 {
+            Box::new(std::io::stdout().lock())
+        } else {
+            Box::new(std::io::stderr().lock())
+        };
+        fill_compressed_if_gz(path, &mut w, fill).map_err(err)?;
+        return w.flush().map_err(err);
+    }
     if is_stream(path) {
         let file = std::fs::OpenOptions::new().write(true).open(path).map_err(err)?;
         let mut w = BufWriter::with_capacity(1 << 16, file);
