@@ -892,6 +892,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn lines_are_the_same_whether_or_not_threads_start() {
+        // Enough vertices for several blocks of lines, so that the writer
+        // hands blocks to threads (or, refused, fills them itself).
+        let n = 3 * BLOCK_LINES + 5;
+        let positions: Vec<[f64; 3]> = (0..n).map(|i| [i as f64 * 0.1, (i % 7) as f64, -(i as f64)]).collect();
+        let triangles: Vec<[u32; 3]> = (0..n as u32 - 2).map(|i| [i, i + 1, i + 2]).collect();
+        let write = || {
+            let mut out = Vec::new();
+            write_obj(&mut out, &positions, &triangles).unwrap();
+            out
+        };
+        crate::parallel::set_threads(4);
+        let threaded = write();
+        crate::parallel::refuse_threads(true);
+        let alone = write();
+        crate::parallel::refuse_threads(false);
+        crate::parallel::set_threads(0);
+        assert!(threaded == alone);
+        assert_eq!(threaded.iter().filter(|&&b| b == b'\n').count(), 2 * n - 2);
+    }
+
+    #[test]
     fn face_lines_are_the_formatted_indices() {
         let mut values = vec![
             0u32,
