@@ -664,8 +664,8 @@ impl Pruner<'_> {
         // and the searches are most of the cost: only the scoring differs).
         // A parameter already listed passed `split_is_valid`, so it is not
         // tested again; the middle of the sub-edge is the same for all.
-        // The middle of the best stretch (score 2), which need not be a
-        // sample: tried last.
+        // `between`: the middle of the best stretch for score 2, which need
+        // not be a sample, tried last.
         let mut between = None;
         refine::with_split_query(self.s, &self.constants, bad, true, |q| {
             q.score = Score::AlwaysCenter;

@@ -497,7 +497,8 @@ pub(crate) fn with_split_query<R>(
 /// hope, if that does.
 pub(crate) fn choose_valid(s: &Surface, e: EdgeId, query: &SplitQuery) -> Option<samples::Choice> {
     let valid = |c: &samples::Choice| s.split_is_valid(e, c.t);
-    samples::choose(query)
+    let pieces = samples::Pieces::new(query)?;
+    Some(pieces.choose(query))
         .filter(valid)
-        .or_else(|| samples::middle(query).filter(valid))
+        .or_else(|| Some(pieces.middle()).filter(valid))
 }

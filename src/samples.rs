@@ -223,6 +223,20 @@ impl SplitQuery<'_> {
     fn free_outer(&self, i: usize) -> bool {
         self.score == Score::SplitAware && self.outer_flippable[i]
     }
+
+    /// The six conditions: the halves (0, 1), then the outer edges (2..6).
+    fn conditions(&self) -> [Condition; 6] {
+        let ([h0, h1], [o0, o1, o2, o3]) = (self.halves, self.outer);
+        [h0, h1, o0, o1, o2, o3]
+    }
+
+    /// The doubled score of a split point at which condition `i` holds
+    /// when `holds(i)` (numbered as in [`SplitQuery::conditions`]).
+    #[inline]
+    fn score_where(&self, holds: impl Fn(usize) -> bool) -> u32 {
+        let outer = (2..6).filter(|&i| self.free_outer(i - 2) || holds(i)).count() as u32;
+        self.score.doubled([holds(0), holds(1)], outer)
+    }
 }
 
 /// The chosen sample: its index on the input edge and its parameter.
@@ -285,6 +299,15 @@ impl<'a> Window<'a> {
         let t = self.samples.t(self.k(j));
         let d = if self.forward { t - self.t_a } else { self.t_a - t };
         d * self.samples.len
+    }
+
+    /// The sample in the middle of the window (by index).
+    fn middle(&self) -> Choice {
+        let k = self.k(self.count / 2);
+        Choice {
+            k,
+            t: self.samples.t(k),
+        }
     }
 
     /// Local index about at distance `x` from `a`.
@@ -384,7 +407,7 @@ pub fn choose(q: &SplitQuery) -> Option<Choice> {
 /// the score: the fallback when the chosen sample lands too close to a
 /// vertex for the coordinates to resolve (`None`: no sample inside).
 pub fn middle(q: &SplitQuery) -> Option<Choice> {
-    Some(Pieces::new(q)?.middle())
+    Some(Window::new(q)?.middle())
 }
 
 /// The samples inside a sub-edge cut into at most seven pieces (runs of
@@ -406,16 +429,9 @@ impl<'a> Pieces<'a> {
     /// inside it.
     pub fn new(q: &SplitQuery<'a>) -> Option<Self> {
         let w = Window::new(q)?;
-        let conds: [&Condition; 6] = [
-            &q.halves[0],
-            &q.halves[1],
-            &q.outer[0],
-            &q.outer[1],
-            &q.outer[2],
-            &q.outer[3],
-        ];
+        let conds = q.conditions();
         let mut cuts = [0u64; 6];
-        for (cut, c) in cuts.iter_mut().zip(conds) {
+        for (cut, c) in cuts.iter_mut().zip(&conds) {
             *cut = w.cut(c);
         }
         // Piece boundaries: 0, the cuts, count.
@@ -443,15 +459,10 @@ impl<'a> Pieces<'a> {
     /// in those two).
     pub fn choose(&self, q: &SplitQuery) -> Choice {
         let pieces = &self.pieces[..self.len];
-        let score = |mask: u8| {
-            let holds = |i: usize| mask & (1 << i) != 0;
-            let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i)).count() as u32;
-            q.score.doubled([holds(0), holds(1)], outer)
-        };
         // Each non-empty piece scored once.
         let mut scores = [0u32; 7];
         for (s, p) in scores.iter_mut().zip(pieces) {
-            *s = score(p.2);
+            *s = q.score_where(|i| p.2 & (1 << i) != 0);
         }
         let scores = &scores[..self.len];
         let best = *scores.iter().max().expect("a window has at least one piece");
@@ -486,11 +497,7 @@ impl<'a> Pieces<'a> {
 
     /// The sample in the middle of the sub-edge (by index).
     pub fn middle(&self) -> Choice {
-        let k = self.w.k(self.w.count / 2);
-        Choice {
-            k,
-            t: self.w.samples.t(k),
-        }
+        self.w.middle()
     }
 }
 
@@ -505,7 +512,7 @@ impl<'a> Pieces<'a> {
 /// between two samples can keep more edges Delaunay than either.
 pub fn best_interval_middle(q: &SplitQuery) -> Option<f64> {
     let len = q.samples.len * (q.t_b - q.t_a).abs();
-    let conds = [q.halves[0], q.halves[1], q.outer[0], q.outer[1], q.outer[2], q.outer[3]];
+    let conds = q.conditions();
     // Stretch ends: 0, the breakpoints inside the sub-edge, its length.
     let mut ends = [0.0f64; 8];
     let mut n = 1;
@@ -522,8 +529,7 @@ pub fn best_interval_middle(q: &SplitQuery) -> Option<f64> {
     let mut best: Option<(u32, f64, f64)> = None;
     for w in ends.windows(2).filter(|w| w[1] > w[0]) {
         let x = 0.5 * (w[0] + w[1]);
-        let outer = (2..6).filter(|&i| q.free_outer(i - 2) || conds[i].holds(x)).count() as u32;
-        let score = q.score.doubled([conds[0].holds(x), conds[1].holds(x)], outer);
+        let score = q.score_where(|i| conds[i].holds(x));
         if best.is_none_or(|(s, lo, hi)| score > s || (score == s && w[1] - w[0] > hi - lo)) {
             best = Some((score, w[0], w[1]));
         }
@@ -559,8 +565,7 @@ pub fn choose_by_enumeration(q: &SplitQuery, holds: impl Fn(usize, f64) -> bool)
         .iter()
         .map(|&k| {
             let x = (s.t(k) - q.t_a).abs() * s.len;
-            let outer = (2..6).filter(|&i| q.free_outer(i - 2) || holds(i, x)).count() as u32;
-            (k, q.score.doubled([holds(0, x), holds(1, x)], outer))
+            (k, q.score_where(|i| holds(i, x)))
         })
         .collect();
     let best = scored.iter().map(|p| p.1).max()?;
