@@ -386,13 +386,8 @@ impl Run<'_> {
             }
         }
         let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
-        if self.s.is_flippable(e) {
-            if !self.s.flip_is_valid(e) {
-                // A numerically degenerate quad: leave the edge (it cannot be
-                // split either: it lies on no input edge) for the final count.
-                self.mark_stuck(e);
-                return;
-            }
+        let flippable = self.s.is_flippable(e);
+        if flippable && self.s.flip_is_valid(e) {
             self.s.flip(e);
             self.stats.flips += 1;
             // The new diagonal itself is Delaunay: `flip_is_valid` tested it
@@ -403,6 +398,16 @@ impl Run<'_> {
             }
             return;
         }
+        if flippable && self.s.edge_input[e.idx()] == NO_INPUT_EDGE {
+            // A numerically degenerate quad, and no input edge to split:
+            // leave the edge for the final count.
+            self.mark_stuck(e);
+            return;
+        }
+        // Not flippable, or a flip would fold a face or duplicate an edge
+        // (a region that overlaps itself, as where the surface folds flat
+        // onto itself; or rounding in a needle quad): an edge on an input
+        // edge is split instead, at a sample like any other.
         match self.choose_sample(e) {
             Some(choice) => {
                 let n = self.s.topo.n_edges() as u32;
@@ -416,15 +421,16 @@ impl Run<'_> {
         }
     }
 
-    /// The sample at which to split the non-flippable edge `e`.
+    /// The sample at which to split the edge `e`, which cannot be flipped (validly).
     fn choose_sample(&self, e: EdgeId) -> Option<samples::Choice> {
         choose_sample(self.s, &self.constants, &self.options, e)
     }
 }
 
-/// The sample at which Algorithm 2 splits the non-flippable, non-Delaunay
-/// edge `e` of `s` with these settings (`None`: no sample left in it whose
-/// rounded position gives valid faces, see [`Surface::split_is_valid`]).
+/// The sample at which Algorithm 2 splits the non-Delaunay edge `e` of `s`
+/// (not flippable, or not validly) with these settings (`None`: no sample
+/// left in it whose rounded position gives valid faces, see
+/// [`Surface::split_is_valid`]).
 pub(crate) fn choose_sample(
     s: &Surface,
     constants: &SampleConstants,

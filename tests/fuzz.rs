@@ -2831,6 +2831,28 @@ fn regression_refine_degenerate_sample_constants() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
+/// Found by an adversarial session (random flips of a coarse torus whose
+/// vertices lie in two axis planes): the two faces of one input edge lie in
+/// one plane folded onto each other (not a flat pair), but chains of flat
+/// pairs join them into one planar region that overlaps itself. The edge
+/// counted as flippable, its flip would fold a face (`flip_is_valid`), so
+/// it was left stuck: every setting ended with `Unsplittable`. Fixed: an
+/// edge on an input edge that cannot be flipped validly is split at a sample
+/// like any other non-flippable edge. Every combination must now refine
+/// (not merely refuse cleanly) and pass the checker.
+#[test]
+fn regression_refine_fold_in_one_region() {
+    let name = "bug-refine-fold-in-one-region.obj";
+    let problems: Vec<String> = (0..18)
+        .filter_map(|k| match pipeline_outcome(name, &combination(k)) {
+            Ok(Some(_)) => None,
+            Ok(None) => Some(format!("{:?}: refused", combination(k))),
+            Err(e) => Some(e),
+        })
+        .collect();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
 /// Found by `fuzz_pipeline` (seed 682301391), minimized: a box-like input
 /// whose smallest angle 9.3e-10 gives rho_e = 8.7e-19, while coordinates
 /// near 0.5 have a spacing of 1.1e-16: consecutive samples of an edge are
