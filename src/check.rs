@@ -293,7 +293,7 @@ impl Mesh3 {
     /// coordinate is not finite, or there is no face.
     pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
+        let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
             path: path.to_path_buf(),
             source,
         })?;
@@ -344,7 +344,7 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         path: path.to_path_buf(),
         reason,
     };
-    let bytes = std::fs::read(path).map_err(|source| CheckError::Io {
+    let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
         path: path.to_path_buf(),
         source,
     })?;

@@ -21,12 +21,21 @@ macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
         crate::progress::suspend(|| {
-            let mut out = std::io::stdout().lock();
-            let _ = writeln!(out, $($arg)*);
-            let _ = out.flush();
+            if crate::cli::PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
+                let _ = writeln!(std::io::stderr(), $($arg)*);
+            } else {
+                let mut out = std::io::stdout().lock();
+                let _ = writeln!(out, $($arg)*);
+                let _ = out.flush();
+            }
         });
     }};
 }
+
+/// Set when a run writes a file to standard output (`-o -`, `--stats-json
+/// /dev/stdout`, ...): its printout then goes to standard error, so that
+/// what lands on standard output is that file alone.
+pub(crate) static PRINTOUT_TO_STDERR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// `eprintln!` that never panics, for the same reason.
 macro_rules! complain {
@@ -76,15 +85,17 @@ struct Cli {
 #[derive(clap::Args, Debug)]
 struct RunArgs {
     /// Input mesh: OBJ, OFF, PLY or STL, by extension or content, possibly
-    /// gzip-compressed (.gz).
+    /// gzip-compressed (.gz). `-` reads standard input (format by content).
     #[arg(short = 'i', long = "input", value_name = "FILE", required = true)]
     input: Option<PathBuf>,
 
     /// Output mesh: OBJ, OFF or PLY (binary) by extension, OBJ if none;
     /// gzip-compressed if the name ends in .gz; STL only with --no-refine
-    /// (its f32 coordinates cannot hold a refined mesh). A device or pipe
-    /// (/dev/null, /dev/stdout) is written into. Without it the input file
-    /// is rewritten, only after success. With -all, the stem, folder and
+    /// (its f32 coordinates cannot hold a refined mesh). `-` writes OBJ to
+    /// standard output, and the printout then goes to standard error. A
+    /// device or pipe (/dev/null, /dev/stdout) is written into. Without it
+    /// the input file is rewritten, only after success (standard input's
+    /// mesh goes to standard output). With -all, the stem, folder and
     /// extension of the 18 output files.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<PathBuf>,
@@ -296,9 +307,9 @@ enum Command {
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
     /// reading the two files only. Exits 0 if it is, 1 if not.
     Check {
-        /// The original mesh.
+        /// The original mesh (`-`: standard input).
         input: PathBuf,
-        /// The mesh to verify.
+        /// The mesh to verify (`-`: standard input, e.g. piped from `delmesh -o -`).
         output: PathBuf,
         /// How many threads to use (default: one per core; two are used, to
         /// read the files and run the independent rules side by side on
@@ -519,6 +530,13 @@ fn file_key(p: &Path) -> Option<PathBuf> {
 /// named more than once.
 fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, PathBuf)]) -> anyhow::Result<()> {
     let input_key = file_key(input);
+    for (i, (what, path)) in written.iter().enumerate() {
+        let Some(fd) = io::standard_stream(path) else { continue };
+        if let Some((other, _)) = written[..i].iter().find(|(_, p)| io::standard_stream(p) == Some(fd)) {
+            let stream = if fd == 1 { "standard output" } else { "standard error" };
+            bail!("{}: {what} and {other} would both go to {stream}", path.display());
+        }
+    }
     let keys: Vec<Option<PathBuf>> = written
         .iter()
         .map(|(_, p)| if io::is_stream(p) { None } else { file_key(p) })
@@ -696,7 +714,26 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let Some(input_path) = args.input.as_deref() else {
         bail!("no input: give one with -i FILE")
     };
-    let output = args.output.clone().unwrap_or_else(|| input_path.to_owned());
+    let from_stdin = io::is_standard_input(input_path);
+    if from_stdin && args.all && args.output.is_none() {
+        bail!(
+            "-all writes {} files named after -o: give one with -o FILE",
+            sweep_combinations(args.extended).len()
+        );
+    }
+    // Without -o the output is the input, rewritten in place; standard
+    // input has no file to rewrite, so its mesh goes to standard output.
+    let output = match &args.output {
+        Some(o) => o.clone(),
+        None if from_stdin => PathBuf::from("-"),
+        None => input_path.to_owned(),
+    };
+    if args.all && io::standard_stream(&output).is_some() {
+        bail!(
+            "-all writes {} files named after -o: give a file name, not a stream",
+            sweep_combinations(args.extended).len()
+        );
+    }
     check_output_dir(&output)?;
     io::set_sync_writes(args.settings.sync);
     if let Some(jobs) = args.jobs {
@@ -726,9 +763,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     // (Without -o the output is the input, rewritten in place by design.)
-    let in_place = (args.output.is_none() && !args.all).then_some(0);
+    let in_place = (args.output.is_none() && !args.all && !from_stdin).then_some(0);
     refuse_same_files(input_path, in_place, &written)?;
-    if args.output.is_none() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
+    // Any output on standard output: the printout goes to standard error.
+    if written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)) {
+        PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+    if in_place.is_some() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
         bail!(
             "{}: not a regular file, so it cannot be rewritten in place; give an output with -o",
             input_path.display()
@@ -741,7 +782,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         bail!("{}: {STL_REFUSED}", output.display());
     }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
-    if args.output.is_none() && compressed {
+    if in_place.is_some() && compressed {
         bail!(
             "{}: cannot rewrite this input in place; give an output with -o",
             input_path.display()
@@ -1567,6 +1608,9 @@ fn run_render(
 }
 
 fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
+    if io::is_standard_input(input) && io::is_standard_input(output) {
+        bail!("INPUT and OUTPUT are both standard input: at most one of them can be `-`");
+    }
     let report = delmesh::check::check_files(input, output)?;
     say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {:.3e} rad)",

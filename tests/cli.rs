@@ -1050,23 +1050,26 @@ fn devices_pipes_and_links_are_written_through() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stdout).contains("\"delmesh_version\""));
     assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
-    // Standard output redirected to a file: the JSON goes where the printout
-    // goes, in order, and the file is not replaced (nor opened again).
+    // Standard output redirected to a file: the JSON goes there through the
+    // process's own stream (the file is not replaced, nor opened again), and
+    // alone: the printout goes to standard error.
     let log = dir.path().join("log.txt");
-    let status = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+    let run = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
         .arg("-i")
         .arg(&bunny)
         .args(["-o", "/dev/null", "--stats-json", "/dev/stdout"])
         .stdout(std::fs::File::create(&log).unwrap())
-        .status()
+        .output()
         .unwrap();
-    assert!(status.success());
+    assert!(run.status.success());
     let text = std::fs::read_to_string(&log).unwrap();
-    let (json, summary) = (
-        text.find("\"delmesh_version\"").unwrap(),
-        text.find("seconds ").unwrap(),
+    let json: serde_json::Value = serde_json::from_str(&text).expect("standard output is the JSON alone");
+    assert!(json["delmesh_version"].is_string());
+    let printout = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        printout.starts_with("input ") && printout.contains("seconds "),
+        "{printout}"
     );
-    assert!(text.starts_with("input ") && json < summary, "{text}");
     // A link to a file: the file is replaced, the link stays.
     let target = dir.path().join("target.obj");
     std::fs::write(&target, "old").unwrap();
@@ -1101,6 +1104,81 @@ fn devices_pipes_and_links_are_written_through() {
         assert_eq!(run.status.code(), Some(1));
         assert!(String::from_utf8_lossy(&run.stderr).contains("not a regular file"));
         assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    }
+}
+
+/// `-` is standard input for `-i` and `check`, standard output for `-o`: a
+/// pipeline `delmesh -i - -o - | delmesh check IN -` works, standard output
+/// then carries the mesh alone (the printout goes to standard error), and
+/// a run on standard input without `-o` writes to standard output, never to
+/// a file that `/dev/stdin` happens to name.
+#[cfg(unix)]
+#[test]
+fn dash_is_standard_input_and_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let input = dir.path().join("in.obj");
+    std::fs::copy(&bunny, &input).unwrap();
+    let original = std::fs::read(&input).unwrap();
+    let run = |args: &[&str], stdin: &Path| {
+        std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+            .args(args)
+            .stdin(std::fs::File::open(stdin).unwrap())
+            .output()
+            .unwrap()
+    };
+    let piped = run(&["-i", "-", "-o", "-"], &input);
+    assert!(piped.status.success(), "{}", String::from_utf8_lossy(&piped.stderr));
+    let printout = String::from_utf8_lossy(&piped.stderr);
+    assert!(
+        printout.contains("input   -:") && printout.contains("added vertices"),
+        "{printout}"
+    );
+    let text = String::from_utf8_lossy(&piped.stdout);
+    assert!(
+        text.lines().all(|l| l.starts_with("v ") || l.starts_with("f ")),
+        "not a mesh alone"
+    );
+    let output = dir.path().join("out.obj");
+    std::fs::write(&output, &piped.stdout).unwrap();
+    check_passes(&input, &output);
+    // The same mesh as with files, and the same when the names are spelled out.
+    let by_file = dir.path().join("by-file.obj");
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&by_file)
+        .assert()
+        .success();
+    assert_eq!(std::fs::read(&by_file).unwrap(), piped.stdout);
+    let by_name = run(&["-q", "-i", "/dev/stdin"], &input);
+    assert!(by_name.status.success());
+    assert_eq!(
+        by_name.stdout, piped.stdout,
+        "standard input without -o goes to standard output"
+    );
+    assert_eq!(
+        std::fs::read(&input).unwrap(),
+        original,
+        "the file behind standard input is left alone"
+    );
+    // check reads either file from standard input.
+    let checked = run(&["check", input.to_str().unwrap(), "-"], &output);
+    assert!(checked.status.success() && String::from_utf8_lossy(&checked.stdout).contains("PASS"));
+    let both = run(&["check", "-", "-"], &output);
+    assert_eq!(both.status.code(), Some(1));
+    // Refused: two files on standard output, -all on a stream or without a name.
+    for args in [
+        &["-i", "-", "-o", "-", "--stats-json", "/dev/stdout"][..],
+        &["-i", "-", "--all"][..],
+        &["-i", "-", "-o", "-", "--all"][..],
+    ] {
+        let refused = run(args, &input);
+        assert_eq!(refused.status.code(), Some(1), "{args:?}");
+        assert!(refused.stdout.is_empty(), "{args:?}");
+        assert_eq!(String::from_utf8_lossy(&refused.stderr).lines().count(), 1, "{args:?}");
     }
 }
 

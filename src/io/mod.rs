@@ -18,7 +18,7 @@ pub mod number;
 pub mod obj;
 pub mod temporary;
 
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -103,7 +103,7 @@ pub fn read_mesh(path: &Path, options: &ReadOptions) -> Result<InputMesh> {
 
 /// Reads a mesh file into polygons, without welding or validation.
 pub fn read_raw(path: &Path) -> Result<RawMesh> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+    let bytes = read_bytes(path).map_err(|source| Error::Read {
         path: path.to_owned(),
         source,
     })?;
@@ -116,6 +116,18 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
         Format::Stl => formats::read_stl(&bytes),
     };
     raw.map_err(|e| format_error(path, e))
+}
+
+/// The bytes of the file `path`, or of standard input to its end if `path`
+/// names it ([`is_standard_input`]).
+pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    if is_standard_input(path) {
+        let mut bytes = Vec::new();
+        std::io::stdin().lock().read_to_end(&mut bytes)?;
+        Ok(bytes)
+    } else {
+        std::fs::read(path)
+    }
 }
 
 /// Parses OBJ text; `path` only names the file in errors.
@@ -473,17 +485,28 @@ pub fn is_stream(path: &Path) -> bool {
     standard_stream(path).is_some() || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
-/// Which standard stream `path` names, 1 (stdout) or 2 (stderr), by its
-/// usual names: written through the process's own descriptor, so that
-/// `--stats-json /dev/stdout > log` appends to `log` where the printout
-/// goes, instead of opening the file again at its start (or replacing it).
-fn standard_stream(path: &Path) -> Option<u8> {
+/// Which standard stream an output `path` names, 1 (stdout: `-` or its
+/// usual names) or 2 (stderr): written through the process's own
+/// descriptor, so that `--stats-json /dev/stdout > log` appends to `log`
+/// instead of opening the file again at its start (or replacing it).
+pub fn standard_stream(path: &Path) -> Option<u8> {
     let name = path.to_str()?;
     match name {
-        "/dev/stdout" | "/dev/fd/1" | "/proc/self/fd/1" => Some(1),
+        "-" | "/dev/stdout" | "/dev/fd/1" | "/proc/self/fd/1" => Some(1),
         "/dev/stderr" | "/dev/fd/2" | "/proc/self/fd/2" => Some(2),
         _ => None,
     }
+}
+
+/// Whether an input `path` names standard input: `-` or its usual names.
+/// It is read through the process's own descriptor (to its end), never
+/// opened again by name: `/dev/stdin` redirected from a file would
+/// otherwise name that file, and a run without `-o` rewrite it in place.
+pub fn is_standard_input(path: &Path) -> bool {
+    matches!(
+        path.to_str(),
+        Some("-" | "/dev/stdin" | "/dev/fd/0" | "/proc/self/fd/0")
+    )
 }
 
 /// The file a write to `path` replaces, and the folder its temporary file
