@@ -365,7 +365,10 @@ fn legacy_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> Vec<std::f
 
 /// Entry point: parse, run, print errors as one line, exit 1 on failure.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse_from(legacy_args(std::env::args_os()));
+    let cli = match Cli::try_parse_from(legacy_args(std::env::args_os())) {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     let result = match cli.command {
         Some(Command::Check { input, output, jobs }) => {
             if let Some(jobs) = jobs {
@@ -423,6 +426,48 @@ fn print_bytes(bytes: &[u8]) -> anyhow::Result<ExitCode> {
 }
 
 /// The error and its causes on one line.
+/// Prints a command-line parse error as one line, `delmesh: ...` like every
+/// other error, and returns exit status 2 (clap's); help and version
+/// requests are printed in full, as asked.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion)
+        || e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    {
+        let _ = e.print();
+        return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+    }
+    complain!("delmesh: {} (see --help)", usage_line(&e.to_string()));
+    ExitCode::from(2)
+}
+
+/// Clap's multi-line message as one line: its `error: ` prefix, the usage
+/// block, tips and the pointer to --help dropped, the rest joined.
+fn usage_line(message: &str) -> String {
+    let mut parts = Vec::new();
+    let mut in_usage = false;
+    for line in message.lines().map(str::trim) {
+        if line.starts_with("Usage:") {
+            in_usage = true;
+            continue;
+        }
+        if line.is_empty() {
+            in_usage = false;
+            continue;
+        }
+        if in_usage || line.starts_with("tip:") || line.starts_with("For more information") {
+            continue;
+        }
+        parts.push(line.strip_prefix("error: ").unwrap_or(line));
+    }
+    match parts.split_first() {
+        Some((&"the following required arguments were not provided:", missing)) => {
+            format!("missing {}", missing.join(", "))
+        }
+        _ => parts.join(" "),
+    }
+}
+
 fn one_line(e: &anyhow::Error) -> String {
     let mut s = e.to_string();
     for cause in e.chain().skip(1) {

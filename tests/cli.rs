@@ -1107,6 +1107,43 @@ fn devices_pipes_and_links_are_written_through() {
     }
 }
 
+/// A mistyped command line gets one line on standard error, `delmesh: `
+/// like every other error, and exit status 2; help and version are printed
+/// in full on standard output, status 0.
+#[test]
+fn usage_errors_are_one_line() {
+    for args in [
+        &["-i"][..],
+        &["--bogus", "-i", "x.obj"][..],
+        &["-s", "7", "-i", "x.obj"][..],
+        &[][..],
+        &["check", "a.obj"][..],
+        &["render"][..],
+        &["-i", "a.obj", "-i", "b.obj"][..],
+        &["batch", "--format", "xyz", "-d", "out", "a.obj"][..],
+    ] {
+        let out = delmesh().args(args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with("delmesh: ") && stderr.trim_end().ends_with("(see --help)"),
+            "{stderr}"
+        );
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    let missing = delmesh().args(["check"]).output().unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&missing.stderr).trim_end(),
+        "delmesh: missing <INPUT>, <OUTPUT> (see --help)"
+    );
+    for args in [&["--help"][..], &["--version"][..], &["check", "--help"][..]] {
+        let out = delmesh().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stdout).lines().count() >= 1, "{args:?}");
+    }
+}
+
 /// `-` is standard input for `-i` and `check`, standard output for `-o`: a
 /// pipeline `delmesh -i - -o - | delmesh check IN -` works, standard output
 /// then carries the mesh alone (the printout goes to standard error), and
