@@ -168,8 +168,9 @@ struct RunArgs {
 
     /// Verify the output with `delmesh check` once written (against the
     /// input, or with --repair the repaired input); if it fails, it is
-    /// renamed to OUTPUT.rejected and the exit status is 1.
-    #[arg(long = "check", requires = "output", conflicts_with_all = ["all", "no_refine"])]
+    /// renamed to OUTPUT.rejected and the exit status is 1. With -all,
+    /// every file, each as soon as it is written.
+    #[arg(long = "check", requires = "output", conflicts_with = "no_refine")]
     check: bool,
 
     /// Print nothing but errors.
@@ -914,7 +915,18 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
-        let (code, rows) = run_all(&surface, &first_pass, transfer.as_ref(), input_path, &output, args)?;
+        let reference = match args.check {
+            true => Some(CheckReference::new(input_path, &input, &output)?),
+            false => None,
+        };
+        let sweep = Sweep {
+            surface: &surface,
+            first_pass: &first_pass,
+            transfer: transfer.as_ref(),
+            input_path,
+            check: reference.as_ref(),
+        };
+        let (code, rows) = run_all(&sweep, &output, args)?;
         let runs: Vec<stats_json::RunRecord> = rows
             .iter()
             .map(|r| stats_json::RunRecord {
@@ -1329,44 +1341,66 @@ impl std::error::Error for CheckFailed {}
 /// input, written to a temporary file beside the output for the judge to
 /// read); an output that fails is renamed to `<output>.rejected`.
 fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
-    let repaired = match mesh.repair {
-        None => None,
-        Some(_) => {
-            let dir = output
-                .parent()
-                .filter(|d| !d.as_os_str().is_empty())
-                .unwrap_or(Path::new("."));
-            let file = tempfile::Builder::new()
-                .prefix(".delmesh-repaired-")
-                .suffix(".obj")
-                .tempfile_in(dir)
-                .with_context(|| dir.display().to_string())?;
-            io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
-            Some((io::temporary::register(file.path()), file))
-        }
-    };
-    let reference = repaired.as_ref().map_or(input, |(_, f)| f.path());
-    let report = delmesh::check::check_files(reference, output)
-        .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
-    if report.passed() {
-        return Ok(());
+    CheckReference::new(input, mesh, output)?.check(output)
+}
+
+/// What `--check` compares outputs with: the input file, or with --repair
+/// the repaired input written once to a temporary file (removed when this
+/// is dropped, or by the signal handler).
+struct CheckReference<'a> {
+    input: &'a Path,
+    repaired: Option<(io::temporary::Registration, tempfile::NamedTempFile)>,
+}
+
+impl<'a> CheckReference<'a> {
+    /// The reference for outputs of `mesh`, read from `input`; a repaired
+    /// one goes beside `output`.
+    fn new(input: &'a Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<Self> {
+        let repaired = match mesh.repair {
+            None => None,
+            Some(_) => {
+                let dir = output
+                    .parent()
+                    .filter(|d| !d.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."));
+                let file = tempfile::Builder::new()
+                    .prefix(".delmesh-repaired-")
+                    .suffix(".obj")
+                    .tempfile_in(dir)
+                    .with_context(|| dir.display().to_string())?;
+                io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
+                Some((io::temporary::register(file.path()), file))
+            }
+        };
+        Ok(CheckReference { input, repaired })
     }
-    let mut rejected = output.as_os_str().to_owned();
-    rejected.push(".rejected");
-    std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
-    let more = report.failures.len() - 1;
-    Err(CheckFailed(format!(
-        "{}: failed the check: {}{} (renamed to {})",
-        output.display(),
-        report.failures[0],
-        if more > 0 {
-            format!(" (and {more} more)")
-        } else {
-            String::new()
-        },
-        Path::new(&rejected).display()
-    ))
-    .into())
+
+    /// Runs the judge on `output`; renames it to `<output>.rejected` if it
+    /// fails ([`CheckFailed`]).
+    fn check(&self, output: &Path) -> anyhow::Result<()> {
+        let reference = self.repaired.as_ref().map_or(self.input, |(_, f)| f.path());
+        let report = delmesh::check::check_files(reference, output)
+            .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
+        if report.passed() {
+            return Ok(());
+        }
+        let mut rejected = output.as_os_str().to_owned();
+        rejected.push(".rejected");
+        std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
+        let more = report.failures.len() - 1;
+        Err(CheckFailed(format!(
+            "{}: failed the check: {}{} (renamed to {})",
+            output.display(),
+            report.failures[0],
+            if more > 0 {
+                format!(" (and {more} more)")
+            } else {
+                String::new()
+            },
+            Path::new(&rejected).display()
+        ))
+        .into())
+    }
 }
 
 /// What attributes an input has, for the printout.
@@ -1381,20 +1415,32 @@ fn describe_attributes(a: &Attributes) -> String {
     parts.join(", ")
 }
 
-/// Refines one combination and writes its file (atomically).
-fn run_combination(
-    surface: &Surface,
-    first_pass: &FirstPass,
-    transfer: Option<&Transfer>,
-    input_path: &Path,
-    options: &Options,
-    prune: bool,
-    file: &Path,
-) -> anyhow::Result<RowFigures> {
-    let out = refine_once(surface.clone(), first_pass, input_path, options, prune)?;
+/// What every run of an `-all` sweep shares.
+struct Sweep<'a> {
+    surface: &'a Surface,
+    first_pass: &'a FirstPass,
+    transfer: Option<&'a Transfer>,
+    input_path: &'a Path,
+    /// With --check: what each written file is checked against.
+    check: Option<&'a CheckReference<'a>>,
+}
+
+/// Refines one combination and writes its file (atomically), checked with
+/// --check.
+fn run_combination(sweep: &Sweep, options: &Options, prune: bool, file: &Path) -> anyhow::Result<RowFigures> {
+    let out = refine_once(
+        sweep.surface.clone(),
+        sweep.first_pass,
+        sweep.input_path,
+        options,
+        prune,
+    )?;
     let t = Instant::now();
-    write_output(file, &out.surface, transfer, &Default::default())?;
+    write_output(file, &out.surface, sweep.transfer, &Default::default())?;
     let seconds_write = t.elapsed().as_secs_f64();
+    if let Some(reference) = sweep.check {
+        reference.check(file)?;
+    }
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
         vertices: out.surface.positions.len(),
@@ -1406,14 +1452,7 @@ fn run_combination(
     })
 }
 
-fn run_all(
-    surface: &Surface,
-    first_pass: &FirstPass,
-    transfer: Option<&Transfer>,
-    input_path: &Path,
-    output: &Path,
-    args: &RunArgs,
-) -> anyhow::Result<(ExitCode, Vec<Row>)> {
+fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(ExitCode, Vec<Row>)> {
     let combos: Vec<Options> = sweep_combinations(args.extended)
         .into_iter()
         .map(|o| Options {
@@ -1460,15 +1499,7 @@ fn run_all(
                 break;
             };
             let file = combination_path(output, options);
-            let result = run_combination(
-                surface,
-                first_pass,
-                transfer,
-                input_path,
-                options,
-                args.settings.prune,
-                &file,
-            );
+            let result = run_combination(sweep, options, args.settings.prune, &file);
             progress::run_done();
             rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                 options: *options,
@@ -1519,8 +1550,18 @@ fn run_all(
                     f.stats.flips,
                     f.seconds
                 ),
+                Err(e) if e.downcast_ref::<CheckFailed>().is_some() => {
+                    say!("{head} {:>9}  {}", "rejected", one_line(e))
+                }
                 Err(e) => say!("{head} {:>9}  not written: {}", "failed", one_line(e)),
             }
+        }
+        if args.check && failed == 0 {
+            say!(
+                "check   PASS: each of the {} files is a Delaunay mesh with the geometry of {}",
+                rows.len(),
+                sweep.input_path.display()
+            );
         }
     }
     if failed > 0 {

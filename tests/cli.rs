@@ -970,6 +970,47 @@ fn check_flag_verifies_the_output() {
     assert!(!run.status.success());
 }
 
+/// `-all --check` checks each of the 18 files as soon as it is written
+/// (against the repaired input with --repair, written once and removed
+/// after): every file passes, and no temporary file is left.
+#[test]
+fn all_with_check_verifies_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, repair) in [("elephant.obj", false), ("repair/dragon-cut.obj", true)] {
+        let input = common::data_dir().join(name);
+        let out = dir.path().join(format!("o{}.obj", repair as u8));
+        let mut cmd = delmesh();
+        cmd.arg("-i")
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .args(["--all", "--check", "-j", "2"]);
+        if repair {
+            cmd.arg("--repair");
+        }
+        let run = cmd.output().unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "{name}: {stdout}{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(stdout.contains("check   PASS: each of the 18 files"), "{stdout}");
+    }
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 36, "{names:?}");
+    assert!(
+        names.iter().all(|n| n.ends_with(".obj") && !n.starts_with('.')),
+        "{names:?}"
+    );
+    for n in names.iter().filter(|n| n.starts_with("o0")) {
+        check_passes(&common::data_dir().join("elephant.obj"), &dir.path().join(n));
+    }
+}
+
 /// Where no thread can be started (a process limit, as on some clusters;
 /// simulated by `DELMESH_NO_THREADS=1`), every command still works, on the
 /// calling thread, and writes the same bytes.
