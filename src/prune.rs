@@ -106,6 +106,7 @@ pub fn prune_with_progress(surface: &mut Surface, options: &Options, hook: Optio
         touched: Vec::new(),
         stack: Vec::new(),
         queued: Vec::new(),
+        verdict: Vec::new(),
         stats: PruneStats::default(),
         flips: 0,
         splits: 0,
@@ -153,6 +154,12 @@ struct Pruner<'a> {
     stack: Vec<EdgeId>,
     /// Whether each edge is in `stack`.
     queued: Vec<bool>,
+    /// What `settle` found of each edge of `touched` since it last changed:
+    /// `Some(true)` non-Delaunay, `Some(false)` Delaunay, `None` not known
+    /// (every change to an edge's quad goes through [`Pruner::touch`], which
+    /// forgets it; so does undoing). Saves testing unchanged edges again
+    /// each time `settle` runs in one attempt.
+    verdict: Vec<Option<bool>>,
     stats: PruneStats,
     /// Flips of the current attempt.
     flips: usize,
@@ -243,7 +250,7 @@ impl Pruner<'_> {
     fn attempt(&mut self, f: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
         self.journal.clear();
         self.inputs.clear();
-        self.touched.clear();
+        self.forget_from(0);
         self.flips = 0;
         self.splits = 0;
         self.stats.tried += 1;
@@ -291,7 +298,7 @@ impl Pruner<'_> {
         }
         self.journal.truncate(mark.journal);
         self.inputs.truncate(mark.inputs);
-        self.touched.truncate(mark.touched);
+        self.forget_from(mark.touched);
         self.splits = mark.splits;
         self.flips = mark.flips;
         let topo = &self.s.topo;
@@ -368,7 +375,8 @@ impl Pruner<'_> {
         }
         for h in [hu, hu.twin()] {
             let n = self.s.topo.next(h);
-            self.touched.extend([h.edge(), n.edge(), self.s.topo.next(n).edge()]);
+            let next = self.s.topo.next(n);
+            self.touch([h.edge(), n.edge(), next.edge()]);
         }
         true
     }
@@ -469,9 +477,33 @@ impl Pruner<'_> {
         self.inputs.push((e, self.s.edge_input[e.idx()]));
         self.s.flip(e);
         self.flips += 1;
-        self.touched.push(e);
-        self.touched.extend(around);
+        self.touch([e]);
+        self.touch(around);
         true
+    }
+
+    /// Records that the quads of `edges` changed: their Delaunay status
+    /// must be found again.
+    fn touch(&mut self, edges: impl IntoIterator<Item = EdgeId>) {
+        let n = self.s.topo.n_edges();
+        if self.verdict.len() < n {
+            self.verdict.resize(n, None);
+        }
+        for e in edges {
+            self.verdict[e.idx()] = None;
+            self.touched.push(e);
+        }
+    }
+
+    /// Drops `touched[from..]` (undone, or a new attempt), forgetting what
+    /// `settle` found of those edges.
+    fn forget_from(&mut self, from: usize) {
+        for &e in &self.touched[from.min(self.touched.len())..] {
+            if let Some(v) = self.verdict.get_mut(e.idx()) {
+                *v = None;
+            }
+        }
+        self.touched.truncate(from);
     }
 
     /// Splits `e` at parameter `t` of its input edge, saving what it changes.
@@ -483,33 +515,42 @@ impl Pruner<'_> {
         let n = self.s.topo.n_edges() as u32;
         self.s.split(e, t);
         self.splits += 1;
-        self.touched.extend([e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]);
-        self.touched.extend(around);
+        self.touch([e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)]);
+        self.touch(around);
     }
 
     /// Flips the touched edges' regions back to Delaunay (Lawson, each edge
     /// at most once in the stack at a time). Returns the first touched edge
     /// still non-Delaunay, or `Err` past the flip budget.
+    ///
+    /// Edges whose status is known ([`Pruner::verdict`]) are not taken
+    /// again: nothing changed them since they were found Delaunay, or not
+    /// flippable (validly), so taking them would do nothing; leaving them
+    /// out of the stack keeps the order of the others, and the result.
     fn settle(&mut self) -> Result<Option<EdgeId>, ()> {
         self.stack.clear();
         let n = self.s.topo.n_edges();
         if self.queued.len() < n {
             self.queued.resize(n, false);
         }
+        if self.verdict.len() < n {
+            self.verdict.resize(n, None);
+        }
         for i in 0..self.touched.len() {
             let e = self.touched[i];
-            if !self.queued[e.idx()] {
+            if !self.queued[e.idx()] && self.verdict[e.idx()].is_none() {
                 self.queued[e.idx()] = true;
                 self.stack.push(e);
             }
         }
         while let Some(e) = self.stack.pop() {
             self.queued[e.idx()] = false;
-            if self.s.topo.is_dead_edge(e)
-                || !self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
-                || !self.s.is_flippable(e)
-                || !self.s.flip_is_valid(e)
-            {
+            if self.s.topo.is_dead_edge(e) {
+                continue;
+            }
+            let bad = self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE);
+            self.verdict[e.idx()] = Some(bad);
+            if !bad || !self.s.is_flippable(e) || !self.s.flip_is_valid(e) {
                 continue;
             }
             let before = self.touched.len();
@@ -527,8 +568,19 @@ impl Pruner<'_> {
                 }
             }
         }
-        Ok((self.touched.iter().copied())
-            .find(|&e| !self.s.topo.is_dead_edge(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)))
+        // Debug builds (every test) check that every verdict kept is what
+        // the test says now.
+        #[cfg(debug_assertions)]
+        for &e in &self.touched {
+            if let (false, Some(bad)) = (self.s.topo.is_dead_edge(e), self.verdict[e.idx()]) {
+                assert_eq!(bad, self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE), "stale verdict");
+            }
+        }
+        let s = &*self.s;
+        let verdict = &self.verdict;
+        Ok((self.touched.iter().copied()).find(|&e| {
+            !s.topo.is_dead_edge(e) && verdict[e.idx()].unwrap_or_else(|| s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
+        }))
     }
 
     /// Algorithm 2 on the touched edges, with at most `budget` splits in the
