@@ -1039,6 +1039,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         Err(e) => {
             progress::phase(Phase::Idle);
             report.write(&[failure_record(options, &output, &e)], true)?;
+            // Which edges get stuck depends on the order of work and the
+            // samples chosen: other settings often get through.
+            let stuck = matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. }));
+            if stuck && !args.smallest {
+                return Err(anyhow::anyhow!(
+                    "{}; other settings may get through (--smallest tries 18 and keeps the smallest that does)",
+                    one_line(&e)
+                ));
+            }
             return Err(e);
         }
     };

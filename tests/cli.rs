@@ -970,6 +970,42 @@ fn check_flag_verifies_the_output() {
     assert!(!run.status.success());
 }
 
+/// When an edge gets stuck (here a needle whose smallest angle is computed
+/// as 0), the one-line error says that other settings may get through, and
+/// `--smallest` does: its output passes the check.
+#[test]
+fn a_stuck_run_points_to_smallest() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
+    let out = dir.path().join("out.obj");
+    let run = delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1));
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("neither split") && stderr.contains("--smallest"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--smallest")
+        .assert()
+        .success();
+    check_passes(&input, &out);
+}
+
 /// `-all --check` checks each of the 18 files as soon as it is written
 /// (against the repaired input with --repair, written once and removed
 /// after): every file passes, and no temporary file is left.
