@@ -33,7 +33,7 @@
 //!
 //! # How files are read
 //!
-//! Polygons are fan-triangulated and bit-identical positions welded, as the construction reads
+//! Polygons are fan-triangulated (from [`fan_apex`]) and bit-identical positions welded, as the construction reads
 //! its input. Then what `delmesh --repair` cut apart on purpose, by giving faces their own
 //! copies of vertices at one position, is kept apart: where welding would put more than two
 //! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
@@ -54,6 +54,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
+use crate::io::polygon::fan_apex;
 use glam::DVec3;
 
 /// An interior edge is Delaunay iff `alpha + beta <= pi + DELAUNAY_TOLERANCE` (radians), where
@@ -285,7 +286,7 @@ impl Mesh3 {
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
-    /// fan-triangulated, points and lines ignored, vertices with bit-identical positions welded,
+    /// fan-triangulated (from [`fan_apex`]), points and lines ignored, vertices with bit-identical positions welded,
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
     /// `v` line. Material libraries are not read.
     ///
@@ -373,8 +374,10 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         .map_err(parse_error)?;
     for f in 0..raw.face_start.len().saturating_sub(1) {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
-        for i in 1..poly.len().saturating_sub(1) {
-            let corners = [poly[0], poly[i], poly[i + 1]];
+        let n = poly.len();
+        let k = fan_apex(n, |i| raw.positions[poly[i] as usize]);
+        for i in 1..n.saturating_sub(1) {
+            let corners = [poly[k], poly[(k + i) % n], poly[(k + i + 1) % n]];
             triangles.push(corners.map(|v| ids[v as usize]));
             file_corners.push(if shares_vertices {
                 corners
@@ -412,7 +415,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
     };
     let bytes = &geometry_lines(bytes);
     let options = tobj::LoadOptions {
-        triangulate: true,
+        triangulate: false,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
@@ -428,14 +431,11 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
     let mut file_corners = Vec::new();
     let mut base = 0u32;
     for model in &models {
-        welder.add_model(&model.mesh, &mut triangles).map_err(parse_error)?;
-        file_corners.extend(
-            model
-                .mesh
-                .indices
-                .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
-        );
+        let corners = fan_triangles(&model.mesh).map_err(parse_error)?;
+        welder
+            .add_model(&model.mesh, &corners, &mut triangles)
+            .map_err(parse_error)?;
+        file_corners.extend(corners.iter().map(|t| t.map(|i| base + i)));
         base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
     }
     if triangles.is_empty() {
@@ -452,6 +452,39 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
         )));
     }
     Ok((mesh, file_corners))
+}
+
+/// The triangles of a tobj model read without triangulation, in its own
+/// indices: each polygon as the fan from [`fan_apex`] (as the construction's
+/// readers do; the rule is part of what the file means).
+fn fan_triangles(mesh: &tobj::Mesh) -> Result<Vec<[u32; 3]>, String> {
+    let position = |i: u32| -> Result<[f64; 3], String> {
+        let i = i as usize;
+        match mesh.positions.get(3 * i..3 * i + 3) {
+            Some(c) => Ok([c[0], c[1], c[2]]),
+            None => Err(format!("face index {i} out of range")),
+        }
+    };
+    let arities: Vec<usize> = if mesh.face_arities.is_empty() {
+        vec![3; mesh.indices.len() / 3]
+    } else {
+        mesh.face_arities.iter().map(|&a| a as usize).collect()
+    };
+    let mut triangles = Vec::with_capacity(mesh.indices.len());
+    let mut start = 0;
+    for n in arities {
+        let poly = mesh
+            .indices
+            .get(start..start + n)
+            .ok_or_else(|| "face list shorter than its arities".to_string())?;
+        start += n;
+        let corners: Vec<[f64; 3]> = poly.iter().map(|&i| position(i)).collect::<Result<_, _>>()?;
+        let k = fan_apex(n, |i| corners[i]);
+        for i in 1..n.saturating_sub(1) {
+            triangles.push([poly[k], poly[(k + i) % n], poly[(k + i + 1) % n]]);
+        }
+    }
+    Ok(triangles)
 }
 
 /// The lines of an OBJ file that say what its surface is: `v` lines without colours, and `f`
@@ -702,8 +735,14 @@ impl Welder {
         Ok(id)
     }
 
-    /// Appends the triangles of one tobj model, welding its positions.
-    fn add_model(&mut self, mesh: &tobj::Mesh, triangles: &mut Vec<[u32; 3]>) -> Result<(), String> {
+    /// Appends the triangles of one tobj model (`corners`, in its own
+    /// indices: [`fan_triangles`]), welding its positions.
+    fn add_model(
+        &mut self,
+        mesh: &tobj::Mesh,
+        corners: &[[u32; 3]],
+        triangles: &mut Vec<[u32; 3]>,
+    ) -> Result<(), String> {
         let local = mesh
             .positions
             .chunks_exact(3)
@@ -715,7 +754,7 @@ impl Welder {
                 .copied()
                 .ok_or_else(|| format!("face index {i} out of range"))
         };
-        for t in mesh.indices.chunks_exact(3) {
+        for t in corners {
             triangles.push([get(t[0])?, get(t[1])?, get(t[2])?]);
         }
         Ok(())

@@ -970,6 +970,76 @@ fn check_flag_verifies_the_output() {
     assert!(!run.status.success());
 }
 
+/// Polygons keep their shape: a non-convex one is fanned from a corner that
+/// sees its whole outline (the L: its triangles' areas add up to the L's,
+/// none overlaps), and a polygon with a corner on a straight stretch of its
+/// outline (a T-junction, as in CAD files) is not refused for a zero-area
+/// fan triangle. Both refine and pass the check, which reads them the same way.
+#[test]
+fn polygons_keep_their_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    // The L listed from a corner that does not see the notch.
+    let l = "v 2 1 0\nv 2 2 0\nv 0 2 0\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3 4 5 6\n";
+    // A unit cube whose bottom is two quads: its front face is a pentagon
+    // with the middle corner (0.5, 0, 0) on its bottom side.
+    let cube = "v 0 0 0\nv 0.5 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1 0\nv 0 1 0\n\
+                v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                f 1 6 5 2\nf 2 5 4 3\nf 1 2 3 8 7\nf 3 4 9 8\nf 4 5 6 10 9\nf 6 1 7 10\nf 7 8 9 10\n";
+    for (name, text, area) in [("l.obj", l, Some(3.0)), ("cube.obj", cube, None)] {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).unwrap();
+        let output = dir.path().join(format!("out-{name}"));
+        let run = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+        assert!(!stdout.contains("note"), "{name}: {stdout}");
+        check_passes(&input, &output);
+        if let Some(area) = area {
+            let mesh = delmesh::io::read_mesh(&output, &Default::default()).unwrap();
+            let signed: f64 = mesh
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+                    (b - a).cross(c - a).z / 2.0
+                })
+                .sum();
+            let unsigned: f64 = mesh
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+                    (b - a).cross(c - a).length() / 2.0
+                })
+                .sum();
+            assert!(
+                (signed - area).abs() < 1e-12 && (unsigned - area).abs() < 1e-12,
+                "{signed} {unsigned}"
+            );
+        }
+    }
+    // A polygon no corner sees whole (a comb) is read as the fan from its
+    // first corner, with a note saying so.
+    let comb =
+        "v 0 0 0\nv 5 0 0\nv 5 3 0\nv 4 3 0\nv 4 1 0\nv 3 1 0\nv 3 3 0\nv 2 3 0\nv 2 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n\
+                f 1 2 3 4 5 6 7 8 9 10 11 12\n";
+    let input = dir.path().join("comb.obj");
+    std::fs::write(&input, comb).unwrap();
+    let run = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("out-comb.obj"))
+        .output()
+        .unwrap();
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(all.contains("no corner that sees the whole outline"), "{all}");
+}
+
 /// When an edge gets stuck (here a needle whose smallest angle is computed
 /// as 0), the one-line error says that other settings may get through, and
 /// `--smallest` does: its output passes the check.

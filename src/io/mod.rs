@@ -5,7 +5,8 @@
 //! file's extension or, where that says nothing, by its content; any of them
 //! may be gzip-compressed. Every reader produces a [`RawMesh`] of polygons;
 //! [`finish`] turns it into the [`InputMesh`] the algorithm takes: polygons
-//! fan-triangulated, bit-identical positions welded, unused vertices dropped,
+//! fan-triangulated (from the first corner that sees the whole polygon:
+//! [`polygon`]), bit-identical positions welded, unused vertices dropped,
 //! and every refusal of SPEC §6 naming the file and the offending line, face
 //! or vertex. With `--repair` ([`crate::repair`]) the refusable defects are
 //! fixed instead.
@@ -16,6 +17,7 @@
 pub mod formats;
 pub mod number;
 pub mod obj;
+pub mod polygon;
 pub mod temporary;
 
 use std::io::{BufWriter, Read, Write};
@@ -249,6 +251,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     let mut raw_corners = Vec::new();
     let keep_attributes = !raw.attributes.is_empty();
     let mut scratch = Vec::new();
+    let mut unseen_polygons = 0;
     for f in 0..n_faces {
         let p = poly(f);
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
@@ -260,8 +263,16 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             );
             return Err(face_error(path, &raw, f, what));
         }
-        for i in 1..p.len() - 1 {
-            let t = [p[0], p[i], p[i + 1]].map(|v| new_index[welded_to[v as usize] as usize]);
+        // The fan starts at the first corner that sees the whole polygon
+        // (`polygon::fan_apex`): 0 for triangles and convex polygons.
+        let n = p.len();
+        let k = polygon::fan_apex(n, |i| raw.positions[p[i] as usize]);
+        if n > 3 && !polygon::fan_is_proper(n, |i| raw.positions[p[i] as usize]) {
+            unseen_polygons += 1;
+        }
+        for i in 1..n - 1 {
+            let corner = [k, (k + i) % n, (k + i + 1) % n];
+            let t = corner.map(|c| new_index[welded_to[p[c] as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
             // Below the supported scale first: the Delaunay test's products of
             // lengths would underflow (the exact predicates would not).
@@ -288,12 +299,15 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             triangle_origin.push(origin);
             if keep_attributes {
                 let s = raw.face_start[f];
-                raw_corners.push([s, s + i as u32, s + i as u32 + 1]);
+                raw_corners.push(corner.map(|c| s + c as u32));
                 triangle_face.push(f as u32);
             }
         }
     }
-    let (attributes, notes) = triangle_attributes(&raw, &raw_corners, &triangle_face);
+    let (attributes, mut notes) = triangle_attributes(&raw, &raw_corners, &triangle_face);
+    if unseen_polygons > 0 {
+        notes.push(unseen_note(unseen_polygons));
+    }
     Ok(InputMesh {
         positions,
         triangles,
@@ -347,16 +361,30 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
     (a, notes)
 }
 
+/// The note for polygons whose fan cannot draw them (see [`polygon`]).
+fn unseen_note(count: usize) -> String {
+    format!(
+        "{count} polygon(s) have no corner that sees the whole outline (non-convex beyond a fan): each is read \
+         as the fan from its first corner, whose triangles overlap; triangulate them beforehand to keep their shape"
+    )
+}
+
 /// `finish` with `--repair`: triangulate everything, then let
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
 fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
     let n_faces = raw.face_start.len() - 1;
     let mut triangles = Vec::new();
     let mut triangle_face = Vec::new();
+    let mut unseen_polygons = 0;
     for f in 0..n_faces {
         let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
-        for i in 1..p.len() - 1 {
-            triangles.push([p[0], p[i], p[i + 1]]);
+        let n = p.len();
+        let k = polygon::fan_apex(n, |i| raw.positions[p[i] as usize]);
+        if n > 3 && !polygon::fan_is_proper(n, |i| raw.positions[p[i] as usize]) {
+            unseen_polygons += 1;
+        }
+        for i in 1..n - 1 {
+            triangles.push([p[k], p[(k + i) % n], p[(k + i + 1) % n]]);
             triangle_face.push(f);
         }
     }
@@ -398,10 +426,17 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         unreferenced: fixed.report.unreferenced_vertices,
         repair: Some(fixed.report),
         attributes: Attributes::default(),
-        notes: if raw.attributes.is_empty() {
-            Vec::new()
-        } else {
-            vec!["texture coordinates, normals, colours and groups dropped: --repair does not carry them".into()]
+        notes: {
+            let mut notes = Vec::new();
+            if !raw.attributes.is_empty() {
+                notes.push(
+                    "texture coordinates, normals, colours and groups dropped: --repair does not carry them".into(),
+                );
+            }
+            if unseen_polygons > 0 {
+                notes.push(unseen_note(unseen_polygons));
+            }
+            notes
         },
     })
 }
