@@ -266,10 +266,9 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         // The fan starts at the first corner that sees the whole polygon
         // (`polygon::fan_apex`): 0 for triangles and convex polygons.
         let n = p.len();
-        let k = polygon::fan_apex(n, |i| raw.positions[p[i] as usize]);
-        if n > 3 && !polygon::fan_is_proper(n, |i| raw.positions[p[i] as usize]) {
-            unseen_polygons += 1;
-        }
+        let fan = polygon::fan(n, |i| raw.positions[p[i] as usize]);
+        let k = fan.apex;
+        unseen_polygons += !fan.proper as usize;
         for i in 1..n - 1 {
             let corner = [k, (k + i) % n, (k + i + 1) % n];
             let t = corner.map(|c| new_index[welded_to[p[c] as usize] as usize]);
@@ -379,10 +378,9 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     for f in 0..n_faces {
         let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         let n = p.len();
-        let k = polygon::fan_apex(n, |i| raw.positions[p[i] as usize]);
-        if n > 3 && !polygon::fan_is_proper(n, |i| raw.positions[p[i] as usize]) {
-            unseen_polygons += 1;
-        }
+        let fan = polygon::fan(n, |i| raw.positions[p[i] as usize]);
+        let k = fan.apex;
+        unseen_polygons += !fan.proper as usize;
         for i in 1..n - 1 {
             triangles.push([p[k], p[(k + i) % n], p[(k + i + 1) % n]]);
             triangle_face.push(f);

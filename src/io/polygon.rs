@@ -31,59 +31,65 @@ const MAX_APEXES: usize = 16;
 /// corners are collinear up to rounding.
 const MIN_TURN: f64 = 1e-12;
 
-/// The corner of the polygon with `n` corners at which its fan starts (the
-/// triangles `(k, k+i, k+i+1)`, indices modulo `n`, for `i` in `1..n-1`):
-/// the first `k` from which every triangle turns the way of the polygon's
-/// normal (Newell's) by more than [`MIN_TURN`]. 0 for a triangle, for every
-/// convex polygon, and when no corner (of the first [`MAX_APEXES`]) does.
-pub fn fan_apex(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> usize {
-    if n <= 3 {
-        return 0;
-    }
-    let p: Vec<[f64; 3]> = (0..n).map(&corner).collect();
-    let normal = newell_normal(&p);
-    let normal_length = length(normal);
-    (0..n.min(MAX_APEXES))
-        .find(|&k| {
-            (1..n - 1).all(|i| {
-                let (a, b, c) = (p[k], p[(k + i) % n], p[(k + i + 1) % n]);
-                let (u, v) = (sub(b, a), sub(c, a));
-                dot(cross(u, v), normal) > MIN_TURN * length(u) * length(v) * normal_length
-            })
-        })
-        .unwrap_or(0)
+/// The fan of a polygon: where it starts, and whether it draws the polygon.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fan {
+    /// The corner the fan starts at: its triangles are `(k, k+i, k+i+1)`,
+    /// indices modulo the corner count, for `i` in `1..n-1`.
+    pub apex: usize,
+    /// Whether every triangle turns the polygon's way ([`fan`]); `false`
+    /// for a polygon that no corner sees whole, whose fan (from its first
+    /// corner) then overlaps itself.
+    pub proper: bool,
 }
 
-/// Whether the fan from [`fan_apex`] draws the polygon: every triangle
-/// turns its way. `false` for a polygon no corner sees whole (its fan from
-/// the first corner then overlaps itself).
-pub fn fan_is_proper(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> bool {
+/// The fan of the polygon with `n` corners: from the first corner `k` from
+/// which every triangle turns the way of the polygon's normal (Newell's) by
+/// more than [`MIN_TURN`]; from corner 0 for a triangle, for every convex
+/// polygon, and (not proper) when no corner of the first [`MAX_APEXES`]
+/// does. Allocates nothing: `corner` is called again as needed.
+pub fn fan(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> Fan {
     if n <= 3 {
-        return true;
+        return Fan { apex: 0, proper: true };
     }
-    let p: Vec<[f64; 3]> = (0..n).map(&corner).collect();
-    let k = fan_apex(n, |i| p[i]);
-    let normal = newell_normal(&p);
-    let normal_length = length(normal);
-    (1..n - 1).all(|i| {
-        let (a, b, c) = (p[k], p[(k + i) % n], p[(k + i + 1) % n]);
-        let (u, v) = (sub(b, a), sub(c, a));
-        dot(cross(u, v), normal) > MIN_TURN * length(u) * length(v) * normal_length
-    })
+    let normal = newell_normal(n, &corner);
+    let normal = scale(normal, 1.0 / length(normal));
+    let turns_from = |k: usize| {
+        let a = corner(k);
+        (1..n - 1).all(|i| {
+            let (u, v) = (sub(corner((k + i) % n), a), sub(corner((k + i + 1) % n), a));
+            dot(cross(u, v), normal) > MIN_TURN * (dot(u, u) * dot(v, v)).sqrt()
+        })
+    };
+    match (0..n.min(MAX_APEXES)).find(|&k| turns_from(k)) {
+        Some(apex) => Fan { apex, proper: true },
+        None => Fan { apex: 0, proper: false },
+    }
+}
+
+/// [`fan`]'s apex alone.
+pub fn fan_apex(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> usize {
+    fan(n, corner).apex
 }
 
 /// Newell's normal of a polygon: twice its vector area, whatever its shape
 /// (exact for a planar polygon, a mean plane's normal for a warped one).
 /// Corners are taken relative to the first, which keeps the sums small.
-fn newell_normal(p: &[[f64; 3]]) -> [f64; 3] {
-    let o = p[0];
-    let mut n = [0.0; 3];
-    for i in 0..p.len() {
-        let (a, b) = (sub(p[i], o), sub(p[(i + 1) % p.len()], o));
+fn newell_normal(n: usize, corner: &impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    let o = corner(0);
+    let mut sum = [0.0; 3];
+    let mut a = [0.0; 3];
+    for i in 1..=n {
+        let b = if i == n { [0.0; 3] } else { sub(corner(i), o) };
         let c = cross(a, b);
-        n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
+        sum = [sum[0] + c[0], sum[1] + c[1], sum[2] + c[2]];
+        a = b;
     }
-    n
+    sum
+}
+
+fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
+    [a[0] * k, a[1] * k, a[2] * k]
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -128,7 +134,7 @@ mod tests {
         // A warped quad (not planar) whose fan from 0 turns its way.
         let warped = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.1], [1.0, 1.0, 0.0], [0.0, 1.0, 0.1]];
         assert_eq!(apex(&warped), 0);
-        assert!(fan_is_proper(4, |i| warped[i]));
+        assert!(fan(4, |i| warped[i]).proper);
     }
 
     #[test]
@@ -144,7 +150,7 @@ mod tests {
             [0.0, 2.0, 0.0],
         ];
         assert_eq!(apex(&l), 2);
-        assert!(fan_is_proper(6, |i| l[i]));
+        assert!(fan(6, |i| l[i]).proper);
     }
 
     #[test]
@@ -182,7 +188,7 @@ mod tests {
             [0.0, 3.0, 0.0],
         ];
         assert_eq!(apex(&p), 0);
-        assert!(!fan_is_proper(p.len(), |i| p[i]));
+        assert!(!fan(p.len(), |i| p[i]).proper);
         // Non-finite corners: the first corner (the reader refuses them).
         let bad = [[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
         assert_eq!(apex(&bad), 0);
