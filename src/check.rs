@@ -413,7 +413,9 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
         path: path.to_path_buf(),
         reason,
     };
-    let bytes = &geometry_lines(bytes);
+    // OBJ's line continuations joined as the construction's reader joins
+    // them (a shared piece of reading, like the polygon rule).
+    let bytes = &geometry_lines(&crate::io::obj::join_continued_lines(bytes));
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: false,

@@ -1040,6 +1040,20 @@ fn polygons_keep_their_shape() {
     assert!(all.contains("no corner that sees the whole outline"), "{all}");
 }
 
+/// OBJ line continuations (a backslash at a line's end) are read by the
+/// construction and the judge alike.
+#[test]
+fn continued_obj_lines_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("continued.obj");
+    std::fs::write(&input, "v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0.4\nv 0 1 0\nf 1 2 \\\r\n 3 4\n").unwrap();
+    let output = dir.path().join("out.obj");
+    let run = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(String::from_utf8_lossy(&run.stdout).contains("4 vertices, 1 faces (2 triangles)"));
+    check_passes(&input, &output);
+}
+
 /// When an edge gets stuck (here a needle whose smallest angle is computed
 /// as 0), the one-line error says that other settings may get through, and
 /// `--smallest` does: its output passes the check.

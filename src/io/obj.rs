@@ -54,6 +54,40 @@ fn error(line: usize, what: String) -> FormatError {
     }
 }
 
+/// OBJ's line continuation: a line ending in a backslash goes on on the
+/// next line. Each such line is joined with the next (the backslash and the
+/// line break become a space), and an empty line is left after the joined
+/// one for each break removed, so that every later line keeps its number.
+/// Borrowed when the file has no continuation (the usual case). A
+/// backslash inside a comment continues nothing.
+pub fn join_continued_lines(bytes: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let continued = |line: &[u8]| {
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        line.ends_with(b"\\") && !line.contains(&b'#')
+    };
+    if !bytes.contains(&b'\\') || !bytes.split(|&b| b == b'\n').any(continued) {
+        return std::borrow::Cow::Borrowed(bytes);
+    }
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut removed = 0;
+    let mut lines = bytes.split(|&b| b == b'\n').peekable();
+    while let Some(line) = lines.next() {
+        if continued(line) && lines.peek().is_some() {
+            let line = line.strip_suffix(b"\r").unwrap_or(line);
+            out.extend_from_slice(&line[..line.len() - 1]);
+            out.push(b' ');
+            removed += 1;
+            continue;
+        }
+        out.extend_from_slice(line);
+        if lines.peek().is_some() {
+            out.resize(out.len() + 1 + removed, b'\n');
+            removed = 0;
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// Parses OBJ text into polygons (indices checked, nothing welded).
 ///
 /// A byte cursor over text validated once: tokens are runs of non-blank
@@ -63,6 +97,8 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
+    let joined = join_continued_lines(bytes);
+    let bytes = &joined[..];
     let lossy;
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
@@ -1071,6 +1107,32 @@ mod tests {
                 Err(e) => panic!("{e}: {text:?}"),
             }
         }
+    }
+
+    /// A line ending in a backslash goes on on the next, also with CRLF and
+    /// over several lines; later lines keep their numbers (errors name the
+    /// file's own lines); a backslash in a comment or at the file's end
+    /// continues nothing.
+    #[test]
+    fn continued_lines_are_joined() {
+        let text = "v 0 0 0\r\nv 1 0 \\\r\n 0\r\nv 1 1 0.2\nv 0 1 0\n# note \\\nf 1 2 \\\n 3 \\\n 4\nf 1 9 9\n";
+        let joined = join_continued_lines(text.as_bytes());
+        assert_eq!(
+            std::str::from_utf8(&joined).unwrap(),
+            "v 0 0 0\r\nv 1 0   0\r\n\nv 1 1 0.2\nv 0 1 0\n# note \\\nf 1 2   3   4\n\n\nf 1 9 9\n"
+        );
+        let e = parse_obj(text.as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(10), "{e:?}");
+        let raw = parse_obj(text.replace("f 1 9 9\n", "").as_bytes()).unwrap();
+        assert_eq!(raw.indices, [0, 1, 2, 3]);
+        assert_eq!(raw.positions[1], [1.0, 0.0, 0.0]);
+        assert_eq!(raw.face_origin, [7]);
+        // Nothing to join: the bytes themselves.
+        assert!(matches!(
+            join_continued_lines(b"v 0 0 0\n"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        assert_eq!(&join_continued_lines(b"v 0 0 0 \\")[..], b"v 0 0 0 \\");
     }
 
     /// Each face corner's position, texture coordinate, normal and colour,
