@@ -524,9 +524,11 @@ impl Pruner<'_> {
     /// still non-Delaunay, or `Err` past the flip budget.
     ///
     /// Edges whose status is known ([`Pruner::verdict`]) are not taken
-    /// again: nothing changed them since they were found Delaunay, or not
-    /// flippable (validly), so taking them would do nothing; leaving them
-    /// out of the stack keeps the order of the others, and the result.
+    /// again when nothing changed them since they were found Delaunay, or
+    /// non-Delaunay and not flippable: taking them would do nothing, and
+    /// leaving them out of the stack keeps the order of the others, and the
+    /// result. (Whether a flip is valid can change without the edge's quad
+    /// changing, so flippable ones are taken again.)
     fn settle(&mut self) -> Result<Option<EdgeId>, ()> {
         self.stack.clear();
         let n = self.s.topo.n_edges();
@@ -538,7 +540,15 @@ impl Pruner<'_> {
         }
         for i in 0..self.touched.len() {
             let e = self.touched[i];
-            if !self.queued[e.idx()] && self.verdict[e.idx()].is_none() {
+            // Skipped: an edge found Delaunay, or non-Delaunay but not
+            // flippable, since it last changed (taking it would do nothing).
+            // A flippable non-Delaunay one is taken again: its flip may have
+            // become valid (a c-d edge elsewhere flipped away).
+            let settled = match self.verdict[e.idx()] {
+                None => false,
+                Some(bad) => !bad || !self.s.is_flippable(e),
+            };
+            if !self.queued[e.idx()] && !settled {
                 self.queued[e.idx()] = true;
                 self.stack.push(e);
             }
