@@ -426,7 +426,6 @@ fn print_bytes(bytes: &[u8]) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The error and its causes on one line.
 /// Prints a command-line parse error as one line, `delmesh: ...` like every
 /// other error, and returns exit status 2 (clap's); help and version
 /// requests are printed in full, as asked.
@@ -469,6 +468,7 @@ fn usage_line(message: &str) -> String {
     }
 }
 
+/// The error and its causes on one line.
 fn one_line(e: &anyhow::Error) -> String {
     let mut s = e.to_string();
     for cause in e.chain().skip(1) {
@@ -761,12 +761,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         bail!("no input: give one with -i FILE")
     };
     let from_stdin = io::is_standard_input(input_path);
-    if from_stdin && args.all && args.output.is_none() {
-        bail!(
-            "-all writes {} files named after -o: give one with -o FILE",
-            sweep_combinations(args.extended).len()
-        );
-    }
     // Without -o the output is the input, rewritten in place; standard
     // input has no file to rewrite, so its mesh goes to standard output.
     let output = match &args.output {
@@ -776,7 +770,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     if args.all && io::standard_stream(&output).is_some() {
         bail!(
-            "-all writes {} files named after -o: give a file name, not a stream",
+            "-all writes {} files named after -o: give -o a file name, not a stream",
             sweep_combinations(args.extended).len()
         );
     }
@@ -915,10 +909,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         build_s,
     };
     if args.all {
-        let reference = match args.check {
-            true => Some(CheckReference::new(input_path, &input, &output)?),
-            false => None,
-        };
+        let reference = (args.check)
+            .then(|| CheckReference::new(input_path, &input, &output))
+            .transpose()?;
         let sweep = Sweep {
             surface: &surface,
             first_pass: &first_pass,
@@ -1461,6 +1454,9 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: bool, file: &Path) -
     })
 }
 
+/// Runs the `-all` sweep on all cores (each file written, and with
+/// --check checked, as soon as its run ends) and prints its table; exit
+/// status 1 if a combination failed.
 fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(ExitCode, Vec<Row>)> {
     let combos: Vec<Options> = sweep_combinations(args.extended)
         .into_iter()
