@@ -24,12 +24,12 @@
 /// How many corners are tried as the fan's apex, at most: a large polygon
 /// that no early corner sees whole is not star-shaped from any of them in
 /// practice, and each try costs a pass over the polygon.
-const MAX_APEXES: usize = 16;
+pub const MAX_APEXES: usize = 16;
 
 /// Below this, a triangle's turn (the sine of its angle at the apex times the
 /// cosine of its tilt from the polygon's normal) counts as no turn: its
 /// corners are collinear up to rounding.
-const MIN_TURN: f64 = 1e-12;
+pub const MIN_TURN: f64 = 1e-12;
 
 /// The fan of a polygon: where it starts, and whether it draws the polygon.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
