@@ -11,11 +11,13 @@
 //! 1. Every input vertex appears in the output with bit-identical coordinates.
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
-//!    spatial hash over pieces of the input edges, so the search is near linear. An added vertex
-//!    belongs to the regions of the input edges nearest to it (within roundoff of the nearest
-//!    distance), not of every edge within the tolerance. (Where the output has more vertices than
-//!    the input at an input vertex's position that also lies inside an input edge, the surface
-//!    touching itself, each of them may be either: they belong to the regions of both.)
+//!    spatial hash over pieces of the input edges, whose crowded cells (around a vertex of high
+//!    valence) are refined by octrees where output vertices fall, so the search is near linear.
+//!    An added vertex belongs to the regions of the input edges nearest to it (within roundoff of
+//!    the nearest distance), not of every edge within the tolerance. (Where the output has more
+//!    vertices than the input at an input vertex's position that also lies inside an input edge,
+//!    the surface touching itself, each of them may be either: they belong to the regions of
+//!    both.)
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -1766,11 +1768,15 @@ fn classify_output_vertices(
             }
         }
     }
-    // Output vertices at each input vertex's position (counted on the first input vertex there).
+    // Output vertices at each input vertex's position (counted on the first input vertex there),
+    // and the positions of the others, which the grid will look up.
     let mut at_position = vec![0u32; input.positions.len()];
+    let mut added_points = Vec::new();
     for (v, p) in output.positions.iter().enumerate() {
-        if let (true, Some(&first)) = (out_referenced[v], lookup.get(&bits(*p))) {
-            at_position[first as usize] += 1;
+        match (out_referenced[v], lookup.get(&bits(*p))) {
+            (true, Some(&first)) => at_position[first as usize] += 1,
+            (true, None) => added_points.push(*p),
+            (false, _) => {}
         }
     }
     let mut seen = vec![false; input.positions.len()];
@@ -1805,7 +1811,7 @@ fn classify_output_vertices(
             // unknown: all of them get the regions of both. (Not otherwise: an input vertex
             // merely within the on-edge tolerance of an edge does not join its regions.)
             if at_position[first as usize] > input_count {
-                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
                 grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
                 model.regions_of_edges(&on_edges, &mut edge_regions);
                 set.extend_from_slice(&edge_regions);
@@ -1816,7 +1822,7 @@ fn classify_output_vertices(
             regions.extend(&set);
         } else {
             added += 1;
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges));
+            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
             grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
             if on_edges.is_empty() {
                 fail.push(KIND_VERTEX, || {
@@ -1881,6 +1887,10 @@ const NEAREST_EDGE_SLACK: f64 = 16.0 * f64::EPSILON;
 /// size, and each piece (its bounding box grown by twice the edge's tolerance) is registered in
 /// every cell it overlaps. Cells are hashed into a table of buckets stored as one flat array (CSR).
 ///
+/// Crowded cells where output points fall (around a vertex of high valence, which every one of
+/// its edges crosses) are refined by octrees, [`CellTrees`]: a point there is tested against the
+/// edges of its leaf instead of the whole bucket.
+///
 /// Cell coordinates are computed in a frame scaled by an exact power of two (`scale`, 1 unless
 /// coordinates exceed 2^1000), so that no difference of coordinates can overflow.
 struct EdgeGrid {
@@ -1888,6 +1898,7 @@ struct EdgeGrid {
     mask: usize,
     starts: Vec<usize>,
     items: Vec<u32>,
+    trees: CellTrees,
 }
 
 /// The geometry of an [`EdgeGrid`], in the scaled frame `q = p * scale`.
@@ -1897,6 +1908,9 @@ struct GridFrame {
     origin: DVec3,
     /// Cell size in the scaled frame.
     cell: f64,
+    /// Deepest level of the [`CellTrees`]: at most [`TREE_DEPTH`], and cells of that level
+    /// (`cell / 2^depth`) stay at least four times the largest edge tolerance.
+    depth_limit: u32,
 }
 
 impl GridFrame {
@@ -1930,41 +1944,99 @@ impl GridFrame {
                 scale,
                 origin: DVec3::ZERO,
                 cell: 1.0,
+                depth_limit: 0,
             };
         }
         let mean = lengths.iter().sum::<f64>() / lengths.len() as f64;
         let mid = lengths.len() / 2;
         let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
-        let mut cell = median
-            .max(mean / 4.0)
-            .max(4.0 * ON_EDGE_TOLERANCE * largest.max(1e-300) * scale)
-            .max((hi - lo).max_element() * 1e-9);
+        let smallest = 4.0 * ON_EDGE_TOLERANCE * largest.max(1e-300) * scale;
+        let mut cell = median.max(mean / 4.0).max(smallest).max((hi - lo).max_element() * 1e-9);
         if !(cell.is_finite() && cell > 0.0 && (1.0 / cell).is_finite()) {
             cell = 1.0;
         }
+        let depth_limit = (0..TREE_DEPTH)
+            .take_while(|&d| cell / (2u64 << d) as f64 >= smallest)
+            .count() as u32;
         GridFrame {
             scale,
             origin: lo,
             cell,
+            depth_limit,
         }
     }
 
     /// Integer cell coordinates of a point (monotone in each coordinate).
     fn cell_of(&self, p: DVec3) -> [i64; 3] {
-        let q = (p * self.scale - self.origin) / self.cell;
-        [q.x.floor() as i64, q.y.floor() as i64, q.z.floor() as i64]
+        self.fine_cell(p, 0)
+    }
+
+    /// Integer coordinates of a point in the cells of level `depth` of the [`CellTrees`]
+    /// (`cell / 2^depth`; level 0 is the grid's): monotone in each coordinate, and a point in
+    /// cell `k` of level `d` is in cell `2k` or `2k + 1` of level `d + 1`, per axis (the scaled
+    /// coordinate is multiplied by a power of two, exactly, before rounding down).
+    fn fine_cell(&self, p: DVec3, depth: u32) -> [i64; 3] {
+        let q = (p * self.scale - self.origin) / self.cell * (1u64 << depth) as f64;
+        [floor_to_i64(q.x), floor_to_i64(q.y), floor_to_i64(q.z)]
+    }
+
+    /// Which child of its node of level `depth - 1` holds a point (see [`TreeNode`]): the
+    /// parities of its cell coordinates at level `depth`.
+    fn child_of(&self, p: DVec3, depth: u32) -> usize {
+        let c = self.fine_cell(p, depth);
+        (0..3).map(|axis| ((c[axis] & 1) as usize) << axis).sum()
+    }
+
+    /// How many pieces edge `(a, b)` is cut into at level 0 (each at most a cell long, unless
+    /// the edge is longer than 10^7 cells).
+    fn pieces(&self, (a, b): (DVec3, DVec3)) -> u64 {
+        let length = (b - a).length() * self.scale;
+        (length / self.cell).ceil().clamp(1.0, 1e7) as u64
     }
 }
 
+/// `x.floor() as i64` (saturating, and 0 for NaN), without calling `floor`: the conversion
+/// truncates, and a negative non-integer is one above its floor.
+fn floor_to_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if t as f64 > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// The point at `k / n` along edge `(a, b)`: where piece `k` of `n` equal pieces starts. Piece
+/// `k` of `n` is the union of pieces `2k` and `2k + 1` of `2n`, and shares its ends with them
+/// bit for bit (the same fractions, correctly rounded).
+fn piece_end((a, b): (DVec3, DVec3), k: u64, n: u64) -> DVec3 {
+    a.lerp(b, k as f64 / n as f64)
+}
+
+/// The bounding box of piece `k` of `n` equal pieces of edge `(a, b)`, grown by `grow`.
+fn piece_box(segment: (DVec3, DVec3), k: u64, n: u64, grow: DVec3) -> (DVec3, DVec3) {
+    let (p0, p1) = (piece_end(segment, k, n), piece_end(segment, k + 1, n));
+    (p0.min(p1) - grow, p0.max(p1) + grow)
+}
+
+/// The growth of the pieces' boxes of edge `(a, b)`: twice its tolerance, which covers every
+/// accepted point plus any rounding of the pieces.
+fn piece_growth((a, b): (DVec3, DVec3)) -> DVec3 {
+    DVec3::splat(2.0 * edge_tolerance(a, b))
+}
+
 impl EdgeGrid {
-    /// Builds the hash (two passes over the edges: count, then fill).
-    fn new(mesh: &Mesh3, edges: &[Edge]) -> EdgeGrid {
+    /// Builds the hash (two passes over the edges: count, then fill), then the trees of its
+    /// crowded cells where the `points` to be looked up fall (the trees' shape depends on them,
+    /// what [`EdgeGrid::edges_containing`] returns does not).
+    fn new(mesh: &Mesh3, edges: &[Edge], points: &[DVec3]) -> EdgeGrid {
         let buckets = edges.len().max(64).next_power_of_two();
         let mut grid = EdgeGrid {
             frame: GridFrame::new(mesh, edges),
             mask: buckets - 1,
             starts: Vec::new(),
             items: Vec::new(),
+            trees: CellTrees::default(),
         };
         let segment = |e: &Edge| (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize]);
         let mut counts = vec![0usize; buckets + 1];
@@ -1984,6 +2056,7 @@ impl EdgeGrid {
         }
         grid.starts = counts;
         grid.items = items;
+        grid.trees = CellTrees::new(&grid, mesh, edges, points);
         grid
     }
 
@@ -1996,29 +2069,51 @@ impl EdgeGrid {
         ((h ^ (h >> 32)) as usize) & self.mask
     }
 
+    /// The edges registered in the bucket of a cell (an edge may come more than once).
+    fn bucket_items(&self, c: [i64; 3]) -> &[u32] {
+        let k = self.bucket(c);
+        &self.items[self.starts[k]..self.starts[k + 1]]
+    }
+
     /// Calls `f` with the bucket of every cell overlapped by the grown pieces of edge `(a, b)`
     /// (a bucket may come more than once). Edges that cannot contain points are skipped.
-    fn for_each_bucket(&self, (a, b): (DVec3, DVec3), mut f: impl FnMut(usize)) {
-        if !can_contain_points((a, b)) {
+    fn for_each_bucket(&self, segment: (DVec3, DVec3), mut f: impl FnMut(usize)) {
+        self.for_each_cell(segment, |_, c| f(self.bucket(c)));
+    }
+
+    /// Calls `f(k, c)` for every piece `k` of edge `(a, b)` (of [`GridFrame::pieces`]) and every
+    /// cell `c` its grown box overlaps. Edges that cannot contain points are skipped.
+    fn for_each_cell(&self, segment: (DVec3, DVec3), mut f: impl FnMut(u64, [i64; 3])) {
+        if !can_contain_points(segment) {
             return;
         }
-        // Twice the tolerance: covers every accepted point plus any rounding of the pieces.
-        let grow = DVec3::splat(2.0 * edge_tolerance(a, b));
-        let length = (b - a).length() * self.frame.scale;
-        let pieces = (length / self.frame.cell).ceil().clamp(1.0, 1e7) as usize;
+        let grow = piece_growth(segment);
+        let pieces = self.frame.pieces(segment);
         for k in 0..pieces {
-            let p0 = a.lerp(b, k as f64 / pieces as f64);
-            let p1 = a.lerp(b, (k + 1) as f64 / pieces as f64);
-            let lo = self.frame.cell_of(p0.min(p1) - grow);
-            let hi = self.frame.cell_of(p0.max(p1) + grow);
+            let (lo, hi) = piece_box(segment, k, pieces, grow);
+            let (lo, hi) = (self.frame.cell_of(lo), self.frame.cell_of(hi));
             for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
                     for z in lo[2]..=hi[2] {
-                        f(self.bucket([x, y, z]));
+                        f(k, [x, y, z]);
                     }
                 }
             }
         }
+    }
+
+    /// The input edges that may contain `p` (with repeats): those of its leaf where its cell is
+    /// refined, else those of its cell's bucket. Every edge that contains `p` within its
+    /// tolerance is among them.
+    fn candidates(&self, p: DVec3) -> &[u32] {
+        let c = self.frame.cell_of(p);
+        let bucket = self.bucket_items(c);
+        if bucket.len() > CROWDED {
+            if let Some(leaf) = self.trees.leaf(&self.frame, c, p) {
+                return leaf;
+            }
+        }
+        bucket
     }
 
     /// Fills `out` with the (sorted, unique) input edges that contain `p` and are nearest to it:
@@ -2028,28 +2123,323 @@ impl EdgeGrid {
     /// edge and its regions are not the point's: taking them as well let faces of one region be
     /// assigned to a nearly coplanar neighbour, and areas seem to move between them.
     fn edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
-        out.clear();
-        let k = self.bucket(self.frame.cell_of(p));
-        let candidates = &self.items[self.starts[k]..self.starts[k + 1]];
-        let distance = |e: u32| {
-            let edge = &edges[e as usize];
-            let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
-            let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
-            distance_on_edge(p, a, b).map(|d| (d, slack))
-        };
-        // Two passes (the nearest distance, then the edges near it): no allocation per point.
-        let nearest = candidates
+        nearest_edges_containing(mesh, edges, self.candidates(p), p, out);
+    }
+}
+
+/// Of the `candidates` (input edges, repeats allowed), the ones that contain `p` and are nearest
+/// to it, sorted and unique, into `out` (see [`EdgeGrid::edges_containing`]). The answer is the
+/// same for every set of candidates that includes all the edges containing `p`.
+fn nearest_edges_containing(mesh: &Mesh3, edges: &[Edge], candidates: &[u32], p: DVec3, out: &mut Vec<u32>) {
+    out.clear();
+    let distance = |e: u32| {
+        let edge = &edges[e as usize];
+        let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
+        let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
+        distance_on_edge(p, a, b).map(|d| (d, slack))
+    };
+    // Two passes (the nearest distance, then the edges near it): no allocation per point.
+    let nearest = candidates
+        .iter()
+        .filter_map(|&e| distance(e))
+        .fold(f64::INFINITY, |m, (d, _)| m.min(d));
+    out.extend(
+        candidates
             .iter()
-            .filter_map(|&e| distance(e))
-            .fold(f64::INFINITY, |m, (d, _)| m.min(d));
-        out.extend(
-            candidates
-                .iter()
-                .copied()
-                .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
-        );
-        out.sort_unstable();
-        out.dedup();
+            .copied()
+            .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
+    );
+    out.sort_unstable();
+    out.dedup();
+}
+
+/// A bucket of an [`EdgeGrid`] with more entries than this is crowded: its cells where output
+/// points fall get a [`CellTrees`] octree.
+const CROWDED: usize = 64;
+
+/// A tree node with at most this many edges stays a leaf.
+const LEAF_EDGES: usize = 32;
+
+/// A tree node with at most this many points to look up stays a leaf: testing them against all
+/// its edges costs less than dividing it.
+const LEAF_POINTS: usize = 8;
+
+/// The deepest level of a [`CellTrees`] octree (cells of `cell / 2^29`). Pieces of level `d`
+/// number at most `10^7 * 2^d < 2^53` per edge, so their indices and fractions stay exact.
+const TREE_DEPTH: u32 = 29;
+
+/// Roots are cells less than this many cells from the grid's origin: the coordinates of their
+/// points at the deepest level, below `(2^33 + 1) * 2^29`, stay exact in `f64` and within
+/// `i64`, so that a point's cell at each level is one of the two halves, per axis, of its cell
+/// at the level above.
+const ROOT_RANGE: u64 = 1 << 33;
+
+/// The spans of pieces that dividing tree nodes makes are at most this many per entry of the grid
+/// and point looked up: the bound of the trees' memory.
+const TREE_BUDGET: usize = 8;
+
+/// Octrees refining crowded cells of an [`EdgeGrid`]. A cell whose bucket holds more than
+/// [`CROWDED`] entries and where more than [`LEAF_POINTS`] of the points to be looked up fall
+/// becomes a root, holding the level-0 pieces of the edges whose grown boxes overlap it. A node
+/// is divided into its eight half-size children while it holds more than [`LEAF_EDGES`] edges
+/// and more than [`LEAF_POINTS`] points, above the frame's `depth_limit`: every piece longer
+/// than the children is cut in two halves (the pieces of the next level; pieces of level 0 are
+/// at most a cell long, unless the edge is longer than 10^7 cells), and each piece goes to every
+/// child that its box, grown by twice the edge's tolerance as in the grid, overlaps in the cells
+/// of the next level. A node keeps the pieces of one edge as one [`Span`], from the first to the
+/// last that overlap it (the ones between, if any do not, are kept too): a few pieces, since
+/// they are not much shorter than the node unless the edge is. Only the children where points
+/// fall are built: a point in another child, like a point in a cell that is not a root, is
+/// tested against its cell's bucket. The trees' shape depends on the points; the edges found
+/// never do.
+///
+/// Conservative like the grid: an edge containing a point within its tolerance has, at every
+/// level, a piece whose grown box contains the point (the pieces of a level cover the edge, and
+/// the box is grown by twice the tolerance); cell coordinates are monotone, so at every depth the
+/// point's cell is within the range of cells of such a box. The root holds such a piece of level
+/// 0, as the grid does; if a node holds such a piece, the piece itself, or the one of its halves
+/// that contains the point, goes to the point's child. By induction, the point's leaf holds the
+/// edge.
+///
+/// Memory, linear in the grid's entries `G` and the points `P`: the roots hold at most one span
+/// per entry of the grid, and nodes are divided only while the spans made by dividing stay
+/// within `TREE_BUDGET * (G + P)` (dividing a node of `m` spans makes at most `8 m`, one per
+/// edge and child), so at most `(1 + TREE_BUDGET) * (G + P)` spans are ever made; the leaves
+/// keep one edge per span; a division makes eight nodes and needs more than [`LEAF_EDGES`]
+/// spans. While the trees are built, each point is in one node waiting to be built.
+#[derive(Default)]
+struct CellTrees {
+    /// The root node of each refined cell.
+    roots: FastMap<[i64; 3], usize>,
+    nodes: Vec<TreeNode>,
+    /// The edges of the leaves (unique per leaf).
+    edges: Vec<u32>,
+    /// How many pieces the divisions placed in children (a measure of the work, for the tests).
+    #[cfg(test)]
+    pieces_placed: usize,
+}
+
+/// A node of [`CellTrees`]: a leaf (`children == 0`) with edges `edges[start..end]`, or an inner
+/// node whose children are `children + i`, where bits 0, 1, 2 of `i` say whether the child is
+/// the upper half in x, y, z.
+#[derive(Clone, Copy)]
+struct TreeNode {
+    children: usize,
+    start: usize,
+    end: usize,
+}
+
+impl TreeNode {
+    /// A leaf where no point fell when the trees were built: it keeps no edges, and a point
+    /// there is tested against its cell's bucket.
+    const UNREFINED: TreeNode = TreeNode {
+        children: 0,
+        start: usize::MAX,
+        end: usize::MAX,
+    };
+}
+
+/// Pieces `first..=last` of an input edge, of its `pieces << level` equal pieces (see
+/// [`GridFrame::pieces`]).
+#[derive(Clone, Copy)]
+struct Span {
+    edge: u32,
+    level: u32,
+    first: u64,
+    last: u64,
+}
+
+/// A tree node waiting to be built: its index, level, cell coordinates at that level, spans
+/// (one per edge) and points.
+struct Pending {
+    node: usize,
+    depth: u32,
+    cell: [i64; 3],
+    spans: Vec<Span>,
+    points: Vec<DVec3>,
+}
+
+impl Pending {
+    /// A node with nothing in it yet.
+    fn new(node: usize, depth: u32, cell: [i64; 3]) -> Pending {
+        Pending {
+            node,
+            depth,
+            cell,
+            spans: Vec::new(),
+            points: Vec::new(),
+        }
+    }
+
+    /// Adds piece `index` of level `level` of `edge`: to the last span if it is the edge's
+    /// (pieces of an edge come together, of one level, in increasing order), else as a new span.
+    fn add(&mut self, edge: u32, level: u32, index: u64) {
+        match self.spans.last_mut() {
+            Some(span) if span.edge == edge => span.last = span.last.max(index),
+            _ => self.spans.push(Span {
+                edge,
+                level,
+                first: index,
+                last: index,
+            }),
+        }
+    }
+}
+
+impl CellTrees {
+    /// The trees of the crowded cells of `grid` where more than [`LEAF_POINTS`] of `points` fall.
+    fn new(grid: &EdgeGrid, mesh: &Mesh3, edges: &[Edge], points: &[DVec3]) -> CellTrees {
+        let mut trees = CellTrees::default();
+        let mut work = Self::roots(grid, points);
+        if work.is_empty() {
+            return trees;
+        }
+        for (i, root) in work.iter_mut().enumerate() {
+            root.node = i;
+            trees.roots.insert(root.cell, i);
+        }
+        trees.nodes = vec![TreeNode::UNREFINED; work.len()];
+        let segment = |e: u32| {
+            let e = &edges[e as usize];
+            (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize])
+        };
+        for e in 0..edges.len() as u32 {
+            grid.for_each_cell(segment(e), |index, c| {
+                if grid.bucket_items(c).len() > CROWDED {
+                    if let Some(&root) = trees.roots.get(&c) {
+                        work[root].add(e, 0, index);
+                    }
+                }
+            });
+        }
+        let budget = TREE_BUDGET * (grid.items.len() + points.len());
+        let mut made = 0;
+        let mut queue: std::collections::VecDeque<Pending> = work.into();
+        while let Some(node) = queue.pop_front() {
+            let divide = node.spans.len() > LEAF_EDGES
+                && node.points.len() > LEAF_POINTS
+                && node.depth < grid.frame.depth_limit
+                && made + 8 * node.spans.len() <= budget;
+            if divide {
+                let children = trees.divide(&grid.frame, node, segment);
+                made += children.iter().map(|c| c.spans.len()).sum::<usize>();
+                queue.extend(children);
+            } else {
+                trees.make_leaf(node);
+            }
+        }
+        trees
+    }
+
+    /// The crowded cells of `grid` where more than [`LEAF_POINTS`] of `points` fall (within
+    /// [`ROOT_RANGE`]), with their points, in the order of their first point.
+    fn roots(grid: &EdgeGrid, points: &[DVec3]) -> Vec<Pending> {
+        let mut index: FastMap<[i64; 3], usize> = FastMap::default();
+        let mut roots: Vec<Pending> = Vec::new();
+        for &p in points {
+            let c = grid.frame.cell_of(p);
+            if c.iter().any(|x| x.unsigned_abs() >= ROOT_RANGE) || grid.bucket_items(c).len() <= CROWDED {
+                continue;
+            }
+            let i = *index.entry(c).or_insert_with(|| {
+                roots.push(Pending::new(0, 0, c));
+                roots.len() - 1
+            });
+            roots[i].points.push(p);
+        }
+        roots.retain(|r| r.points.len() > LEAF_POINTS);
+        roots
+    }
+
+    /// Makes `node` a leaf holding the edges of its spans.
+    fn make_leaf(&mut self, node: Pending) {
+        let start = self.edges.len();
+        self.edges.extend(node.spans.iter().map(|s| s.edge));
+        self.nodes[node.node] = TreeNode {
+            children: 0,
+            start,
+            end: self.edges.len(),
+        };
+    }
+
+    /// Divides `node` into its eight children and returns those where points fall, to be built;
+    /// the others are left unrefined.
+    fn divide(&mut self, frame: &GridFrame, node: Pending, segment: impl Fn(u32) -> (DVec3, DVec3)) -> Vec<Pending> {
+        let first = self.nodes.len();
+        self.nodes.resize(first + 8, TreeNode::UNREFINED);
+        self.nodes[node.node].children = first;
+        let depth = node.depth + 1;
+        let base = node.cell.map(|x| 2 * x);
+        let mut children: Vec<Pending> = (0..8)
+            .map(|i| {
+                Pending::new(
+                    first + i,
+                    depth,
+                    [0, 1, 2].map(|axis| base[axis] + ((i >> axis) & 1) as i64),
+                )
+            })
+            .collect();
+        for p in node.points {
+            children[frame.child_of(p, depth)].points.push(p);
+        }
+        let size = frame.cell / (1u64 << depth) as f64;
+        for span in node.spans {
+            let segment = segment(span.edge);
+            let pieces = frame.pieces(segment);
+            // Pieces longer than the children are cut in halves, the pieces of the next level;
+            // shorter ones are kept whole.
+            let length = (segment.1 - segment.0).length() * frame.scale / (pieces << span.level) as f64;
+            let (level, first, last) = if length > size {
+                (span.level + 1, 2 * span.first, 2 * span.last + 1)
+            } else {
+                (span.level, span.first, span.last)
+            };
+            let (grow, n) = (piece_growth(segment), pieces << level);
+            #[cfg(test)]
+            {
+                self.pieces_placed += (last - first + 1) as usize;
+            }
+            // The cells of a piece's grown box (`piece_box`) reach from the lower to the upper of
+            // its ends' grown cells, per axis (cells are monotone, and so is rounding): each end
+            // is computed once for the two pieces it bounds.
+            let end = |k: u64| {
+                let p = piece_end(segment, k, n);
+                (frame.fine_cell(p - grow, depth), frame.fine_cell(p + grow, depth))
+            };
+            let mut start = end(first);
+            for index in first..=last {
+                let stop = end(index + 1);
+                let lo = [0, 1, 2].map(|axis| start.0[axis].min(stop.0[axis]));
+                let hi = [0, 1, 2].map(|axis| start.1[axis].max(stop.1[axis]));
+                start = stop;
+                let range = |axis: usize| {
+                    lo[axis].saturating_sub(base[axis]).max(0)..=hi[axis].saturating_sub(base[axis]).min(1)
+                };
+                for x in range(0) {
+                    for y in range(1) {
+                        for z in range(2) {
+                            let child = &mut children[(x | y << 1 | z << 2) as usize];
+                            if !child.points.is_empty() {
+                                child.add(span.edge, level, index);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        children.retain(|c| !c.points.is_empty());
+        children
+    }
+
+    /// The edges of the leaf holding `p`, in cell `c` of the grid, if that cell is refined.
+    fn leaf(&self, frame: &GridFrame, c: [i64; 3], p: DVec3) -> Option<&[u32]> {
+        let mut node = self.nodes[*self.roots.get(&c)?];
+        let mut depth = 0;
+        while node.children != 0 {
+            depth += 1;
+            node = self.nodes[node.children + frame.child_of(p, depth)];
+        }
+        self.edges.get(node.start..node.end)
     }
 }
 
@@ -2090,7 +2480,10 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
         if is_degenerate(t) {
             continue;
         }
-        let known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
+        let mut known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
+        // The common regions are found by walking the shortest list (sorted: the same result
+        // from any of them): a vertex of high valence can have thousands.
+        known.sort_by_key(|&v| candidates.regions.row(v as usize).len());
         let Some((&first, rest)) = known.split_first() else {
             continue; // all three vertices already reported
         };
@@ -2762,5 +3155,157 @@ mod tests {
             let expected = -turn * sign_of(b.z);
             assert_eq!(orient3d_sign(DVec3::ZERO, b, c, off), expected, "{b:?} {c:?}");
         }
+    }
+
+    #[test]
+    fn floor_to_i64_is_floor_as_i64() {
+        let mut rng = Rng(11);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            -1.0,
+            1.0,
+            -1e-300,
+            f64::MIN_POSITIVE,
+            2f64.powi(52) + 0.5,
+            -(2f64.powi(52) + 0.5),
+            2f64.powi(53),
+            2f64.powi(63),
+            -2f64.powi(63),
+            2f64.powi(70),
+            -2f64.powi(70),
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        values.extend((0..10_000).map(|_| rng.centered() * 2f64.powi((rng.below(140) as i32) - 70)));
+        for x in values {
+            assert_eq!(floor_to_i64(x), x.floor() as i64, "{x:e}");
+        }
+    }
+
+    /// A cone-like fan of `n` triangles (`n` a multiple of 4) around vertex 0 at the origin, its
+    /// rim stepping through radii 1, 1/10, 1/100, 1/10 at heights -1, -1/10, 0, 1/20 (the fan of
+    /// `tests/common`).
+    fn cone_fan(n: usize) -> Mesh3 {
+        const RIM: [(f64, f64); 4] = [(1.0, -1.0), (0.1, -0.1), (0.01, 0.0), (0.1, 0.05)];
+        let mut positions = vec![DVec3::ZERO];
+        positions.extend((0..n).map(|i| {
+            let theta = std::f64::consts::TAU * i as f64 / n as f64;
+            let (radius, height) = RIM[i % 4];
+            DVec3::new(radius * theta.cos(), radius * theta.sin(), height)
+        }));
+        let triangles = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]).collect();
+        Mesh3 { positions, triangles }
+    }
+
+    /// The spokes of a fan (its edges from vertex 0, `edges` indexed like `Prepared::edges`).
+    fn spokes(mesh: &Mesh3, edges: &[Edge]) -> Vec<(DVec3, DVec3)> {
+        edges
+            .iter()
+            .filter(|e| e.lo == 0)
+            .map(|e| (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize]))
+            .collect()
+    }
+
+    /// Points on the `spokes` at the given fractions of their lengths, and beside each of them
+    /// the points `offset` away, for every offset.
+    fn spoke_points(spokes: &[(DVec3, DVec3)], fractions: &[f64], offsets: &[f64]) -> Vec<DVec3> {
+        let mut points = Vec::new();
+        for &(a, b) in spokes {
+            let side = (b - a).cross(DVec3::Z).normalize();
+            for &t in fractions {
+                points.extend(offsets.iter().map(|&offset| a.lerp(b, t) + side * offset));
+            }
+        }
+        points
+    }
+
+    /// Asserts that `grid` finds, for every point, the edges that testing every edge finds;
+    /// returns how many points are on edges.
+    fn assert_same_as_testing_every_edge(mesh: &Mesh3, edges: &[Edge], grid: &EdgeGrid, points: &[DVec3]) -> usize {
+        let all: Vec<u32> = (0..edges.len() as u32).collect();
+        let (mut found, mut expected) = (Vec::new(), Vec::new());
+        let mut hits = 0;
+        for &p in points {
+            grid.edges_containing(mesh, edges, p, &mut found);
+            nearest_edges_containing(mesh, edges, &all, p, &mut expected);
+            assert_eq!(found, expected, "{p:?}");
+            hits += usize::from(!found.is_empty());
+        }
+        hits
+    }
+
+    /// Points on the spokes of a fan near its apex, where every spoke crosses the grid's cell
+    /// (its bucket holds all of them): the trees give each point few candidates, where the
+    /// uniform grid alone gave it the whole bucket, and the edges found are those that testing
+    /// every edge finds, for the points the trees were built for and for others (just off the
+    /// spokes, within the tolerance and beyond it).
+    #[test]
+    fn points_near_a_vertex_of_high_valence_examine_few_candidates() {
+        let n = 2000;
+        let mesh = cone_fan(n);
+        let model = InputModel::new(&mesh).expect("a valid fan");
+        let edges = &model.prepared.edges;
+        let spokes = spokes(&mesh, edges);
+        assert_eq!(spokes.len(), n);
+        let fractions = [1.0 / 128.0, 1.0 / 32.0, 1.0 / 8.0, 0.3];
+        let on = spoke_points(&spokes, &fractions, &[0.0]);
+        let grid = EdgeGrid::new(&mesh, edges, &on);
+        // What the uniform grid alone examined, and what the trees examine.
+        let bucketed: usize = on.iter().map(|&p| grid.bucket_items(grid.frame.cell_of(p)).len()).sum();
+        let examined: usize = on.iter().map(|&p| grid.candidates(p).len()).sum();
+        let most = on.iter().map(|&p| grid.candidates(p).len()).max().unwrap_or(0);
+        let points = on.len();
+        assert!(
+            bucketed > n / 2 * points,
+            "{bucketed} bucket entries for {points} points"
+        );
+        assert!(examined < 50 * points, "{examined} candidates for {points} points");
+        assert!(most < n / 4, "{most} candidates for one point");
+        let (entries, leaf_edges) = (grid.items.len() + points, grid.trees.edges.len());
+        assert!(
+            leaf_edges <= (1 + TREE_BUDGET) * entries,
+            "{leaf_edges} edges in leaves"
+        );
+        // Every point on a spoke, and those just off the long spokes (within their tolerance).
+        let off = spoke_points(&spokes, &fractions, &[8e-12, -1e-6]);
+        let hits = assert_same_as_testing_every_edge(&mesh, edges, &grid, &[on, off].concat());
+        assert_eq!(hits, points + n / 4 * fractions.len());
+    }
+
+    /// A fan far smaller than the grid's cell, which a vertex 10^13 away makes huge: its trees
+    /// go deep, and the short spokes are not cut into ever more pieces on the way down (an
+    /// earlier version halved every piece at every level, 2^25 pieces of a spoke, and hung).
+    #[test]
+    fn a_small_fan_beside_a_far_vertex_is_searched_in_few_pieces() {
+        let n = 64;
+        let mut mesh = cone_fan(n);
+        mesh.positions.push(DVec3::new(1e6, 0.0, 0.0));
+        mesh.triangles.push([2, 1, n as u32 + 1]);
+        let model = InputModel::new(&mesh).expect("a valid fan");
+        let edges = &model.prepared.edges;
+        let spokes = spokes(&mesh, edges);
+        let on = spoke_points(&spokes, &[1.0 / 1024.0, 1.0 / 32.0, 0.5], &[0.0]);
+        let grid = EdgeGrid::new(&mesh, edges, &on);
+        assert!(grid.frame.cell > 1e3 && grid.frame.depth_limit > 20);
+        assert!(
+            grid.trees.nodes.len() > 8 * 8,
+            "the trees are {} nodes",
+            grid.trees.nodes.len()
+        );
+        let examined: usize = on.iter().map(|&p| grid.candidates(p).len()).sum();
+        assert!(
+            examined < 32 * on.len(),
+            "{examined} candidates for {} points",
+            on.len()
+        );
+        // 4098 pieces; halving every piece at every level placed 60 million.
+        let placed = grid.trees.pieces_placed;
+        assert!(placed < 100_000, "{placed} pieces placed");
+        let hits = assert_same_as_testing_every_edge(&mesh, edges, &grid, &on);
+        assert_eq!(hits, on.len());
     }
 }

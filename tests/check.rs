@@ -1,6 +1,8 @@
 //! Tests of the independent checker (`check` module): valid results pass, every kind of
 //! invalid result is reported, and the Delaunay count agrees with a brute-force count.
 
+mod common;
+
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -759,4 +761,27 @@ fn report_does_not_depend_on_threads() {
     ] {
         assert_failure(&reports[0], needle);
     }
+}
+
+/// A fan of 4000 triangles around one vertex (a CAD disk or cone), refined: many vertices are
+/// added on the spokes close to the apex, each in the grid's cells that every spoke crosses,
+/// and the result passes.
+#[test]
+fn refined_fan_around_a_vertex_of_high_valence_passes() {
+    let (vertices, faces) = common::cone_fan(4000);
+    let positions: Vec<DVec3> = vertices.iter().map(|&v| DVec3::from_array(v)).collect();
+    let mut surface = delmesh::Surface::new(positions.clone(), &faces).expect("a valid fan");
+    let stats = delmesh::make_delaunay(&mut surface, &delmesh::Options::default()).expect("refined");
+    assert!(stats.splits > 4000, "{} vertices added", stats.splits);
+    let input = Mesh3 {
+        positions,
+        triangles: faces,
+    };
+    let output = Mesh3 {
+        positions: surface.positions.clone(),
+        triangles: surface.triangles(),
+    };
+    let report = check_meshes(&input, &output);
+    assert_passes(&report);
+    assert_eq!(report.added_vertices, stats.splits);
 }

@@ -96,3 +96,22 @@ pub fn check_refined(input: &delmesh::io::InputMesh, s: &delmesh::mesh::Surface)
         },
     )
 }
+
+/// A cone-like fan of `n` triangles (`n` a multiple of 4, at least 4) around one apex vertex of
+/// valence `n`, like the disks and cones of CAD exports: the apex at the origin (vertex 0) and a
+/// closed rim whose points step through radii 1, 1/10, 1/100, 1/10 at heights -1, -1/10, 0,
+/// 1/20. The triangles are not coplanar and the long spokes face angles near π, so refinement
+/// must split spokes, adding several vertices on each, most of them close to the apex (at
+/// distances 0.0078 to 0.14).
+pub fn cone_fan(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    assert!(n >= 4 && n % 4 == 0, "the rim's pattern has period 4");
+    const RIM: [(f64, f64); 4] = [(1.0, -1.0), (0.1, -0.1), (0.01, 0.0), (0.1, 0.05)];
+    let mut positions = vec![[0.0, 0.0, 0.0]];
+    for i in 0..n {
+        let theta = std::f64::consts::TAU * i as f64 / n as f64;
+        let (radius, height) = RIM[i % 4];
+        positions.push([radius * theta.cos(), radius * theta.sin(), height]);
+    }
+    let triangles = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]).collect();
+    (positions, triangles)
+}
