@@ -14,6 +14,13 @@ fn copy_fixture(name: &str, to: &Path) {
     std::fs::copy(common::data_dir().join(name), to).unwrap();
 }
 
+/// `delmesh -i INPUT -o OUTPUT`, to which a test adds its flags.
+fn refine(input: impl AsRef<std::ffi::OsStr>, output: impl AsRef<std::ffi::OsStr>) -> Command {
+    let mut cmd = delmesh();
+    cmd.arg("-i").arg(input).arg("-o").arg(output);
+    cmd
+}
+
 fn check_passes(input: &Path, output: &Path) {
     let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -159,7 +166,7 @@ fn refused(name: &str, content: &[u8], detail: &str) {
     let input = dir.path().join(name);
     std::fs::write(&input, content).unwrap();
     let output = dir.path().join("out.obj");
-    let out = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+    let out = refine(&input, &output).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{name}: {stderr}");
     assert_eq!(stderr.lines().count(), 1, "{name}: not one line: {stderr}");
@@ -276,7 +283,7 @@ fn obj_forms_read_alike_by_construction_and_check() {
         let input = dir.path().join(name);
         std::fs::write(&input, text).unwrap();
         let output = dir.path().join(format!("out-{name}"));
-        let out = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+        let out = refine(&input, &output).output().unwrap();
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         check_passes(&input, &output);
     }
@@ -321,13 +328,7 @@ fn unreadable_input_and_bad_output_paths() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
     // An output in a folder nobody can write to (/proc refuses new files, even for root).
     let before = std::fs::read(&input).unwrap();
-    let out = delmesh()
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg("/proc/delmesh-out.obj")
-        .output()
-        .unwrap();
+    let out = refine(&input, "/proc/delmesh-out.obj").output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("cannot write in folder /proc"), "{stderr}");
@@ -402,25 +403,14 @@ fn every_format_in_and_out() {
     // OBJ in, each format out; then each format in, OBJ out, checked.
     for ext in ["ply", "off", "stl"] {
         let out = dir.path().join(format!("c.{ext}"));
-        delmesh()
+        refine(&cube, &out)
             .arg("-q")
-            .arg("-i")
-            .arg(&cube)
-            .arg("-o")
-            .arg(&out)
             // STL is only a conversion target (see below).
             .args(if ext == "stl" { &["--no-refine"][..] } else { &[] })
             .assert()
             .success();
         let back = dir.path().join(format!("from-{ext}.obj"));
-        delmesh()
-            .arg("-q")
-            .arg("-i")
-            .arg(&out)
-            .arg("-o")
-            .arg(&back)
-            .assert()
-            .success();
+        refine(&out, &back).arg("-q").assert().success();
         if ext != "stl" {
             // f64 formats keep every coordinate: the result is still exact.
             check_passes(&cube, &back);
@@ -432,14 +422,7 @@ fn every_format_in_and_out() {
     std::io::Write::write_all(&mut enc, &std::fs::read(&cube).unwrap()).unwrap();
     std::fs::write(&gz, enc.finish().unwrap()).unwrap();
     let out = dir.path().join("gz.obj");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&gz)
-        .arg("-o")
-        .arg(&out)
-        .assert()
-        .success();
+    refine(&gz, &out).arg("-q").assert().success();
     check_passes(&cube, &out);
     // ... which cannot be rewritten in place.
     let o = delmesh().arg("-i").arg(&gz).output().unwrap();
@@ -461,11 +444,7 @@ fn every_format_in_and_out() {
 fn repair_and_refine(dir: &Path, input: &Path) -> (std::path::PathBuf, std::path::PathBuf, String) {
     let repaired = dir.join("repaired.obj");
     let output = dir.join("dm.obj");
-    let out = delmesh()
-        .arg("-i")
-        .arg(input)
-        .arg("-o")
-        .arg(&output)
+    let out = refine(input, &output)
         .arg("--repair")
         .arg("--repaired")
         .arg(&repaired)
@@ -747,14 +726,7 @@ fn render_draws_before_and_after() {
     let dir = tempfile::tempdir().unwrap();
     let cube = common::data_dir().join("cube.obj");
     let out = dir.path().join("c.obj");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&cube)
-        .arg("-o")
-        .arg(&out)
-        .assert()
-        .success();
+    refine(&cube, &out).arg("-q").assert().success();
     let before = dir.path().join("before.svg");
     let o = delmesh()
         .arg("render")
@@ -808,14 +780,7 @@ fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
     let input = common::data_dir().join("bunny.obj");
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let o = delmesh()
-            .arg("-i")
-            .arg(&input)
-            .arg("-o")
-            .arg(&out)
-            .args(extra)
-            .output()
-            .unwrap();
+        let o = refine(&input, &out).args(extra).output().unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         check_passes(&input, &out);
         (
@@ -894,14 +859,7 @@ fn a_refined_stl_output_is_refused_and_a_conversion_says_it_is_rounded() {
             "something was written"
         );
     }
-    delmesh()
-        .arg("-i")
-        .arg(&cube)
-        .arg("-o")
-        .arg(&out)
-        .arg("--no-refine")
-        .assert()
-        .success();
+    refine(&cube, &out).arg("--no-refine").assert().success();
     let before = std::fs::read(&out).unwrap();
     delmesh().arg("-i").arg(&out).assert().code(1);
     assert_eq!(std::fs::read(&out).unwrap(), before, "the STL input was rewritten");
@@ -914,14 +872,7 @@ fn a_refined_stl_output_is_refused_and_a_conversion_says_it_is_rounded() {
         .code(1);
     assert!(!batch_out.exists());
     // As a conversion (--no-refine) it is written, with a note.
-    let run = delmesh()
-        .arg("-i")
-        .arg(&cube)
-        .arg("-o")
-        .arg(&out)
-        .arg("--no-refine")
-        .output()
-        .unwrap();
+    let run = refine(&cube, &out).arg("--no-refine").output().unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
     assert!(stdout.contains("note    STL stores f32 coordinates"), "{stdout}");
@@ -941,27 +892,13 @@ fn check_flag_verifies_the_output() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bunny.obj");
     let bunny = common::data_dir().join("bunny.obj");
-    let run = delmesh()
-        .arg("-i")
-        .arg(&bunny)
-        .arg("-o")
-        .arg(&out)
-        .arg("--check")
-        .output()
-        .unwrap();
+    let run = refine(&bunny, &out).arg("--check").output().unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
     assert!(stdout.contains("check   PASS: "), "{stdout}");
     // STL cannot pass: refused before any work, nothing written.
     let stl = dir.path().join("bunny.stl");
-    let run = delmesh()
-        .arg("-i")
-        .arg(&bunny)
-        .arg("-o")
-        .arg(&stl)
-        .arg("--check")
-        .output()
-        .unwrap();
+    let run = refine(&bunny, &stl).arg("--check").output().unwrap();
     assert!(!run.status.success());
     assert!(String::from_utf8_lossy(&run.stderr).contains("STL stores f32 coordinates"));
     assert!(!stl.exists());
@@ -989,7 +926,7 @@ fn polygons_keep_their_shape() {
         let input = dir.path().join(name);
         std::fs::write(&input, text).unwrap();
         let output = dir.path().join(format!("out-{name}"));
-        let run = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+        let run = refine(&input, &output).output().unwrap();
         let stdout = String::from_utf8_lossy(&run.stdout);
         assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
         assert!(!stdout.contains("note"), "{name}: {stdout}");
@@ -1048,7 +985,7 @@ fn continued_obj_lines_are_read() {
     let input = dir.path().join("continued.obj");
     std::fs::write(&input, "v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0.4\nv 0 1 0\nf 1 2 \\\r\n 3 4\n").unwrap();
     let output = dir.path().join("out.obj");
-    let run = delmesh().arg("-i").arg(&input).arg("-o").arg(&output).output().unwrap();
+    let run = refine(&input, &output).output().unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(String::from_utf8_lossy(&run.stdout).contains("4 vertices, 1 faces (2 triangles)"));
     check_passes(&input, &output);
@@ -1062,14 +999,7 @@ fn a_stuck_run_points_to_smallest() {
     let dir = tempfile::tempdir().unwrap();
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
     let out = dir.path().join("out.obj");
-    let run = delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let run = refine(&input, &out).arg("-q").output().unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1));
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
@@ -1078,15 +1008,7 @@ fn a_stuck_run_points_to_smallest() {
         "{stderr}"
     );
     assert!(!out.exists());
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .arg("--smallest")
-        .assert()
-        .success();
+    refine(&input, &out).arg("-q").arg("--smallest").assert().success();
     check_passes(&input, &out);
 }
 
@@ -1236,14 +1158,7 @@ fn devices_pipes_and_links_are_written_through() {
     std::fs::write(&target, "old").unwrap();
     let link = dir.path().join("link.obj");
     std::os::unix::fs::symlink(&target, &link).unwrap();
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&bunny)
-        .arg("-o")
-        .arg(&link)
-        .assert()
-        .success();
+    refine(&bunny, &link).arg("-q").assert().success();
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
     check_passes(&bunny, &target);
     // --check cannot read a device back; a FIFO input cannot be rewritten.
@@ -1342,14 +1257,7 @@ fn dash_is_standard_input_and_output() {
     check_passes(&input, &output);
     // The same mesh as with files, and the same when the names are spelled out.
     let by_file = dir.path().join("by-file.obj");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&by_file)
-        .assert()
-        .success();
+    refine(&input, &by_file).arg("-q").assert().success();
     assert_eq!(std::fs::read(&by_file).unwrap(), piped.stdout);
     let by_name = run(&["-q", "-i", "/dev/stdin"], &input);
     assert!(by_name.status.success());
@@ -1429,26 +1337,11 @@ fn gzip_outputs_and_byte_order_marks() {
     let dir = tempfile::tempdir().unwrap();
     let cube = common::data_dir().join("cube.obj");
     let out = dir.path().join("c.obj.gz");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&cube)
-        .arg("-o")
-        .arg(&out)
-        .arg("--check")
-        .assert()
-        .success();
+    refine(&cube, &out).arg("-q").arg("--check").assert().success();
     let bytes = std::fs::read(&out).unwrap();
     assert_eq!(bytes[..2], [0x1f, 0x8b], "not gzip");
     let plain = dir.path().join("c.obj");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&cube)
-        .arg("-o")
-        .arg(&plain)
-        .assert()
-        .success();
+    refine(&cube, &plain).arg("-q").assert().success();
     let mut inflated = Vec::new();
     std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut inflated).unwrap();
     assert_eq!(inflated, std::fs::read(&plain).unwrap());
@@ -1457,14 +1350,7 @@ fn gzip_outputs_and_byte_order_marks() {
     text.extend(std::fs::read(&cube).unwrap());
     std::fs::write(&bom, text).unwrap();
     let from_bom = dir.path().join("from-bom.obj");
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(&bom)
-        .arg("-o")
-        .arg(&from_bom)
-        .assert()
-        .success();
+    refine(&bom, &from_bom).arg("-q").assert().success();
     assert_eq!(std::fs::read(&from_bom).unwrap(), std::fs::read(&plain).unwrap());
     check_passes(&bom, &from_bom);
 }
