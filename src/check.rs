@@ -435,7 +435,8 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
     let mut file_corners = Vec::new();
     let mut base = 0u32;
     for model in &models {
-        let corners = fan_triangles(&model.mesh).map_err(parse_error)?;
+        let slots = fan_corners(&model.mesh).map_err(parse_error)?;
+        let corners: Vec<[u32; 3]> = slots.iter().map(|t| t.map(|k| model.mesh.indices[k])).collect();
         welder
             .add_model(&model.mesh, &corners, &mut triangles)
             .map_err(parse_error)?;
@@ -458,10 +459,11 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
     Ok((mesh, file_corners))
 }
 
-/// The triangles of a tobj model read without triangulation, in its own
-/// indices: each polygon as the fan from [`fan_apex`] (as the construction's
-/// readers do; the rule is part of what the file means).
-fn fan_triangles(mesh: &tobj::Mesh) -> Result<Vec<[u32; 3]>, String> {
+/// The triangles of a tobj model read without triangulation, as slots of
+/// its `indices` (so that a corner's texture coordinate and normal can be
+/// found too): each polygon as the fan from [`fan_apex`] (as the
+/// construction's readers do; the rule is part of what the file means).
+pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> {
     let position = |i: u32| -> Result<[f64; 3], String> {
         let i = i as usize;
         match mesh.positions.get(3 * i..3 * i + 3) {
@@ -481,12 +483,12 @@ fn fan_triangles(mesh: &tobj::Mesh) -> Result<Vec<[u32; 3]>, String> {
             .indices
             .get(start..start + n)
             .ok_or_else(|| "face list shorter than its arities".to_string())?;
-        start += n;
         let corners: Vec<[f64; 3]> = poly.iter().map(|&i| position(i)).collect::<Result<_, _>>()?;
         let k = fan_apex(n, |i| corners[i]);
         for i in 1..n.saturating_sub(1) {
-            triangles.push([poly[k], poly[(k + i) % n], poly[(k + i + 1) % n]]);
+            triangles.push([start + k, start + (k + i) % n, start + (k + i + 1) % n]);
         }
+        start += n;
     }
     Ok(triangles)
 }
@@ -740,7 +742,7 @@ impl Welder {
     }
 
     /// Appends the triangles of one tobj model (`corners`, in its own
-    /// indices: [`fan_triangles`]), welding its positions.
+    /// indices, from [`fan_corners`]), welding its positions.
     fn add_model(
         &mut self,
         mesh: &tobj::Mesh,

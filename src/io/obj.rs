@@ -1161,8 +1161,7 @@ mod tests {
             .collect()
     }
 
-    /// As tobj reads them, polygons fanned from [`crate::io::polygon::fan_apex`]
-    /// (as the judge does).
+    /// As tobj reads them, polygons fanned as the judge fans them.
     fn corners_tobj(text: &str) -> Vec<Corner> {
         let options = tobj::LoadOptions {
             triangulate: false,
@@ -1175,25 +1174,8 @@ mod tests {
         let mut out = Vec::new();
         for model in &models {
             let m = &model.mesh;
-            let arities: Vec<usize> = if m.face_arities.is_empty() {
-                vec![3; m.indices.len() / 3]
-            } else {
-                m.face_arities.iter().map(|&a| a as usize).collect()
-            };
-            let position = |i: u32| {
-                let i = i as usize;
-                [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]]
-            };
-            let mut fanned = Vec::new(); // positions in m.indices of each corner
-            let mut start = 0;
-            for n in arities {
-                let poly = &m.indices[start..start + n];
-                let k = crate::io::polygon::fan_apex(n, |c| position(poly[c]));
-                for c in 1..n - 1 {
-                    fanned.extend([start + k, start + (k + c) % n, start + (k + c + 1) % n]);
-                }
-                start += n;
-            }
+            // Fanned as the judge fans them (slots of `m.indices`).
+            let fanned = crate::check::fan_corners(m).unwrap().into_iter().flatten();
             for k in fanned {
                 let i = m.indices[k] as usize;
                 let p = [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]];
