@@ -331,3 +331,65 @@ fn skip_existing_resumes_a_batch() {
     // Only the files refined this time have a CSV row.
     assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 1 + n - 2);
 }
+
+/// `batch --smallest` writes for each file what `delmesh --smallest` writes,
+/// names the settings it kept, and does not depend on -j; each output
+/// passes the check.
+#[test]
+fn batch_smallest_writes_what_one_smallest_run_writes() {
+    let files = common::fixtures();
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = Vec::new();
+    for jobs in ["1", "2"] {
+        let out_dir = dir.path().join(format!("out{jobs}"));
+        let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--smallest", "-j", jobs], &files);
+        assert!(ok, "{stdout}{stderr}");
+        let lines: Vec<&str> = stdout.lines().collect();
+        assert_eq!(lines.len(), files.len() + 1, "{stdout}");
+        for line in &lines[..files.len()] {
+            assert!(line.contains(" pruned) [smallest: "), "{line}");
+        }
+        assert!(lines[files.len()].contains("(one file at a time, "), "{stdout}");
+        outputs.push(out_dir);
+    }
+    for file in &files {
+        let name = file.file_name().unwrap();
+        let single = dir.path().join("single.obj");
+        let run = delmesh()
+            .args(["-q", "--smallest", "-i"])
+            .arg(file)
+            .arg("-o")
+            .arg(&single)
+            .output()
+            .unwrap();
+        assert!(run.status.success());
+        for out_dir in &outputs {
+            assert_eq!(
+                std::fs::read(out_dir.join(name)).unwrap(),
+                std::fs::read(&single).unwrap(),
+                "{}: batch --smallest and delmesh --smallest differ",
+                file.display()
+            );
+        }
+        check_passes(file, &outputs[0].join(name));
+    }
+}
+
+/// A file stuck with the given settings is reported on one line that points
+/// to --smallest; with it, the file is written and passes the check.
+#[test]
+fn batch_points_a_stuck_file_to_smallest() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap()], &[&input]);
+    assert!(!ok, "{stdout}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("neither split") && stderr.contains("--smallest"),
+        "{stderr}"
+    );
+    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--smallest"], &[&input]);
+    assert!(ok, "{stdout}{stderr}");
+    check_passes(&input, &out_dir.join(input.file_name().unwrap()));
+}

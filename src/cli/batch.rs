@@ -19,7 +19,7 @@ use clap::ValueEnum;
 
 use super::{
     check_output, check_output_dir, failure_record, file_key, one_line, refine_once, refuse_map_through_seams,
-    write_output, write_vertex_map, FirstPass, Settings,
+    smallest, write_output, write_vertex_map, FirstPass, Settings,
 };
 use crate::stats_json::{self, RunRecord};
 use delmesh::attributes::Transfer;
@@ -50,8 +50,9 @@ pub(super) struct BatchArgs {
     #[command(flatten)]
     settings: Settings,
 
-    /// How many files to refine at once (default: one per core). Each file's
-    /// output never depends on it.
+    /// How many files to refine at once (default: one per core); with
+    /// --smallest, how many runs of a file at once. Each file's output
+    /// never depends on it.
     #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
 
@@ -72,6 +73,14 @@ pub(super) struct BatchArgs {
     /// one is complete).
     #[arg(long = "skip-existing")]
     skip_existing: bool,
+
+    /// Fewest added vertices, as the main command's --smallest: each file
+    /// is refined and pruned with 18 settings and the smallest result is
+    /// written (-ds, -s and -nomedian are ignored). The files are then
+    /// taken one at a time, each with its 18 runs on all cores (or -j):
+    /// one large file would otherwise hold up a core alone.
+    #[arg(long = "smallest")]
+    smallest: bool,
 
     /// Also write the figures of every file as CSV, one row per input (the
     /// columns of the main command's --stats-csv; skipped inputs have none).
@@ -206,6 +215,8 @@ struct Done {
     notes: Vec<String>,
     /// Wall seconds spent on the file, from reading to the check.
     seconds: f64,
+    /// Whether the settings of `record` were chosen by --smallest.
+    smallest: bool,
 }
 
 /// The vertex map written beside `output` with --vertex-maps.
@@ -228,7 +239,21 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
     let first_pass = FirstPass::new(&surface);
-    let out = refine_once(surface, &first_pass, input, options, settings.prune)?;
+    let (options, out) = if args.smallest {
+        let start = Instant::now();
+        let (options, mut out) = smallest(surface, &first_pass, input, options, args.jobs)?;
+        out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
+        (options, out)
+    } else {
+        let out = refine_once(surface, &first_pass, input, options, settings.prune).map_err(|e| {
+            if matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. })) {
+                anyhow::anyhow!("{}; other settings may get through (--smallest)", one_line(&e))
+            } else {
+                e
+            }
+        })?;
+        (*options, out)
+    };
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(write_output(
@@ -245,7 +270,8 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         write_vertex_map(&vertex_map_path(output), &out.surface, &mesh)?;
     }
     Ok(Done {
-        record: out.record(*options, output, seconds_write),
+        record: out.record(options, output, seconds_write),
+        smallest: args.smallest,
         repairs: mesh.repair.map(|r| r.lines()).unwrap_or_default(),
         notes,
         seconds: t0.elapsed().as_secs_f64(),
@@ -281,7 +307,11 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let n = inputs.len();
-    let workers = args.jobs.map_or_else(delmesh::parallel::cores, usize::from).clamp(1, n);
+    let workers = if args.smallest {
+        1
+    } else {
+        args.jobs.map_or_else(delmesh::parallel::cores, usize::from).clamp(1, n)
+    };
     // Files share the cores: each runs on one thread. A lone worker keeps
     // the passes over all edges parallel (within -j).
     delmesh::parallel::set_threads(if workers > 1 {
@@ -366,7 +396,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     }
     if !args.quiet {
         say!(
-            "batch   {} file{}: {} written, {}{} failed; {} added vertices; {:.3} s ({} at a time)",
+            "batch   {} file{}: {} written, {}{} failed; {} added vertices; {:.3} s ({})",
             n,
             if n == 1 { "" } else { "s" },
             n - failed - skipped,
@@ -378,7 +408,15 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             failed,
             added,
             t0.elapsed().as_secs_f64(),
-            workers
+            if args.smallest {
+                let runs = args.jobs.map_or_else(delmesh::parallel::cores, usize::from);
+                format!(
+                    "one file at a time, {runs} run{} at once",
+                    if runs == 1 { "" } else { "s" }
+                )
+            } else {
+                format!("{workers} at a time")
+            }
         );
     }
     Ok(if failed == 0 {
@@ -401,6 +439,14 @@ fn report_done(input: &Path, done: &Done, checked: bool) {
     );
     if let Some(pruned) = f.pruned_vertices {
         line += &format!(" ({pruned} pruned)");
+    }
+    if let (true, Some(o)) = (done.smallest, done.record.options) {
+        line += &format!(
+            " [smallest: {}, {}, {}]",
+            super::ds_name(o.worklist),
+            super::score_name(o.score),
+            if o.median { "median" } else { "no median" }
+        );
     }
     if checked {
         line += ", check PASS";
