@@ -141,10 +141,15 @@ pub struct Topology {
     vertex_he: Vec<HalfEdgeId>,
 }
 
+/// Lists of outgoing corners longer than this are sorted and searched by
+/// halves in [`Topology::from_triangles`].
+const LONG_LIST: usize = 16;
+
 impl Topology {
     /// Builds the connectivity of `triangles` over `n_vertices` vertices.
     ///
-    /// Every vertex must be used by some triangle. Runs in linear time: the
+    /// Every vertex must be used by some triangle. Runs in linear time for
+    /// bounded degrees (n log n past [`LONG_LIST`] faces at a vertex): the
     /// twin of a half-edge is found among the half-edges leaving its
     /// destination (a compressed adjacency list), not in a hash map.
     pub fn from_triangles(n_vertices: usize, triangles: &[[u32; 3]]) -> Result<Topology, TopologyError> {
@@ -180,7 +185,29 @@ impl Topology {
             fill[v] += 1;
         }
         drop(fill);
+        // A vertex with many faces (the apex of a fan of thousands) has its
+        // list sorted by destination, then corner, and searched by halves:
+        // scanning it once per corner would be quadratic in its degree.
+        // Short lists (nearly all) stay in corner order and are scanned.
+        // Either way the matches of a destination come in corner order.
+        for v in 0..n_vertices {
+            let list = &mut out[start[v] as usize..start[v + 1] as usize];
+            if list.len() > LONG_LIST {
+                list.sort_unstable();
+            }
+        }
         let outgoing = |v: u32| &out[start[v as usize] as usize..start[v as usize + 1] as usize];
+        // The entries of `v`'s list that go to `to`, in corner order.
+        let towards = |v: u32, to: u32| {
+            let list = outgoing(v);
+            if list.len() > LONG_LIST {
+                let lo = list.partition_point(|o| o.0 < to);
+                let hi = lo + list[lo..].partition_point(|o| o.0 == to);
+                &list[lo..hi]
+            } else {
+                list
+            }
+        };
 
         // Pair corners into edges.
         const UNSET: u32 = u32::MAX;
@@ -192,10 +219,10 @@ impl Topology {
                 continue;
             }
             let (u, v) = (origin(c), dest(c));
-            let same = outgoing(u).iter().filter(|o| o.0 == v).count();
+            let same = towards(u, v).iter().filter(|o| o.0 == v).count();
             let mut twin = None;
             let mut opposite = 0;
-            for &(d, o) in outgoing(v) {
+            for &(d, o) in towards(v, u) {
                 if d == u {
                     opposite += 1;
                     twin = Some(o as usize);
@@ -209,7 +236,7 @@ impl Topology {
                 });
             }
             if same > 1 {
-                let second = outgoing(u)
+                let second = towards(u, v)
                     .iter()
                     .filter(|o| o.0 == v)
                     .map(|o| o.1 as usize)
@@ -889,6 +916,54 @@ mod tests {
             Topology::from_triangles(3, &[[0, 1, 2], [0, 2, 1]]).map(|_| ()),
             Err(TopologyError::SameThreeVertices { first: 0, face: 1 })
         );
+    }
+
+    /// A closed cone: apex 0 and base centre 1, joined to n rim vertices
+    /// 2..n+2 (both of degree n, past [`LONG_LIST`]).
+    fn double_cone(n: u32) -> Vec<[u32; 3]> {
+        let rim = |i: u32| 2 + i % n;
+        (0..n)
+            .flat_map(|i| [[0, rim(i), rim(i + 1)], [1, rim(i + 1), rim(i)]])
+            .collect()
+    }
+
+    /// High-degree vertices (their corner lists sorted and searched by
+    /// halves) give the same structure and the same errors, naming the same
+    /// face, as low-degree ones.
+    #[test]
+    fn builds_and_refuses_around_high_degree_vertices() {
+        for n in [5, 16, 17, 300] {
+            let cone = double_cone(n);
+            let t = Topology::from_triangles(n as usize + 2, &cone).unwrap();
+            t.validate().unwrap();
+            assert_eq!((t.n_edges(), t.n_faces()), (3 * n as usize, 2 * n as usize));
+            assert_eq!(t.fan_len(VertexId(0)), n as usize);
+            // Face 2m = (0, rim m, rim m+1) again, reversed: edge 0-(rim m)
+            // gets a third face; reported at its first face, 2(m - 1).
+            let m = n / 2;
+            let mut bad = cone.clone();
+            bad.push([0, 2 + (m + 1) % n, 2 + m]);
+            assert!(
+                matches!(
+                    Topology::from_triangles(n as usize + 2, &bad),
+                    Err(TopologyError::EdgeWithMoreThanTwoFaces { face, a: 2.., b: 0 }) if face == 2 * (m as usize - 1)
+                ),
+                "{n}: {:?}",
+                Topology::from_triangles(n as usize + 2, &bad).map(|_| ())
+            );
+            // One face of the apex's fan reversed: reported at that face.
+            let mut flipped = cone.clone();
+            let k = 2 * (n as usize / 2);
+            flipped[k].swap(1, 2);
+            assert!(
+                matches!(
+                    Topology::from_triangles(n as usize + 2, &flipped),
+                    Err(TopologyError::InconsistentOrientation { face, .. }) if face == k
+                ),
+                "{n}: {:?}",
+                Topology::from_triangles(n as usize + 2, &flipped).map(|_| ())
+            );
+        }
     }
 
     #[test]
