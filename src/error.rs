@@ -49,7 +49,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input{}", if *limit < 1000 { "; raise --max-added" } else { "; the median rule (the default) with -s 2 usually needs far less" })]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -78,5 +78,21 @@ fn worst_text(excess: f64) -> String {
         format!("alpha+beta-pi = {excess:.3e} rad")
     } else {
         "angles too thin for f64 to measure (coordinates differ by subnormal amounts)".into()
+    }
+}
+
+/// What to try after [`Error::WorkLimit`]: a low limit can be raised; a run
+/// stopped by its flips (few splits) is a large flat region far from
+/// Delaunay, which the stack and queue flip quadratically often (a polygon
+/// of n corners fanned from one corner: about n²/6 flips with the stack, n
+/// longest edge first); otherwise the settings add too many vertices.
+fn work_limit_hint(splits: usize, limit: usize) -> &'static str {
+    if limit < 1000 {
+        "raise --max-added"
+    } else if splits < limit {
+        "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes the \
+         stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
+    } else {
+        "the median rule (the default) with -s 2 usually needs far less"
     }
 }

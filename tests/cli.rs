@@ -1354,3 +1354,48 @@ fn gzip_outputs_and_byte_order_marks() {
     assert_eq!(std::fs::read(&from_bom).unwrap(), std::fs::read(&plain).unwrap());
     check_passes(&bom, &from_bom);
 }
+
+/// A flat 400-gon on an ellipse, fanned from its first corner: the stack
+/// flips it about n²/12 times, longest edge first about n times. A run
+/// stopped by its flips says so and points to --ds pqueue, which gets
+/// through under the same limit.
+#[test]
+fn a_flip_bound_work_limit_points_to_the_priority_queue() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ellipse.obj");
+    let n = 400;
+    let mut text = String::new();
+    for i in 0..n {
+        let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        text += &format!("v {} {} 0\n", 2.0 * a.cos(), a.sin());
+    }
+    text += &format!("f {}\n", (1..=n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
+    std::fs::write(&input, text).unwrap();
+    let out = dir.path().join("out.obj");
+    let run = refine(&input, &out)
+        .args(["-q", "--max-added", "1000"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("0 splits and 3000 flips") && stderr.contains("--ds pqueue"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let run = refine(&input, &out)
+        .args(["--max-added", "1000", "--ds", "pqueue"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    let flips: usize = stdout
+        .split("0 splits, ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|f| f.parse().ok())
+        .unwrap_or_else(|| panic!("no flip count: {stdout}"));
+    assert!(flips <= n, "{flips} flips for a {n}-gon, longest edge first");
+    check_passes(&input, &out);
+}
