@@ -35,7 +35,7 @@
 //!
 //! # How files are read
 //!
-//! Polygons are fan-triangulated (from [`fan_apex`]) and bit-identical positions welded, as the construction reads
+//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and bit-identical positions welded, as the construction reads
 //! its input. Then what `delmesh --repair` cut apart on purpose, by giving faces their own
 //! copies of vertices at one position, is kept apart: where welding would put more than two
 //! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
@@ -56,7 +56,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
-use crate::io::polygon::fan_apex;
+use crate::io::polygon::triangulate;
 use glam::DVec3;
 
 /// An interior edge is Delaunay iff `alpha + beta <= pi + DELAUNAY_TOLERANCE` (radians), where
@@ -288,7 +288,7 @@ impl Mesh3 {
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
-    /// fan-triangulated (from [`fan_apex`]), points and lines ignored, vertices with bit-identical positions welded,
+    /// triangulated (by [`triangulate`]), points and lines ignored, vertices with bit-identical positions welded,
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
     /// `v` line. Material libraries are not read.
     ///
@@ -367,6 +367,7 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
     // between faces by index; STL has none to share (every facet lists
     // its own corners), so there its vertices are only ever welded.
     let mut file_corners = Vec::new();
+    let mut pieces = Vec::new();
     let shares_vertices = format != Some(formats::Format::Stl);
     let ids: Vec<u32> = raw
         .positions
@@ -376,10 +377,9 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         .map_err(parse_error)?;
     for f in 0..raw.face_start.len().saturating_sub(1) {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
-        let n = poly.len();
-        let k = fan_apex(n, |i| raw.positions[poly[i] as usize]);
-        for i in 1..n.saturating_sub(1) {
-            let corners = [poly[k], poly[(k + i) % n], poly[(k + i + 1) % n]];
+        triangulate(poly.len(), |i| raw.positions[poly[i] as usize], &mut pieces);
+        for &[a, b, c] in &pieces {
+            let corners = [poly[a], poly[b], poly[c]];
             triangles.push(corners.map(|v| ids[v as usize]));
             file_corners.push(if shares_vertices {
                 corners
@@ -461,7 +461,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
 
 /// The triangles of a tobj model read without triangulation, as slots of
 /// its `indices` (so that a corner's texture coordinate and normal can be
-/// found too): each polygon as the fan from [`fan_apex`] (as the
+/// found too): each polygon as [`triangulate`] cuts it (as the
 /// construction's readers do; the rule is part of what the file means).
 pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> {
     let position = |i: u32| -> Result<[f64; 3], String> {
@@ -477,6 +477,7 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
         mesh.face_arities.iter().map(|&a| a as usize).collect()
     };
     let mut triangles = Vec::with_capacity(mesh.indices.len());
+    let mut pieces = Vec::new();
     let mut start = 0;
     for n in arities {
         let poly = mesh
@@ -484,10 +485,8 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
             .get(start..start + n)
             .ok_or_else(|| "face list shorter than its arities".to_string())?;
         let corners: Vec<[f64; 3]> = poly.iter().map(|&i| position(i)).collect::<Result<_, _>>()?;
-        let k = fan_apex(n, |i| corners[i]);
-        for i in 1..n.saturating_sub(1) {
-            triangles.push([start + k, start + (k + i) % n, start + (k + i + 1) % n]);
-        }
+        triangulate(n, |i| corners[i], &mut pieces);
+        triangles.extend(pieces.iter().map(|t| t.map(|c| start + c)));
         start += n;
     }
     Ok(triangles)

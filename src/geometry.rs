@@ -284,7 +284,7 @@ fn fast_range(coords: &[f64]) -> bool {
 /// counter-clockwise, -1 clockwise, 0 when collinear; exact for every finite
 /// input.
 #[inline(always)]
-fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+pub(crate) fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     if fast_range(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
         robust_orient2d_sign(a, b, c)
     } else {

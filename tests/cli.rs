@@ -909,9 +909,10 @@ fn check_flag_verifies_the_output() {
 
 /// Polygons keep their shape: a non-convex one is fanned from a corner that
 /// sees its whole outline (the L: its triangles' areas add up to the L's,
-/// none overlaps), and a polygon with a corner on a straight stretch of its
-/// outline (a T-junction, as in CAD files) is not refused for a zero-area
-/// fan triangle. Both refine and pass the check, which reads them the same way.
+/// none overlaps) or, when none does, cut into ears (a comb); a polygon with
+/// a corner on a straight stretch of its outline (a T-junction, as in CAD
+/// files) is not refused for a zero-area fan triangle. All refine and pass
+/// the check, which reads them the same way.
 #[test]
 fn polygons_keep_their_shape() {
     let dir = tempfile::tempdir().unwrap();
@@ -922,7 +923,15 @@ fn polygons_keep_their_shape() {
     let cube = "v 0 0 0\nv 0.5 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1 0\nv 0 1 0\n\
                 v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
                 f 1 6 5 2\nf 2 5 4 3\nf 1 2 3 8 7\nf 3 4 9 8\nf 4 5 6 10 9\nf 6 1 7 10\nf 7 8 9 10\n";
-    for (name, text, area) in [("l.obj", l, Some(3.0)), ("cube.obj", cube, None)] {
+    // A comb, which no corner sees whole: cut into ears.
+    let comb =
+        "v 0 0 0\nv 5 0 0\nv 5 3 0\nv 4 3 0\nv 4 1 0\nv 3 1 0\nv 3 3 0\nv 2 3 0\nv 2 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n\
+                f 1 2 3 4 5 6 7 8 9 10 11 12\n";
+    for (name, text, area) in [
+        ("l.obj", l, Some(3.0)),
+        ("cube.obj", cube, None),
+        ("comb.obj", comb, Some(11.0)),
+    ] {
         let input = dir.path().join(name);
         std::fs::write(&input, text).unwrap();
         let output = dir.path().join(format!("out-{name}"));
@@ -955,18 +964,21 @@ fn polygons_keep_their_shape() {
             );
         }
     }
-    // A polygon no corner sees whole (a comb) is read as the fan from its
-    // first corner, with a note saying so.
-    let comb =
-        "v 0 0 0\nv 5 0 0\nv 5 3 0\nv 4 3 0\nv 4 1 0\nv 3 1 0\nv 3 3 0\nv 2 3 0\nv 2 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n\
-                f 1 2 3 4 5 6 7 8 9 10 11 12\n";
-    let input = dir.path().join("comb.obj");
-    std::fs::write(&input, comb).unwrap();
+    // A polygon whose outline crosses itself (a pentagram) is read as the
+    // fan from its first corner, with a note saying so.
+    let mut star = String::new();
+    for i in 0..5 {
+        let a = (2 * i) as f64 * 2.0 * std::f64::consts::PI / 5.0;
+        star += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    star += "f 1 2 3 4 5\n";
+    let input = dir.path().join("star.obj");
+    std::fs::write(&input, star).unwrap();
     let run = delmesh()
         .arg("-i")
         .arg(&input)
         .arg("-o")
-        .arg(dir.path().join("out-comb.obj"))
+        .arg(dir.path().join("out-star.obj"))
         .output()
         .unwrap();
     let all = format!(
@@ -974,7 +986,10 @@ fn polygons_keep_their_shape() {
         String::from_utf8_lossy(&run.stdout),
         String::from_utf8_lossy(&run.stderr)
     );
-    assert!(all.contains("no corner that sees the whole outline"), "{all}");
+    assert!(
+        all.contains("1 polygon(s) could not be cut into triangles within their outline"),
+        "{all}"
+    );
 }
 
 /// OBJ line continuations (a backslash at a line's end) are read by the
@@ -1398,4 +1413,41 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
         .unwrap_or_else(|| panic!("no flip count: {stdout}"));
     assert!(flips <= n, "{flips} flips for a {n}-gon, longest edge first");
     check_passes(&input, &out);
+}
+
+/// An extruded gear whose caps are single polygons (as CAD programs and
+/// Blender write extruded outlines): no corner sees a cap whole, so each is
+/// cut into ears; the solid refines without a note and passes the check.
+#[test]
+fn an_extruded_gear_with_polygon_caps_keeps_its_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 4 * 30;
+    let mut text = String::new();
+    for z in [0.0, 0.3] {
+        for i in 0..n {
+            let r = if i % 4 < 2 { 1.0 } else { 0.8 };
+            let a = i as f64 * 2.0 * std::f64::consts::PI / n as f64;
+            text += &format!("v {} {} {z}\n", r * a.cos(), r * a.sin());
+        }
+    }
+    text += &format!(
+        "f {}\n",
+        (1..=n).rev().map(|i| i.to_string()).collect::<Vec<_>>().join(" ")
+    );
+    text += &format!(
+        "f {}\n",
+        (n + 1..=2 * n).map(|i| i.to_string()).collect::<Vec<_>>().join(" ")
+    );
+    for i in 0..n {
+        let j = (i + 1) % n;
+        text += &format!("f {} {} {} {}\n", i + 1, j + 1, n + j + 1, n + i + 1);
+    }
+    let input = dir.path().join("gear.obj");
+    std::fs::write(&input, text).unwrap();
+    let output = dir.path().join("out.obj");
+    let run = refine(&input, &output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(!stdout.contains("note"), "{stdout}");
+    check_passes(&input, &output);
 }

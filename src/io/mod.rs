@@ -251,6 +251,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     let mut raw_corners = Vec::new();
     let keep_attributes = !raw.attributes.is_empty();
     let mut scratch = Vec::new();
+    let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
     for f in 0..n_faces {
         let p = poly(f);
@@ -263,14 +264,10 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             );
             return Err(face_error(path, &raw, f, what));
         }
-        // The fan starts at the first corner that sees the whole polygon
-        // (`polygon::fan_apex`): 0 for triangles and convex polygons.
-        let n = p.len();
-        let fan = polygon::fan(n, |i| raw.positions[p[i] as usize]);
-        let k = fan.apex;
-        unseen_polygons += !fan.proper as usize;
-        for i in 1..n - 1 {
-            let corner = [k, (k + i) % n, (k + i + 1) % n];
+        // A fan from the first corner that sees the whole polygon (0 for
+        // triangles and convex polygons), or its ears (`polygon::triangulate`).
+        unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
+        for &corner in &pieces {
             let t = corner.map(|c| new_index[welded_to[p[c] as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
             // Below the supported scale first: the Delaunay test's products of
@@ -363,8 +360,10 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
 /// The note for polygons whose fan cannot draw them (see [`polygon`]).
 fn unseen_note(count: usize) -> String {
     format!(
-        "{count} polygon(s) have no corner that sees the whole outline (non-convex beyond a fan): each is read \
-         as the fan from its first corner, whose triangles overlap; triangulate them beforehand to keep their shape"
+        "{count} polygon(s) could not be cut into triangles within their outline (it crosses or folds onto itself, \
+         or is too warped; or it has more than {} corners and no corner sees it whole): each is read as the fan \
+         from its first corner, whose triangles overlap; triangulate them beforehand to keep their shape",
+        polygon::MAX_EAR_CLIPPED
     )
 }
 
@@ -374,15 +373,13 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     let n_faces = raw.face_start.len() - 1;
     let mut triangles = Vec::new();
     let mut triangle_face = Vec::new();
+    let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
     for f in 0..n_faces {
         let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
-        let n = p.len();
-        let fan = polygon::fan(n, |i| raw.positions[p[i] as usize]);
-        let k = fan.apex;
-        unseen_polygons += !fan.proper as usize;
-        for i in 1..n - 1 {
-            triangles.push([p[k], p[(k + i) % n], p[(k + i + 1) % n]]);
+        unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
+        for &[a, b, c] in &pieces {
+            triangles.push([p[a], p[b], p[c]]);
             triangle_face.push(f);
         }
     }

@@ -1,4 +1,5 @@
-//! How a polygon of a file becomes triangles: a fan from one of its corners.
+//! How a polygon of a file becomes triangles: a fan from one of its corners,
+//! or, when no corner sees the whole outline, ear clipping.
 //!
 //! A fan from the first corner draws a convex polygon exactly, but not a
 //! non-convex one (some of its triangles then turn the other way, outside the
@@ -7,11 +8,13 @@
 //! fan's triangle along that stretch has zero area). So the fan starts at the
 //! first corner from which every triangle clearly turns the polygon's way
 //! ([`fan_apex`]): the first corner for every convex polygon, and a corner
-//! that sees the whole outline for a star-shaped one.
+//! that sees the whole outline for a star-shaped one. A polygon that no
+//! corner sees whole (a gear, a comb, the cap of extruded text) is cut into
+//! ears instead ([`triangulate`]), which draws every simple polygon.
 //!
 //! This is part of what a file *means*: the construction's readers and the
-//! judge (`delmesh check`) both triangulate with [`fan_apex`], so that they
-//! read the same surface from the same file.
+//! judge (`delmesh check`) both triangulate with [`triangulate`], so that
+//! they read the same surface from the same file.
 //!
 //! ```text
 //!   5-------4            5-------4
@@ -20,6 +23,8 @@
 //!   |   |                |  /|         the L); from corner 2 every
 //!   0---1                0---1         triangle lies inside it
 //! ```
+
+use crate::geometry::orient2d_sign;
 
 /// How many corners are tried as the fan's apex, at most: a large polygon
 /// that no early corner sees whole is not star-shaped from any of them in
@@ -70,6 +75,133 @@ pub fn fan(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> Fan {
 /// [`fan`]'s apex alone.
 pub fn fan_apex(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> usize {
     fan(n, corner).apex
+}
+
+/// Polygons with more corners than this that no corner sees whole are not
+/// cut into ears (quadratic in the worst case) but read as the fan from
+/// their first corner, as a polygon whose outline crosses itself is.
+pub const MAX_EAR_CLIPPED: usize = 100_000;
+
+/// The triangles of the polygon with `n` corners, as corner numbers, each
+/// turning the polygon's way, into `out` (cleared first): the [`fan`] when it
+/// draws the polygon, else its ears ([`ears`]). `false` when neither does
+/// (an outline that crosses or folds onto itself or is too warped for every
+/// triangle to turn its way clearly, or more than [`MAX_EAR_CLIPPED`]
+/// corners): `out` then holds the fan from the first corner, whose
+/// triangles overlap.
+pub fn triangulate(n: usize, corner: impl Fn(usize) -> [f64; 3], out: &mut Vec<[usize; 3]>) -> bool {
+    out.clear();
+    let f = fan(n, &corner);
+    if f.proper || n > MAX_EAR_CLIPPED || !ears(n, &corner, out) {
+        out.clear();
+        let k = f.apex;
+        out.extend((1..n.saturating_sub(1)).map(|i| [k, (k + i) % n, (k + i + 1) % n]));
+        return f.proper;
+    }
+    true
+}
+
+/// Ear clipping in the plane of the polygon's Newell normal: repeatedly cuts
+/// off a corner whose triangle with its two neighbours turns the polygon's
+/// way (exactly in the projection, and by more than [`MIN_TURN`] as the
+/// fan's triangles must) and holds no other corner that is not
+/// strictly convex (inside or on its sides; corners at the same position
+/// as one of its own excepted). Walks forward from corner 0 and cuts the
+/// first such ear it meets, so the result depends only on the polygon.
+/// `false` if a whole round finds no ear (the outline crosses itself).
+///
+/// ```text
+///   4---3   1---0        cutting ear 1 (triangle 2-1-0) leaves 0-2-...;
+///   |    \  |   |        corner 2 is reflex: no ear may contain it
+///   5     \ 2   |
+///   |            |
+///   6------------7
+/// ```
+fn ears(n: usize, corner: &impl Fn(usize) -> [f64; 3], out: &mut Vec<[usize; 3]>) -> bool {
+    let normal = newell_normal(n, corner);
+    // Drop the axis the normal is most along; keep the polygon
+    // counter-clockwise in the two others.
+    let axis = (0..3)
+        .max_by(|&i, &j| normal[i].abs().total_cmp(&normal[j].abs()))
+        .unwrap_or(2);
+    let along = normal[axis].abs();
+    if !along.is_finite() || along == 0.0 {
+        return false; // no area, or not finite
+    }
+    let (u, v) = if normal[axis] > 0.0 {
+        ((axis + 1) % 3, (axis + 2) % 3)
+    } else {
+        ((axis + 2) % 3, (axis + 1) % 3)
+    };
+    let c3: Vec<[f64; 3]> = (0..n).map(corner).collect();
+    let p: Vec<[f64; 2]> = c3.iter().map(|c| [c[u], c[v]]).collect();
+    // An ear must also turn the polygon's way clearly, as the fan's
+    // triangles must ([`fan`], [`MIN_TURN`]): not a sliver of rounding.
+    let unit = scale(normal, 1.0 / length(normal));
+    let clear = |[a, b, c]: [usize; 3]| {
+        let (x, y) = (sub(c3[b], c3[a]), sub(c3[c], c3[a]));
+        dot(cross(x, y), unit) > MIN_TURN * (dot(x, x) * dot(y, y)).sqrt()
+    };
+    let mut next: Vec<usize> = (0..n).map(|i| (i + 1) % n).collect();
+    let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
+    let turns = |a: usize, b: usize, c: usize| orient2d_sign(p[a], p[b], p[c]);
+    // Corners not strictly convex: the only ones an ear can contain. Cutting
+    // ears never makes a convex corner reflex, so there are only fewer of
+    // them. Sorted by x, so that an ear looks only at those in its x range.
+    let mut blocks: Vec<bool> = (0..n).map(|i| turns(prev[i], i, next[i]) <= 0).collect();
+    let mut by_x: Vec<usize> = (0..n).filter(|&i| blocks[i]).collect();
+    by_x.sort_by(|&a, &b| p[a][0].total_cmp(&p[b][0]));
+    let xs: Vec<f64> = by_x.iter().map(|&i| p[i][0]).collect();
+    let inside = |q: usize, [a, b, c]: [usize; 3]| {
+        p[q] != p[a]
+            && p[q] != p[b]
+            && p[q] != p[c]
+            && turns(a, b, q) >= 0
+            && turns(b, c, q) >= 0
+            && turns(c, a, q) >= 0
+    };
+    let blocked = |blocks: &[bool], ear: [usize; 3]| {
+        let [x0, x1] = [0, 1].map(|k| ear.map(|c| p[c][k]));
+        let (lo_x, hi_x) = (x0[0].min(x0[1]).min(x0[2]), x0[0].max(x0[1]).max(x0[2]));
+        let (lo_y, hi_y) = (x1[0].min(x1[1]).min(x1[2]), x1[0].max(x1[1]).max(x1[2]));
+        let from = xs.partition_point(|&x| x < lo_x);
+        let to = from + xs[from..].partition_point(|&x| x <= hi_x);
+        by_x[from..to]
+            .iter()
+            .any(|&q| blocks[q] && !ear.contains(&q) && p[q][1] >= lo_y && p[q][1] <= hi_y && inside(q, ear))
+    };
+    let mut left = n;
+    let mut i = 0;
+    let mut failed_in_a_row = 0;
+    while left > 3 {
+        let ear = [prev[i], i, next[i]];
+        let is_ear = turns(ear[0], ear[1], ear[2]) > 0 && clear(ear) && !blocked(&blocks, ear);
+        if !is_ear {
+            i = next[i];
+            failed_in_a_row += 1;
+            if failed_in_a_row > left {
+                return false;
+            }
+            continue;
+        }
+        out.push(ear);
+        let [a, _, c] = ear;
+        next[a] = c;
+        prev[c] = a;
+        blocks[i] = false;
+        for q in [a, c] {
+            blocks[q] = blocks[q] && turns(prev[q], q, next[q]) <= 0;
+        }
+        left -= 1;
+        failed_in_a_row = 0;
+        i = c;
+    }
+    let last = [prev[i], i, next[i]];
+    if turns(last[0], last[1], last[2]) <= 0 || !clear(last) {
+        return false;
+    }
+    out.push(last);
+    true
 }
 
 /// Newell's normal of a polygon: twice its vector area, whatever its shape
@@ -170,27 +302,123 @@ mod tests {
         assert_eq!(apex(&q), 1);
     }
 
+    /// (Twice the) signed area of each triangle of `t` in the xy plane.
+    fn doubled_areas(p: &[[f64; 3]], t: &[[usize; 3]]) -> Vec<f64> {
+        t.iter()
+            .map(|&[a, b, c]| {
+                let (u, v) = (
+                    [p[b][0] - p[a][0], p[b][1] - p[a][1]],
+                    [p[c][0] - p[a][0], p[c][1] - p[a][1]],
+                );
+                u[0] * v[1] - u[1] * v[0]
+            })
+            .collect()
+    }
+
+    /// A comb: two notches, no corner sees all of it.
+    const COMB: [[f64; 3]; 12] = [
+        [0.0, 0.0, 0.0],
+        [5.0, 0.0, 0.0],
+        [5.0, 3.0, 0.0],
+        [4.0, 3.0, 0.0],
+        [4.0, 1.0, 0.0],
+        [3.0, 1.0, 0.0],
+        [3.0, 3.0, 0.0],
+        [2.0, 3.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 3.0, 0.0],
+        [0.0, 3.0, 0.0],
+    ];
+
     #[test]
-    fn a_polygon_no_corner_sees_whole_keeps_its_first_corner() {
-        // A comb: two notches, no corner sees all of it.
-        let p = [
-            [0.0, 0.0, 0.0],
-            [5.0, 0.0, 0.0],
-            [5.0, 3.0, 0.0],
-            [4.0, 3.0, 0.0],
-            [4.0, 1.0, 0.0],
-            [3.0, 1.0, 0.0],
-            [3.0, 3.0, 0.0],
-            [2.0, 3.0, 0.0],
-            [2.0, 1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [1.0, 3.0, 0.0],
-            [0.0, 3.0, 0.0],
-        ];
+    fn a_polygon_no_corner_sees_whole_is_cut_into_ears() {
+        let p = COMB;
         assert_eq!(apex(&p), 0);
         assert!(!fan(p.len(), |i| p[i]).proper);
-        // Non-finite corners: the first corner (the reader refuses them).
+        let mut t = Vec::new();
+        assert!(triangulate(p.len(), |i| p[i], &mut t));
+        assert_eq!(t.len(), p.len() - 2);
+        let areas = doubled_areas(&p, &t);
+        assert!(areas.iter().all(|&a| a > 0.0), "{t:?} {areas:?}");
+        assert_eq!(areas.iter().sum::<f64>(), 2.0 * 11.0);
+        // Every corner is used, and every side of the outline is a side of
+        // exactly one triangle.
+        for i in 0..p.len() {
+            let j = (i + 1) % p.len();
+            let sides = t
+                .iter()
+                .filter(|tr| (0..3).any(|k| tr[k] == i && tr[(k + 1) % 3] == j))
+                .count();
+            assert_eq!(sides, 1, "side {i}-{j}");
+        }
+        // Upside down (clockwise seen from +z): the same cut, turning the
+        // other way.
+        let down: Vec<[f64; 3]> = p.iter().rev().copied().collect();
+        assert!(triangulate(down.len(), |i| down[i], &mut t));
+        assert!(doubled_areas(&down, &t).iter().all(|&a| a < 0.0));
+        // In another plane: the comb stood up along y-z.
+        let wall: Vec<[f64; 3]> = p.iter().map(|c| [7.5, c[0], c[1]]).collect();
+        assert!(triangulate(wall.len(), |i| wall[i], &mut t));
+        assert_eq!(t.len(), p.len() - 2);
+        // Non-finite corners: the fan from the first corner (the reader
+        // refuses them).
         let bad = [[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
         assert_eq!(apex(&bad), 0);
+    }
+
+    #[test]
+    fn polygons_a_fan_draws_are_fans_and_crossed_outlines_are_not_cut() {
+        let mut t = Vec::new();
+        // The L: the fan from its reflex corner, as before.
+        let l = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [0.0, 2.0, 0.0],
+        ];
+        assert!(triangulate(6, |i| l[i], &mut t));
+        assert_eq!(t, vec![[2, 3, 4], [2, 4, 5], [2, 5, 0], [2, 0, 1]]);
+        // A triangle.
+        assert!(triangulate(3, |i| l[i], &mut t));
+        assert_eq!(t, vec![[0, 1, 2]]);
+        // A pentagram (its outline crosses itself): no ear cuts it, so it is
+        // the fan from corner 0, not proper.
+        let star: Vec<[f64; 3]> = (0..5)
+            .map(|i| {
+                let a = (2 * i) as f64 * 2.0 * std::f64::consts::PI / 5.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        assert!(!triangulate(5, |i| star[i], &mut t));
+        assert_eq!(t, vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
+    }
+
+    #[test]
+    fn a_gear_is_cut_into_ears() {
+        // 50 teeth of four corners each: no corner sees the whole outline.
+        let gear: Vec<[f64; 3]> = (0..200)
+            .map(|i| {
+                let r = if i % 4 < 2 { 1.0 } else { 0.8 };
+                let a = i as f64 * 2.0 * std::f64::consts::PI / 200.0;
+                [r * a.cos(), r * a.sin(), 0.25]
+            })
+            .collect();
+        assert!(!fan(gear.len(), |i| gear[i]).proper);
+        let mut t = Vec::new();
+        assert!(triangulate(gear.len(), |i| gear[i], &mut t));
+        assert_eq!(t.len(), 198);
+        let areas = doubled_areas(&gear, &t);
+        assert!(areas.iter().all(|&a| a > 0.0));
+        // The shoelace area of the outline.
+        let outline: f64 = (0..200)
+            .map(|i| {
+                let (a, b) = (gear[i], gear[(i + 1) % 200]);
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum();
+        assert!((areas.iter().sum::<f64>() - outline).abs() < 1e-12 * outline);
     }
 }
