@@ -108,12 +108,13 @@ pub fn triangulate(n: usize, corner: impl Fn(usize) -> [f64; 3], out: &mut Vec<[
 /// strictly convex (inside or on its sides; corners at the same position
 /// as one of its own excepted). Walks forward from corner 0 and cuts the
 /// first such ear it meets, so the result depends only on the polygon.
-/// `false` if a whole round finds no ear (the outline crosses itself).
+/// `false` if a whole round finds no ear (the outline crosses or folds
+/// onto itself, or no ear turns clearly).
 ///
 /// ```text
-///   4---3   1---0        cutting ear 1 (triangle 2-1-0) leaves 0-2-...;
-///   |    \  |   |        corner 2 is reflex: no ear may contain it
-///   5     \ 2   |
+///   4---3   1---0        cutting the ear at corner 1 (triangle 0-1-2)
+///   |    \  |   |        leaves ...-0-2-3-...; corner 2 is reflex: no
+///   5     \ 2   |        other ear may contain it
 ///   |            |
 ///   6------------7
 /// ```
