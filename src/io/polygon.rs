@@ -84,11 +84,11 @@ pub const MAX_EAR_CLIPPED: usize = 100_000;
 
 /// The triangles of the polygon with `n` corners, as corner numbers, each
 /// turning the polygon's way, into `out` (cleared first): the [`fan`] when it
-/// draws the polygon, else its ears ([`ears`]). `false` when neither does
-/// (an outline that crosses or folds onto itself or is too warped for every
-/// triangle to turn its way clearly, or more than [`MAX_EAR_CLIPPED`]
-/// corners): `out` then holds the fan from the first corner, whose
-/// triangles overlap.
+/// draws the polygon, else its ears (clipped in its plane). `false` when
+/// neither does (an outline that crosses or folds onto itself or is too
+/// warped for every triangle to turn its way clearly, or more than
+/// [`MAX_EAR_CLIPPED`] corners): `out` then holds the fan from the first
+/// corner, whose triangles overlap.
 pub fn triangulate(n: usize, corner: impl Fn(usize) -> [f64; 3], out: &mut Vec<[usize; 3]>) -> bool {
     out.clear();
     let f = fan(n, &corner);

@@ -149,7 +149,7 @@ impl Topology {
     /// Builds the connectivity of `triangles` over `n_vertices` vertices.
     ///
     /// Every vertex must be used by some triangle. Runs in linear time for
-    /// bounded degrees (n log n past [`LONG_LIST`] faces at a vertex): the
+    /// bounded degrees (n log n past 16 faces at a vertex): the
     /// twin of a half-edge is found among the half-edges leaving its
     /// destination (a compressed adjacency list), not in a hash map.
     pub fn from_triangles(n_vertices: usize, triangles: &[[u32; 3]]) -> Result<Topology, TopologyError> {
