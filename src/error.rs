@@ -84,8 +84,8 @@ fn worst_text(excess: f64) -> String {
 /// What to try after [`Error::WorkLimit`]: a low limit can be raised; a run
 /// stopped by its flips (few splits) is a large flat region far from
 /// Delaunay, which the stack and queue flip quadratically often (a polygon
-/// of n corners fanned from one corner: about n²/6 flips with the stack, n
-/// longest edge first); otherwise the settings add too many vertices.
+/// of n corners fanned from one corner: about n²/12 flips with the stack,
+/// n longest edge first); otherwise the settings add too many vertices.
 fn work_limit_hint(splits: usize, limit: usize) -> &'static str {
     if limit < 1000 {
         "raise --max-added"

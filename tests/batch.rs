@@ -382,13 +382,20 @@ fn batch_points_a_stuck_file_to_smallest() {
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("out");
-    let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap()], &[&input]);
+    let csv = dir.path().join("runs.csv");
+    let (ok, stdout, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
+        &[&input],
+    );
     assert!(!ok, "{stdout}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains("neither split") && stderr.contains("--smallest"),
         "{stderr}"
     );
+    // The CSV keeps the kind of error.
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert!(rows.contains(",unsplittable,"), "{rows}");
     let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--smallest"], &[&input]);
     assert!(ok, "{stdout}{stderr}");
     check_passes(&input, &out_dir.join(input.file_name().unwrap()));

@@ -245,14 +245,10 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
         (options, out)
     } else {
-        let out = refine_once(surface, &first_pass, input, options, settings.prune).map_err(|e| {
-            if matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. })) {
-                anyhow::anyhow!("{}; other settings may get through (--smallest)", one_line(&e))
-            } else {
-                e
-            }
-        })?;
-        (*options, out)
+        (
+            *options,
+            refine_once(surface, &first_pass, input, options, settings.prune)?,
+        )
     };
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
@@ -382,7 +378,15 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                     }
                     Err(e) => {
                         failed += 1;
-                        complain!("delmesh: {}", one_line(&e));
+                        // Which edges get stuck depends on the settings (as
+                        // the main command says too).
+                        let stuck = matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. }));
+                        let hint = if stuck && !args.smallest {
+                            "; other settings may get through (--smallest)"
+                        } else {
+                            ""
+                        };
+                        complain!("delmesh: {}{hint}", one_line(&e));
                         records.push((i, failure_record(options, &outputs[i], &e)));
                     }
                 }
