@@ -270,18 +270,21 @@ mod tests {
         assert!(fan(4, |i| warped[i]).proper);
     }
 
+    /// The L of the module's sketch.
+    const L: [[f64; 3]; 6] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [0.0, 2.0, 0.0],
+    ];
+
     #[test]
     fn an_l_starts_at_its_reflex_corner() {
         // The L of the module's sketch: corner 2 is the reflex one, and
         // neither 0 nor 1 sees the whole outline.
-        let l = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [2.0, 1.0, 0.0],
-            [2.0, 2.0, 0.0],
-            [0.0, 2.0, 0.0],
-        ];
+        let l = L;
         assert_eq!(apex(&l), 2);
         assert!(fan(6, |i| l[i]).proper);
     }
@@ -372,14 +375,7 @@ mod tests {
     fn polygons_a_fan_draws_are_fans_and_crossed_outlines_are_not_cut() {
         let mut t = Vec::new();
         // The L: the fan from its reflex corner, as before.
-        let l = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [2.0, 1.0, 0.0],
-            [2.0, 2.0, 0.0],
-            [0.0, 2.0, 0.0],
-        ];
+        let l = L;
         assert!(triangulate(6, |i| l[i], &mut t));
         assert_eq!(t, vec![[2, 3, 4], [2, 4, 5], [2, 5, 0], [2, 0, 1]]);
         // A triangle.
