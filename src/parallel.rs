@@ -66,6 +66,16 @@ pub fn try_spawn<'scope, T: Send + 'scope>(
 
 static REFUSE_THREADS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// Held by the tests that change the thread settings ([`set_threads`],
+/// [`refuse_threads`]): the settings are global and tests run at once, so
+/// one test's `refuse_threads(false)` could land inside another's
+/// refusal.
+#[cfg(test)]
+pub(crate) fn settings_lock_for_tests() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|p| p.into_inner())
+}
+
 /// Makes [`try_spawn`] fail (`true`) or try again (`false`): for testing
 /// that every result is the same when no thread can be started.
 pub fn refuse_threads(refuse: bool) {
@@ -170,6 +180,7 @@ mod tests {
 
     #[test]
     fn results_do_not_depend_on_threads() {
+        let _settings = settings_lock_for_tests();
         let n = 3 * MIN_PARALLEL_ITEMS + 7;
         let keep = |i: usize| i % 7 == 3;
         let expected: Vec<u32> = (0..n).filter(|&i| keep(i)).map(|i| i as u32).collect();

@@ -939,6 +939,7 @@ mod tests {
             write_obj(&mut out, &positions, &triangles).unwrap();
             out
         };
+        let _settings = crate::parallel::settings_lock_for_tests();
         crate::parallel::set_threads(4);
         let threaded = write();
         crate::parallel::refuse_threads(true);
