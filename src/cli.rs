@@ -468,6 +468,32 @@ fn usage_line(message: &str) -> String {
     }
 }
 
+/// Whether `e` is edges stuck for a reason other settings may avoid (the
+/// order of work, the samples chosen): not near-coincident vertices, whose
+/// error already names the remedy (and where every setting stalls).
+pub(crate) fn stuck_elsewhere(e: &anyhow::Error) -> bool {
+    matches!(
+        e.downcast_ref(),
+        Some(delmesh::Error::Unsplittable { near_coincident, .. }) if near_coincident.edges == 0
+    )
+}
+
+/// The note on an input with near-coincident vertices
+/// ([`delmesh::mesh::InputFigures::near_coincident_edges`]): printed before
+/// refining, which may then take long or fail, so that the remedy is known
+/// at once.
+pub(crate) fn near_coincident_note(figures: &delmesh::mesh::InputFigures) -> Option<String> {
+    let near = delmesh::error::NearCoincident::of(figures);
+    (near.edges > 0).then(|| {
+        format!(
+            "{} edge(s) shorter than {:.1e} (1e-9 of the mesh's size): near-coincident vertices, as marching cubes \
+             leaves; refining around them can stall or add millions of vertices; --repair --weld-tolerance {:.1e} \
+             merges them",
+            near.edges, near.shorter_than, near.shorter_than
+        )
+    })
+}
+
 /// The error and its causes on one line.
 fn one_line(e: &anyhow::Error) -> String {
     let mut s = e.to_string();
@@ -882,7 +908,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         if let Some(t) = &transfer {
             say!("        attributes: {}", describe_attributes(t.input()));
         }
-        for note in &input.notes {
+        for note in input.notes.iter().chain(&near_coincident_note(&figures)) {
             say!("note    {note}");
         }
     }
@@ -1034,8 +1060,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             report.write(&[failure_record(options, &output, &e)], true)?;
             // Which edges get stuck depends on the order of work and the
             // samples chosen: other settings often get through.
-            let stuck = matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. }));
-            if stuck && !args.smallest {
+            if stuck_elsewhere(&e) && !args.smallest {
                 return Err(anyhow::anyhow!(
                     "{}; other settings may get through (--smallest tries 18 and keeps the smallest that does)",
                     one_line(&e)

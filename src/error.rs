@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+use crate::mesh::{InputFigures, NEAR_COINCIDENT};
+
 /// Why delmesh refused an input or could not finish.
 ///
 /// `Display` gives the one-line message the command line prints.
@@ -38,18 +40,20 @@ pub enum Error {
     /// Some non-Delaunay edge can be neither split (no sample left strictly
     /// inside it) nor flipped (the flip would fold a face or duplicate an
     /// edge), so the algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}", worst_text(*.worst_excess))]
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}{}", worst_text(*.worst_excess), near_coincident.after_semicolon())]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
         /// The largest α+β−π among them, in radians.
         worst_excess: f64,
+        /// The input's near-coincident vertices, the likely cause if any.
+        near_coincident: NearCoincident,
     },
     /// The run reached its work limit (`--max-added` splits, or three times
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, near_coincident))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -57,6 +61,11 @@ pub enum Error {
         flips: usize,
         /// The `--max-added` limit.
         limit: usize,
+        /// Whether the run used the median rule with score 2 (the
+        /// defaults), which usually needs the fewest splits.
+        median_score_2: bool,
+        /// The input's near-coincident vertices, the likely cause if any.
+        near_coincident: NearCoincident,
     },
     /// An output file could not be written.
     #[error("{path}: cannot write: {source}")]
@@ -66,6 +75,63 @@ pub enum Error {
         /// What the operating system said.
         source: std::io::Error,
     },
+}
+
+/// The input's edges between near-coincident vertices
+/// ([`InputFigures::near_coincident_edges`]), as an error reports them:
+/// samples around such an edge are finer than the coordinates can express,
+/// so refining there can stall or add millions of vertices.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NearCoincident {
+    /// How many edges are shorter than [`NearCoincident::shorter_than`].
+    pub edges: usize,
+    /// [`NEAR_COINCIDENT`] times the mesh's bounding-box diagonal, rounded up
+    /// to two significant digits: a `--weld-tolerance` that merges them.
+    pub shorter_than: f64,
+}
+
+impl NearCoincident {
+    /// The near-coincident edges of an input with these figures.
+    pub fn of(figures: &InputFigures) -> NearCoincident {
+        NearCoincident {
+            edges: figures.near_coincident_edges,
+            shorter_than: round_up_two_digits(NEAR_COINCIDENT * figures.diagonal),
+        }
+    }
+
+    /// What they are and what to do about them, for an error's line.
+    pub fn hint(&self) -> String {
+        format!(
+            "the input has {} edge(s) shorter than {:.1e} (near-coincident vertices, as marching cubes leaves): \
+             --repair --weld-tolerance {:.1e} merges them",
+            self.edges, self.shorter_than, self.shorter_than
+        )
+    }
+
+    /// `"; "` and [`NearCoincident::hint`], or nothing when there are none.
+    fn after_semicolon(&self) -> String {
+        if self.edges == 0 {
+            String::new()
+        } else {
+            format!("; {}", self.hint())
+        }
+    }
+}
+
+/// `x` > 0 rounded up to two significant digits (as `{:.1e}` prints them).
+fn round_up_two_digits(x: f64) -> f64 {
+    if !(x > 0.0 && x.is_finite()) {
+        return x;
+    }
+    let unit = 10f64.powi(x.log10().floor() as i32 - 1);
+    let up = (x / unit).ceil() * unit;
+    // `{:.1e}` of `up` is two digits; parse them back, exactly as printed.
+    let printed: f64 = format!("{up:.1e}").parse().unwrap_or(up);
+    if printed >= x {
+        printed
+    } else {
+        format!("{:.1e}", printed + unit).parse().unwrap_or(up)
+    }
 }
 
 /// Result with the library's [`Error`].
@@ -85,14 +151,82 @@ fn worst_text(excess: f64) -> String {
 /// stopped by its flips (few splits) is a large flat region far from
 /// Delaunay, which the stack and queue flip quadratically often (a polygon
 /// of n corners fanned from one corner: about n²/12 flips with the stack,
-/// n longest edge first); otherwise the settings add too many vertices.
-fn work_limit_hint(splits: usize, limit: usize) -> &'static str {
-    if limit < 1000 {
+/// n longest edge first); a run stopped by its splits needs other settings,
+/// unless it already used the ones that usually split least, or the input
+/// has near-coincident vertices, which every setting splits around without
+/// end.
+fn work_limit_hint(splits: usize, limit: usize, median_score_2: bool, near_coincident: &NearCoincident) -> String {
+    let general = if limit < 1000 {
         "raise --max-added"
     } else if splits < limit {
         "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes the \
          stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
-    } else {
+    } else if near_coincident.edges > 0 {
+        // The cause, and what to do about it, are known.
+        return near_coincident.hint();
+    } else if !median_score_2 {
         "the median rule (the default) with -s 2 usually needs far less"
+    } else {
+        "inputs with nearly degenerate triangles (see the smallest angle) need vertices at their own tiny scale; \
+         raise --max-added if that many is expected (about 170 bytes of memory each)"
+    };
+    format!("{general}{}", near_coincident.after_semicolon())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weld_suggestions_are_rounded_up_to_two_digits() {
+        for (x, up) in [
+            (2.4487e-9, 2.5e-9),
+            (2.5e-9, 2.5e-9),
+            (1e-9, 1e-9),
+            (9.96e-9, 1e-8),
+            (3.4641e-12, 3.5e-12),
+        ] {
+            let got = round_up_two_digits(x);
+            assert_eq!(got, up, "{x}");
+            assert!(got >= x);
+            assert_eq!(format!("{got:.1e}").parse::<f64>().unwrap(), got);
+        }
+    }
+
+    #[test]
+    fn a_split_bound_stop_says_what_the_settings_cannot_fix() {
+        let stop = |median_score_2, edges| {
+            Error::WorkLimit {
+                splits: 10_000,
+                flips: 5,
+                limit: 10_000,
+                median_score_2,
+                near_coincident: NearCoincident {
+                    edges,
+                    shorter_than: 2.5e-9,
+                },
+            }
+            .to_string()
+        };
+        // Other settings than the defaults: the defaults.
+        assert!(stop(false, 0).ends_with("the median rule (the default) with -s 2 usually needs far less"));
+        // The defaults already: not themselves again.
+        let defaults = stop(true, 0);
+        assert!(
+            !defaults.contains("-s 2") && defaults.contains("raise --max-added"),
+            "{defaults}"
+        );
+        // Near-coincident vertices: the weld, whatever the settings.
+        for median_score_2 in [false, true] {
+            let weld = stop(median_score_2, 7);
+            assert!(
+                weld.ends_with(
+                    "the input has 7 edge(s) shorter than 2.5e-9 (near-coincident vertices, as marching \
+                     cubes leaves): --repair --weld-tolerance 2.5e-9 merges them"
+                ),
+                "{weld}"
+            );
+            assert!(!weld.contains("-s 2"), "{weld}");
+        }
     }
 }

@@ -7,7 +7,7 @@ use std::collections::{BinaryHeap, VecDeque};
 
 use glam::{DVec2, DVec3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, NearCoincident, Result};
 use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
 use crate::hash::FastMap;
 use crate::mesh::{room_for_splits, EdgeId, Surface, VertexId, NO_INPUT_EDGE};
@@ -263,6 +263,8 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                     splits,
                     flips,
                     limit: options.max_added,
+                    median_score_2: options.median && options.score == Score::AlwaysCenter,
+                    near_coincident: NearCoincident::of(&run.s.input_figures),
                 });
             }
         }
@@ -298,6 +300,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
             return Err(Error::Unsplittable {
                 count: after,
                 worst_excess: worst,
+                near_coincident: NearCoincident::of(&run.s.input_figures),
             });
         }
     }

@@ -278,6 +278,7 @@ pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]
                 ("min_angle_rad", Json::Num(f.min_angle)),
                 ("min_edge", Json::Num(f.min_edge)),
                 ("max_edge", Json::Num(f.max_edge)),
+                ("near_coincident_edges", Json::Int(f.near_coincident_edges as u64)),
                 ("added_vertices_lower_bound", Json::Int(inv.lower_bound as u64)),
             ]),
         ),

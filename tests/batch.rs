@@ -400,3 +400,45 @@ fn batch_points_a_stuck_file_to_smallest() {
     assert!(ok, "{stdout}{stderr}");
     check_passes(&input, &out_dir.join(input.file_name().unwrap()));
 }
+
+/// A file stuck at near-coincident vertices is reported with the weld that
+/// merges them, not --smallest (every setting would stall there); welded,
+/// it is written with no note on them, and passes the check against the
+/// repaired input.
+#[test]
+fn batch_names_the_weld_for_near_coincident_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let (positions, triangles) = common::marching_sphere(8, 1e-10);
+    let input = dir.path().join("sphere.obj");
+    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let out_dir = dir.path().join("out");
+    let csv = dir.path().join("runs.csv");
+    let (ok, stdout, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
+        &[&input],
+    );
+    assert!(!ok, "{stdout}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("neither split")
+            && stderr.contains("--repair --weld-tolerance 2.5e-9 merges them")
+            && !stderr.contains("--smallest"),
+        "{stderr}"
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert!(rows.contains(",unsplittable,"), "{rows}");
+    let weld = ["--repair", "--weld-tolerance", "2.5e-9"];
+    let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], &weld].concat(), &[&input]);
+    assert!(ok, "{stdout}{stderr}");
+    assert!(!stdout.contains("near-coincident"), "{stdout}");
+    let repaired = dir.path().join("repaired.obj");
+    delmesh()
+        .args(weld)
+        .args(["--no-refine", "-q", "-i"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&repaired)
+        .assert()
+        .success();
+    check_passes(&repaired, &out_dir.join("sphere.obj"));
+}

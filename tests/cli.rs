@@ -1027,6 +1027,67 @@ fn a_stuck_run_points_to_smallest() {
     check_passes(&input, &out);
 }
 
+/// Marching tetrahedra with their crossings clamped a tenth of a billionth
+/// of a cell from the grid points (a sphere over an 8³ grid): where the
+/// field is almost zero at a grid point, vertices 2.5e-11 apart. Refining
+/// gets stuck there, as it would in every setting (the samples would be
+/// finer than the coordinates). The note before refining and the error
+/// name the weld that merges them (not --smallest); with it every setting
+/// gets through and passes check against the repaired input.
+#[test]
+fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (positions, triangles) = common::marching_sphere(8, 1e-10);
+    let input = dir.path().join("sphere.obj");
+    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let (out, json) = (dir.path().join("out.obj"), dir.path().join("stats.json"));
+    let run = refine(&input, &out).arg("--stats-json").arg(&json).output().unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr),
+    );
+    assert_eq!(run.status.code(), Some(1), "{stdout}{stderr}");
+    let note = "note    84 edge(s) shorter than 2.5e-9 (1e-9 of the mesh's size): near-coincident vertices";
+    assert!(stdout.contains(note), "{stdout}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("neither split")
+            && stderr.contains("the input has 84 edge(s) shorter than 2.5e-9")
+            && stderr.contains("--repair --weld-tolerance 2.5e-9 merges them")
+            && !stderr.contains("--smallest"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let record = std::fs::read_to_string(&json).unwrap();
+    assert!(record.contains("\"near_coincident_edges\": 84"), "{record}");
+    // The weld the note names: nothing near-coincident is left, and every
+    // setting (with and without pruning) refines and passes check.
+    let (repaired, all) = (dir.path().join("repaired.obj"), dir.path().join("all"));
+    std::fs::create_dir(&all).unwrap();
+    let weld = ["--repair", "--weld-tolerance", "2.5e-9"];
+    let run = refine(&input, &out)
+        .args(weld)
+        .arg("--repaired")
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("repair  welded 48 vertices") && !stdout.contains("near-coincident"),
+        "{stdout}"
+    );
+    check_passes(&repaired, &out);
+    for extra in [&[][..], &["--prune"]] {
+        refine(&input, all.join("s.obj"))
+            .args(weld)
+            .args(["-all", "--check", "-q"])
+            .args(extra)
+            .assert()
+            .success();
+    }
+}
+
 /// `-all --check` checks each of the 18 files as soon as it is written
 /// (against the repaired input with --repair, written once and removed
 /// after): every file passes, and no temporary file is left.

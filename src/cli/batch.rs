@@ -18,8 +18,8 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, file_key, one_line, refine_once, refuse_map_through_seams,
-    smallest, write_output, write_vertex_map, FirstPass, Settings,
+    check_output, check_output_dir, failure_record, file_key, near_coincident_note, one_line, refine_once,
+    refuse_map_through_seams, smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
 };
 use crate::stats_json::{self, RunRecord};
 use delmesh::attributes::Transfer;
@@ -252,6 +252,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     };
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
+    notes.extend(near_coincident_note(&out.surface.input_figures));
     notes.extend(write_output(
         output,
         &out.surface,
@@ -380,8 +381,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                         failed += 1;
                         // Which edges get stuck depends on the settings (as
                         // the main command says too).
-                        let stuck = matches!(e.downcast_ref(), Some(delmesh::Error::Unsplittable { .. }));
-                        let hint = if stuck && !args.smallest {
+                        let hint = if stuck_elsewhere(&e) && !args.smallest {
                             "; other settings may get through (--smallest)"
                         } else {
                             ""

@@ -70,7 +70,23 @@ pub struct InputFigures {
     pub min_edge: f64,
     /// Longest edge.
     pub max_edge: f64,
+    /// The diagonal of the axis-aligned bounding box: the mesh's size.
+    pub diagonal: f64,
+    /// Edges shorter than [`NEAR_COINCIDENT`] times [`InputFigures::diagonal`]:
+    /// near-coincident vertices, as marching cubes leaves where the field
+    /// is almost zero at a grid point. Samples around them would be spaced
+    /// finer than the coordinates can express, so refining there can stall
+    /// or add millions of vertices; welding them (`--repair
+    /// --weld-tolerance`) is the remedy.
+    pub near_coincident_edges: usize,
 }
+
+/// An edge shorter than this fraction of the mesh's size joins
+/// near-coincident vertices ([`InputFigures::near_coincident_edges`]): far
+/// below what single precision can tell apart (1.2e-7), so no scanner or
+/// modeller meant it, and the samples around it (ρ_e ≈ 4 l_min sin²θ_min)
+/// would be below double precision's resolution of the coordinates.
+pub const NEAR_COINCIDENT: f64 = 1e-9;
 
 impl Surface {
     /// Builds the mesh of an input (positions welded, every vertex used).
@@ -117,6 +133,8 @@ impl Surface {
                 min_angle: 0.0,
                 min_edge: 0.0,
                 max_edge: 0.0,
+                diagonal: 0.0,
+                near_coincident_edges: 0,
             },
             region_plane: Vec::new(),
             input_edges,
@@ -442,7 +460,8 @@ impl Surface {
         keep(&mut self.face_region, &fmap, FaceId::is_none);
     }
 
-    /// Smallest angle and extreme edge lengths.
+    /// Smallest angle, extreme edge lengths, size and near-coincident
+    /// vertices.
     pub fn figures(&self) -> InputFigures {
         // The smallest angle of a triangle is opposite its shortest side and
         // is acute, where tan = |u × v| / (u · v) grows with the angle: keep
@@ -480,18 +499,43 @@ impl Surface {
         } else {
             best_sin.atan2(best_cos)
         };
-        // Minimum and maximum are exact, so the ranges combine in any order.
+        // Minima, maxima and counts are exact, so the ranges combine in any
+        // order.
+        let boxes = crate::parallel::map_ranges(self.positions.len(), |r| {
+            self.positions[r]
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                    (lo.min(p), hi.max(p))
+                })
+        });
+        let (lo, hi) = boxes
+            .into_iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            });
+        let diagonal = if self.positions.is_empty() {
+            0.0
+        } else {
+            (hi - lo).length()
+        };
+        let near = NEAR_COINCIDENT * diagonal;
         let lengths = crate::parallel::map_ranges(self.topo.n_edges(), |r| {
             r.map(|e| self.edge_length(EdgeId(e as u32)))
-                .fold((f64::INFINITY, 0.0f64), |(lo, hi), l| (lo.min(l), hi.max(l)))
+                .fold((f64::INFINITY, 0.0f64, 0usize), |(lo, hi, n), l| {
+                    (lo.min(l), hi.max(l), n + (l < near) as usize)
+                })
         });
-        let (min_edge, max_edge) = lengths
+        let (min_edge, max_edge, near_coincident_edges) = lengths
             .into_iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+            .fold((f64::INFINITY, 0.0f64, 0), |(lo, hi, n), (a, b, m)| {
+                (lo.min(a), hi.max(b), n + m)
+            });
         InputFigures {
             min_angle,
             min_edge,
             max_edge,
+            diagonal,
+            near_coincident_edges,
         }
     }
 
@@ -622,6 +666,29 @@ mod tests {
             })
             .unwrap();
         (s, e)
+    }
+
+    /// Near-coincident edges are counted against the mesh's size, so that
+    /// scaling a mesh does not change the count: a unit quad whose corner
+    /// 3 sits 1e-12 from corner 2 has one, at any scale.
+    #[test]
+    fn near_coincident_edges_are_short_for_the_mesh_size() {
+        let quad = |scale: f64, gap: f64| {
+            let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0 - gap, 1.0], [0.0, 1.0]];
+            let positions = corners
+                .iter()
+                .map(|&[x, y]| DVec3::new(x, y, 0.5 * x * y) * scale)
+                .collect();
+            let s = Surface::new(positions, &[[0, 1, 2], [0, 2, 3], [0, 3, 4]]).unwrap();
+            s.validate().unwrap();
+            s.input_figures
+        };
+        for scale in [1e-30, 1.0, 1e30] {
+            let f = quad(scale, 1e-12);
+            assert_eq!(f.near_coincident_edges, 1, "{scale}");
+            assert!((f.diagonal / scale - 1.5).abs() < 1e-12, "{f:?}");
+            assert_eq!(quad(scale, 1e-6).near_coincident_edges, 0);
+        }
     }
 
     /// A split point rounded off its input edge's line, next to an apex that

@@ -115,3 +115,102 @@ pub fn cone_fan(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let triangles = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]).collect();
     (positions, triangles)
 }
+
+/// The sphere x² + y² + z² = 1/2 as marching tetrahedra leave it, over an `n`³ grid of
+/// [-1, 1]³ (six tetrahedra per cube, one vertex per crossed grid edge, shared), with the
+/// crossing's parameter along the grid edge clamped to [`tau`, 1 − `tau`], as implementations
+/// do to avoid coincident vertices: where the field is almost zero at a grid point, the
+/// vertices on its grid edges land `tau` of a cell from it and from each other
+/// (near-coincident vertices, joined by needle triangles). Faces face outward.
+pub fn marching_sphere(n: usize, tau: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    use std::collections::HashMap;
+    let h = 2.0 / n as f64;
+    let point = |[i, j, k]: [usize; 3]| [-1.0 + i as f64 * h, -1.0 + j as f64 * h, -1.0 + k as f64 * h];
+    let field = |g: [usize; 3]| {
+        let [x, y, z] = point(g);
+        x * x + y * y + z * z - 0.5
+    };
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut on_edge: HashMap<([usize; 3], [usize; 3]), u32> = HashMap::new();
+    let mut vertex = |p: [usize; 3], q: [usize; 3], positions: &mut Vec<[f64; 3]>| {
+        let key = (p.min(q), p.max(q));
+        *on_edge.entry(key).or_insert_with(|| {
+            let (a, b) = (field(p), field(q));
+            let t = if a != b { a / (a - b) } else { 0.5 };
+            let t = t.clamp(tau, 1.0 - tau);
+            let (pa, pb) = (point(p), point(q));
+            positions.push(std::array::from_fn(|c| pa[c] + t * (pb[c] - pa[c])));
+            positions.len() as u32 - 1
+        })
+    };
+    const TETS: [[usize; 4]; 6] = [
+        [0, 1, 3, 7],
+        [0, 1, 5, 7],
+        [0, 2, 3, 7],
+        [0, 2, 6, 7],
+        [0, 4, 5, 7],
+        [0, 4, 6, 7],
+    ];
+    let mut triangles = Vec::new();
+    let mut push = |[a, b, c]: [u32; 3], positions: &Vec<[f64; 3]>| {
+        if a == b || b == c || a == c {
+            return;
+        }
+        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
+        let (u, v) = (sub(pb, pa), sub(pc, pa));
+        let normal = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let outward: f64 = (0..3).map(|i| normal[i] * (pa[i] + pb[i] + pc[i])).sum();
+        triangles.push(if outward < 0.0 { [b, a, c] } else { [a, b, c] });
+    };
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let corner = |c: usize| [i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1)];
+                for tet in TETS {
+                    let q = tet.map(corner);
+                    let inside: Vec<[usize; 3]> = q.iter().copied().filter(|&g| field(g) < 0.0).collect();
+                    let outside: Vec<[usize; 3]> = q.iter().copied().filter(|&g| field(g) >= 0.0).collect();
+                    match inside.len() {
+                        1 | 3 => {
+                            let (apex, others) = if inside.len() == 1 {
+                                (inside[0], &outside)
+                            } else {
+                                (outside[0], &inside)
+                            };
+                            let t = [0, 1, 2].map(|m| vertex(apex, others[m], &mut positions));
+                            push(t, &positions);
+                        }
+                        2 => {
+                            let ([a, b], [c, d]) = ([inside[0], inside[1]], [outside[0], outside[1]]);
+                            let p = [(a, c), (a, d), (b, d), (b, c)].map(|(x, y)| vertex(x, y, &mut positions));
+                            push([p[0], p[1], p[2]], &positions);
+                            push([p[0], p[2], p[3]], &positions);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    (positions, triangles)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `positions` and `triangles` as OBJ text, coordinates in shortest round-trip form.
+pub fn triangles_obj(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
+    let mut s = String::new();
+    for p in positions {
+        s += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in triangles {
+        s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s
+}
