@@ -698,23 +698,20 @@ fn file_name(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
-/// Refuses a vertex map for a PLY output of a mesh with attributes: the
-/// writer repeats vertices at attribute seams, so the map's rows would not
-/// be the file's vertices.
-fn refuse_map_through_seams(input: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
-    if !input.attributes.is_empty() && io::output_format(output) == io::Format::Ply {
-        bail!(
-            "{}: no vertex map for a PLY output of a mesh with attributes: PLY repeats the vertices at \
-             attribute seams, so rows and vertices would not match; write OBJ, or add --drop-attributes",
-            output.display()
-        );
-    }
-    Ok(())
-}
-
-/// Writes `--vertex-map` for `surface`, read from `input`.
-fn write_vertex_map(path: &Path, surface: &Surface, input: &io::InputMesh) -> anyhow::Result<()> {
-    let table = stats_json::vertex_map_csv(&surface.vertex_sources(), &input.vertex_number);
+/// Writes `--vertex-map` for `surface`, read from `input` and written as
+/// `written` says: a row per vertex of the output file, the copies a PLY
+/// output makes at attribute seams (last in the file) repeating the rows
+/// of the vertices they copy.
+fn write_vertex_map(
+    path: &Path,
+    surface: &Surface,
+    input: &io::InputMesh,
+    written: &io::Written,
+) -> anyhow::Result<()> {
+    let mut sources = surface.vertex_sources();
+    let copies: Vec<_> = written.copies_of.iter().map(|&v| sources[v as usize]).collect();
+    sources.extend(copies);
+    let table = stats_json::vertex_map_csv(&sources, &input.vertex_number);
     io::write_atomic(path, |w| w.write_all(table.as_bytes()))?;
     Ok(())
 }
@@ -861,9 +858,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
     let input = args.settings.read(input_path)?;
-    if args.vertex_map.is_some() {
-        refuse_map_through_seams(&input, &output)?;
-    }
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {
@@ -979,10 +973,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Write {
             name: file_name(&output),
         });
-        let notes = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
+        let written = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
         if let Some(map) = &args.vertex_map {
-            write_vertex_map(map, &surface, &input)?;
+            write_vertex_map(map, &surface, &input, &written)?;
         }
+        let notes = written.notes;
         let write_s = t1.elapsed().as_secs_f64();
         progress::phase(Phase::Idle);
         let run = stats_json::RunRecord {
@@ -1073,7 +1068,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Write {
         name: file_name(&output),
     });
-    let notes = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
+    let written = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     if args.check {
@@ -1083,7 +1078,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if let Some(map) = &args.vertex_map {
-        write_vertex_map(map, &out.surface, &input)?;
+        write_vertex_map(map, &out.surface, &input, &written)?;
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = out.record(options, &output, write_s);
@@ -1103,7 +1098,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             }
         );
         say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
-        for note in &notes {
+        for note in &written.notes {
             say!("note    {note}");
         }
         say!(
@@ -1329,7 +1324,7 @@ const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need 
 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written
-/// (and on STL's rounding).
+/// (and on STL's rounding) and the vertex copies a PLY output made.
 /// `done`: the OBJ lines of the input's vertices if formatted already (else
 /// empty).
 fn write_output(
@@ -1337,19 +1332,19 @@ fn write_output(
     surface: &Surface,
     transfer: Option<&Transfer>,
     done: &io::obj::VertexLines,
-) -> anyhow::Result<Vec<String>> {
+) -> anyhow::Result<io::Written> {
     let triangles = surface.triangles();
-    let mut notes = match transfer {
+    let mut written = match transfer {
         None => {
             io::write_mesh_after(path, done, &surface.positions, &triangles)?;
-            Vec::new()
+            io::Written::default()
         }
         Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
     };
     if io::output_format(path) == io::Format::Stl {
-        notes.push(STL_NOTE.to_string());
+        written.notes.push(STL_NOTE.to_string());
     }
-    Ok(notes)
+    Ok(written)
 }
 
 /// An output that `delmesh check` refused (`error_kind` "check").

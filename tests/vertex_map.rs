@@ -100,32 +100,89 @@ fn input_indices_count_the_files_vertices() {
     assert!(rows[4].starts_with("4,1,2,"), "{table}");
 }
 
+/// The vertex records of a binary little-endian PLY as delmesh writes it:
+/// x, y, z as doubles first, then doubles and uchars.
+fn ply_vertices(path: &Path) -> Vec<[f64; 3]> {
+    let bytes = std::fs::read(path).unwrap();
+    let end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header = std::str::from_utf8(&bytes[..end]).unwrap();
+    assert!(header.contains("format binary_little_endian 1.0"), "{header}");
+    let mut count = 0;
+    let mut size = 0;
+    for line in header.lines().skip_while(|l| !l.starts_with("element vertex")) {
+        if let Some(n) = line.strip_prefix("element vertex ") {
+            count = n.parse().unwrap();
+        } else if line.starts_with("element") {
+            break;
+        } else if let Some(p) = line.strip_prefix("property ") {
+            size += if p.starts_with("uchar") { 1 } else { 8 };
+        }
+    }
+    let coordinate = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    (0..count)
+        .map(|i| std::array::from_fn(|c| coordinate(end + i * size + 8 * c)))
+        .collect()
+}
+
+/// A PLY output of a mesh with attributes writes a vertex once per value
+/// (at texture seams) and the map has a row per written vertex, a copy's
+/// row the row of the vertex it repeats; with per-vertex colours (no seam)
+/// the rows are the vertices. Every row rebuilds its vertex bit for bit.
 #[test]
-fn a_ply_with_attributes_is_refused_before_refining() {
+fn a_ply_with_attributes_has_a_row_per_written_vertex() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("tex.obj");
+    // A square fanned around vertex 5, with a texture seam along the edge
+    // 1-5: vertex 1 has coordinates (0, 0) in face 1 and (1, 1) in face 4,
+    // and vertex 5 (0.5, 0.1) and (0.5, 0.9).
+    let seam = dir.path().join("seam.obj");
     std::fs::write(
-        &input,
-        "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 0 1 0\nv 2 0.1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.1\n\
-         f 1/1 2/2 5/5\nf 2/2 3/3 5/5\nf 3/3 4/4 5/5\nf 4/4 1/1 5/5\n",
+        &seam,
+        "v 0 0 0\nv 4 0 0\nv 4 1 0.5\nv 0 1 0.5\nv 2 0.1 0\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.1\nvt 1 1\nvt 0.5 0.9\n\
+         f 1/1 2/2 5/5\nf 2/2 3/3 5/5\nf 3/3 4/4 5/7\nf 4/4 1/6 5/7\n",
     )
     .unwrap();
-    let run = delmesh()
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(dir.path().join("out.ply"))
-        .arg("--vertex-map")
-        .arg(dir.path().join("map.csv"))
-        .output()
-        .unwrap();
-    assert!(!run.status.success());
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
-    assert!(stderr.contains("--drop-attributes"), "{stderr}");
-    assert!(!dir.path().join("out.ply").exists() && !dir.path().join("map.csv").exists());
-    // As OBJ it is fine, and the texture coordinates do not change the rows.
-    rebuild(&input, &[]);
+    // The bunny with a colour on every vertex (`v x y z r g b`).
+    let bunny = common::data_dir().join("bunny.obj");
+    let coloured = dir.path().join("coloured.obj");
+    let text: String = std::fs::read_to_string(&bunny)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match l.strip_prefix("v ") {
+            Some(xyz) => format!("v {xyz} {} 0.5 {}\n", (i % 7) as f64 / 7.0, (i % 3) as f64 / 3.0),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&coloured, text).unwrap();
+    for (input, has_copies) in [(&seam, true), (&coloured, false)] {
+        let (out, map) = (dir.path().join("out.ply"), dir.path().join("map.csv"));
+        let run = delmesh()
+            .arg("-i")
+            .arg(input)
+            .arg("-o")
+            .arg(&out)
+            .arg("--vertex-map")
+            .arg(&map)
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let (inp, outp) = (obj_vertices(input), ply_vertices(&out));
+        let table = std::fs::read_to_string(&map).unwrap();
+        let rows: Vec<&str> = table.lines().skip(1).collect();
+        assert_eq!(rows.len(), outp.len(), "{table}");
+        for (k, row) in rows.iter().enumerate() {
+            let cells: Vec<&str> = row.split(',').collect();
+            assert_eq!(cells[0], k.to_string());
+            let (a, b): (usize, usize) = (cells[1].parse().unwrap(), cells[2].parse().unwrap());
+            let t: f64 = cells[3].parse().unwrap();
+            let want: [f64; 3] = std::array::from_fn(|c| inp[a][c] + t * (inp[b][c] - inp[a][c]));
+            assert_eq!(want, outp[k], "{} row {row}", input.display());
+        }
+        // Copies are written at the same position as an earlier vertex.
+        let distinct: std::collections::HashSet<[u64; 3]> = outp.iter().map(|p| p.map(f64::to_bits)).collect();
+        assert_eq!(distinct.len() < outp.len(), has_copies, "{}", input.display());
+    }
 }
 
 #[test]

@@ -18,8 +18,8 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, file_key, near_coincident_note, one_line, refine_once,
-    refuse_map_through_seams, smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
+    check_output, check_output_dir, failure_record, file_key, near_coincident_note, one_line, refine_once, smallest,
+    stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
 };
 use crate::stats_json::{self, RunRecord};
 use delmesh::attributes::Transfer;
@@ -232,9 +232,6 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     let (settings, check) = (&args.settings, args.check);
     let t0 = Instant::now();
     let mut mesh = settings.read(input)?;
-    if args.vertex_maps {
-        refuse_map_through_seams(&mesh, output)?;
-    }
     let surface = io::build_surface(&mesh, input)?;
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
@@ -253,18 +250,14 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(near_coincident_note(&out.surface.input_figures));
-    notes.extend(write_output(
-        output,
-        &out.surface,
-        transfer.as_ref(),
-        &Default::default(),
-    )?);
+    let written = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
+    notes.extend(written.notes.iter().cloned());
     let seconds_write = t_write.elapsed().as_secs_f64();
     if check {
         check_output(input, &mesh, output)?;
     }
     if args.vertex_maps {
-        write_vertex_map(&vertex_map_path(output), &out.surface, &mesh)?;
+        write_vertex_map(&vertex_map_path(output), &out.surface, &mesh, &written)?;
     }
     Ok(Done {
         record: out.record(options, output, seconds_write),

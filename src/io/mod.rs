@@ -679,17 +679,18 @@ pub fn write_mesh_after(
 /// coordinates (`s t`, the first two numbers), normals (`nx ny nz`) and
 /// colours (`red green blue [alpha]`, 8-bit), a vertex with several values
 /// written once per value at the same position, the copies last; OFF and
-/// STL keep positions only. Returns a note for each attribute not written.
+/// STL keep positions only.
 pub fn write_mesh_with_attributes(
     path: &Path,
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     attributes: &Attributes,
-) -> Result<Vec<String>> {
+) -> Result<Written> {
     let format = output_format(path);
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
     let mut lost = |what: &str, format: &str| notes.push(format!("{what} not written: {format} cannot hold them"));
+    let mut copies_of = Vec::new();
     match format {
         Format::Obj => write_atomic(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
         Format::Ply => {
@@ -724,6 +725,7 @@ pub fn write_mesh_with_attributes(
             write_atomic(path, |w| {
                 formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
             })?;
+            copies_of = split.source[positions.len()..].to_vec();
         }
         Format::Off | Format::Stl => {
             let name = if format == Format::Off { "OFF" } else { "STL" };
@@ -733,7 +735,19 @@ pub fn write_mesh_with_attributes(
             write_mesh(path, positions, triangles)?;
         }
     }
-    Ok(notes)
+    Ok(Written { notes, copies_of })
+}
+
+/// What [`write_mesh_with_attributes`] wrote besides the mesh's own vertices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Written {
+    /// A note for each attribute the format could not hold.
+    pub notes: Vec<String>,
+    /// The file's vertices after the mesh's own (which come first, in
+    /// order): copies at attribute seams, as PLY writes a vertex once per
+    /// value; each entry is the mesh vertex the copy repeats. Empty for
+    /// other formats and where no vertex has several values.
+    pub copies_of: Vec<u32>,
 }
 
 /// Writes a triangle mesh as OBJ, atomically.
