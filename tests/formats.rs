@@ -540,6 +540,27 @@ fn off_with_comments_and_counts_on_the_header_line() {
     assert_eq!(m.origin_kind, OriginKind::Line);
 }
 
+/// ModelNet's OFF files often glue the vertex count to the keyword
+/// (`OFF3 1 0`): read as `OFF 3 1 0`; a keyword glued to anything else
+/// (`OFFa`, `COFF3`) is still not OFF.
+#[test]
+fn off_with_the_vertex_count_glued_to_the_keyword() {
+    let text = "OFF3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    assert_eq!(sniff_format(text.as_bytes()), Some(Format::Off));
+    let m = read_off(text.as_bytes()).unwrap();
+    check_invariants(&m);
+    assert_eq!(m.positions, vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    assert_eq!(faces(&m), vec![vec![0, 1, 2]]);
+    let same = read_off(b"OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    assert_eq!(m.positions, same.positions);
+    assert_eq!(faces(&m), faces(&same));
+    for bad in ["OFFa 1 0\n", "OFF3a 1 0\n", "COFF3 1 0\n"] {
+        let e = read_off(bad.as_bytes()).unwrap_err().to_string();
+        assert!(e.contains("not an OFF file"), "{bad}: {e}");
+        assert_eq!(sniff_format(bad.as_bytes()), None, "{bad}");
+    }
+}
+
 #[test]
 fn off_variants_skip_their_extra_fields() {
     let body =

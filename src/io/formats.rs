@@ -179,7 +179,8 @@ pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
     let text = strip_bom(bytes);
     let window = &text[..text.len().min(SNIFF_WINDOW)];
     if let Some((_, line)) = Lines::new(window).next_meaningful() {
-        if words(line).next().and_then(off_keyword).is_some() {
+        let head = words(line).next().unwrap_or(b"");
+        if off_keyword(head).is_some() || glued_vertex_count(head).is_some() {
             return Some(Format::Off);
         }
     }
@@ -514,8 +515,15 @@ fn off_keyword(tok: &[u8]) -> Option<OffKeyword> {
     Some(kw)
 }
 
+/// The vertex count glued to the keyword of a header such as `OFF490 518 0` (written so by the
+/// tool that made the ModelNet datasets): the digits after `OFF`, if nothing else follows it.
+fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
+    let digits = head.strip_prefix(b"OFF")?;
+    (!digits.is_empty() && digits.iter().all(u8::is_ascii_digit)).then_some(digits)
+}
+
 /// Reads an OFF file (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`... and headerless files starting with the
-/// counts). Vertex lines give x y z first; whatever follows (normals, colour, texture coordinates) is
+/// counts; also `OFF490 518 0`, the keyword glued to the counts as in the ModelNet datasets). Vertex lines give x y z first; whatever follows (normals, colour, texture coordinates) is
 /// skipped. Face lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are
 /// refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
@@ -525,7 +533,14 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     };
     let mut first_words = words(first);
     let head = first_words.next().unwrap_or(b"");
-    let (counts_line, counts): (u64, Vec<&[u8]>) = if let Some(kw) = off_keyword(head) {
+    let (counts_line, counts): (u64, Vec<&[u8]>) = if let Some(n_vertices) = glued_vertex_count(head) {
+        // `OFF490 518 0`: the keyword and the counts on one line with no
+        // space between them, as in many files of the ModelNet datasets.
+        (
+            first_line,
+            std::iter::once(n_vertices).chain(first_words.take(3)).collect(),
+        )
+    } else if let Some(kw) = off_keyword(head) {
         if kw.four || kw.ndim {
             return Err(FormatError::at(
                 first_line,
