@@ -421,13 +421,13 @@ fn batch_names_the_weld_for_near_coincident_vertices() {
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains("neither split")
-            && stderr.contains("--repair --weld-tolerance 2.5e-9 merges them")
+            && stderr.contains("--repair --weld-tolerance 2.5e-7 merges them")
             && !stderr.contains("--smallest"),
         "{stderr}"
     );
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert!(rows.contains(",unsplittable,"), "{rows}");
-    let weld = ["--repair", "--weld-tolerance", "2.5e-9"];
+    let weld = ["--repair", "--weld-tolerance", "2.5e-7"];
     let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], &weld].concat(), &[&input]);
     assert!(ok, "{stdout}{stderr}");
     assert!(!stdout.contains("near-coincident"), "{stdout}");

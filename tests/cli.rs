@@ -1047,13 +1047,13 @@ fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
         String::from_utf8_lossy(&run.stderr),
     );
     assert_eq!(run.status.code(), Some(1), "{stdout}{stderr}");
-    let note = "note    84 edge(s) shorter than 2.5e-9 (1e-9 of the mesh's size): near-coincident vertices";
+    let note = "note    84 edge(s) shorter than 2.5e-7 (1e-7 of the mesh's size): near-coincident vertices";
     assert!(stdout.contains(note), "{stdout}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains("neither split")
-            && stderr.contains("the input has 84 edge(s) shorter than 2.5e-9")
-            && stderr.contains("--repair --weld-tolerance 2.5e-9 merges them")
+            && stderr.contains("the input has 84 edge(s) shorter than 2.5e-7")
+            && stderr.contains("--repair --weld-tolerance 2.5e-7 merges them")
             && !stderr.contains("--smallest"),
         "{stderr}"
     );
@@ -1064,7 +1064,7 @@ fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
     // setting (with and without pruning) refines and passes check.
     let (repaired, all) = (dir.path().join("repaired.obj"), dir.path().join("all"));
     std::fs::create_dir(&all).unwrap();
-    let weld = ["--repair", "--weld-tolerance", "2.5e-9"];
+    let weld = ["--repair", "--weld-tolerance", "2.5e-7"];
     let run = refine(&input, &out)
         .args(weld)
         .arg("--repaired")
@@ -1086,6 +1086,44 @@ fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
             .assert()
             .success();
     }
+}
+
+/// Crossings clamped a ten-millionth of a cell from the grid points (a
+/// sphere over a 12³ grid; vertices 1.7e-8 apart, 6.8e-9 of its size): no
+/// note before refining (samples still fit in doubles there), but a run
+/// stopped by its work limit names the weld, which then gets through with
+/// 466 added vertices where the defaults add 140,632.
+#[test]
+fn a_failed_run_names_the_weld_for_less_close_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let (positions, triangles) = common::marching_sphere(12, 1e-7);
+    let input = dir.path().join("sphere.obj");
+    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let out = dir.path().join("out.obj");
+    let run = refine(&input, &out).args(["--max-added", "5000"]).output().unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr),
+    );
+    assert_eq!(run.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(!stdout.contains("near-coincident"), "{stdout}");
+    assert!(
+        stderr.contains("stopped after 5000 splits")
+            && stderr.ends_with(
+                "these settings need too much on this input; the input has 372 edge(s) shorter than 2.5e-7 \
+                 (near-coincident vertices, as marching cubes leaves): --repair --weld-tolerance 2.5e-7 merges them\n"
+            ),
+        "{stderr}"
+    );
+    let repaired = dir.path().join("repaired.obj");
+    let run = refine(&input, &out)
+        .args(["--repair", "--weld-tolerance", "2.5e-7", "--repaired"])
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("466 added vertices"), "{stdout}");
+    check_passes(&repaired, &out);
 }
 
 /// `-all --check` checks each of the 18 files as soon as it is written
