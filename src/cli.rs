@@ -470,7 +470,7 @@ fn usage_line(message: &str) -> String {
 
 /// Whether `e` is edges stuck for a reason other settings may avoid (the
 /// order of work, the samples chosen): not near-coincident vertices, whose
-/// error already names the remedy (and where every setting stalls).
+/// error already names the remedy (and where most settings stall).
 pub(crate) fn stuck_elsewhere(e: &anyhow::Error) -> bool {
     matches!(
         e.downcast_ref(),

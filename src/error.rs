@@ -153,7 +153,7 @@ fn worst_text(excess: f64) -> String {
 /// of n corners fanned from one corner: about n²/12 flips with the stack,
 /// n longest edge first); a run stopped by its splits needs other settings,
 /// unless it already used the ones that usually split least, or the input
-/// has near-coincident vertices, which every setting splits around without
+/// has near-coincident vertices, around which most settings split without
 /// end.
 fn work_limit_hint(splits: usize, limit: usize, median_score_2: bool, near_coincident: &NearCoincident) -> String {
     let general = if limit < 1000 {

@@ -402,7 +402,7 @@ fn batch_points_a_stuck_file_to_smallest() {
 }
 
 /// A file stuck at near-coincident vertices is reported with the weld that
-/// merges them, not --smallest (every setting would stall there); welded,
+/// merges them, not --smallest (most settings stall there); welded,
 /// it is written with no note on them, and passes the check against the
 /// repaired input.
 #[test]

@@ -1030,8 +1030,7 @@ fn a_stuck_run_points_to_smallest() {
 /// Marching tetrahedra with their crossings clamped a tenth of a billionth
 /// of a cell from the grid points (a sphere over an 8³ grid): where the
 /// field is almost zero at a grid point, vertices 2.5e-11 apart. Refining
-/// gets stuck there, as it would in every setting (the samples would be
-/// finer than the coordinates). The note before refining and the error
+/// gets stuck there (the samples would be finer than the coordinates). The note before refining and the error
 /// name the weld that merges them (not --smallest); with it every setting
 /// gets through and passes check against the repaired input.
 #[test]
