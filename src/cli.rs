@@ -237,6 +237,13 @@ struct Settings {
     #[arg(long = "prune")]
     prune: bool,
 
+    /// Prune (implies --prune) in at most N passes over the added vertices
+    /// (1-8; without it, until a pass removes nothing, at most 8). On big
+    /// meshes one pass removes most of what pruning can in a fraction of
+    /// its time.
+    #[arg(long = "prune-passes", value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
+    prune_passes: Option<u8>,
+
     /// Ignore the input's texture coordinates, normals, colours, groups and
     /// materials: write positions only, and let planar regions ignore seams
     /// (they are kept by default, and regions cut where a flip would
@@ -246,6 +253,14 @@ struct Settings {
 }
 
 impl Settings {
+    /// The passes pruning may take (`None`: no pruning).
+    fn prune(&self) -> Option<usize> {
+        match self.prune_passes {
+            Some(n) => Some(usize::from(n)),
+            None => self.prune.then_some(delmesh::prune::MAX_PASSES),
+        }
+    }
+
     /// The refinement's options: DS, score, median rule and work limit.
     fn options(&self) -> Options {
         let mut options = Options::new(self.ds.into(), score_of(&self.score), !self.nomedian);
@@ -685,12 +700,13 @@ fn refine_once(
     first_pass: &FirstPass,
     path: &Path,
     options: &Options,
-    prune: bool,
+    prune: Option<usize>,
 ) -> anyhow::Result<Outcome> {
     let start = Instant::now();
     let stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
         .with_context(|| path.display().to_string())?;
-    let pruned = prune.then(|| delmesh::prune::prune_with_progress(&mut surface, options, progress::prune_hook()));
+    let pruned =
+        prune.map(|passes| delmesh::prune::prune_passes(&mut surface, options, passes, progress::prune_hook()));
     Ok(Outcome {
         surface,
         stats,
@@ -1027,7 +1043,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let mut vertex_lines = io::obj::VertexLines::default();
     let result = if args.smallest {
         let start = Instant::now();
-        smallest(surface, &first_pass, input_path, &options, args.jobs).map(|(o, mut out)| {
+        let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
+        smallest(surface, &first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out)| {
             options = o;
             out.seconds = start.elapsed().as_secs_f64(); // all 12 runs
             out
@@ -1048,7 +1065,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                     delmesh::parallel::try_spawn(scope, move || io::obj::VertexLines::new(positions))
                 })
                 .flatten();
-            let out = refine_once(surface, &first_pass, input_path, &options, args.settings.prune);
+            let out = refine_once(surface, &first_pass, input_path, &options, args.settings.prune());
             vertex_lines = lines
                 .map(|h| h.join().expect("formatting does not panic"))
                 .unwrap_or_default();
@@ -1124,12 +1141,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         );
         if let Some(p) = &out.pruned {
             say!(
-                "prune   removed {} of {} added vertices ({} tried, {} flips, {} passes)",
+                "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
                 p.removed,
                 s.splits,
                 p.tried,
                 p.flips,
-                p.passes
+                p.passes,
+                if p.passes == 1 { "" } else { "es" }
             );
         }
         if args.check {
@@ -1156,13 +1174,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
 /// the median, 3 DS x scores 2-3 without), `jobs` at a time, and returns the
 /// settings and outcome with the fewest vertices (ties: the first in that
 /// order, so the result does not depend on the number of threads). Fails
-/// only if every setting fails.
+/// only if every setting fails. Pruning takes at most `prune_passes` passes.
 fn smallest(
     surface: Surface,
     first_pass: &FirstPass,
     input_path: &Path,
     template: &Options,
     jobs: Option<u16>,
+    prune_passes: usize,
 ) -> anyhow::Result<(Options, Outcome)> {
     let mut settings = Vec::new();
     for median in [true, false] {
@@ -1222,7 +1241,7 @@ fn smallest(
             if !options.median {
                 options.max_added = options.max_added.min(cap);
             }
-            match refine_once(surface.clone(), first_pass, input_path, &options, true) {
+            match refine_once(surface.clone(), first_pass, input_path, &options, Some(prune_passes)) {
                 Ok(out) => {
                     most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
                     let key = (out.surface.positions.len(), i);
@@ -1456,7 +1475,7 @@ struct Sweep<'a> {
 
 /// Refines one combination and writes its file (atomically), checked with
 /// --check.
-fn run_combination(sweep: &Sweep, options: &Options, prune: bool, file: &Path) -> anyhow::Result<RowFigures> {
+fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file: &Path) -> anyhow::Result<RowFigures> {
     let out = refine_once(
         sweep.surface.clone(),
         sweep.first_pass,
@@ -1531,7 +1550,7 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
                 break;
             };
             let file = combination_path(output, options);
-            let result = run_combination(sweep, options, args.settings.prune, &file);
+            let result = run_combination(sweep, options, args.settings.prune(), &file);
             progress::run_done();
             rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
                 options: *options,
@@ -1684,7 +1703,11 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> a
         "{}: added vertices, -all{}{} (fewest first)",
         file_name(input_path),
         if args.extended { " --extended" } else { "" },
-        if args.settings.prune { " --prune" } else { "" }
+        if args.settings.prune().is_some() {
+            " --prune"
+        } else {
+            ""
+        }
     );
     let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
     let bytes = canvas

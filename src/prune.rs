@@ -72,8 +72,9 @@ const VARIANTS: [(Score, bool); 8] = [
     (Score::WeightedCenter, false),
 ];
 /// Passes over all added vertices at most (each pass after the first only
-/// finds what earlier removals made possible).
-const MAX_PASSES: usize = 8;
+/// finds what earlier removals made possible): [`prune`] stops earlier if a
+/// pass removes nothing; [`prune_passes`] may stop sooner still.
+pub const MAX_PASSES: usize = 8;
 
 /// A progress callback for [`prune_with_progress`]: the figures so far and
 /// how many added vertices the current pass has still to visit. `'static`
@@ -96,6 +97,16 @@ pub fn prune(surface: &mut Surface, options: &Options) -> PruneStats {
 /// [`prune`], calling `hook` (if any) every [`PRUNE_PROGRESS_INTERVAL`]
 /// added vertices visited; the result does not depend on it.
 pub fn prune_with_progress(surface: &mut Surface, options: &Options, hook: Option<PruneHook>) -> PruneStats {
+    prune_passes(surface, options, MAX_PASSES, hook)
+}
+
+/// [`prune_with_progress`], in at most `passes` passes (1 to
+/// [`MAX_PASSES`]) over the added vertices. The first pass removes most of
+/// what pruning removes, in a fraction of its time: the later ones revisit
+/// only vertices near a removal, but try pairs and triples there again.
+/// With fewer passes the result is what the full run had after as many.
+pub fn prune_passes(surface: &mut Surface, options: &Options, passes: usize, hook: Option<PruneHook>) -> PruneStats {
+    let max_passes = passes.clamp(1, MAX_PASSES);
     let constants = refine::sample_constants(surface);
     let mut run = Pruner {
         constants,
@@ -117,7 +128,7 @@ pub fn prune_with_progress(surface: &mut Surface, options: &Options, hook: Optio
     // After the first pass, only vertices near a kept change can have become
     // removable.
     run.dirty = vec![true; run.s.topo.n_vertices()];
-    while run.stats.passes < MAX_PASSES {
+    while run.stats.passes < max_passes {
         run.stats.passes += 1;
         let before = run.stats.removed;
         // Newest first: a vertex added late was placed knowing the others.

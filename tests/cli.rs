@@ -1125,6 +1125,30 @@ fn a_failed_run_names_the_weld_for_less_close_vertices() {
     check_passes(&repaired, &out);
 }
 
+/// `--prune-passes N` prunes (without --prune too) in at most N passes:
+/// one pass says so and keeps at least as many vertices as the full run;
+/// 8 (the most) writes what --prune writes; both pass check.
+#[test]
+fn prune_passes_bound_the_pruning() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("cad").join("rotor.obj");
+    let run = |flags: &[&str], out: &Path| {
+        let run = refine(&input, out).args(flags).output().unwrap();
+        assert!(run.status.success(), "{flags:?}");
+        check_passes(&input, out);
+        let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+        let line = stdout.lines().find(|l| l.starts_with("prune   ")).unwrap().to_string();
+        (line, std::fs::read(out).unwrap())
+    };
+    let removed = |line: &str| -> usize { line.split_whitespace().nth(2).unwrap().parse().unwrap() };
+    let (one, _) = run(&["--prune-passes", "1"], &dir.path().join("one.obj"));
+    let (full, full_bytes) = run(&["--prune"], &dir.path().join("full.obj"));
+    let (eight, eight_bytes) = run(&["--prune", "--prune-passes", "8"], &dir.path().join("eight.obj"));
+    assert!(one.ends_with(" flips, 1 pass)"), "{one}");
+    assert!(removed(&one) <= removed(&full) && removed(&one) > 0, "{one} / {full}");
+    assert_eq!((eight, eight_bytes), (full, full_bytes));
+}
+
 /// `-all --check` checks each of the 18 files as soon as it is written
 /// (against the repaired input with --repair, written once and removed
 /// after): every file passes, and no temporary file is left.
@@ -1310,6 +1334,8 @@ fn usage_errors_are_one_line() {
         &["render"][..],
         &["-i", "a.obj", "-i", "b.obj"][..],
         &["batch", "--format", "xyz", "-d", "out", "a.obj"][..],
+        &["--prune-passes", "0", "-i", "x.obj"][..],
+        &["--prune-passes", "9", "-i", "x.obj"][..],
     ] {
         let out = delmesh().args(args).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);

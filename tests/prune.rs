@@ -112,3 +112,41 @@ fn pruning_removes_many_vertices_on_a_cad_part() {
         );
     }
 }
+
+/// Pruning in at most k passes: what the full run had after k passes. The
+/// added vertices never grow with k, k = MAX_PASSES is the full run, and
+/// every result is a valid Delaunay mesh whose file passes `check`.
+#[test]
+fn fewer_passes_stop_pruning_early_and_stay_delaunay() {
+    use delmesh::prune::{prune_passes, MAX_PASSES};
+    let dir = tempfile::tempdir().unwrap();
+    let path = common::data_dir().join("cad").join("rotor.obj");
+    let input = io::read_mesh(&path, &io::ReadOptions::default()).unwrap();
+    let mut refined = io::build_surface(&input, &path).unwrap();
+    let options = Options::default();
+    make_delaunay(&mut refined, &options).unwrap();
+    let mut full = refined.clone();
+    let full_stats = prune(&mut full, &options);
+    assert!(full_stats.passes >= 2, "{full_stats:?}: the test would see little");
+    let mut last_removed = 0;
+    for k in [1, 2, MAX_PASSES] {
+        let mut s = refined.clone();
+        let stats = prune_passes(&mut s, &options, k, None);
+        let what = format!("{k} passes: {stats:?}");
+        assert_eq!(stats.passes, k.min(full_stats.passes), "{what}");
+        assert!(
+            stats.removed >= last_removed && stats.removed <= full_stats.removed,
+            "{what}"
+        );
+        last_removed = stats.removed;
+        s.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(s.count_non_delaunay(delmesh::geometry::ACCEPT_TOLERANCE).0, 0, "{what}");
+        if k >= full_stats.passes {
+            assert_eq!((stats, &s.positions), (full_stats, &full.positions), "{what}");
+        }
+        let out = dir.path().join("pruned.obj");
+        io::write_obj(&out, &s.positions, &s.triangles()).unwrap();
+        let report = delmesh::check::check_files(&path, &out).unwrap();
+        assert!(report.passed(), "{what}: {:?}", report.failures);
+    }
+}

@@ -238,13 +238,14 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     let first_pass = FirstPass::new(&surface);
     let (options, out) = if args.smallest {
         let start = Instant::now();
-        let (options, mut out) = smallest(surface, &first_pass, input, options, args.jobs)?;
+        let passes = settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
+        let (options, mut out) = smallest(surface, &first_pass, input, options, args.jobs, passes)?;
         out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
         (options, out)
     } else {
         (
             *options,
-            refine_once(surface, &first_pass, input, options, settings.prune)?,
+            refine_once(surface, &first_pass, input, options, settings.prune())?,
         )
     };
     let t_write = Instant::now();
