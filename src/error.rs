@@ -79,8 +79,9 @@ pub enum Error {
 
 /// The input's edges between near-coincident vertices
 /// ([`InputFigures::near_coincident_edges`]), as an error reports them:
-/// samples around such an edge are finer than the coordinates can express,
-/// so refining there can stall or add millions of vertices.
+/// where marching cubes leaves such edges (crowds of vertices around a grid
+/// point, joined by needles), refining stalls or adds a hundred times the
+/// input's vertices, and welding them is the remedy.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NearCoincident {
     /// How many edges are shorter than [`NearCoincident::shorter_than`].

@@ -523,9 +523,9 @@ fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
 }
 
 /// Reads an OFF file (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`... and headerless files starting with the
-/// counts; also `OFF490 518 0`, the keyword glued to the counts as in the ModelNet datasets). Vertex lines give x y z first; whatever follows (normals, colour, texture coordinates) is
-/// skipped. Face lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are
-/// refused.
+/// counts; also `OFF490 518 0`, the keyword glued to the counts as in the ModelNet datasets). Vertex
+/// lines give x y z first; whatever follows (normals, colour, texture coordinates) is skipped. Face
+/// lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let mut lines = Lines::new(strip_bom(bytes));
     let Some((first_line, first)) = lines.next_meaningful() else {
