@@ -512,6 +512,34 @@ pub(crate) fn near_coincident_note(figures: &delmesh::mesh::InputFigures) -> Opt
     })
 }
 
+/// The note on an output with [`GROWTH_NOTE`] or more added vertices per
+/// input vertex: why (the smallest input angle), and what helps (pruning,
+/// unless `pruned`; a weld for marching cubes output). The user who feeds
+/// the mesh to a solver should know before paying for its size.
+pub(crate) fn growth_note(surface: &Surface, pruned: bool) -> Option<String> {
+    let n = surface.n_input_vertices;
+    let added = surface.positions.len().saturating_sub(n);
+    (n > 0 && added >= GROWTH_NOTE * n).then(|| {
+        format!(
+            "{:.0} added vertices per input vertex: the smallest input angle ({} rad) calls for vertices at its \
+             scale{}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
+            added as f64 / n as f64,
+            sig(surface.input_figures.min_angle),
+            if pruned {
+                ""
+            } else {
+                "; --prune or --smallest remove many of them"
+            }
+        )
+    })
+}
+
+/// Added vertices per input vertex from which [`growth_note`] speaks: needle
+/// meshes reach it (mpi_triang: 78 with the defaults; marching cubes output
+/// up to 70), CAD parts with slivers stay below (the anchor 8, the rotor
+/// 7.8), scans far below (the dragon 1.3).
+const GROWTH_NOTE: usize = 10;
+
 /// Edges shorter than this fraction of the mesh's size put its samples
 /// below what doubles can place at its coordinates: [`near_coincident_note`].
 const CERTAIN_TROUBLE: f64 = 1e-9;
@@ -1149,6 +1177,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 p.passes,
                 if p.passes == 1 { "" } else { "es" }
             );
+        }
+        if let Some(note) = growth_note(&out.surface, out.pruned.is_some() || args.smallest) {
+            say!("note    {note}");
         }
         if args.check {
             say!(

@@ -1149,6 +1149,53 @@ fn prune_passes_bound_the_pruning() {
     assert_eq!((eight, eight_bytes), (full, full_bytes));
 }
 
+/// An output with ten or more added vertices per input vertex says so and
+/// why: a marching-tetrahedra sphere over 12 cells with crossings clamped
+/// 1e-5 of a cell from the grid points gets 40 per input vertex; the note
+/// names pruning unless the run pruned; the bunny (0.17) gets no note.
+#[test]
+fn a_large_growth_is_explained() {
+    let dir = tempfile::tempdir().unwrap();
+    let (positions, triangles) = common::marching_sphere(12, 1e-5);
+    let input = dir.path().join("sphere.obj");
+    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let out = dir.path().join("out.obj");
+    let note = |flags: &[&str], input: &Path| -> Option<String> {
+        let run = refine(input, &out).args(flags).output().unwrap();
+        assert!(run.status.success(), "{flags:?}");
+        check_passes(input, &out);
+        let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+        stdout
+            .lines()
+            .find(|l| l.contains("added vertices per input vertex"))
+            .map(str::to_string)
+    };
+    let plain = note(&[], &input).unwrap();
+    assert!(
+        plain.starts_with("note    40 added vertices per input vertex: the smallest input angle (")
+            && plain.contains("--prune or --smallest")
+            && plain.contains("weld"),
+        "{plain}"
+    );
+    let pruned = note(&["--prune-passes", "1"], &input).unwrap();
+    assert!(!pruned.contains("--prune or --smallest"), "{pruned}");
+    assert_eq!(note(&[], &common::data_dir().join("bunny.obj")), None);
+    // batch says it on the file's line.
+    let out_dir = dir.path().join("batch");
+    let run = delmesh()
+        .arg("batch")
+        .arg("-d")
+        .arg(&out_dir)
+        .arg(&input)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success() && stdout.contains("40 added vertices per input vertex"),
+        "{stdout}"
+    );
+}
+
 /// `-all --check` checks each of the 18 files as soon as it is written
 /// (against the repaired input with --repair, written once and removed
 /// after): every file passes, and no temporary file is left.
