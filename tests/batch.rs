@@ -375,6 +375,21 @@ fn batch_smallest_writes_what_one_smallest_run_writes() {
     }
 }
 
+/// Runs `batch` on the one file `input` (with a CSV), which must stop with
+/// stuck edges: the batch fails, says so on one line, and the CSV keeps the
+/// kind of error. Returns that line.
+fn batch_stuck(input: &Path, out_dir: &Path, csv: &Path) -> String {
+    let (ok, stdout, stderr) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
+        &[input],
+    );
+    assert!(!ok, "{stdout}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let rows = std::fs::read_to_string(csv).unwrap();
+    assert!(rows.contains(",unsplittable,"), "{rows}");
+    stderr
+}
+
 /// A file stuck with the given settings is reported on one line that points
 /// to --smallest; with it, the file is written and passes the check.
 #[test]
@@ -382,20 +397,11 @@ fn batch_points_a_stuck_file_to_smallest() {
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("out");
-    let csv = dir.path().join("runs.csv");
-    let (ok, stdout, stderr) = batch(
-        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
-        &[&input],
-    );
-    assert!(!ok, "{stdout}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = batch_stuck(&input, &out_dir, &dir.path().join("runs.csv"));
     assert!(
         stderr.contains("neither split") && stderr.contains("--smallest"),
         "{stderr}"
     );
-    // The CSV keeps the kind of error.
-    let rows = std::fs::read_to_string(&csv).unwrap();
-    assert!(rows.contains(",unsplittable,"), "{rows}");
     let (ok, stdout, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--smallest"], &[&input]);
     assert!(ok, "{stdout}{stderr}");
     check_passes(&input, &out_dir.join(input.file_name().unwrap()));
@@ -408,25 +414,15 @@ fn batch_points_a_stuck_file_to_smallest() {
 #[test]
 fn batch_names_the_weld_for_near_coincident_vertices() {
     let dir = tempfile::tempdir().unwrap();
-    let (positions, triangles) = common::marching_sphere(8, 1e-10);
-    let input = dir.path().join("sphere.obj");
-    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let input = common::marching_sphere_obj(dir.path(), 8, 1e-10);
     let out_dir = dir.path().join("out");
-    let csv = dir.path().join("runs.csv");
-    let (ok, stdout, stderr) = batch(
-        &["-d", out_dir.to_str().unwrap(), "--stats-csv", csv.to_str().unwrap()],
-        &[&input],
-    );
-    assert!(!ok, "{stdout}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = batch_stuck(&input, &out_dir, &dir.path().join("runs.csv"));
     assert!(
         stderr.contains("neither split")
             && stderr.contains("--repair --weld-tolerance 2.5e-7 merges them")
             && !stderr.contains("--smallest"),
         "{stderr}"
     );
-    let rows = std::fs::read_to_string(&csv).unwrap();
-    assert!(rows.contains(",unsplittable,"), "{rows}");
     let weld = ["--repair", "--weld-tolerance", "2.5e-7"];
     let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], &weld].concat(), &[&input]);
     assert!(ok, "{stdout}{stderr}");

@@ -1036,9 +1036,7 @@ fn a_stuck_run_points_to_smallest() {
 #[test]
 fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
     let dir = tempfile::tempdir().unwrap();
-    let (positions, triangles) = common::marching_sphere(8, 1e-10);
-    let input = dir.path().join("sphere.obj");
-    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let input = common::marching_sphere_obj(dir.path(), 8, 1e-10);
     let (out, json) = (dir.path().join("out.obj"), dir.path().join("stats.json"));
     let run = refine(&input, &out).arg("--stats-json").arg(&json).output().unwrap();
     let (stdout, stderr) = (
@@ -1095,9 +1093,7 @@ fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
 #[test]
 fn a_failed_run_names_the_weld_for_less_close_vertices() {
     let dir = tempfile::tempdir().unwrap();
-    let (positions, triangles) = common::marching_sphere(12, 1e-7);
-    let input = dir.path().join("sphere.obj");
-    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let input = common::marching_sphere_obj(dir.path(), 12, 1e-7);
     let out = dir.path().join("out.obj");
     let run = refine(&input, &out).args(["--max-added", "5000"]).output().unwrap();
     let (stdout, stderr) = (
@@ -1156,9 +1152,7 @@ fn prune_passes_bound_the_pruning() {
 #[test]
 fn a_large_growth_is_explained() {
     let dir = tempfile::tempdir().unwrap();
-    let (positions, triangles) = common::marching_sphere(12, 1e-5);
-    let input = dir.path().join("sphere.obj");
-    std::fs::write(&input, common::triangles_obj(&positions, &triangles)).unwrap();
+    let input = common::marching_sphere_obj(dir.path(), 12, 1e-5);
     let out = dir.path().join("out.obj");
     let note = |flags: &[&str], input: &Path| -> Option<String> {
         let run = refine(input, &out).args(flags).output().unwrap();

@@ -203,8 +203,16 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// [`marching_sphere`] written as `dir/sphere.obj`; returns its path.
+pub fn marching_sphere_obj(dir: &std::path::Path, n: usize, tau: f64) -> PathBuf {
+    let (positions, triangles) = marching_sphere(n, tau);
+    let path = dir.join("sphere.obj");
+    std::fs::write(&path, triangles_obj(&positions, &triangles)).unwrap();
+    path
+}
+
 /// `positions` and `triangles` as OBJ text, coordinates in shortest round-trip form.
-pub fn triangles_obj(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
+fn triangles_obj(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
     let mut s = String::new();
     for p in positions {
         s += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]);
