@@ -300,7 +300,8 @@ enum Command {
     Render {
         /// The mesh to draw.
         mesh: PathBuf,
-        /// The picture to write: PNG for a .png name, SVG otherwise.
+        /// The picture to write: PNG for a .png name, SVG otherwise (never a
+        /// mesh name, MESH or the --input file).
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: PathBuf,
         /// The original mesh, to mark added vertices.
@@ -1755,6 +1756,22 @@ fn run_render(
     view: delmesh::render::View,
 ) -> anyhow::Result<ExitCode> {
     check_output_dir(output)?;
+    // A picture never replaces a mesh: neither one it reads nor, by a slip
+    // of the name, any other.
+    let picture = [("the picture".to_string(), output.to_path_buf())];
+    for read in std::iter::once(mesh).chain(input) {
+        refuse_same_files(read, None, &picture)?;
+    }
+    let name = output
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if io::formats::format_from_name(&name).is_some() {
+        bail!(
+            "{}: render writes a picture (SVG, or PNG for a .png name), not a mesh: name it .svg or .png",
+            output.display()
+        );
+    }
     let m = io::read_mesh(mesh, &io::ReadOptions::default())?;
     let original = input
         .map(|p| io::read_mesh(p, &io::ReadOptions::default()))

@@ -155,3 +155,47 @@ fn sweep_chart_has_a_bar_per_combination() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--all"));
 }
+
+/// `render` never writes its picture over a mesh: not over the mesh it
+/// draws, not over the `--input` original, and not to a mesh file name
+/// (a slip that would leave an SVG where a mesh is expected). Each is a
+/// one-line error, exit 1, with the file untouched.
+#[test]
+fn render_never_replaces_a_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("m.obj");
+    let original = dir.path().join("orig.obj");
+    std::fs::copy(common::data_dir().join("cube.obj"), &mesh).unwrap();
+    std::fs::copy(common::data_dir().join("cube.obj"), &original).unwrap();
+    let bytes = std::fs::read(&mesh).unwrap();
+    let same_mesh = dir.path().join(".").join("m.obj");
+    let picture_ply = dir.path().join("pic.ply");
+    let cases: [(Vec<&Path>, &str); 4] = [
+        (
+            vec![&mesh, Path::new("-o"), &mesh],
+            "the picture would overwrite the input",
+        ),
+        (
+            vec![&mesh, Path::new("-o"), &same_mesh],
+            "the picture would overwrite the input",
+        ),
+        (
+            vec![&mesh, Path::new("-i"), &original, Path::new("-o"), &original],
+            "the picture would overwrite the input",
+        ),
+        (
+            vec![&mesh, Path::new("-o"), &picture_ply],
+            "not a mesh: name it .svg or .png",
+        ),
+    ];
+    for (args, expected) in cases {
+        let out = delmesh().arg("render").args(&args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert_eq!(std::fs::read(&mesh).unwrap(), bytes);
+        assert_eq!(std::fs::read(&original).unwrap(), bytes);
+    }
+    assert!(!picture_ply.exists());
+}
