@@ -492,6 +492,24 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
     Ok(triangles)
 }
 
+/// Where the comment of an OBJ line starts (its length if none): at the
+/// first `#`, except one glued to a number as Windows prints NaN and
+/// infinity (`1.#QNAN`, `-1.#IND`, `1.#INF`), which stays in the number so
+/// that the number is refused rather than read as 1.
+fn comment_start(line: &[u8]) -> usize {
+    let windows_special = |i: usize| {
+        let rest = line[i + 1..].to_ascii_uppercase();
+        i > 0
+            && (line[i - 1].is_ascii_digit() || line[i - 1] == b'.')
+            && ["INF", "IND", "QNAN", "SNAN"]
+                .iter()
+                .any(|w| rest.starts_with(w.as_bytes()))
+    };
+    (0..line.len())
+        .find(|&i| line[i] == b'#' && !windows_special(i))
+        .unwrap_or(line.len())
+}
+
 /// The lines of an OBJ file that say what its surface is: `v` lines without colours, and `f`
 /// lines with each corner cut to its vertex index (`7/3/2` becomes `7`); comments (`#` anywhere on a line) and
 /// every other statement removed. The judge compares geometry only: texture coordinates,
@@ -500,7 +518,7 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
 fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(bytes.len());
     for line in bytes.split(|&c| c == b'\n') {
-        let code = line.split(|&c| c == b'#').next().unwrap_or(&[]);
+        let code = &line[..comment_start(line)];
         let mut words = code
             .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
             .filter(|w| !w.is_empty());

@@ -1229,3 +1229,36 @@ fn dragon_timing() {
     println!("dragon as OFF ({} bytes): read_off {:?}", off.len(), t.elapsed());
     assert_eq!(bits(&o.positions), bits(&m.positions));
 }
+
+/// Windows' C library prints NaN and infinity as `1.#QNAN`, `-1.#IND`,
+/// `1.#INF`: read as a number and a comment they would silently be ±1.
+/// OBJ and OFF (whose comments start at `#`) refuse them, and so does the
+/// judge; a `#` after a blank, or glued to anything else, still starts a
+/// comment.
+#[test]
+fn windows_nan_and_infinity_are_refused_not_read_as_one() {
+    use delmesh::io::obj::parse_obj;
+    for bad in ["1.#QNAN", "-1.#IND00", "1.#INF00", "1.#qnan", "-1.#SNAN"] {
+        let obj = format!("v 0 0 0\nv 1 0 0\nv 0 1 {bad}\nf 1 2 3\n");
+        let e = err_of(parse_obj(obj.as_bytes()));
+        assert_eq!(e.line, Some(3), "{bad}: {e}");
+        assert!(e.what.contains(&format!("non-finite coordinate '{bad}'")), "{e}");
+        let off = format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 {bad}\n3 0 1 2\n");
+        let e = err_of(read_off(off.as_bytes()));
+        assert_eq!(e.line, Some(5), "{bad}: {e}");
+        assert!(e.what.contains(bad), "{e}");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("w.obj");
+        std::fs::write(&path, &obj).unwrap();
+        assert!(delmesh::check::Mesh3::read_obj(&path).is_err(), "the judge read {bad}");
+    }
+    for fine in ["1 #QNAN", "1#comment", "1.5#", "x#INF"] {
+        let obj = format!("v 0 0 0\nv 1 0 0\nv 0 1 {fine}\nf 1 2 3\n");
+        let expected = fine.starts_with('x');
+        assert_eq!(parse_obj(obj.as_bytes()).is_err(), expected, "{fine}");
+    }
+    let raw = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 1.5#c\nf 1 2 3#INF\n");
+    assert!(raw.is_err(), "a face index glued to #INF is not an index");
+    let raw = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 1.5#c\nf 1 2 3#c\n").unwrap();
+    assert_eq!(raw.positions[2], [0.0, 1.0, 1.5]);
+}

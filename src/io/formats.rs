@@ -169,6 +169,25 @@ pub fn format_from_name(name: &str) -> Option<Format> {
     }
 }
 
+/// Where an OFF line's comment starts: at its first `#`, except one glued
+/// to a number as Windows prints NaN and infinity (`1.#QNAN`, `-1.#IND`,
+/// `1.#INF`), which stays in the number so that the number is refused
+/// rather than read as 1.
+fn comment_start(line: &[u8]) -> Option<usize> {
+    (0..line.len()).find(|&i| line[i] == b'#' && !is_windows_special(line, i))
+}
+
+/// Whether the `#` at `b[i]` continues a number as Windows' C library
+/// prints NaN and infinity: `1.#QNAN`, `-1.#IND`, `1.#INF`, `1.#SNAN`.
+pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
+    let after = &b[i + 1..];
+    let starts = |word: &[u8]| after.len() >= word.len() && after[..word.len()].eq_ignore_ascii_case(word);
+    b[i] == b'#'
+        && i > 0
+        && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.')
+        && (starts(b"INF") || starts(b"IND") || starts(b"QNAN") || starts(b"SNAN"))
+}
+
 /// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, "solid " +
 /// "facet" for ASCII STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
 /// (including gzip data: decompress first with [`maybe_gunzip`]).
@@ -451,7 +470,7 @@ impl<'a> Lines<'a> {
             self.pos += (end + 1).min(rest.len());
             self.line += 1;
             let mut line = &rest[..end];
-            if let Some(hash) = line.iter().position(|&c| c == b'#') {
+            if let Some(hash) = comment_start(line) {
                 line = &line[..hash];
             }
             if !line.iter().all(|&c| is_space(c)) {

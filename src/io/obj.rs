@@ -141,6 +141,13 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                     let tok = tokens
                         .next()
                         .ok_or_else(|| error(line_no, format!("vertex has {k} coordinates, needs 3")))?;
+                    if tok.contains('#') {
+                        let v = raw.positions.len() + 1;
+                        return Err(error(
+                            line_no,
+                            format!("vertex {v} has a non-finite coordinate '{tok}' (Windows' NaN or infinity)"),
+                        ));
+                    }
                     *c = parse_f64(tok.as_bytes())
                         .ok_or_else(|| error(line_no, format!("vertex coordinate '{tok}' is not a number")))?;
                     if !c.is_finite() {
@@ -553,7 +560,7 @@ impl<'a> Tokens<'a> {
         self.skip_blanks();
         let (value, end) = super::number::short_decimal_prefix(&b[self.i..])?;
         let after = self.i + end;
-        if after < b.len() && !is_token_end(b[after]) {
+        if after < b.len() && (!is_token_end(b[after]) || super::formats::is_windows_special(b, after)) {
             return None;
         }
         self.i = after;
@@ -572,7 +579,7 @@ impl<'a> Tokens<'a> {
             v = v * 10 + i64::from(b[i] - b'0');
             i += 1;
         }
-        if i == self.i || (i < b.len() && !is_token_end(b[i])) {
+        if i == self.i || (i < b.len() && (!is_token_end(b[i]) || super::formats::is_windows_special(b, i))) {
             return None;
         }
         self.i = i;
@@ -607,7 +614,7 @@ impl<'a> Tokens<'a> {
             return None;
         }
         let start = self.i;
-        while self.i < b.len() && !is_token_end(b[self.i]) {
+        while self.i < b.len() && (!is_token_end(b[self.i]) || super::formats::is_windows_special(b, self.i)) {
             self.i += 1;
         }
         // Both ends are at ASCII bytes (or the end of the text): char boundaries.
