@@ -167,8 +167,9 @@ struct RunArgs {
     vertex_map: Option<PathBuf>,
 
     /// Verify the output with `delmesh check` once written (against the
-    /// input, or with --repair the repaired input); if it fails, it is
-    /// renamed to OUTPUT.rejected and the exit status is 1. With -all,
+    /// input, or with --repair the repaired input); if it fails (or the
+    /// check cannot read it), it is renamed to OUTPUT.rejected and the exit
+    /// status is 1. With -all,
     /// every file, each as soon as it is written.
     #[arg(long = "check", requires = "output", conflicts_with = "no_refine")]
     check: bool,
@@ -1419,7 +1420,8 @@ impl std::error::Error for CheckFailed {}
 
 /// Runs the judge on `output` against `input` (or against the repaired
 /// input, written to a temporary file beside the output for the judge to
-/// read); an output that fails is renamed to `<output>.rejected`.
+/// read); an output that fails, or that the judge cannot read, is renamed
+/// to `<output>.rejected`.
 fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
     CheckReference::new(input, mesh, output)?.check(output)
 }
@@ -1456,27 +1458,32 @@ impl<'a> CheckReference<'a> {
     }
 
     /// Runs the judge on `output`; renames it to `<output>.rejected` if it
-    /// fails ([`CheckFailed`]).
+    /// fails, or if the judge cannot read the files ([`CheckFailed`]): an
+    /// output is left under its name only once verified.
     fn check(&self, output: &Path) -> anyhow::Result<()> {
         let reference = self.repaired.as_ref().map_or(self.input, |(_, f)| f.path());
-        let report = delmesh::check::check_files(reference, output)
-            .map_err(|e| anyhow::anyhow!("{}: check could not read it: {e}", output.display()))?;
-        if report.passed() {
-            return Ok(());
-        }
+        let why = match delmesh::check::check_files(reference, output) {
+            Ok(report) if report.passed() => return Ok(()),
+            Ok(report) => {
+                let more = report.failures.len() - 1;
+                format!(
+                    "failed the check: {}{}",
+                    report.failures[0],
+                    if more > 0 {
+                        format!(" (and {more} more)")
+                    } else {
+                        String::new()
+                    }
+                )
+            }
+            Err(e) => format!("the check could not read the files: {e}"),
+        };
         let mut rejected = output.as_os_str().to_owned();
         rejected.push(".rejected");
         std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
-        let more = report.failures.len() - 1;
         Err(CheckFailed(format!(
-            "{}: failed the check: {}{} (renamed to {})",
+            "{}: {why} (renamed to {})",
             output.display(),
-            report.failures[0],
-            if more > 0 {
-                format!(" (and {more} more)")
-            } else {
-                String::new()
-            },
             Path::new(&rejected).display()
         ))
         .into())
@@ -1891,5 +1898,13 @@ mod tests {
         io::write_mesh(&output, &surface.positions, &surface.triangles()).unwrap();
         check_output(&cube, &mesh, &output).unwrap();
         assert!(output.exists());
+        // One the judge cannot verify (here: its reference is unreadable)
+        // is not left standing as if verified either.
+        let missing = dir.path().join("missing.obj");
+        let e = check_output(&missing, &mesh, &output).unwrap_err();
+        assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
+        assert!(e.to_string().contains("the check could not read the files"), "{e}");
+        assert!(!output.exists());
+        assert!(dir.path().join("cube.obj.rejected").exists());
     }
 }

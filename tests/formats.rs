@@ -1262,3 +1262,23 @@ fn windows_nan_and_infinity_are_refused_not_read_as_one() {
     let raw = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 1.5#c\nf 1 2 3#c\n").unwrap();
     assert_eq!(raw.positions[2], [0.0, 1.0, 1.5]);
 }
+
+/// Names that are not UTF-8 (a Latin-1 group name, as old European
+/// exporters write) no longer make the file "not text": they are read with
+/// U+FFFD, with a note. A bad byte in a vertex line still refuses the file.
+#[test]
+fn latin1_names_are_read_with_a_note() {
+    use delmesh::io::obj::parse_obj;
+    let obj = b"# caf\xe9\ng gr\xe9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let raw = parse_obj(obj).unwrap();
+    assert_eq!(raw.positions.len(), 3);
+    assert!(
+        raw.notes
+            .iter()
+            .any(|n| n.contains("line 2: names") && n.contains("U+FFFD")),
+        "{:?}",
+        raw.notes
+    );
+    let e = err_of(parse_obj(b"v 0 0 0\nv 1 0 \xe9\nv 0 1 0\nf 1 2 3\n"));
+    assert_eq!(e.line, Some(2));
+}

@@ -100,15 +100,27 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let joined = join_continued_lines(bytes);
     let bytes = &joined[..];
     let lossy;
+    let mut renamed = None;
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
         Err(_) => {
-            // Bytes that are not UTF-8 are fine inside comments (Latin-1
-            // comments exist); anywhere else the file is not OBJ text.
+            // Bytes that are not UTF-8 are fine inside comments, and in the
+            // names of groups, objects and materials (old exporters write
+            // them in Latin-1): those are read with U+FFFD in their place,
+            // and a note says so. Anywhere else the file is not OBJ text.
             for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
                 let code = line.split(|&b| b == b'#').next().unwrap_or(&[]);
-                if std::str::from_utf8(code).is_err() {
-                    return Err(error(i + 1, "not text: this is not an OBJ file".into()));
+                if std::str::from_utf8(code).is_ok() {
+                    continue;
+                }
+                let keyword = code
+                    .split(|&b| matches!(b, b' ' | b'\t' | b'\r' | 0x0c | 0x0b))
+                    .find(|w| !w.is_empty());
+                match keyword {
+                    Some(b"g" | b"o" | b"usemtl" | b"mtllib") => {
+                        renamed.get_or_insert(i + 1);
+                    }
+                    _ => return Err(error(i + 1, "not text: this is not an OBJ file".into())),
                 }
             }
             lossy = String::from_utf8_lossy(bytes);
@@ -277,6 +289,11 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         }
     }
     (raw.attributes, raw.notes) = extra.finish(raw.positions.len(), &raw.indices);
+    if let Some(line) = renamed {
+        raw.notes.push(format!(
+            "line {line}: names (groups, objects, materials) that are not UTF-8 were read with U+FFFD in place of their bad bytes"
+        ));
+    }
     Ok(raw)
 }
 
