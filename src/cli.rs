@@ -844,9 +844,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         None if from_stdin => PathBuf::from("-"),
         None => input_path.to_owned(),
     };
-    if args.all && io::standard_stream(&output).is_some() {
+    if args.all && io::is_stream(&output) {
         bail!(
-            "-all writes {} files named after -o: give -o a file name, not a stream",
+            "-all writes {} files named after -o: give -o a file name, not a stream or device",
             sweep_combinations(args.extended).len()
         );
     }
@@ -1330,10 +1330,25 @@ fn all_combinations() -> Vec<Options> {
 
 /// `<stem>-<s|q|p>-<0|1|2>[-m].obj` beside `output`.
 fn combination_path(output: &Path, o: &Options) -> PathBuf {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
+    // A compressed name keeps its format's extension too: `n.ply.gz` gives
+    // `n-s-2-m.ply.gz` (gzipped PLY), not `n.ply-s-2-m.gz` (gzipped OBJ).
+    let name = output.file_name().map(|n| n.to_string_lossy().into_owned());
+    let (stem, ext) = match name.as_deref().map(|n| n.rsplit_once('.')) {
+        Some(Some((rest, gz))) if gz.eq_ignore_ascii_case("gz") => match rest.rsplit_once('.') {
+            Some((stem, ext)) if !stem.is_empty() => (stem.to_string(), format!("{ext}.{gz}")),
+            _ => (rest.to_string(), gz.to_string()),
+        },
+        _ => (
+            output
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "out".into()),
+            output
+                .extension()
+                .map(|e| e.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "obj".into()),
+        ),
+    };
     let ds = match o.worklist {
         Worklist::Stack => "s",
         Worklist::Queue => "q",
@@ -1345,10 +1360,6 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Score::AlwaysCenter => 2,
         Score::SplitAware => 3,
     };
-    let ext = output
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "obj".into());
     let name = format!("{stem}-{ds}-{score}{}.{ext}", if o.median { "-m" } else { "" });
     output.with_file_name(name)
 }
@@ -1873,6 +1884,13 @@ mod tests {
         );
         let o = Options::new(Worklist::PriorityQueue, Score::AlwaysCenter, false);
         assert_eq!(combination_path(Path::new("e.obj"), &o), Path::new("e-p-2.obj"));
+        assert_eq!(
+            combination_path(Path::new("d/n.ply.gz"), &o),
+            Path::new("d/n-p-2.ply.gz")
+        );
+        assert_eq!(combination_path(Path::new("n.OBJ.GZ"), &o), Path::new("n-p-2.OBJ.GZ"));
+        assert_eq!(combination_path(Path::new("n.gz"), &o), Path::new("n-p-2.gz"));
+        assert_eq!(combination_path(Path::new("n"), &o), Path::new("n-p-2.obj"));
         assert_eq!(all_combinations().len(), 18);
     }
 

@@ -1628,3 +1628,38 @@ fn an_extruded_gear_with_polygon_caps_keeps_its_shape() {
     assert!(!stdout.contains("note"), "{stdout}");
     check_passes(&input, &output);
 }
+
+/// `-all` with a compressed output name writes its 18 files in that
+/// format, compressed, under names that keep the format's extension
+/// (`n-s-2-m.ply.gz`, once `n.ply-s-2-m.gz` holding gzipped OBJ); a device
+/// as its output is refused like a stream (it once wrote 18 files into
+/// /dev beside /dev/null).
+#[test]
+fn all_keeps_compressed_formats_and_refuses_devices() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    refine(&cube, dir.path().join("n.ply.gz"))
+        .args(["-q", "-all"])
+        .assert()
+        .success();
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 18, "{names:?}");
+    assert!(
+        names.iter().all(|n| n.starts_with("n-") && n.ends_with(".ply.gz")),
+        "{names:?}"
+    );
+    let bytes = std::fs::read(dir.path().join("n-s-2-m.ply.gz")).unwrap();
+    let mut inflated = Vec::new();
+    std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut inflated).unwrap();
+    assert!(inflated.starts_with(b"ply\n"), "not PLY");
+    check_passes(&cube, &dir.path().join("n-s-2-m.ply.gz"));
+    let run = refine(&cube, "/dev/null").args(["-q", "-all"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("not a stream or device"), "{stderr}");
+    assert!(!Path::new("/dev/null-s-2-m.obj").exists());
+}
