@@ -223,7 +223,8 @@ struct Settings {
         long = "weld-tolerance",
         value_name = "DIST",
         default_value_t = 0.0,
-        requires = "repair"
+        requires = "repair",
+        value_parser = weld_distance
     )]
     weld_tolerance: f64,
 
@@ -593,6 +594,13 @@ fn score_name(s: Score) -> &'static str {
 
 /// An angle in degrees for `render`: any finite number (NaN or an
 /// infinity would draw nothing).
+fn weld_distance(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("{s:?} is not a distance (a finite number, 0 or more)")),
+    }
+}
+
 fn finite_degrees(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
@@ -897,6 +905,17 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if !args.no_refine && io::output_format(&output) == io::Format::Stl {
         bail!("{}: {STL_REFUSED}", output.display());
     }
+    // The repaired input is what `check` compares outputs with: it must
+    // hold the mesh exactly, which STL's f32 cannot (nor its triangle soup
+    // the copies repair makes to cut a surface apart).
+    if let Some(repaired) = &args.repaired {
+        if io::output_format(repaired) == io::Format::Stl {
+            bail!(
+                "{}: --repaired cannot be STL (its f32 coordinates and welded soup cannot hold the repaired mesh exactly): use OBJ, OFF or PLY",
+                repaired.display()
+            );
+        }
+    }
     let compressed = input_path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if in_place.is_some() && compressed {
         bail!(
@@ -927,12 +946,26 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let first_pass = FirstPass::new(&surface);
     let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
     if !args.quiet {
+        // With --repair the counts are the repaired mesh's (what is
+        // refined), said so; the file's faces in brackets.
+        let counts = if input.repair.is_some() {
+            format!(
+                "{} vertices, {} triangles after repair ({} faces in the file)",
+                input.positions.len(),
+                input.triangles.len(),
+                input.faces_in_file
+            )
+        } else {
+            format!(
+                "{} vertices, {} faces ({} triangles)",
+                input.positions.len(),
+                input.faces_in_file,
+                input.triangles.len()
+            )
+        };
         say!(
-            "input   {}: {} vertices, {} faces ({} triangles); min angle {} rad; edge length {} .. {}",
+            "input   {}: {counts}; min angle {} rad; edge length {} .. {}",
             input_path.display(),
-            input.positions.len(),
-            input.faces_in_file,
-            input.triangles.len(),
             sig(figures.min_angle),
             sig(figures.min_edge),
             sig(figures.max_edge)

@@ -75,6 +75,10 @@ pub struct RepairOptions {
 pub struct RepairReport {
     /// Input vertices merged into another (lower-index) vertex at the same or a close position.
     pub welded_vertices: usize,
+    /// Welded vertices that moved as far as the tolerance or farther: welding chains (see
+    /// [`RepairOptions::weld_tolerance`]), and these say the tolerance is not small beside the
+    /// mesh's own detail.
+    pub chained_vertices: usize,
     /// Faces dropped because they use a vertex twice (after welding).
     pub repeated_vertex_faces: usize,
     /// Faces dropped because their three corners are exactly collinear.
@@ -98,8 +102,13 @@ pub struct RepairReport {
 impl RepairReport {
     /// One human-readable line per kind of change that happened, e.g. `"welded 263 vertices"`.
     pub fn lines(&self) -> Vec<String> {
-        let kinds: [(usize, &str, &str); 9] = [
+        let kinds: [(usize, &str, &str); 10] = [
             (self.welded_vertices, "welded {} vertex", "welded {} vertices"),
+            (
+                self.chained_vertices,
+                "moved {} vertex as far as the weld tolerance or farther (close vertices chain: a smaller tolerance keeps the shape)",
+                "moved {} vertices as far as the weld tolerance or farther (close vertices chain: a smaller tolerance keeps the shape)",
+            ),
             (
                 self.repeated_vertex_faces,
                 "removed {} face with a repeated vertex",
@@ -197,6 +206,7 @@ pub fn repair(positions: &[[f64; 3]], triangles: &[[u32; 3]], options: &RepairOp
 
     let rep = weld(positions, options.weld_tolerance);
     report.welded_vertices = rep.iter().enumerate().filter(|&(i, &r)| r as usize != i).count();
+    report.chained_vertices = chained(positions, &rep, options.weld_tolerance);
 
     let faces = filter_faces(positions, triangles, &rep, &mut report);
     let groups = EdgeGroups::build(&faces.verts, positions.len());
@@ -377,6 +387,21 @@ fn same_direction(verts: &[[u32; 3]], a: usize, b: usize) -> bool {
 // Step 1: welding
 
 /// Maps every vertex to the lowest-index vertex of its weld cluster.
+/// How many vertices welding moved by `tolerance` or more (through a chain of closer ones).
+fn chained(positions: &[[f64; 3]], rep: &[u32], tolerance: f64) -> usize {
+    if !(tolerance > 0.0) {
+        return 0;
+    }
+    let moved = |i: usize| {
+        let (p, q) = (positions[i], positions[rep[i] as usize]);
+        let d2: f64 = (0..3).map(|k| (p[k] - q[k]) * (p[k] - q[k])).sum();
+        d2 >= tolerance * tolerance
+    };
+    (0..positions.len())
+        .filter(|&i| rep[i] as usize != i && moved(i))
+        .count()
+}
+
 fn weld(positions: &[[f64; 3]], tolerance: f64) -> Vec<u32> {
     if tolerance == f64::INFINITY {
         return vec![0; positions.len()];
