@@ -389,7 +389,7 @@ fn same_direction(verts: &[[u32; 3]], a: usize, b: usize) -> bool {
 /// Maps every vertex to the lowest-index vertex of its weld cluster.
 /// How many vertices welding moved by `tolerance` or more (through a chain of closer ones).
 fn chained(positions: &[[f64; 3]], rep: &[u32], tolerance: f64) -> usize {
-    if !(tolerance > 0.0) {
+    if tolerance.is_nan() || tolerance <= 0.0 {
         return 0;
     }
     let moved = |i: usize| {
