@@ -343,6 +343,13 @@ trailing garbage is ignored\n";
     assert_eq!(sniff_format(text.as_bytes()), Some(Format::Ply));
     let m = read_ply(text.as_bytes()).unwrap();
     check_invariants(&m);
+    assert!(
+        m.notes
+            .iter()
+            .any(|n| n.starts_with("line 38: data after the elements")),
+        "{:?}",
+        m.notes
+    );
     assert_eq!(
         m.positions,
         vec![
@@ -428,6 +435,11 @@ fn ply_binary_little_and_big_endian_handwritten() {
         assert_eq!(sniff_format(&bytes), Some(Format::Ply));
         let m = read_ply(&bytes).unwrap_or_else(|e| panic!("big={big}: {e}"));
         check_invariants(&m);
+        assert!(
+            m.notes.iter().any(|n| n.starts_with("14 bytes after the elements")),
+            "{:?}",
+            m.notes
+        );
         assert_eq!(
             m.positions,
             vec![
@@ -1281,4 +1293,37 @@ fn latin1_names_are_read_with_a_note() {
     );
     let e = err_of(parse_obj(b"v 0 0 0\nv 1 0 \xe9\nv 0 1 0\nf 1 2 3\n"));
     assert_eq!(e.line, Some(2));
+}
+
+/// A header that declares fewer faces than its file holds (or trailing
+/// data that could be more faces) is read as other readers read it, by its
+/// counts, but no longer silently: a note says what was ignored, since the
+/// mesh then has holes. A few stray bytes (a final newline) say nothing.
+#[test]
+fn data_after_the_declared_faces_gets_a_note() {
+    let off = "OFF\n4 3 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    let m = read_off(off.as_bytes()).unwrap();
+    assert_eq!(m.face_start.len() - 1, 3);
+    assert_eq!(
+        m.notes,
+        vec!["line 10: data after the 3 faces the OFF header declares ignored (if its counts are wrong, faces are missing)"]
+    );
+    assert!(read_off(off.rsplit_once("3 0 3 2\n").unwrap().0.as_bytes())
+        .unwrap()
+        .notes
+        .is_empty());
+    let tetra = [
+        [[0.0f32, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    ];
+    let mut stl = binary_stl(b"x", &tetra);
+    stl[80..84].copy_from_slice(&3u32.to_le_bytes());
+    let m = read_stl(&stl).unwrap();
+    assert_eq!(m.face_start.len() - 1, 3);
+    assert_eq!(m.notes.len(), 1, "{:?}", m.notes);
+    assert!(m.notes[0].starts_with("50 bytes after the 3 facets"), "{:?}", m.notes);
+    stl.truncate(84 + 3 * 50 + 2);
+    assert!(read_stl(&stl).unwrap().notes.is_empty());
 }

@@ -684,7 +684,16 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         }
         b.end_face(line)?;
     }
-    b.finish()
+    // More after the declared faces is ignored, as other readers do; but
+    // the header's counts may be wrong, and the mesh then has holes: said.
+    let after = lines.next_meaningful().map(|(line, _)| line);
+    let mut m = b.finish()?;
+    if let Some(line) = after {
+        m.notes.push(format!(
+            "line {line}: data after the {nf} faces the OFF header declares ignored (if its counts are wrong, faces are missing)"
+        ));
+    }
+    Ok(m)
 }
 
 /// An index read from a file as u32: negative or too large is an error naming face `f`.
@@ -1123,6 +1132,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         return Err(FormatError::new("the PLY header declares no vertex element"));
     }
     let ascii = header.encoding == PlyEncoding::Ascii;
+    let mut trailing = None;
     let mut b = Builder::new(if ascii { OriginKind::Line } else { OriginKind::Record });
     if has_colors {
         b.m.colors = Some(Vec::new());
@@ -1134,6 +1144,9 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
                 read_ascii_element(&mut tokens, el, roles, *kind, &mut b)?;
             }
+            if let Some((_, line)) = tokens.next() {
+                trailing = Some(format!("line {line}: data"));
+            }
         }
         PlyEncoding::Binary { big } => {
             let mut reader = BinReader {
@@ -1144,11 +1157,26 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
                 read_binary_element(&mut reader, el, roles, *kind, &mut b)?;
             }
+            // Room for another record of the last element (a few stray
+            // bytes, such as a final newline, are not worth a word).
+            if let Some(last) = header.elements.iter().rev().find(|e| !e.props.is_empty()) {
+                let record = min_record_size(last);
+                if record > 0 && reader.remaining() as u64 >= record {
+                    trailing = Some(format!("{} bytes", reader.remaining()));
+                }
+            }
         }
     }
     let channels = std::mem::take(&mut b.channels);
     let mut m = b.finish()?;
     channels.finish(&mut m);
+    // Data after the declared elements is ignored, as other readers do; but
+    // the header's counts may be wrong, and the mesh then has holes: said.
+    if let Some(what) = trailing {
+        m.notes.push(format!(
+            "{what} after the elements the PLY header declares ignored (if its counts are wrong, faces are missing)"
+        ));
+    }
     Ok(m)
 }
 
@@ -1398,14 +1426,7 @@ fn read_binary_element(
     if el.count == 0 || el.props.is_empty() {
         return Ok(());
     }
-    let min_size: u64 = el
-        .props
-        .iter()
-        .map(|p| match p.ty {
-            PropType::Scalar(t) => t.size() as u64,
-            PropType::List { count, .. } => count.size() as u64,
-        })
-        .sum();
+    let min_size = min_record_size(el);
     let remaining = r.remaining();
     if el.count > remaining as u64 / min_size {
         return Err(too_many(el, remaining));
@@ -1496,10 +1517,21 @@ fn binary_stl_size(bytes: &[u8]) -> Option<(u32, u64)> {
     Some((n, 84 + 50 * u64::from(n)))
 }
 
+/// The fewest bytes a binary record of `el` takes (its lists empty).
+fn min_record_size(el: &PlyElement) -> u64 {
+    el.props
+        .iter()
+        .map(|p| match p.ty {
+            PropType::Scalar(t) => t.size() as u64,
+            PropType::List { count, .. } => count.size() as u64,
+        })
+        .sum()
+}
+
 /// Reads an STL file, ASCII or binary, decided by content: a file that starts with `solid` is read as
 /// ASCII, unless that fails (or leaves non-whitespace behind) and its size fits a binary STL with the
 /// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". Bytes after the
-/// last facet are ignored. STL has no shared vertices: each facet gives 3 positions (more for an ASCII
+/// last facet are ignored (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
 /// `outer loop` with more vertices). Binary origins are facet record numbers.
 pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     if bytes.is_empty() {
@@ -1537,6 +1569,15 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             bytes.len()
         )));
     }
+    // Bytes after the declared facets are ignored, as other readers do; but
+    // room for whole facets there may mean a wrong count, and holes: said.
+    let extra = bytes.len() as u64 - need;
+    let trailing = (extra >= 50).then(|| {
+        format!(
+            "{extra} bytes after the {n} facets the binary STL header declares ignored (room for {} more: if its count is wrong, facets are missing)",
+            extra / 50
+        )
+    });
     let n = n as usize;
     if n > u32::MAX as usize / 3 {
         return Err(FormatError::new(format!(
@@ -1559,7 +1600,9 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         }
         b.end_face(f as u64)?;
     }
-    b.finish()
+    let mut m = b.finish()?;
+    m.notes.extend(trailing);
+    Ok(m)
 }
 
 /// Reads ASCII STL; returns the mesh and the offset just after the last `endsolid` line.
