@@ -438,3 +438,22 @@ fn batch_names_the_weld_for_near_coincident_vertices() {
         .success();
     check_passes(&repaired, &out_dir.join("sphere.obj"));
 }
+
+/// A folder's files are found by extension whatever the rest of their
+/// name: one whose name is not UTF-8 was skipped without a word (it was
+/// refined when named directly). Its output keeps the name's bytes.
+#[cfg(unix)]
+#[test]
+fn a_folder_includes_names_that_are_not_utf8() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir(&inputs).unwrap();
+    let odd = std::ffi::OsStr::from_bytes(b"bad\xff.obj");
+    std::fs::copy(common::data_dir().join("cube.obj"), inputs.join(odd)).unwrap();
+    std::fs::copy(common::data_dir().join("cube.obj"), inputs.join("plain.obj")).unwrap();
+    let out = dir.path().join("out");
+    let (ok, stdout, stderr) = batch(&["-q", "-d", out.to_str().unwrap()], &[&inputs]);
+    assert!(ok, "{stdout}{stderr}");
+    assert!(out.join(odd).exists() && out.join("plain.obj").exists());
+}

@@ -155,10 +155,11 @@ fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
         let mut found = Vec::new();
         for entry in std::fs::read_dir(input).with_context(|| input.display().to_string())? {
             let path = entry.with_context(|| input.display().to_string())?.path();
+            // By extension (ASCII), whatever the rest of the name: a name
+            // that is not UTF-8 is a mesh file like any other.
             let is_mesh = path
                 .file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| io::formats::format_from_name(n).is_some());
+                .is_some_and(|n| io::formats::format_from_name(&n.to_string_lossy()).is_some());
             if is_mesh && !path.is_dir() {
                 found.push(path);
             }
