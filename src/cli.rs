@@ -1164,12 +1164,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             return Err(e);
         }
     }
+    // The mesh is written (and checked): a side file that fails now says so.
+    let mesh_written = |e: anyhow::Error| e.context(format!("{} is written and complete, but", output.display()));
     if let Some(map) = &args.vertex_map {
-        write_vertex_map(map, &out.surface, &input, &written)?;
+        write_vertex_map(map, &out.surface, &input, &written).map_err(mesh_written)?;
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = out.record(options, &output, write_s);
-    let total = report.write(&[run], true)?;
+    let total = report.write(&[run], true).map_err(mesh_written)?;
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));

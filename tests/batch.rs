@@ -457,3 +457,31 @@ fn a_folder_includes_names_that_are_not_utf8() {
     assert!(ok, "{stdout}{stderr}");
     assert!(out.join(odd).exists() && out.join("plain.obj").exists());
 }
+
+/// With --vertex-maps a file is finished only with its map: when the map
+/// cannot be written the output is taken back (it stood as finished, and
+/// --skip-existing then never made the map), and --skip-existing redoes a
+/// file whose map is missing.
+#[test]
+fn an_output_without_its_vertex_map_is_not_finished() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let cube = common::data_dir().join("cube.obj");
+    let map = out.join("cube.vertex-map.csv");
+    std::fs::create_dir_all(&map).unwrap(); // a folder where the map goes
+    let d = out.to_str().unwrap();
+    let (ok, _, stderr) = batch(&["-q", "-d", d, "--vertex-maps"], &[&cube]);
+    assert!(!ok);
+    assert!(stderr.contains("cube.obj removed again"), "{stderr}");
+    assert!(!out.join("cube.obj").exists());
+    std::fs::remove_dir(&map).unwrap();
+    let (ok, _, stderr) = batch(&["-q", "-d", d], &[&cube]);
+    assert!(ok, "{stderr}");
+    assert!(!map.exists());
+    let (ok, stdout, stderr) = batch(&["-d", d, "--vertex-maps", "--skip-existing"], &[&cube]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("1 written, 0 skipped"), "{stdout}");
+    assert!(map.exists());
+    let (ok, stdout, _) = batch(&["-d", d, "--vertex-maps", "--skip-existing"], &[&cube]);
+    assert!(ok && stdout.contains("0 written, 1 skipped"), "{stdout}");
+}

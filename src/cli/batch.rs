@@ -70,7 +70,7 @@ pub(super) struct BatchArgs {
 
     /// Skip the inputs whose output exists already, e.g. to resume an
     /// interrupted batch (outputs are written atomically, so an existing
-    /// one is complete).
+    /// one is complete; with --vertex-maps, only if its map exists too).
     #[arg(long = "skip-existing")]
     skip_existing: bool,
 
@@ -260,7 +260,12 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         check_output(input, &mesh, output)?;
     }
     if args.vertex_maps {
-        write_vertex_map(&vertex_map_path(output), &out.surface, &mesh, &written)?;
+        // An output stands for a finished file (--skip-existing skips it):
+        // without its vertex map it is taken back.
+        if let Err(e) = write_vertex_map(&vertex_map_path(output), &out.surface, &mesh, &written) {
+            let _ = std::fs::remove_file(output);
+            return Err(e.context(format!("{} removed again", output.display())));
+        }
     }
     Ok(Done {
         record: out.record(options, output, seconds_write),
@@ -332,7 +337,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             if i >= n {
                 break;
             }
-            let done = if args.skip_existing && outputs[i].exists() {
+            let finished = |out: &Path| out.exists() && (!args.vertex_maps || vertex_map_path(out).exists());
+            let done = if args.skip_existing && finished(&outputs[i]) {
                 Ok(None)
             } else {
                 refine_file(&inputs[i], &outputs[i], args, &options).map(Some)
