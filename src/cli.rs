@@ -25,11 +25,26 @@ macro_rules! say {
                 let _ = writeln!(std::io::stderr(), $($arg)*);
             } else {
                 let mut out = std::io::stdout().lock();
-                let _ = writeln!(out, $($arg)*);
-                let _ = out.flush();
+                let written = writeln!(out, $($arg)*).and_then(|()| out.flush());
+                crate::cli::note_stdout_result(written);
             }
         });
     }};
+}
+
+/// The first error writing to standard output other than a closed pipe
+/// (`delmesh batch ... | head` is no failure), such as a full disk: the
+/// printout is what a script reads, so losing it fails the run (exit 1).
+static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
+/// Remembers `result` of a write to standard output (see [`STDOUT_ERROR`]).
+pub(crate) fn note_stdout_result(result: std::io::Result<()>) {
+    if let Err(e) = result {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+            first.get_or_insert_with(|| e.to_string());
+        }
+    }
 }
 
 /// Set when a run writes a file to standard output (`-o -`, `--stats-json
@@ -429,7 +444,7 @@ pub fn main() -> ExitCode {
         None => run(&cli.run),
     };
     match result {
-        Ok(code) => code,
+        Ok(code) => with_stdout_checked(code),
         Err(e) => {
             complain!("delmesh: {}", one_line(&e));
             ExitCode::from(1)
@@ -437,10 +452,25 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// Writes generated text to stdout (a closed stdout is not an error).
+/// `code`, unless writing to standard output failed: then that error is
+/// said and the exit status is 1.
+fn with_stdout_checked(code: ExitCode) -> ExitCode {
+    let error = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner()).take();
+    match error {
+        Some(e) => {
+            complain!("delmesh: standard output: cannot write: {e}");
+            ExitCode::from(1)
+        }
+        None => code,
+    }
+}
+
+/// Writes generated text to stdout (a closed pipe is not an error; a full
+/// disk is, see [`STDOUT_ERROR`]).
 fn print_bytes(bytes: &[u8]) -> anyhow::Result<ExitCode> {
     use std::io::Write as _;
-    let _ = std::io::stdout().write_all(bytes);
+    let mut out = std::io::stdout().lock();
+    note_stdout_result(out.write_all(bytes).and_then(|()| out.flush()));
     Ok(ExitCode::SUCCESS)
 }
 
@@ -452,8 +482,11 @@ fn usage_error(e: clap::Error) -> ExitCode {
     if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion)
         || e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
     {
-        let _ = e.print();
-        return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        let printed = e.print().and_then(|()| std::io::Write::flush(&mut std::io::stdout()));
+        if !e.use_stderr() {
+            note_stdout_result(printed);
+        }
+        return with_stdout_checked(ExitCode::from(if e.use_stderr() { 2 } else { 0 }));
     }
     complain!("delmesh: {} (see --help)", usage_line(&e.to_string()));
     ExitCode::from(2)

@@ -1663,3 +1663,41 @@ fn all_keeps_compressed_formats_and_refuses_devices() {
     assert!(stderr.contains("not a stream or device"), "{stderr}");
     assert!(!Path::new("/dev/null-s-2-m.obj").exists());
 }
+
+/// Standard output that cannot be written (a full disk) fails the run with
+/// one line and exit 1: `delmesh man > delmesh.1` on a full disk said
+/// nothing and exited 0. A closed pipe (`| head`) is no failure.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
+    let full = || std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.obj");
+    let cube = common::data_dir().join("cube.obj");
+    let runs: [Vec<std::ffi::OsString>; 4] = [
+        vec!["man".into()],
+        vec!["--version".into()],
+        vec!["completions".into(), "bash".into()],
+        vec!["-i".into(), cube.clone().into(), "-o".into(), out.clone().into()],
+    ];
+    for args in runs {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
+            .args(&args)
+            .stdout(full())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("standard output: cannot write"), "{stderr}");
+    }
+    assert!(out.exists(), "the mesh itself is written");
+    // `| head -c 1`: the reader closes the pipe early.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
+        .arg("man")
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    assert!(child.wait().unwrap().success());
+}
