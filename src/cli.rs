@@ -1907,7 +1907,11 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         );
         Ok(ExitCode::SUCCESS)
     } else {
-        say!("FAILED  {} failure(s)", report.failures.len());
+        say!(
+            "FAILED  {} is not a Delaunay mesh with the geometry of {}",
+            output.display(),
+            input.display()
+        );
         Ok(ExitCode::from(1))
     }
 }

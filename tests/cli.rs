@@ -1701,3 +1701,45 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
     drop(child.stdout.take());
     assert!(child.wait().unwrap().success());
 }
+
+/// Messages that once misled: a repeated face was called an orientation
+/// problem, classic Mac OS line ends a vertex line of too many numbers,
+/// batch's output folder naming a file "File exists"; check's last line
+/// counted printed lines as failures.
+#[test]
+fn messages_name_the_real_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let one_line_error = |args: &[&std::ffi::OsStr]| {
+        let run = delmesh().args(args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        stderr
+    };
+    let out = dir.path().join("o.obj");
+    let dup = dir.path().join("dup.obj");
+    std::fs::write(&dup, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 2 3\n").unwrap();
+    let e = one_line_error(&["-i".as_ref(), dup.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert!(
+        e.contains("line 7: face repeats the one at line 5 (duplicate face)"),
+        "{e}"
+    );
+    let mac = dir.path().join("mac.obj");
+    std::fs::write(&mac, "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r").unwrap();
+    let e = one_line_error(&["-i".as_ref(), mac.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert!(e.contains("carriage return alone"), "{e}");
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "").unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let e = one_line_error(&["batch".as_ref(), "-d".as_ref(), file.as_os_str(), cube.as_os_str()]);
+    assert!(e.contains("names a file, not a folder"), "{e}");
+    let run = delmesh().arg("check").arg(&cube).arg(&cube).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert_eq!(run.status.code(), Some(1));
+    let last = stdout.lines().last().unwrap_or_default();
+    let expected = format!(
+        "FAILED  {0} is not a Delaunay mesh with the geometry of {0}",
+        cube.display()
+    );
+    assert_eq!(last, expected);
+}

@@ -285,6 +285,12 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     }
     let inputs = expand(&args.inputs)?;
     let outputs = plan(&inputs, &args.out_dir, args.format, args.vertex_maps)?;
+    if args.out_dir.exists() && !args.out_dir.is_dir() {
+        bail!(
+            "{}: the output folder names a file, not a folder",
+            args.out_dir.display()
+        );
+    }
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
     check_output_dir(&outputs[0])?;

@@ -467,12 +467,31 @@ pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
                 v(a),
                 v(b)
             ),
-            TopologyError::InconsistentOrientation { face, a, b } => format!(
-                "{}: face runs along edge {} -> {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
-                at(face),
-                v(a),
-                v(b)
-            ),
+            TopologyError::InconsistentOrientation { face, a, b } => {
+                // The other face along a -> b; if it has the same corners,
+                // this is a repeated face, not an orientation problem.
+                let runs_along = |t: &[u32; 3]| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+                let mut corners = input.triangles[face];
+                corners.sort_unstable();
+                let twin = (0..input.triangles.len()).find(|&f| {
+                    let mut other = input.triangles[f];
+                    other.sort_unstable();
+                    f != face && other == corners && runs_along(&input.triangles[f])
+                });
+                match twin {
+                    Some(first) => format!(
+                        "{}: face repeats the one at {} (duplicate face){REPAIR_HINT}",
+                        at(face),
+                        at(first)
+                    ),
+                    None => format!(
+                        "{}: face runs along edge {} -> {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
+                        at(face),
+                        v(a),
+                        v(b)
+                    ),
+                }
+            }
             TopologyError::NonManifoldVertex { vertex } => format!(
                 "vertex {}: its faces form more than one fan (non-manifold vertex){REPAIR_HINT}",
                 v(vertex)

@@ -97,6 +97,14 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
+    // Classic Mac OS text ends lines with CR alone: read as one long line,
+    // it would be refused for a reason that misleads.
+    if bytes.contains(&b'\r') && !bytes.contains(&b'\n') {
+        return Err(error(
+            1,
+            "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds".into(),
+        ));
+    }
     let joined = join_continued_lines(bytes);
     let bytes = &joined[..];
     let lossy;
