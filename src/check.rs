@@ -502,12 +502,12 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
 /// that the number is refused rather than read as 1.
 fn comment_start(line: &[u8]) -> usize {
     let windows_special = |i: usize| {
-        let rest = line[i + 1..].to_ascii_uppercase();
+        let rest = &line[i + 1..];
         i > 0
             && (line[i - 1].is_ascii_digit() || line[i - 1] == b'.')
             && ["INF", "IND", "QNAN", "SNAN"]
                 .iter()
-                .any(|w| rest.starts_with(w.as_bytes()))
+                .any(|w| rest.len() >= w.len() && rest[..w.len()].eq_ignore_ascii_case(w.as_bytes()))
     };
     (0..line.len())
         .find(|&i| line[i] == b'#' && !windows_special(i))
