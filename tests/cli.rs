@@ -1743,3 +1743,41 @@ fn messages_name_the_real_problem() {
     );
     assert_eq!(last, expected);
 }
+
+/// The command line takes a weld tolerance only as a finite distance of 0
+/// or more (NaN and negatives were silently taken as 0, infinity welded
+/// everything), refuses an STL `--repaired` (f32 cannot hold it, and the
+/// judge would weld its cut copies back), and after a repair the input
+/// line counts the repaired mesh and says so.
+#[test]
+fn weld_tolerance_and_repaired_file_are_checked_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let out = dir.path().join("o.obj");
+    for bad in ["nan", "-1", "inf", "x"] {
+        let tolerance = format!("--weld-tolerance={bad}");
+        let run = refine(&cube, &out).args(["--repair", &tolerance]).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{bad}: {stderr}");
+        assert!(stderr.contains("is not a distance"), "{stderr}");
+    }
+    let stl = dir.path().join("r.stl");
+    let run = refine(&cube, &out)
+        .args(["--repair", "--repaired"])
+        .arg(&stl)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--repaired cannot be STL"), "{stderr}");
+    assert!(!stl.exists() && !out.exists());
+    let bunny = common::data_dir().join("bunny.obj");
+    let run = refine(&bunny, &out)
+        .args(["--repair", "--weld-tolerance", "0.4"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(stdout.contains("triangles after repair ("), "{stdout}");
+    assert!(stdout.contains("as far as the weld tolerance or farther"), "{stdout}");
+}
