@@ -416,9 +416,9 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
         reason,
     };
     // A UTF-8 byte order mark (some Windows exporters write one) is no
-    // statement: without this, tobj reads `\u{feff}v` as an unknown
-    // statement and loses the first vertex.
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    // statement, as for the construction's readers: tobj would read
+    // `\u{feff}v` as an unknown statement and lose the first vertex.
+    let bytes = crate::io::formats::strip_bom(bytes);
     // OBJ's line continuations joined as the construction's reader joins
     // them (a shared piece of reading, like the polygon rule).
     let bytes = &geometry_lines(&crate::io::obj::join_continued_lines(bytes));

@@ -625,8 +625,8 @@ fn score_name(s: Score) -> &'static str {
     }
 }
 
-/// An angle in degrees for `render`: any finite number (NaN or an
-/// infinity would draw nothing).
+/// A weld tolerance: a finite distance, 0 or more (NaN and negatives would
+/// weld nothing without a word, infinity everything).
 fn weld_distance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
@@ -634,6 +634,8 @@ fn weld_distance(s: &str) -> Result<f64, String> {
     }
 }
 
+/// An angle in degrees for `render`: any finite number (NaN or an
+/// infinity would draw nothing).
 fn finite_degrees(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),

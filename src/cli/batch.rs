@@ -59,7 +59,8 @@ pub(super) struct BatchArgs {
     /// Verify every output with `delmesh check` (against the input, or with
     /// --repair the repaired input) before counting it as written. An
     /// output that fails (or that the check cannot read) is renamed to
-    /// NAME.rejected and the file counts as failed. Checking takes a few times longer than refining.
+    /// NAME.rejected and the file counts as failed. Checking takes a few
+    /// times longer than refining.
     #[arg(long = "check")]
     check: bool,
 

@@ -180,10 +180,12 @@ fn comment_start(line: &[u8]) -> Option<usize> {
 /// Whether the `#` at `b[i]` continues a number as Windows' C library
 /// prints NaN and infinity: `1.#QNAN`, `-1.#IND`, `1.#INF`, `1.#SNAN`.
 pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
+    if b[i] != b'#' {
+        return false;
+    }
     let after = &b[i + 1..];
     let starts = |word: &[u8]| after.len() >= word.len() && after[..word.len()].eq_ignore_ascii_case(word);
-    b[i] == b'#'
-        && i > 0
+    i > 0
         && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.')
         && (starts(b"INF") || starts(b"IND") || starts(b"QNAN") || starts(b"SNAN"))
 }
