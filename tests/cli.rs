@@ -1511,7 +1511,7 @@ fn two_outputs_naming_one_file_are_refused() {
 }
 
 /// An output named `.gz` is gzip-compressed (as inputs may be), and an OBJ
-/// that starts with a UTF-8 byte order mark reads like one without.
+/// or PLY that starts with a UTF-8 byte order mark reads like one without.
 #[test]
 fn gzip_outputs_and_byte_order_marks() {
     let dir = tempfile::tempdir().unwrap();
@@ -1545,6 +1545,25 @@ fn gzip_outputs_and_byte_order_marks() {
     let from_bare = dir.path().join("from-bare.obj");
     refine(&bare, &from_bare).arg("-q").arg("--check").assert().success();
     check_passes(&bare, &from_bare);
+    // PLY too (binary here), by name and by content on standard input.
+    let ply = dir.path().join("cube.ply");
+    refine(&cube, &ply).args(["-q", "--no-refine"]).assert().success();
+    let bom_ply = dir.path().join("bom.ply");
+    let mut text = b"\xEF\xBB\xBF".to_vec();
+    text.extend(std::fs::read(&ply).unwrap());
+    std::fs::write(&bom_ply, &text).unwrap();
+    let from_bom_ply = dir.path().join("from-bom-ply.obj");
+    refine(&bom_ply, &from_bom_ply).arg("-q").assert().success();
+    assert_eq!(std::fs::read(&from_bom_ply).unwrap(), std::fs::read(&plain).unwrap());
+    check_passes(&bom_ply, &from_bom_ply);
+    let piped = Command::cargo_bin("delmesh")
+        .unwrap()
+        .args(["-i", "-", "-o", "-", "-q"])
+        .write_stdin(text)
+        .output()
+        .unwrap();
+    assert!(piped.status.success(), "{}", String::from_utf8_lossy(&piped.stderr));
+    assert_eq!(piped.stdout, std::fs::read(&plain).unwrap());
 }
 
 /// A flat 400-gon on an ellipse, fanned from its first corner: the stack

@@ -194,10 +194,10 @@ pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
 /// "facet" for ASCII STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
 /// (including gzip data: decompress first with [`maybe_gunzip`]).
 pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
-    if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+    let text = strip_bom(bytes);
+    if text.starts_with(b"ply\n") || text.starts_with(b"ply\r\n") {
         return Some(Format::Ply);
     }
-    let text = strip_bom(bytes);
     let window = &text[..text.len().min(SNIFF_WINDOW)];
     if let Some((_, line)) = Lines::new(window).next_meaningful() {
         let head = words(line).next().unwrap_or(b"");
@@ -1113,6 +1113,8 @@ fn too_many(el: &PlyElement, remaining: usize) -> FormatError {
 /// other elements and properties are skipped. For ASCII data, a record's origin is the line of its first
 /// value.
 pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    // A byte order mark (a text editor's) before `ply`, as the other readers allow.
+    let bytes = strip_bom(bytes);
     if bytes.is_empty() {
         return Err(FormatError::new("the file is empty (no PLY header)"));
     }
