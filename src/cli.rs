@@ -1881,6 +1881,25 @@ fn run_render(
         drawn.non_delaunay_edges,
         drawn.added_vertices
     );
+    // Every input vertex is in a mesh made from it; if not, "added" means
+    // nothing (every vertex of an unrelated mesh is blue).
+    if let (Some(original), Some(input)) = (&original, input) {
+        let in_mesh: std::collections::HashSet<[u64; 3]> =
+            m.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
+        let missing = (original.positions.iter())
+            .filter(|p| !in_mesh.contains(&p.to_array().map(f64::to_bits)))
+            .count();
+        if missing > 0 {
+            say!(
+                "note    {} of the {} vertices of {} are not in {}: is it the mesh {} was made from?",
+                missing,
+                original.positions.len(),
+                input.display(),
+                mesh.display(),
+                mesh.display()
+            );
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }
 

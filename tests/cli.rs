@@ -761,6 +761,25 @@ fn render_draws_before_and_after() {
         stdout.contains("0 non-Delaunay edges") && stdout.contains("5 added vertices"),
         "{stdout}"
     );
+    assert!(!stdout.contains("note"), "{stdout}");
+    // An input the mesh was not made from: every vertex would be "added";
+    // the printout says the input does not fit.
+    let other = common::data_dir().join("elephant.obj");
+    let o = delmesh()
+        .arg("render")
+        .arg(&out)
+        .arg("-i")
+        .arg(&other)
+        .arg("-o")
+        .arg(&after)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(
+        stdout.contains("note    2775 of the 2775 vertices of") && stdout.contains("is it the mesh"),
+        "{stdout}"
+    );
 }
 
 /// The number in "N added vertices" of a run's printout.
