@@ -261,10 +261,69 @@ fn run_object(r: &RunRecord) -> Json {
 
 /// The JSON document for an invocation and its runs.
 pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]) -> String {
+    let mut s = String::new();
+    document_value(inv, constants, runs, peak_memory_bytes()).write(&mut s, 0);
+    s.push('\n');
+    s
+}
+
+/// One file's part of `batch --stats-json`: the document the main command
+/// writes for it, but with `peak_memory_bytes` null (the process's peak,
+/// shared by the files, is given once for the batch).
+pub struct FileDocument(Json);
+
+impl FileDocument {
+    /// The document of one input of a batch.
+    pub fn new(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]) -> Self {
+        FileDocument(document_value(inv, constants, runs, None))
+    }
+}
+
+/// The `batch --stats-json` document: a [`FileDocument`] per input read
+/// (in the order given), the inputs refused with their one-line errors,
+/// the inputs skipped (`--skip-existing`), the batch's seconds and the
+/// process's peak memory.
+pub fn batch_document(
+    files: Vec<FileDocument>,
+    refused: &[(String, String)],
+    skipped: &[String],
+    seconds_total: f64,
+) -> String {
+    let doc = Json::Obj(vec![
+        ("delmesh_version", Json::Str(env!("CARGO_PKG_VERSION").into())),
+        ("files", Json::Arr(files.into_iter().map(|f| f.0).collect())),
+        (
+            "refused",
+            Json::Arr(
+                refused
+                    .iter()
+                    .map(|(input, error)| {
+                        Json::Obj(vec![
+                            ("input", Json::Str(input.clone())),
+                            ("error", Json::Str(error.clone())),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ),
+        (
+            "skipped",
+            Json::Arr(skipped.iter().map(|p| Json::Str(p.clone())).collect()),
+        ),
+        ("seconds_total", Json::Num(seconds_total)),
+        ("peak_memory_bytes", peak_memory_bytes().map_or(Json::Null, Json::Int)),
+    ]);
+    let mut s = String::new();
+    doc.write(&mut s, 0);
+    s.push('\n');
+    s
+}
+
+fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord], peak_memory: Option<u64>) -> Json {
     let i = inv.input;
     let f = inv.figures;
     let seconds_of = |g: fn(&RunFigures) -> f64| runs.iter().filter_map(|r| r.result.as_ref().ok()).map(g).sum();
-    let doc = Json::Obj(vec![
+    Json::Obj(vec![
         ("delmesh_version", Json::Str(env!("CARGO_PKG_VERSION").into())),
         (
             "input",
@@ -313,13 +372,9 @@ pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]
                 ("total", Json::Num(inv.seconds_total)),
             ]),
         ),
-        ("peak_memory_bytes", peak_memory_bytes().map_or(Json::Null, Json::Int)),
+        ("peak_memory_bytes", peak_memory.map_or(Json::Null, Json::Int)),
         ("runs", Json::Arr(runs.iter().map(run_object).collect())),
-    ]);
-    let mut s = String::new();
-    doc.write(&mut s, 0);
-    s.push('\n');
-    s
+    ])
 }
 
 /// The CSV table of the runs: a header, then one row per run; the columns

@@ -20,11 +20,20 @@ fn delmesh() -> Command {
 /// The README's JSON field table: path (`runs[].faces`) → type
 /// (`integer or null`), in order.
 fn documented_fields() -> Vec<(String, String)> {
+    let fields = table_fields("json-fields");
+    assert!(fields.len() > 30, "{fields:?}");
+    fields
+}
+
+/// The README's table between `<!-- NAME:begin -->` and `<!-- NAME:end -->`.
+fn table_fields(name: &str) -> Vec<(String, String)> {
     let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
     let begin = readme
-        .find("<!-- json-fields:begin -->")
+        .find(&format!("<!-- {name}:begin -->"))
         .expect("README has the field table");
-    let end = readme.find("<!-- json-fields:end -->").expect("the field table ends");
+    let end = readme
+        .find(&format!("<!-- {name}:end -->"))
+        .expect("the field table ends");
     let mut fields = Vec::new();
     for line in readme[begin..end].lines() {
         let cells: Vec<&str> = line.split('|').map(str::trim).collect();
@@ -33,7 +42,6 @@ fn documented_fields() -> Vec<(String, String)> {
             fields.push((cells[1].trim_matches('`').to_string(), cells[2].to_string()));
         }
     }
-    assert!(fields.len() > 30, "{fields:?}");
     fields
 }
 
@@ -108,14 +116,20 @@ fn lookup<'a>(v: &'a Value, path: &str) -> Vec<&'a Value> {
 
 /// Checks a document against the README both ways.
 fn validate(doc: &Value) {
-    let fields = documented_fields();
-    for (path, ty) in &fields {
+    validate_with(doc, &documented_fields(), None);
+}
+
+/// Checks `doc` against `fields` both ways, leaving out the paths under
+/// `nested` (an array of documents checked on their own).
+fn validate_with(doc: &Value, fields: &[(String, String)], nested: Option<&str>) {
+    for (path, ty) in fields {
         for v in lookup(doc, path) {
             assert!(has_type(v, ty), "{path}: {v} is not {ty}");
         }
     }
     let mut found = Vec::new();
     paths(doc, "", &mut found);
+    found.retain(|p| nested.is_none_or(|n| !p.starts_with(&format!("{n}[]."))));
     for p in found {
         assert!(
             fields.iter().any(|(f, _)| *f == p),
@@ -420,4 +434,147 @@ fn readme_types_are_the_known_ones() {
             "{path}: {ty}"
         );
     }
+}
+
+/// A document without what changes from run to run: seconds and memory.
+fn without_timings(mut doc: Value) -> Value {
+    let o = doc.as_object_mut().unwrap();
+    o.remove("seconds");
+    o.remove("peak_memory_bytes");
+    for run in o["runs"].as_array_mut().unwrap() {
+        let r = run.as_object_mut().unwrap();
+        r.remove("seconds_refine");
+        r.remove("seconds_write");
+    }
+    doc
+}
+
+/// `batch --stats-json`: for each input read, the main command's document
+/// for it (the same figures, also for a run that fails), the refused and
+/// skipped inputs, all as the README's tables say, and the CSV agreeing.
+#[test]
+fn batch_json_holds_each_files_main_document() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let book = dir.path().join("book.obj");
+    std::fs::write(
+        &book,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    let missing = dir.path().join("missing.obj");
+    let stuck = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
+    let (cube, bunny, elephant) = (
+        common::data_dir().join("cube.obj"),
+        common::data_dir().join("bunny.obj"),
+        common::data_dir().join("elephant.obj"),
+    );
+    // The elephant is done already: --skip-existing leaves it.
+    let out = delmesh()
+        .args(["batch", "-q", "-d"])
+        .arg(&out_dir)
+        .arg(&elephant)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let (json, csv) = (dir.path().join("b.json"), dir.path().join("b.csv"));
+    let files = [&book, &cube, &missing, &stuck, &elephant, &bunny];
+    let out = delmesh()
+        .args(["batch", "--skip-existing", "-d"])
+        .arg(&out_dir)
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("--stats-csv")
+        .arg(&csv)
+        .args(files)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let doc = read_json(&json);
+    validate_with(&doc, &table_fields("batch-json-fields"), Some("files"));
+    let docs = doc["files"].as_array().unwrap();
+    for d in docs {
+        validate(d);
+        assert!(d["peak_memory_bytes"].is_null());
+    }
+    // The refused inputs, with the errors printed for them.
+    let refused = doc["refused"].as_array().unwrap();
+    assert_eq!(refused.len(), 2, "{doc}");
+    for (r, path) in refused.iter().zip([&book, &missing]) {
+        assert_eq!(r["input"], path.display().to_string());
+        let error = r["error"].as_str().unwrap();
+        assert!(error.starts_with(&path.display().to_string()), "{error}");
+        assert!(
+            stderr.lines().any(|l| l.starts_with(&format!("delmesh: {error}"))),
+            "{stderr}"
+        );
+    }
+    assert_eq!(doc["skipped"], serde_json::json!([elephant.display().to_string()]));
+    // Each file's document is the main command's, figure for figure.
+    let read = [&cube, &stuck, &bunny];
+    assert_eq!(docs.len(), read.len(), "{doc}");
+    for (d, input) in docs.iter().zip(read) {
+        let single = dir.path().join("single.json");
+        let output = out_dir.join(input.file_name().unwrap());
+        delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(input)
+            .arg("-o")
+            .arg(&output)
+            .arg("--stats-json")
+            .arg(&single)
+            .output()
+            .unwrap();
+        assert_eq!(
+            without_timings(d.clone()),
+            without_timings(read_json(&single)),
+            "{}",
+            input.display()
+        );
+    }
+    assert_eq!(docs[1]["runs"][0]["ok"], false);
+    assert_eq!(docs[1]["runs"][0]["error_kind"], "unsplittable");
+    assert_eq!(docs[2]["runs"][0]["ok"], true);
+    // The CSV has the same runs (and rows for the refused inputs).
+    let rows = read_csv(&std::fs::read_to_string(&csv).unwrap());
+    assert_eq!(rows.len(), 5);
+    for (d, input) in docs.iter().zip(read) {
+        let row: Vec<_> = rows
+            .iter()
+            .filter(|r| r["input"] == input.display().to_string())
+            .cloned()
+            .collect();
+        csv_matches_json(&row, d);
+    }
+}
+
+/// `batch --stats-json` may not name the CSV's file, an input or an output.
+#[test]
+fn batch_json_overwrites_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = dir.path().join("cube.obj");
+    std::fs::copy(common::data_dir().join("cube.obj"), &cube).unwrap();
+    let before = std::fs::read(&cube).unwrap();
+    let out_dir = dir.path().join("out");
+    let same = dir.path().join("s.txt");
+    for args in [
+        vec!["--stats-json".into(), cube.clone()],
+        vec!["--stats-json".into(), out_dir.join("cube.obj")],
+        vec!["--stats-json".into(), same.clone(), "--stats-csv".into(), same.clone()],
+    ] {
+        let out = delmesh()
+            .args(["batch", "-d"])
+            .arg(&out_dir)
+            .args(&args)
+            .arg(&cube)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(!out_dir.join("cube.obj").exists() && !same.exists(), "{args:?}");
+    }
+    assert_eq!(std::fs::read(&cube).unwrap(), before);
 }

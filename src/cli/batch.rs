@@ -21,7 +21,7 @@ use super::{
     check_output, check_output_dir, failure_record, file_key, growth_note, near_coincident_note, one_line, refine_once,
     smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
 };
-use crate::stats_json::{self, RunRecord};
+use crate::stats_json::{self, FileDocument, RunRecord};
 use delmesh::attributes::Transfer;
 use delmesh::io;
 use delmesh::refine::Options;
@@ -87,6 +87,12 @@ pub(super) struct BatchArgs {
     /// columns of the main command's --stats-csv; skipped inputs have none).
     #[arg(long = "stats-csv", value_name = "FILE")]
     stats_csv: Option<PathBuf>,
+
+    /// Also write the figures of every file as JSON: for each input read,
+    /// the document the main command's --stats-json writes for it; the
+    /// inputs refused, with their errors; the inputs skipped.
+    #[arg(long = "stats-json", value_name = "FILE")]
+    stats_json: Option<PathBuf>,
 
     /// Print nothing but errors (one line per failed file).
     #[arg(short = 'q', long = "quiet")]
@@ -219,6 +225,8 @@ struct Done {
     seconds: f64,
     /// Whether the settings of `record` were chosen by --smallest.
     smallest: bool,
+    /// With --stats-json, the file's document.
+    doc: Option<FileDocument>,
 }
 
 /// The vertex map written beside `output` with --vertex-maps.
@@ -228,26 +236,100 @@ fn vertex_map_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
+/// Why a file was not written: the error, and with --stats-json the
+/// file's document (`None` if the input was refused: not read or built).
+struct Failed {
+    error: anyhow::Error,
+    doc: Option<FileDocument>,
+    refused: bool,
+}
+
 /// Reads, refines and writes one file, as the main command would (and
-/// checks it, with `check`).
-fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> anyhow::Result<Done> {
-    let (settings, check) = (&args.settings, args.check);
+/// checks it, with `check`); with --stats-json, also makes the document the
+/// main command would write for it.
+fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> Result<Done, Failed> {
     let t0 = Instant::now();
-    let mut mesh = settings.read(input)?;
-    let surface = io::build_surface(&mesh, input)?;
+    let read = || -> anyhow::Result<_> {
+        let mesh = args.settings.read(input)?;
+        let read_s = t0.elapsed().as_secs_f64();
+        let t_build = Instant::now();
+        let surface = io::build_surface(&mesh, input)?;
+        Ok((mesh, surface, read_s, t_build.elapsed().as_secs_f64()))
+    };
+    let (mut mesh, surface, read_s, build_s) = read().map_err(|error| Failed {
+        error,
+        doc: None,
+        refused: true,
+    })?;
+    let figures = surface.input_figures;
+    let constants = delmesh::refine::sample_constants(&surface);
+    let first_pass = FirstPass::new(&surface);
+    let json = args.stats_json.is_some();
+    let lower_bound = if json {
+        surface.added_vertex_lower_bound_among(&first_pass.edges)
+    } else {
+        0
+    };
+    let result = refine_read(&mut mesh, surface, &first_pass, input, output, args, options);
+    let doc = json.then(|| {
+        let failure;
+        let record = match &result {
+            Ok(done) => &done.record,
+            Err(e) => {
+                failure = failure_record(*options, output, e);
+                &failure
+            }
+        };
+        let inv = stats_json::Invocation {
+            input_path: input,
+            input: &mesh,
+            figures,
+            lower_bound,
+            output,
+            repaired: None,
+            refined: true,
+            seconds_read: read_s,
+            seconds_build: build_s,
+            seconds_total: t0.elapsed().as_secs_f64(),
+        };
+        FileDocument::new(&inv, constants, std::slice::from_ref(record))
+    });
+    match result {
+        Ok(mut done) => {
+            done.seconds = t0.elapsed().as_secs_f64();
+            done.doc = doc;
+            Ok(done)
+        }
+        Err(error) => Err(Failed {
+            error,
+            doc,
+            refused: false,
+        }),
+    }
+}
+
+/// [`refine_file`] once the input is read and built.
+fn refine_read(
+    mesh: &mut io::InputMesh,
+    surface: delmesh::Surface,
+    first_pass: &FirstPass,
+    input: &Path,
+    output: &Path,
+    args: &BatchArgs,
+    options: &Options,
+) -> anyhow::Result<Done> {
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
-    let first_pass = FirstPass::new(&surface);
     let (options, out) = if args.smallest {
         let start = Instant::now();
-        let passes = settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        let (options, mut out) = smallest(surface, &first_pass, input, options, args.jobs, passes)?;
+        let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
+        let (options, mut out) = smallest(surface, first_pass, input, options, args.jobs, passes)?;
         out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
         (options, out)
     } else {
         (
             *options,
-            refine_once(surface, &first_pass, input, options, settings.prune())?,
+            refine_once(surface, first_pass, input, options, args.settings.prune())?,
         )
     };
     let t_write = Instant::now();
@@ -257,13 +339,13 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     let written = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
     notes.extend(written.notes.iter().cloned());
     let seconds_write = t_write.elapsed().as_secs_f64();
-    if check {
-        check_output(input, &mesh, output)?;
+    if args.check {
+        check_output(input, mesh, output)?;
     }
     if args.vertex_maps {
         // An output stands for a finished file (--skip-existing skips it):
         // without its vertex map it is taken back.
-        if let Err(e) = write_vertex_map(&vertex_map_path(output), &out.surface, &mesh, &written) {
+        if let Err(e) = write_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written) {
             let _ = std::fs::remove_file(output);
             return Err(e.context(format!("{} removed again", output.display())));
         }
@@ -271,9 +353,10 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     Ok(Done {
         record: out.record(options, output, seconds_write),
         smallest: args.smallest,
-        repairs: mesh.repair.map(|r| r.lines()).unwrap_or_default(),
+        repairs: mesh.repair.as_ref().map(|r| r.lines()).unwrap_or_default(),
         notes,
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds: 0.0, // set by refine_file
+        doc: None,
     })
 }
 
@@ -295,9 +378,18 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
     check_output_dir(&outputs[0])?;
-    if let Some(csv) = &args.stats_csv {
-        check_output_dir(csv)?;
-        let target = file_key(csv);
+    let reports = [&args.stats_csv, &args.stats_json].map(|p| p.as_ref().and_then(|p| file_key(p)));
+    if reports[0].is_some() && reports[0] == reports[1] {
+        bail!(
+            "{}: --stats-csv and --stats-json name one file",
+            args.stats_json
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string())
+        );
+    }
+    for report in [&args.stats_csv, &args.stats_json].into_iter().flatten() {
+        check_output_dir(report)?;
+        let target = file_key(report);
         let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
         let map = |p: &PathBuf| args.vertex_maps.then(|| file_key(&vertex_map_path(p))).flatten();
         if is_input
@@ -307,7 +399,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         {
             bail!(
                 "{}: would overwrite an input or an output (or a vertex map)",
-                csv.display()
+                report.display()
             );
         }
     }
@@ -329,6 +421,10 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let (tx, rx) = std::sync::mpsc::channel();
     // The CSV rows: (input index, record), in order.
     let mut records: Vec<(usize, RunRecord)> = Vec::with_capacity(n);
+    // --stats-json: the documents of the files read, the inputs refused
+    // (with their errors) and those skipped, in order.
+    let mut docs: Vec<FileDocument> = Vec::new();
+    let (mut refused, mut skipped_paths): (Vec<(String, String)>, Vec<String>) = Default::default();
     let (mut failed, mut skipped, mut added) = (0usize, 0usize, 0usize);
     // Worker k sends with its own clone of `tx`, taken from `senders[k]`;
     // the results end when every clone is dropped.
@@ -372,7 +468,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 let i = reported;
                 reported += 1;
                 match done {
-                    Ok(Some(done)) => {
+                    Ok(Some(mut done)) => {
+                        docs.extend(done.doc.take());
                         let f = done.record.result.as_ref().ok();
                         added += f.map_or(0, |f| f.added_vertices);
                         if !args.quiet {
@@ -382,12 +479,21 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                     }
                     Ok(None) => {
                         skipped += 1;
+                        skipped_paths.push(inputs[i].display().to_string());
                         if !args.quiet {
                             say!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
                         }
                     }
-                    Err(e) => {
+                    Err(Failed {
+                        error: e,
+                        doc,
+                        refused: not_read,
+                    }) => {
                         failed += 1;
+                        docs.extend(doc);
+                        if not_read {
+                            refused.push((inputs[i].display().to_string(), one_line(&e)));
+                        }
                         // Which edges get stuck depends on the settings (as
                         // the main command says too).
                         let hint = if stuck_elsewhere(&e) && !args.smallest {
@@ -406,6 +512,10 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         let rows: Vec<(&Path, &RunRecord)> = records.iter().map(|(i, r)| (inputs[*i].as_path(), r)).collect();
         let table = stats_json::csv_rows(&rows);
         io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
+    }
+    if let Some(json) = &args.stats_json {
+        let doc = stats_json::batch_document(docs, &refused, &skipped_paths, t0.elapsed().as_secs_f64());
+        io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
     }
     if !args.quiet {
         say!(
