@@ -1020,6 +1020,36 @@ fn regression_flip_makes_duplicate_edge() {
     assert_ok_or_refused("bug-flip-duplicate-edge-median.obj", o);
 }
 
+/// Found by `fuzz_pipeline` (seed 2026112316), minimized to the nine quads
+/// of its flat grid: fan-cut quads that fold onto each other make a planar
+/// region that overlaps itself. With the priority queue, score 0 and no
+/// median, splits beside two vertices gave each of them more than 64
+/// neighbours; the flip test then assumed that its two apexes (those two
+/// vertices, already joined by an edge) were not adjacent, and the flip
+/// made a second edge between them: `Ok` with a mesh that failed
+/// `validate()` ("two edges join") and `check` (an edge shared by 4 faces,
+/// Euler characteristic changed). Fixed: the two fans are walked side by
+/// side with growing caps, and a flip whose answer stays unknown is
+/// refused. Every combination must now give a valid, checked mesh or a
+/// clean refusal, and the report's defaults must refine it.
+#[test]
+fn regression_flip_beside_two_long_fans() {
+    for mut o in combinations() {
+        // 5,000 splits reach the bad flip (the 4th, after 71 splits) in
+        // every setting and keep the slowest settings quick.
+        o.max_added = 5_000;
+        assert_ok_or_refused("bug-flip-duplicate-edge-long-fans.obj", o);
+    }
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/bug-flip-duplicate-edge-long-fans.obj");
+    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&input, &path).unwrap();
+    make_delaunay(&mut s, &Options::default()).expect("the defaults refine it");
+    s.validate().unwrap();
+    let report = common::check_refined(&input, &s);
+    assert!(report.passed(), "{:?}", report.failures);
+}
+
 /// Some meshes of each family written as OBJ, PLY and OFF, read back bit for
 /// bit, refined with the defaults, written in the same format and accepted by
 /// `check_files`.

@@ -326,9 +326,10 @@ impl Surface {
     /// (the judge's own criterion), and c–d must not already be an edge. In
     /// exact arithmetic a non-Delaunay edge of a flat region always passes;
     /// with needle triangles, whose computed positions are off by rounding,
-    /// a flip can fold a face or duplicate an edge. The adjacency test walks
-    /// the fans of c and d, at most 64 edges each, so that flips stay O(1)
-    /// where a vertex has thousands of neighbours.
+    /// a flip can fold a face or duplicate an edge (also where the region
+    /// overlaps itself). The adjacency test walks the fans of c and d side
+    /// by side ([`Topology::are_adjacent_within_either`]), so that a flip
+    /// beside a vertex with thousands of neighbours stays cheap.
     pub fn flip_is_valid(&self, e: EdgeId) -> bool {
         let h = e.halfedge();
         let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
@@ -352,13 +353,12 @@ impl Surface {
         if geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE) {
             return false;
         }
-        const CAP: usize = 64;
-        let adjacent = self
-            .topo
-            .are_adjacent_within(c, d, CAP)
-            .or_else(|| self.topo.are_adjacent_within(d, c, CAP))
-            .unwrap_or(false);
-        !adjacent
+        // Unknown (both fans longer than the limit, which only settings
+        // that split beside one vertex again and again reach) counts as
+        // adjacent: refusing a flip is always safe, the edge is then split
+        // (or left for the final count), and each test stays bounded.
+        const LIMIT: usize = 1024;
+        self.topo.are_adjacent_within_either(c, d, LIMIT) == Some(false)
     }
 
     /// Whether the bookkeeping says that the three vertices all lie on one

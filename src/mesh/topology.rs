@@ -428,6 +428,24 @@ impl Topology {
         }
     }
 
+    /// Whether an edge joins `u` and `v`, walking the two fans side by side:
+    /// 64 edges of each, then 256, and so on up to `limit`; `None` if both
+    /// fans are longer than that. The cost is of the order of the shorter
+    /// fan, so a vertex with thousands of neighbours (a CAD disk's centre)
+    /// costs little when its other end has few.
+    pub fn are_adjacent_within_either(&self, u: VertexId, v: VertexId, limit: usize) -> Option<bool> {
+        let mut cap = 64;
+        loop {
+            let found = self
+                .are_adjacent_within(u, v, cap)
+                .or_else(|| self.are_adjacent_within(v, u, cap));
+            if found.is_some() || cap >= limit {
+                return found;
+            }
+            cap = (cap * 4).min(limit);
+        }
+    }
+
     /// Whether an edge joins `u` and `v`, walking at most `cap` edges of the
     /// fan of `u`; `None` if the fan is longer than that.
     pub fn are_adjacent_within(&self, u: VertexId, v: VertexId, cap: usize) -> Option<bool> {
@@ -925,6 +943,39 @@ mod tests {
         (0..n)
             .flat_map(|i| [[0, rim(i), rim(i + 1)], [1, rim(i + 1), rim(i)]])
             .collect()
+    }
+
+    /// Adjacency of two vertices of high degree: found by walking their
+    /// fans side by side, or unknown (`None`) only while both fans are
+    /// longer than the limit.
+    #[test]
+    fn adjacency_between_long_fans() {
+        let n = 300u32;
+        // Apex 0 and base centre 1: degree n each, not joined.
+        let t = Topology::from_triangles(n as usize + 2, &double_cone(n)).unwrap();
+        let (apex, centre, rim) = (VertexId(0), VertexId(1), |i: u32| VertexId(2 + i % n));
+        assert_eq!(t.are_adjacent_within_either(apex, centre, 64), None);
+        assert_eq!(t.are_adjacent_within_either(apex, centre, 1024), Some(false));
+        for i in [0, 1, n / 2, n - 1] {
+            assert_eq!(t.are_adjacent_within_either(apex, rim(i), 64), Some(true));
+            assert_eq!(t.are_adjacent_within_either(rim(i), rim(i + 1), 64), Some(true));
+            assert_eq!(t.are_adjacent_within_either(rim(i), rim(i + 2), 64), Some(false));
+        }
+        // An open disc where 0 and 1 are joined, each with about n
+        // neighbours: 0's fan over the chain q_0..q_n, 1's over q_n..q_2n.
+        let q = |i: u32| 2 + i;
+        let mut disc: Vec<[u32; 3]> = (0..n).map(|i| [0, q(i), q(i + 1)]).collect();
+        disc.push([0, q(n), 1]);
+        disc.extend((n..2 * n).map(|i| [1, q(i), q(i + 1)]));
+        disc.push([1, q(2 * n), 0]);
+        let t = Topology::from_triangles(2 * n as usize + 3, &disc).unwrap();
+        t.validate().unwrap();
+        assert_eq!(t.are_adjacent_within_either(VertexId(0), VertexId(1), 1024), Some(true));
+        assert_eq!(t.are_adjacent_within_either(VertexId(1), VertexId(0), 1024), Some(true));
+        assert_eq!(
+            t.are_adjacent_within_either(VertexId(1), VertexId(q(0)), 1024),
+            Some(false)
+        );
     }
 
     /// High-degree vertices (their corner lists sorted and searched by
