@@ -104,8 +104,8 @@ struct RunArgs {
     #[arg(short = 'i', long = "input", value_name = "FILE", required = true)]
     input: Option<PathBuf>,
 
-    /// Output mesh: OBJ, OFF or PLY (binary) by extension, OBJ if none;
-    /// gzip-compressed if the name ends in .gz; STL only with --no-refine
+    /// Output mesh: OBJ, OFF or PLY (binary) by extension, OBJ if none (or
+    /// another, with a note saying so); gzip-compressed if the name ends in .gz; STL only with --no-refine
     /// (its f32 coordinates cannot hold a refined mesh). `-` writes OBJ to
     /// standard output, and the printout then goes to standard error. A
     /// device or pipe (/dev/null, /dev/stdout) is written into. Without it
@@ -1484,7 +1484,27 @@ fn write_output(
     if io::output_format(path) == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());
     }
+    if let Some(ext) = unknown_extension(path) {
+        written.notes.push(format!(
+            "{}: .{ext} is not a mesh extension delmesh writes (.obj, .off, .ply): written as OBJ",
+            path.display()
+        ));
+    }
     Ok(written)
+}
+
+/// The extension of `path` (before any `.gz`) if it has one that names no
+/// mesh format: the file is then written as OBJ, which its name does not
+/// say (a name without an extension is OBJ as documented, and a device or
+/// stream has none that matters).
+fn unknown_extension(path: &Path) -> Option<String> {
+    if io::is_stream(path) {
+        return None;
+    }
+    let name = path.file_name()?.to_str()?;
+    let stem = name.strip_suffix(".gz").unwrap_or(name);
+    let (before, ext) = stem.rsplit_once('.')?;
+    (!before.is_empty() && !ext.is_empty() && io::formats::format_from_name(stem).is_none()).then(|| ext.to_string())
 }
 
 /// An output that `delmesh check` refused (`error_kind` "check").

@@ -1819,3 +1819,38 @@ fn weld_tolerance_and_repaired_file_are_checked_up_front() {
     assert!(stdout.contains("triangles after repair ("), "{stdout}");
     assert!(stdout.contains("as far as the weld tolerance or farther"), "{stdout}");
 }
+
+/// An output name with an extension that names no mesh format is written
+/// as OBJ, and a note says so; a name without an extension (documented as
+/// OBJ), a known extension, or a device gets no note.
+#[test]
+fn unknown_output_extension_is_written_as_obj_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("cube.obj");
+    for (name, noted) in [
+        ("out.xyz", true),
+        ("out.mesh.gz", true),
+        ("out.v2", true),
+        ("out", false),
+        ("out.OBJ", false),
+        ("out.ply", false),
+        (".hidden", false),
+    ] {
+        let output = dir.path().join(name);
+        let out = refine(&input, &output).output().unwrap();
+        assert!(out.status.success(), "{name}");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let note = stdout
+            .lines()
+            .find(|l| l.starts_with("note") && l.contains("not a mesh extension"));
+        assert_eq!(note.is_some(), noted, "{name}: {stdout}");
+        if let Some(note) = note {
+            assert!(note.ends_with("written as OBJ"), "{note}");
+            assert!(note.contains(&output.display().to_string()), "{note}");
+        }
+        check_passes(&input, &output);
+    }
+    let out = refine(&input, "/dev/null").output().unwrap();
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("not a mesh extension"));
+}
