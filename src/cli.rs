@@ -105,8 +105,9 @@ struct RunArgs {
     input: Option<PathBuf>,
 
     /// Output mesh: OBJ, OFF or PLY (binary) by extension, OBJ if none (or
-    /// another, with a note saying so); gzip-compressed if the name ends in .gz; STL only with --no-refine
-    /// (its f32 coordinates cannot hold a refined mesh). `-` writes OBJ to
+    /// another, with a note saying so); gzip-compressed if the name ends in
+    /// .gz; STL only with --no-refine (its f32 coordinates cannot hold a
+    /// refined mesh). `-` writes OBJ to
     /// standard output, and the printout then goes to standard error. A
     /// device or pipe (/dev/null, /dev/stdout) is written into. Without it
     /// the input file is rewritten, only after success (standard input's

@@ -261,8 +261,13 @@ fn run_object(r: &RunRecord) -> Json {
 
 /// The JSON document for an invocation and its runs.
 pub fn document(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord]) -> String {
+    text(&document_value(inv, constants, runs, peak_memory_bytes()))
+}
+
+/// A document as the file holds it, ending with a newline.
+fn text(doc: &Json) -> String {
     let mut s = String::new();
-    document_value(inv, constants, runs, peak_memory_bytes()).write(&mut s, 0);
+    doc.write(&mut s, 0);
     s.push('\n');
     s
 }
@@ -313,10 +318,7 @@ pub fn batch_document(
         ("seconds_total", Json::Num(seconds_total)),
         ("peak_memory_bytes", peak_memory_bytes().map_or(Json::Null, Json::Int)),
     ]);
-    let mut s = String::new();
-    doc.write(&mut s, 0);
-    s.push('\n');
-    s
+    text(&doc)
 }
 
 fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord], peak_memory: Option<u64>) -> Json {
