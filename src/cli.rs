@@ -581,6 +581,13 @@ const GROWTH_NOTE: usize = 10;
 /// below what doubles can place at its coordinates: [`near_coincident_note`].
 const CERTAIN_TROUBLE: f64 = 1e-9;
 
+/// Input vertices from which the main command formats the input's vertex
+/// lines on a second thread while it refines. Below, starting the thread
+/// costs more than it saves (interleaved runs: the bunny, elephant and
+/// fandisk, 1,839–6,475 vertices, each 0.16–0.2 ms slower with it; the
+/// armadillo, 26,002 vertices, 2 ms faster).
+const FORMAT_AHEAD_MIN_VERTICES: usize = 10_000;
+
 /// The error and its causes on one line.
 fn one_line(e: &anyhow::Error) -> String {
     let mut s = e.to_string();
@@ -1150,11 +1157,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         })
     } else {
         // The input's vertex lines do not change: on a spare core, format
-        // them while this thread refines (OBJ output without attributes).
+        // them while this thread refines (OBJ output without attributes),
+        // unless the mesh is too small to repay starting the thread.
         let ahead = transfer.is_none()
             && io::output_format(&output) == io::Format::Obj
             && delmesh::parallel::cores() > 1
-            && args.jobs.is_none_or(|j| j > 1);
+            && args.jobs.is_none_or(|j| j > 1)
+            && input.positions.len() >= FORMAT_AHEAD_MIN_VERTICES;
         std::thread::scope(|scope| {
             // (None if the thread cannot be started: the writer then
             // formats the lines itself.)

@@ -1854,3 +1854,45 @@ fn unknown_output_extension_is_written_as_obj_with_a_note() {
     assert!(out.status.success());
     assert!(!String::from_utf8_lossy(&out.stdout).contains("not a mesh extension"));
 }
+
+/// A bumpy torus of `n` × `n` vertices (two triangles per grid cell), as OBJ.
+fn bumpy_torus_obj(n: usize) -> String {
+    let mut obj = String::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (u, v) = (
+                std::f64::consts::TAU * i as f64 / n as f64,
+                std::f64::consts::TAU * j as f64 / n as f64,
+            );
+            let bump = ((i * 7919 + j * 104_729) % 1000) as f64 / 1000.0;
+            let r = 1.0 + 0.02 * bump;
+            let ring = 3.0 + r * v.cos();
+            obj += &format!("v {:?} {:?} {:?}\n", ring * u.cos(), ring * u.sin(), r * v.sin());
+        }
+    }
+    let at = |i: usize, j: usize| (i % n) * n + j % n + 1;
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    obj
+}
+
+#[test]
+fn a_mesh_large_enough_to_format_ahead_is_written_as_by_one_thread() {
+    // From 10,000 input vertices the command formats the input's vertex
+    // lines on a second thread while it refines; --jobs 1 does not.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("torus.obj");
+    std::fs::write(&input, bumpy_torus_obj(101)).unwrap();
+    let (ahead, alone) = (dir.path().join("ahead.obj"), dir.path().join("alone.obj"));
+    refine(&input, &ahead).args(["-q", "--jobs", "2"]).assert().success();
+    refine(&input, &alone).args(["-q", "--jobs", "1"]).assert().success();
+    let (a, b) = (std::fs::read(&ahead).unwrap(), std::fs::read(&alone).unwrap());
+    assert!(a == b, "the output depends on --jobs");
+    let vertices = a.split(|&c| c == b'\n').filter(|l| l.starts_with(b"v ")).count();
+    assert!(vertices > 101 * 101, "nothing was added: {vertices} vertices");
+    check_passes(&input, &ahead);
+}

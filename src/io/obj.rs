@@ -983,6 +983,29 @@ mod tests {
     }
 
     #[test]
+    fn lines_formatted_ahead_give_the_same_file() {
+        // The CLI formats the input's vertex lines while refining; the
+        // refined mesh has more vertices after them.
+        let positions: Vec<[f64; 3]> = (0..50)
+            .map(|i| [i as f64 / 3.0, -0.1 * i as f64, 1e-300 * i as f64])
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..48).map(|i| [i, i + 1, i + 2]).collect();
+        let mut whole = Vec::new();
+        write_obj(&mut whole, &positions, &triangles).unwrap();
+        for ahead in [0, 1, 20, 50] {
+            let mut after = Vec::new();
+            write_obj_after(
+                &mut after,
+                &VertexLines::new(&positions[..ahead]),
+                &positions,
+                &triangles,
+            )
+            .unwrap();
+            assert!(after == whole, "{ahead} lines formatted ahead");
+        }
+    }
+
+    #[test]
     fn face_lines_are_the_formatted_indices() {
         let mut values = vec![
             0u32,
