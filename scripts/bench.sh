@@ -13,12 +13,17 @@
 # against sequential (--jobs 1), and --prune on the armadillo and the
 # dragon at 202k faces. Then every mesh of ../shared/meshes that
 # ../shared/reference/peers.md times, against those figures. Timings are
-# never asserted.
+# never asserted. DELMESH_BIN=path measures that binary instead of building
+# target/release/delmesh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-5}
-cargo build --release --quiet
-bin=${CARGO_TARGET_DIR:-$PWD/target}/release/delmesh
+if [ -n "${DELMESH_BIN:-}" ]; then
+  bin=$(realpath "$DELMESH_BIN") # another build, e.g. the static one (README, Performance)
+else
+  cargo build --release --quiet
+  bin=${CARGO_TARGET_DIR:-$PWD/target}/release/delmesh
+fi
 data=$(scripts/fetch-dragon.sh 2>/dev/null || true)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -43,7 +48,9 @@ bench_mesh() { # name path [flags...]
   local cmd=("$bin" -i "$path" -o "$out/o.obj" "$@")
   for _ in $(seq "$runs"); do "${cmd[@]}" | grep '^seconds'; done > "$out/phases"
   local faces
-  faces=$("${cmd[@]}" | sed -n 's/^input .* vertices, \([0-9]*\) faces.*/\1/p')
+  # Faces in the file ("N vertices, N faces" or, repaired, "... (N faces in the file)").
+  faces=$("${cmd[@]}" | sed -n -e 's/^input .*(\([0-9]*\) faces in the file).*/\1/p;t' \
+    -e 's/^input .* vertices, \([0-9]*\) faces.*/\1/p')
   local phase
   printf '%-12s %8s faces' "$name" "$faces"
   for phase in read build refine write; do
