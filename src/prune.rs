@@ -29,7 +29,7 @@
 //! ```
 
 use crate::geometry::{self, ALGORITHM_TOLERANCE};
-use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId};
+use crate::mesh::{Carrier, EdgeId, HalfEdgeId, Saved, Surface, VertexId, ADJACENCY_LIMIT};
 use crate::refine::{self, Options};
 use crate::samples::{self, point_on_edge, EdgeSamples, Pieces, SampleConstants, Score};
 use glam::DVec3;
@@ -354,7 +354,9 @@ impl Pruner<'_> {
             }
         }
         let (u, w) = (self.s.topo.dest(to_u), self.s.topo.dest(to_w));
-        if self.s.topo.are_adjacent_within(u, w, 64) != Some(false) {
+        // Merging would duplicate an edge u–w that exists already (the
+        // surface folds back on itself there); not knowing refuses too.
+        if self.s.topo.are_adjacent_within_either(u, w, ADJACENCY_LIMIT) != Some(false) {
             return false;
         }
         // Save what unsplit writes: the twelve half-edges around p, its four
@@ -462,7 +464,7 @@ impl Pruner<'_> {
             return false;
         }
         let (c, d) = (s.topo.apex(h), s.topo.apex(h.twin()));
-        s.topo.are_adjacent_within(c, d, 64) == Some(false)
+        s.topo.are_adjacent_within_either(c, d, ADJACENCY_LIMIT) == Some(false)
     }
 
     /// Saves what a flip or a split of `e` writes (the six half-edges of its

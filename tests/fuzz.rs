@@ -5,7 +5,7 @@
 //! `fuzz_stl`, `fuzz_gzip` and `fuzz_pipeline` (OBJ bytes → finish, with and
 //! without repair → build_surface → make_delaunay with a small work limit →
 //! validate and `check_meshes`, or, for a repaired mesh that repair cut
-//! apart, `check_files` on the written files). Each starts from small valid
+//! apart, `check_files` on the written files; then the same after `prune`). Each starts from small valid
 //! files made here (and `data/cube.obj`; the pipeline also from small meshes
 //! that repair must cut, `cut_seed_meshes`) and mutates them: bit flips,
 //! byte and chunk insertion, deletion and duplication, numbers replaced by
@@ -60,6 +60,7 @@ use delmesh::io::formats::{
 use delmesh::io::obj::{parse_obj, write_obj};
 use delmesh::io::{self, InputMesh, ReadOptions};
 use delmesh::mesh::{Carrier, Surface};
+use delmesh::prune::prune;
 use delmesh::refine::{make_delaunay, Options, Stats, Worklist};
 use delmesh::repair::RepairOptions;
 use delmesh::samples::{SampleConstants, Score};
@@ -1607,6 +1608,9 @@ fn target_gzip(bytes: &[u8]) -> Result<String, String> {
 /// The work limit of the pipeline target.
 const PIPELINE_MAX_ADDED: usize = 20_000;
 
+/// The pipeline target prunes outputs with at most this many added vertices.
+const PIPELINE_MAX_PRUNED: usize = 2_000;
+
 fn combination(k: u64) -> Options {
     let worklist = [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue][(k % 3) as usize];
     let score = [Score::AllEqual, Score::WeightedCenter, Score::AlwaysCenter][(k / 3 % 3) as usize];
@@ -1733,36 +1737,55 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     scale.push_str("[face on one input edge] ");
                 }
                 let tag = format!("{scale}{options:?} repair={repaired}");
-                s.validate()
-                    .map_err(|e| format!("{tag}: output does not validate: {e}"))?;
-                let (after, worst) = s.count_non_delaunay(1e-9);
-                if after != 0 || stats.non_delaunay_after != 0 {
-                    return Err(format!("{tag}: {after} non-Delaunay edges left (worst {worst:e})"));
-                }
                 let input_bits: Vec<[u64; 3]> =
                     input.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
-                let output_bits: Vec<[u64; 3]> = s.positions[..n]
-                    .iter()
-                    .map(|p| p.to_array().map(f64::to_bits))
-                    .collect();
-                if input_bits != output_bits || s.positions.len() != n + stats.splits {
-                    return Err(format!("{tag}: input vertices changed or wrong vertex count"));
-                }
                 // A repaired mesh whose non-manifold parts were cut apart has
                 // distinct vertices at one position: only the files tell the
                 // checker which (`--repaired` and the output, as a user has them).
                 let mut seen = HashSet::new();
                 let welded = input_bits.iter().all(|p| seen.insert(*p));
-                if !welded {
+                // The refined mesh, and again once pruned: valid, Delaunay,
+                // the input's vertices first and untouched, and accepted by
+                // the checker.
+                let verify = |s: &Surface, added: usize, tag: &str| -> Result<(), String> {
+                    s.validate()
+                        .map_err(|e| format!("{tag}: output does not validate: {e}"))?;
+                    let (after, worst) = s.count_non_delaunay(1e-9);
+                    if after != 0 {
+                        return Err(format!("{tag}: {after} non-Delaunay edges left (worst {worst:e})"));
+                    }
+                    let output_bits: Vec<[u64; 3]> = s.positions[..n]
+                        .iter()
+                        .map(|p| p.to_array().map(f64::to_bits))
+                        .collect();
+                    if input_bits != output_bits || s.positions.len() != n + added {
+                        return Err(format!("{tag}: input vertices changed or wrong vertex count"));
+                    }
+                    if welded {
+                        let report = common::check_refined(&input, s);
+                        if !report.passed() {
+                            return Err(format!("{tag}: check failed: {:?}", report.failures));
+                        }
+                        return Ok(());
+                    }
                     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
                     let (r, o) = (dir.path().join("repaired.obj"), dir.path().join("output.obj"));
                     io::write_mesh(&r, &input.positions, &input.triangles).map_err(|e| e.to_string())?;
                     io::write_mesh(&o, &s.positions, &s.triangles()).map_err(|e| e.to_string())?;
                     match delmesh::check::check_files(&r, &o) {
-                        Ok(report) if report.passed() => {}
-                        Ok(report) => return Err(format!("{tag}: check of the files failed: {:?}", report.failures)),
-                        Err(e) => return Err(format!("{tag}: check of the files refused: {e}")),
+                        Ok(report) if report.passed() => Ok(()),
+                        Ok(report) => Err(format!("{tag}: check of the files failed: {:?}", report.failures)),
+                        Err(e) => Err(format!("{tag}: check of the files refused: {e}")),
                     }
+                };
+                if stats.non_delaunay_after != 0 {
+                    return Err(format!(
+                        "{tag}: {} non-Delaunay edges counted",
+                        stats.non_delaunay_after
+                    ));
+                }
+                verify(&s, stats.splits, &tag)?;
+                if !welded {
                     // Which cuts: non-manifold edges, vertices, Möbius (orientation) cuts.
                     let mut kinds = String::new();
                     if let Some(r) = &input.repair {
@@ -1777,10 +1800,14 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                         }
                     }
                     sig.push_str(&format!(" cut[{kinds}]"));
-                } else {
-                    let report = common::check_refined(&input, &s);
-                    if !report.passed() {
-                        return Err(format!("{tag}: check failed: {:?}", report.failures));
+                }
+                // Pruning (its own flips, splits and undo journal), on
+                // outputs small enough to stay within the time per input.
+                if stats.splits <= PIPELINE_MAX_PRUNED {
+                    let pruned = prune(&mut s, &options);
+                    verify(&s, stats.splits - pruned.removed, &format!("{tag} pruned"))?;
+                    if pruned.removed > 0 {
+                        sig.push_str(" pruned");
                     }
                 }
                 sig.push_str(&format!(" refined s{} f{}", bucket(stats.splits), bucket(stats.flips)));

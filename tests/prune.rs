@@ -150,3 +150,60 @@ fn fewer_passes_stop_pruning_early_and_stay_delaunay() {
         assert!(report.passed(), "{what}: {:?}", report.failures);
     }
 }
+
+/// A sphere-like "orange with one wedge taken out": two poles `u` (vertex
+/// n) and `w` (vertex n + 1) joined by a ring of n vertices on an arc of
+/// 300°, and by an edge of their own between the wedge's two flat faces.
+/// Both poles have n + 1 neighbours; their edge is Delaunay (the ring is
+/// wider than the poles are apart, so its apexes see it under less than a
+/// right angle each).
+fn orange_without_a_wedge(n: usize) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
+    let mut positions: Vec<glam::DVec3> = (0..n)
+        .map(|i| {
+            let a = (30.0 + 300.0 * i as f64 / (n - 1) as f64).to_radians();
+            glam::DVec3::new(1.5 * a.cos(), 1.5 * a.sin(), 0.0)
+        })
+        .collect();
+    positions.push(glam::DVec3::new(0.0, 0.0, 1.0));
+    positions.push(glam::DVec3::new(0.0, 0.0, -1.0));
+    let (u, w) = (n as u32, n as u32 + 1);
+    let mut triangles = Vec::new();
+    for i in 0..n as u32 - 1 {
+        triangles.push([u, i, i + 1]);
+        triangles.push([w, i + 1, i]);
+    }
+    triangles.push([u, n as u32 - 1, w]);
+    triangles.push([w, 0, u]);
+    (positions, triangles)
+}
+
+#[test]
+fn pruning_removes_a_vertex_between_two_vertices_of_high_degree() {
+    // Pruning once refused to merge the two halves of an edge back when
+    // both its ends had more than 64 neighbours (it could not tell whether
+    // they were joined elsewhere already); it now walks both fans.
+    let n = 100;
+    let (positions, triangles) = orange_without_a_wedge(n);
+    let mut surface = delmesh::Surface::new(positions, &triangles).unwrap();
+    let options = Options::default();
+    make_delaunay(&mut surface, &options).unwrap();
+    let before = surface.positions.len();
+    let (u, w) = (delmesh::mesh::VertexId(n as u32), delmesh::mesh::VertexId(n as u32 + 1));
+    let topo = &surface.topo;
+    let edge = (0..topo.n_edges() as u32)
+        .map(delmesh::mesh::EdgeId)
+        .find(|e| {
+            let h = e.halfedge();
+            [topo.origin(h), topo.dest(h)] == [u, w] || [topo.origin(h), topo.dest(h)] == [w, u]
+        })
+        .expect("the poles' edge is Delaunay, never split");
+    surface.split(edge, 0.5);
+    surface.validate().unwrap();
+    assert_eq!(surface.topo.are_adjacent_within_either(u, w, 1024), Some(false));
+    let pruned = prune(&mut surface, &options);
+    surface.validate().unwrap();
+    assert_eq!(pruned.removed, 1, "{pruned:?}");
+    assert_eq!(surface.positions.len(), before);
+    assert_eq!(surface.topo.are_adjacent_within_either(u, w, 1024), Some(true));
+    assert_eq!(surface.count_non_delaunay(delmesh::geometry::ACCEPT_TOLERANCE).0, 0);
+}

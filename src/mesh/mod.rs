@@ -9,7 +9,9 @@
 
 mod topology;
 
-pub use topology::{room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId};
+pub use topology::{
+    room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId, ADJACENCY_LIMIT,
+};
 
 use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
@@ -357,8 +359,7 @@ impl Surface {
         // that split beside one vertex again and again reach) counts as
         // adjacent: refusing a flip is always safe, the edge is then split
         // (or left for the final count), and each test stays bounded.
-        const LIMIT: usize = 1024;
-        self.topo.are_adjacent_within_either(c, d, LIMIT) == Some(false)
+        self.topo.are_adjacent_within_either(c, d, ADJACENCY_LIMIT) == Some(false)
     }
 
     /// Whether the bookkeeping says that the three vertices all lie on one

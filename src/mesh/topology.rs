@@ -107,6 +107,12 @@ pub enum TopologyError {
     SameThreeVertices { first: usize, face: usize },
 }
 
+/// The longest fans the construction and pruning walk to learn whether two
+/// vertices are joined ([`Topology::are_adjacent_within_either`]): a
+/// change whose answer is still unknown then counts as making a duplicate
+/// edge and is refused, which is always safe and keeps each test bounded.
+pub const ADJACENCY_LIMIT: usize = 1024;
+
 /// How many splits the arrays of a mesh built from `n_triangles` triangles
 /// have room for from the start: about one per edge, what `refine`
 /// reserves. Capacity is address space until used, and growing the arrays
