@@ -453,8 +453,11 @@ impl Topology {
     }
 
     /// Whether an edge joins `u` and `v`, walking at most `cap` edges of the
-    /// fan of `u`; `None` if the fan is longer than that.
-    pub fn are_adjacent_within(&self, u: VertexId, v: VertexId, cap: usize) -> Option<bool> {
+    /// fan of `u`; `None` if the fan is longer than that. Private: one fan
+    /// alone once made pruning give up beside long fans, and its callers
+    /// took "unknown" in different ways; they all ask
+    /// [`Topology::are_adjacent_within_either`].
+    fn are_adjacent_within(&self, u: VertexId, v: VertexId, cap: usize) -> Option<bool> {
         let first = self.vertex_he[u.idx()];
         let mut h = first;
         for _ in 0..cap {
