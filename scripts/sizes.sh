@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # Output size, the way the project tracks it: for every mesh of a folder
 # (default ../shared/meshes), the input vertices and the vertices added by
-# each of the 18 DelMesh combinations and by -s 3, the best of them, the
+# each of the 18 DelMesh combinations, by -s 3 and by --shells with -s 2 and
+# -s 4 (each with every DS), the best of them, the
 # same with --prune (keys prefixed "P:"), and the best public tool's figure
 # from ../shared/reference/peers.md (tools whose output is not a Delaunay
 # mesh do not count). "lb" is a proven lower bound for any method that keeps
 # the geometry: the input's non-Delaunay edges between two single-face
 # planar regions, each of which needs a vertex on it.
 # Output format (stable; one line per mesh, space-separated key=value):
-#   mesh=NAME input=V lb=L s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N best=N best_combo=C
-#     P:s-0-m=N ... P:s3-p-m=N pbest=N pbest_combo=C smallest=N peer=N ratio=R pratio=R sratio=R
-# ("smallest" is what `--smallest` writes: the fewest of its 18 pruned settings.)
+#   mesh=NAME input=V lb=L s-0-m=N s-0=N ... p-2=N s3-s-m=N s3-q-m=N s3-p-m=N
+#     sh2-s=N sh4-s=N sh2-q=N sh4-q=N sh2-p=N sh4-p=N best=N best_combo=C
+#     P:s-0-m=N ... P:sh4-p=N pbest=N pbest_combo=C smallest=N peer=N ratio=R pratio=R sratio=R
+# ("smallest" is what `--smallest` writes: the fewest of its 24 pruned settings.)
 # A combination that fails (work limit, or edges that can be neither split
 # nor flipped) prints "limit".
 set -uo pipefail
@@ -29,7 +31,7 @@ peer_of() { # best public figure for a mesh: smaller of the two tools' "added" c
       print best }' "$peers" 2>/dev/null | head -1
 }
 
-# sweep FLAGS...: appends the 21 keys (prefixed with $prefix) to $line and
+# sweep FLAGS...: appends the 27 keys (prefixed with $prefix) to $line and
 # sets $sbest/$sbest_combo.
 sweep() {
   "$bin" -i "$mesh" -o "$out/$name.obj" -all --max-added 2000000 "$@" > "$out/table" 2>/dev/null
@@ -48,6 +50,13 @@ sweep() {
     line="$line $prefix$key=$n"
     if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
   done
+  for ds in stack queue pqueue; do for s in 2 4; do
+    n=$("$bin" -i "$mesh" -o "$out/x.obj" --shells -s $s -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
+    [ -n "$n" ] || n=limit
+    key="sh$s-${ds:0:1}"
+    line="$line $prefix$key=$n"
+    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
+  done; done
 }
 
 ratio_of() { # best peer

@@ -168,10 +168,11 @@ struct RunArgs {
     #[arg(long = "no-refine", conflicts_with = "all")]
     no_refine: bool,
 
-    /// Fewest added vertices: run 18 settings with --prune (3 DS x scores 0-3
-    /// with the median, 3 DS x scores 2-3 without) on all cores (or -j), and
-    /// write the smallest result (ties: the first in that order); -ds, -s and
-    /// -nomedian are ignored.
+    /// Fewest added vertices: run 24 settings with --prune (3 DS x scores 0-3
+    /// with the median, 3 DS x scores 2 and 4 with --shells, 3 DS x scores
+    /// 2-3 without the median) on all cores (or -j), and write the smallest
+    /// result (ties: the first in that order); -ds, -s, -nomedian and
+    /// --shells are ignored.
     #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
     smallest: bool,
 
@@ -210,14 +211,22 @@ struct Settings {
 
     /// Score of a sample: 0 all equal (the paper's), 1 weighted center,
     /// 2 always center (the report's), 3 split-aware (delmesh's: as 2, but
-    /// outer edges that can be flipped cost nothing).
-    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3"], value_name = "N")]
+    /// outer edges that can be flipped cost nothing), 4 uniform (delmesh's:
+    /// every sample equal, so the median or --shells alone decides).
+    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3", "4"], value_name = "N")]
     score: String,
 
     /// Take the first best sample from the edge's start instead of the median
     /// of the best ones [legacy: -nomedian].
     #[arg(long = "nomedian", visible_alias = "no-median")]
     nomedian: bool,
+
+    /// Among the best samples take the one nearest a concentric shell
+    /// around the sub-edge's input vertex (rho_v * 2^k from it) instead of
+    /// the median: the edges around a vertex are then split at the same
+    /// distances, which keeps fans and cone tips Delaunay (CAD parts).
+    #[arg(long = "shells", conflicts_with = "nomedian")]
+    shells: bool,
 
     /// Work limit: stop (exit 1) once this many vertices have been added, or
     /// three times as many edges flipped. Some settings (the first best sample
@@ -282,6 +291,7 @@ impl Settings {
     /// The refinement's options: DS, score, median rule and work limit.
     fn options(&self) -> Options {
         let mut options = Options::new(self.ds.into(), score_of(&self.score), !self.nomedian);
+        options.shells = self.shells;
         options.max_added = self.max_added;
         options
     }
@@ -620,7 +630,8 @@ fn score_of(s: &str) -> Score {
         "0" => Score::AllEqual,
         "1" => Score::WeightedCenter,
         "2" => Score::AlwaysCenter,
-        _ => Score::SplitAware,
+        "3" => Score::SplitAware,
+        _ => Score::Uniform,
     }
 }
 
@@ -630,6 +641,7 @@ fn score_name(s: Score) -> &'static str {
         Score::WeightedCenter => "weighted center",
         Score::AlwaysCenter => "always center",
         Score::SplitAware => "split-aware",
+        Score::Uniform => "uniform",
     }
 }
 
@@ -1152,7 +1164,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
         smallest(surface, &first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out)| {
             options = o;
-            out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
+            out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
             out
         })
     } else {
@@ -1224,9 +1236,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             "run     {}, {}, {}{}",
             ds_name(options.worklist),
             score_name(options.score),
-            if options.median { "median" } else { "no median" },
+            match (options.shells, options.median) {
+                (true, _) => "shells",
+                (false, true) => "median",
+                (false, false) => "no median",
+            },
             if args.smallest {
-                " (the smallest of 18 settings, all pruned: --smallest)"
+                " (the smallest of 24 settings, all pruned: --smallest)"
             } else {
                 ""
             }
@@ -1283,8 +1299,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--smallest`: refines and prunes with 18 settings (3 DS x scores 0-3 with
-/// the median, 3 DS x scores 2-3 without), `jobs` at a time, and returns the
+/// `--smallest`: refines and prunes with 24 settings (3 DS x scores 0-3 with
+/// the median, 3 DS x scores 2 and 4 with shells, 3 DS x scores 2-3
+/// without the median), `jobs` at a time, and returns the
 /// settings and outcome with the fewest vertices (ties: the first in that
 /// order, so the result does not depend on the number of threads). Fails
 /// only if every setting fails. Pruning takes at most `prune_passes` passes.
@@ -1298,6 +1315,22 @@ fn smallest(
 ) -> anyhow::Result<(Options, Outcome)> {
     let mut settings = Vec::new();
     for median in [true, false] {
+        if !median {
+            // Concentric shells (after the median runs, so that ties keep
+            // the earlier settings' result): score 4 alone places the points
+            // on the shells, score 2 only among its best samples.
+            for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+                for score in [Score::AlwaysCenter, Score::Uniform] {
+                    settings.push(Options {
+                        worklist,
+                        score,
+                        median: true,
+                        shells: true,
+                        ..*template
+                    });
+                }
+            }
+        }
         for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
             for score in [
                 Score::AllEqual,
@@ -1312,6 +1345,7 @@ fn smallest(
                         worklist,
                         score,
                         median,
+                        shells: false,
                         ..*template
                     });
                 }
@@ -1439,6 +1473,7 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Score::WeightedCenter => 1,
         Score::AlwaysCenter => 2,
         Score::SplitAware => 3,
+        Score::Uniform => 4,
     };
     let name = format!("{stem}-{ds}-{score}{}.{ext}", if o.median { "-m" } else { "" });
     output.with_file_name(name)
@@ -1787,6 +1822,7 @@ fn chart_color(o: &Options) -> Rgb {
         Score::WeightedCenter => (0xdd, 0x84, 0x52),
         Score::AlwaysCenter => (0x55, 0xa8, 0x68),
         Score::SplitAware => (0x81, 0x72, 0xb3),
+        Score::Uniform => (0x93, 0x78, 0x60),
     };
     if o.median {
         Rgb(r, g, b)

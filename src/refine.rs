@@ -36,6 +36,9 @@ pub struct Options {
     pub score: Score,
     /// Median of the best samples (`true`) or the first from the edge's start.
     pub median: bool,
+    /// Among the best samples, the one nearest the concentric-shell point
+    /// ([`samples::shell_target`]) instead: `median` is then ignored.
+    pub shells: bool,
     /// Stop with [`Error::WorkLimit`] after adding this many vertices (or
     /// flipping [`FLIPS_PER_ADDED`] times as many edges).
     pub max_added: usize,
@@ -87,6 +90,7 @@ impl Options {
             worklist,
             score,
             median,
+            shells: false,
             max_added: DEFAULT_MAX_ADDED,
             progress: None,
         }
@@ -446,6 +450,7 @@ pub(crate) fn choose_sample(
     with_split_query(s, constants, e, flippable, |query| {
         query.score = options.score;
         query.median = options.median;
+        query.shells = options.shells;
         choose_valid(s, e, query)
     })
     .flatten()
@@ -496,6 +501,7 @@ pub(crate) fn with_split_query<R>(
         },
         score: Score::AlwaysCenter,
         median: true,
+        shells: false,
     };
     Some(f(&mut query))
 }

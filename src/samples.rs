@@ -141,6 +141,10 @@ pub enum Score {
     /// edge that can be flipped counts as Delaunay either way — if it turns
     /// non-Delaunay it costs a flip, never a vertex.
     SplitAware,
+    /// `-s 4`, "uniform" (delmesh's own): every sample scores the same, so
+    /// the rule that picks among the best alone decides: with the median the
+    /// middle sample, with [`SplitQuery::shells`] the shell point.
+    Uniform,
 }
 
 impl Score {
@@ -153,6 +157,7 @@ impl Score {
             Score::WeightedCenter => 3 * h + outer,
             Score::AlwaysCenter | Score::SplitAware if h == 2 => 10 + outer,
             Score::AlwaysCenter | Score::SplitAware => 2 * h + outer,
+            Score::Uniform => 0,
         }
     }
 }
@@ -215,6 +220,9 @@ pub struct SplitQuery<'a> {
     pub score: Score,
     /// Median of the best samples (`true`) or the first one from `a`.
     pub median: bool,
+    /// The best sample nearest [`shell_target`] instead (the median rule is
+    /// then ignored).
+    pub shells: bool,
 }
 
 impl SplitQuery<'_> {
@@ -323,6 +331,18 @@ impl<'a> Window<'a> {
             k - self.first as f64
         } else {
             (self.first + self.count - 1) as f64 - k
+        }
+    }
+
+    /// The local index of the sample nearest parameter `t` (clamped to the
+    /// window).
+    fn nearest_local(&self, t: f64) -> u64 {
+        let x = if self.forward { t - self.t_a } else { self.t_a - t };
+        let g = self.guess(x * self.samples.len).round();
+        if g.is_nan() || g <= 0.0 {
+            0
+        } else {
+            (g as u64).min(self.count - 1)
         }
     }
 
@@ -466,7 +486,23 @@ impl<'a> Pieces<'a> {
         }
         let scores = &scores[..self.len];
         let best = *scores.iter().max().expect("a window has at least one piece");
-        let j = if q.median {
+        let j = if q.shells {
+            // The best sample nearest the shell point (ties: the first from
+            // `a`): in each best piece, the index guessed for the target,
+            // clamped to the piece, or a neighbour (the guess can be one off).
+            let target = shell_target(q);
+            let g = self.w.nearest_local(target);
+            let mut nearest: Option<(f64, u64)> = None;
+            for (&(lo, hi, _), _) in pieces.iter().zip(scores).filter(|(_, &s)| s == best) {
+                for j in [g.saturating_sub(1), g, g + 1].map(|j| j.clamp(lo, hi - 1)) {
+                    let d = (self.w.samples.t(self.w.k(j)) - target).abs();
+                    if nearest.is_none_or(|(best_d, best_j)| (d, j) < (best_d, best_j)) {
+                        nearest = Some((d, j));
+                    }
+                }
+            }
+            nearest.expect("best is a score").1
+        } else if q.median {
             let total: u64 = (pieces.iter().zip(scores))
                 .filter(|(_, &s)| s == best)
                 .map(|(p, _)| p.1 - p.0)
@@ -498,6 +534,49 @@ impl<'a> Pieces<'a> {
     /// The sample in the middle of the sub-edge (by index).
     pub fn middle(&self) -> Choice {
         self.w.middle()
+    }
+}
+
+/// The concentric-shell split point of the sub-edge of `q`, as a parameter
+/// on its input edge (the rule of Ruppert's and Shewchuk's "concentric
+/// shells", used for Delaunay meshes by Dyer et al. 2007). If exactly one
+/// end of the sub-edge is an end of the input edge (an input vertex `v`),
+/// the point at distance ρ_v·2^k from `v`, with k ≥ 0 the integer that puts
+/// it nearest the sub-edge's middle (so between 0.35 and 0.71 of the way);
+/// otherwise the sub-edge's middle.
+///
+/// ```text
+///            ρ_v  2ρ_v     4ρ_v            8ρ_v
+///   v *-------+----+---------+----------------+------ input edge
+///      \       .    .          .                .
+///       *------+----+----------+----------------+-- another edge at v
+/// ```
+///
+/// Every edge at `v` is then split at the same distances from it, so the
+/// new vertices around `v` lie on the same spheres: the thin triangles of a
+/// fan (a cone's tip, a CAD disk's centre) keep their two long sides equal,
+/// and stay Delaunay, where points chosen edge by edge (the median) differ
+/// slightly from edge to edge and make the next edge non-Delaunay, all the
+/// way down to the vertex. Splits still go to samples only: the nearest
+/// one is taken ([`Pieces::choose`]).
+pub fn shell_target(q: &SplitQuery) -> f64 {
+    let (lo, hi) = (q.t_a.min(q.t_b), q.t_a.max(q.t_b));
+    let len = (hi - lo) * q.samples.len;
+    let rho_v = q.samples.rho_v;
+    if (lo == 0.0) == (hi == 1.0) || !(rho_v > 0.0 && len > 0.0) {
+        return (lo + hi) / 2.0;
+    }
+    // 2^k nearest len / (2 ρ_v) on a log scale.
+    let k = (len / (2.0 * rho_v)).log2().round().max(0.0);
+    let d = rho_v * k.exp2();
+    if d >= len {
+        return (lo + hi) / 2.0; // no sample inside anyway
+    }
+    let d = d / q.samples.len;
+    if lo == 0.0 {
+        lo + d
+    } else {
+        hi - d
     }
 }
 
@@ -570,7 +649,18 @@ pub fn choose_by_enumeration(q: &SplitQuery, holds: impl Fn(usize, f64) -> bool)
         .collect();
     let best = scored.iter().map(|p| p.1).max()?;
     let winners: Vec<u64> = scored.iter().filter(|p| p.1 == best).map(|p| p.0).collect();
-    let k = if q.median {
+    let k = if q.shells {
+        // Nearest the shell point; ties: the first from `a`.
+        let target = shell_target(q);
+        let d = |k: u64| (s.t(k) - target).abs();
+        let mut nearest = winners[0];
+        for &k in &winners[1..] {
+            if d(k) < d(nearest) {
+                nearest = k;
+            }
+        }
+        nearest
+    } else if q.median {
         winners[(winners.len() - 1) / 2]
     } else {
         winners[0]
@@ -648,6 +738,48 @@ mod tests {
     }
 
     #[test]
+    fn shell_targets_are_powers_of_two_of_rho_v_from_the_input_vertex() {
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
+        let samples = EdgeSamples::new(100.0, &c);
+        let target = |t_a: f64, t_b: f64| {
+            let at = |t: f64| DVec3::new(100.0 * t, 0.0, 0.0);
+            let never = Condition {
+                side: Side::AtMost,
+                breakpoint: -1.0,
+            };
+            shell_target(&SplitQuery {
+                samples: &samples,
+                edge_ends: [DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0)],
+                t_a,
+                t_b,
+                pos_a: at(t_a),
+                pos_b: at(t_b),
+                halves: [never; 2],
+                outer: [never; 4],
+                outer_flippable: [false; 4],
+                score: Score::AlwaysCenter,
+                median: true,
+                shells: true,
+            })
+        };
+        // 30 long from the input vertex at t = 0: 2^4 = 16 is the power of
+        // two nearest 15 on a log scale; from either direction.
+        assert_eq!(target(0.0, 0.3), 0.16);
+        assert_eq!(target(0.3, 0.0), 0.16);
+        // From the vertex at t = 1.
+        assert_eq!(target(0.7, 1.0), 1.0 - 0.16);
+        // 2.2 from it: 2^0 = ρ_v (1.1 is nearer 1 than 2).
+        assert_eq!(target(0.0, 0.022), 0.01);
+        // 20 long: 10 is nearer 8 than 16 on a log scale (log2 10 = 3.3).
+        assert_eq!(target(0.0, 0.2), 0.08);
+        // The whole input edge, or no input vertex at either end: the middle.
+        assert_eq!(target(0.0, 1.0), 0.5);
+        assert_eq!(target(0.2, 0.6), 0.4);
+        // Shorter than ρ_v from the vertex: no shell inside, the middle.
+        assert_eq!(target(0.0, 0.005), 0.0025);
+    }
+
+    #[test]
     fn the_best_interval_middle_has_the_best_score() {
         let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
         let samples = EdgeSamples::new(10.0, &c);
@@ -671,6 +803,7 @@ mod tests {
             outer_flippable: [false; 4],
             score: Score::AlwaysCenter,
             median: true,
+            shells: false,
         };
         let score_at = |q: &SplitQuery, x: f64| {
             let conds = [q.halves[0], q.halves[1], q.outer[0], q.outer[1], q.outer[2], q.outer[3]];

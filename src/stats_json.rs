@@ -195,14 +195,16 @@ pub fn score_key(s: Score) -> u32 {
         Score::WeightedCenter => 1,
         Score::AlwaysCenter => 2,
         Score::SplitAware => 3,
+        Score::Uniform => 4,
     }
 }
 
 /// The fields of a run record, in order: also the CSV columns after `input`.
-pub const RUN_FIELDS: [&str; 18] = [
+pub const RUN_FIELDS: [&str; 19] = [
     "data_structure",
     "score",
     "median",
+    "shells",
     "output",
     "ok",
     "error_kind",
@@ -229,6 +231,7 @@ fn run_object(r: &RunRecord) -> Json {
         ),
         ("score", o.map_or(Json::Null, |o| Json::Int(score_key(o.score).into()))),
         ("median", o.map_or(Json::Null, |o| Json::Bool(o.median))),
+        ("shells", o.map_or(Json::Null, |o| Json::Bool(o.shells))),
         ("output", Json::Str(r.output.clone())),
         ("ok", Json::Bool(r.result.is_ok())),
         (
@@ -446,13 +449,13 @@ mod tests {
         let lines: Vec<&str> = table.lines().collect();
         assert_eq!(lines.len(), 3);
         assert!(
-            lines[1].starts_with("in.obj,stack,2,true,\"a,\"\"b\"\".obj\",true,,,5,6,1,"),
+            lines[1].starts_with("in.obj,stack,2,true,false,\"a,\"\"b\"\".obj\",true,,,5,6,1,"),
             "{}",
             lines[1]
         );
         assert!(lines[1].ends_with(",0.5,"), "{}", lines[1]);
         assert!(
-            lines[2].starts_with("in.obj,,,,c.obj,false,work_limit,stopped,,"),
+            lines[2].starts_with("in.obj,,,,,c.obj,false,work_limit,stopped,,"),
             "{}",
             lines[2]
         );

@@ -811,7 +811,7 @@ fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
     let (plain, _) = run("plain.obj", &[]);
     let (small1, bytes1) = run("small1.obj", &["--smallest", "-j", "1"]);
     let (small2, bytes2) = run("small2.obj", &["--smallest", "-j", "2"]);
-    assert!(small1.contains("the smallest of 18 settings"), "{small1}");
+    assert!(small1.contains("the smallest of 24 settings"), "{small1}");
     assert!(added_of(&small1) <= added_of(&pruned), "{small1}\n{pruned}");
     assert!(added_of(&pruned) <= added_of(&plain), "{pruned}\n{plain}");
     assert_eq!(added_of(&small1), added_of(&small2));

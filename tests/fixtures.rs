@@ -1,4 +1,5 @@
-//! Every mesh in `data/` through every one of the 18 combinations: the mesh
+//! Every mesh in `data/` through every one of the 18 combinations, and every
+//! score (0-4) with each DS and concentric shells (`--shells`): the mesh
 //! stays valid, ends with zero non-Delaunay edges, keeps the input vertices
 //! bit for bit, and the written file passes the independent `check`.
 
@@ -15,6 +16,17 @@ fn combinations() -> Vec<Options> {
             for median in [true, false] {
                 v.push(Options::new(worklist, score, median));
             }
+        }
+        for score in [
+            Score::AllEqual,
+            Score::WeightedCenter,
+            Score::AlwaysCenter,
+            Score::SplitAware,
+            Score::Uniform,
+        ] {
+            let mut o = Options::new(worklist, score, true);
+            o.shells = true;
+            v.push(o);
         }
     }
     v

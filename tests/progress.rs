@@ -73,7 +73,7 @@ fn progress_always_draws_each_phase_and_erases_it() {
     let (ok, stderr) = stderr_of(&["-o", "b.obj", "--smallest", "--progress", "always"], dir.path());
     assert!(ok, "{stderr}");
     assert!(
-        stderr.contains("--smallest [") && stderr.contains("/18 runs"),
+        stderr.contains("--smallest [") && stderr.contains("/24 runs"),
         "{stderr:?}"
     );
 }

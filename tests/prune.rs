@@ -1,5 +1,5 @@
-//! `--prune` on every fixture and every combination (the 18 of DelMesh and
-//! score 3): the pruned mesh stays valid and Delaunay, keeps the input
+//! `--prune` on every fixture and every combination (the 18 of DelMesh,
+//! score 3, and scores 2 and 4 with concentric shells): the pruned mesh stays valid and Delaunay, keeps the input
 //! vertices bit for bit, never has more added vertices than before pruning,
 //! and its written file passes the independent `check`. On the CAD fixture,
 //! pruning must actually remove vertices.
@@ -55,6 +55,11 @@ fn every_fixture_every_combination_pruned_passes_check() {
                 for median in [true, false] {
                     refine_prune_check(&path, &Options::new(worklist, score, median), dir.path());
                 }
+            }
+            for score in [Score::AlwaysCenter, Score::Uniform] {
+                let mut options = Options::new(worklist, score, true);
+                options.shells = true;
+                refine_prune_check(&path, &options, dir.path());
             }
         }
     }

@@ -136,8 +136,9 @@ fn interval_choice_matches_enumeration() {
             Score::WeightedCenter,
             Score::AlwaysCenter,
             Score::SplitAware,
+            Score::Uniform,
         ] {
-            for median in [true, false] {
+            for (median, shells) in [(true, false), (false, false), (true, true)] {
                 let q = SplitQuery {
                     samples: &cfg.samples,
                     edge_ends: cfg.ends,
@@ -150,13 +151,14 @@ fn interval_choice_matches_enumeration() {
                     outer_flippable: flippable,
                     score,
                     median,
+                    shells,
                 };
                 let fast = choose(&q);
                 let slow = choose_by_enumeration(&q, pointwise(&cfg));
                 assert_eq!(
                     fast,
                     slow,
-                    "score {score:?} median {median}: t = {:?}, {} samples",
+                    "score {score:?} median {median} shells {shells}: t = {:?}, {} samples",
                     cfg.t,
                     cfg.samples.count()
                 );
@@ -210,6 +212,7 @@ fn chosen_sample_lies_strictly_inside_even_with_1e16_samples() {
             outer_flippable: [false; 4],
             score: Score::AlwaysCenter,
             median: true,
+            shells: rng.below(2) == 0,
         };
         if let Some(ch) = choose(&q) {
             assert!(ch.k > k0 && ch.k < k0 + gap);

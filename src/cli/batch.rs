@@ -76,9 +76,9 @@ pub(super) struct BatchArgs {
     skip_existing: bool,
 
     /// Fewest added vertices, as the main command's --smallest: each file
-    /// is refined and pruned with 18 settings and the smallest result is
-    /// written (-ds, -s and -nomedian are ignored). The files are then
-    /// taken one at a time, each with its 18 runs on all cores (or -j):
+    /// is refined and pruned with 24 settings and the smallest result is
+    /// written (-ds, -s, -nomedian and --shells are ignored). The files are
+    /// then taken one at a time, each with its 24 runs on all cores (or -j):
     /// one large file would otherwise hold up a core alone.
     #[arg(long = "smallest")]
     smallest: bool,
@@ -324,7 +324,7 @@ fn refine_read(
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
         let (options, mut out) = smallest(surface, first_pass, input, options, args.jobs, passes)?;
-        out.seconds = start.elapsed().as_secs_f64(); // all 18 runs
+        out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
         (options, out)
     } else {
         (
