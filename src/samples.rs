@@ -542,8 +542,9 @@ impl<'a> Pieces<'a> {
 /// shells", used for Delaunay meshes by Dyer et al. 2007). If exactly one
 /// end of the sub-edge is an end of the input edge (an input vertex `v`),
 /// the point at distance ρ_v·2^k from `v`, with k ≥ 0 the integer that puts
-/// it nearest the sub-edge's middle (so between 0.35 and 0.71 of the way);
-/// otherwise the sub-edge's middle.
+/// it nearest the sub-edge's middle (so between 0.35 and 0.71 of the way,
+/// or ρ_v itself on a sub-edge shorter than 1.41 ρ_v); otherwise the
+/// sub-edge's middle.
 ///
 /// ```text
 ///            ρ_v  2ρ_v     4ρ_v            8ρ_v
