@@ -31,6 +31,20 @@ peer_of() { # best public figure for a mesh: smaller of the two tools' "added" c
       print best }' "$peers" 2>/dev/null | head -1
 }
 
+# record KEY N: appends KEY=N (prefixed with $prefix) to $line and keeps the
+# smallest in $sbest/$sbest_combo ("limit" never counts).
+record() {
+  line="$line $prefix$1=$2"
+  if [ "$2" != limit ] && { [ -z "$sbest" ] || [ "$2" -lt "$sbest" ]; }; then sbest=$2 sbest_combo=$1; fi
+}
+
+# added FLAGS...: the vertices one run adds, or "limit" if it fails.
+added() {
+  local n
+  n=$("$bin" -i "$mesh" -o "$out/x.obj" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
+  echo "${n:-limit}"
+}
+
 # sweep FLAGS...: appends the 27 keys (prefixed with $prefix) to $line and
 # sets $sbest/$sbest_combo.
 sweep() {
@@ -40,22 +54,13 @@ sweep() {
     key="$ds-$s$m"
     row=$(grep " $name-$key.obj\$" "$out/table")
     if [ -n "$row" ]; then n=$(echo "$row" | awk '{print $(NF-4)}'); else n=limit; fi
-    line="$line $prefix$key=$n"
-    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
+    record "$key" "$n"
   done; done; done
   for ds in stack queue pqueue; do
-    n=$("$bin" -i "$mesh" -o "$out/x.obj" -s 3 -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
-    [ -n "$n" ] || n=limit
-    key="s3-${ds:0:1}-m"
-    line="$line $prefix$key=$n"
-    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
+    record "s3-${ds:0:1}-m" "$(added -s 3 -ds "$ds" "$@")"
   done
   for ds in stack queue pqueue; do for s in 2 4; do
-    n=$("$bin" -i "$mesh" -o "$out/x.obj" --shells -s $s -ds "$ds" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
-    [ -n "$n" ] || n=limit
-    key="sh$s-${ds:0:1}"
-    line="$line $prefix$key=$n"
-    if [ "$n" != limit ] && { [ -z "$sbest" ] || [ "$n" -lt "$sbest" ]; }; then sbest=$n sbest_combo=$key; fi
+    record "sh$s-${ds:0:1}" "$(added --shells -s "$s" -ds "$ds" "$@")"
   done; done
 }
 

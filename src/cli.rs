@@ -1313,42 +1313,28 @@ fn smallest(
     jobs: Option<u16>,
     prune_passes: usize,
 ) -> anyhow::Result<(Options, Outcome)> {
+    // In this order (ties keep the earlier settings' result): the median
+    // runs; concentric shells (score 4 places the points on the shells
+    // alone, score 2 only among its best samples); the runs without the
+    // median, only with scores 2 and 3 (with 0 and 1 they can need billions
+    // of vertices: the work limit).
+    let worklists = [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue];
+    let groups: [(&[Score], bool, bool); 3] = [
+        (&Score::ALL[..4], true, false),
+        (&[Score::AlwaysCenter, Score::Uniform], true, true),
+        (&[Score::AlwaysCenter, Score::SplitAware], false, false),
+    ];
     let mut settings = Vec::new();
-    for median in [true, false] {
-        if !median {
-            // Concentric shells (after the median runs, so that ties keep
-            // the earlier settings' result): score 4 alone places the points
-            // on the shells, score 2 only among its best samples.
-            for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
-                for score in [Score::AlwaysCenter, Score::Uniform] {
-                    settings.push(Options {
-                        worklist,
-                        score,
-                        median: true,
-                        shells: true,
-                        ..*template
-                    });
-                }
-            }
-        }
-        for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
-            for score in [
-                Score::AllEqual,
-                Score::WeightedCenter,
-                Score::AlwaysCenter,
-                Score::SplitAware,
-            ] {
-                // Without the median, scores 0 and 1 can need billions of
-                // vertices (the work limit): not worth running.
-                if median || matches!(score, Score::AlwaysCenter | Score::SplitAware) {
-                    settings.push(Options {
-                        worklist,
-                        score,
-                        median,
-                        shells: false,
-                        ..*template
-                    });
-                }
+    for (scores, median, shells) in groups {
+        for worklist in worklists {
+            for &score in scores {
+                settings.push(Options {
+                    worklist,
+                    score,
+                    median,
+                    shells,
+                    ..*template
+                });
             }
         }
     }

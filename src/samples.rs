@@ -148,6 +148,15 @@ pub enum Score {
 }
 
 impl Score {
+    /// Every score, in the order of their `-s` numbers (0 to 4).
+    pub const ALL: [Score; 5] = [
+        Score::AllEqual,
+        Score::WeightedCenter,
+        Score::AlwaysCenter,
+        Score::SplitAware,
+        Score::Uniform,
+    ];
+
     /// The score, doubled so that it is an integer.
     pub fn doubled(self, halves: [bool; 2], outer_delaunay: u32) -> u32 {
         let h = halves.iter().filter(|&&x| x).count() as u32;

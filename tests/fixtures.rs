@@ -17,13 +17,7 @@ fn combinations() -> Vec<Options> {
                 v.push(Options::new(worklist, score, median));
             }
         }
-        for score in [
-            Score::AllEqual,
-            Score::WeightedCenter,
-            Score::AlwaysCenter,
-            Score::SplitAware,
-            Score::Uniform,
-        ] {
+        for score in Score::ALL {
             let mut o = Options::new(worklist, score, true);
             o.shells = true;
             v.push(o);

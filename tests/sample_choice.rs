@@ -131,13 +131,7 @@ fn interval_choice_matches_enumeration() {
         let cfg = random_config(&mut rng);
         let (halves, outer) = split_conditions(cfg.quad, cfg.beyond);
         let flippable = [0, 1, 2, 3].map(|_| rng.below(2) == 0);
-        for score in [
-            Score::AllEqual,
-            Score::WeightedCenter,
-            Score::AlwaysCenter,
-            Score::SplitAware,
-            Score::Uniform,
-        ] {
+        for score in Score::ALL {
             for (median, shells) in [(true, false), (false, false), (true, true)] {
                 let q = SplitQuery {
                     samples: &cfg.samples,
