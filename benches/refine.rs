@@ -25,8 +25,8 @@ fn mesh_path(name: &str) -> PathBuf {
 
 fn surface(name: &str) -> Surface {
     let path = mesh_path(name);
-    let input = io::read_obj(&path).expect("readable mesh");
-    io::build_surface(&input, &path).expect("valid mesh")
+    let mut input = io::read_obj(&path).expect("readable mesh");
+    io::build_surface(&mut input, &path).expect("valid mesh")
 }
 
 #[divan::bench(args = ["armadillo.obj", "bunny.obj"], sample_count = 20)]
@@ -42,7 +42,9 @@ fn refine(bencher: divan::Bencher, name: &str) {
 fn build(bencher: divan::Bencher, name: &str) {
     let path = mesh_path(name);
     let input = io::read_obj(&path).expect("readable mesh");
-    bencher.bench_local(|| io::build_surface(&input, &path).expect("valid mesh"));
+    bencher
+        .with_inputs(|| input.clone())
+        .bench_local_refs(|input| io::build_surface(input, &path).expect("valid mesh"));
 }
 
 /// The exact predicates as the reader and the build call them: `collinear`

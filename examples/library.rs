@@ -19,8 +19,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     // Read (any format, welded and validated; `repair: Some(..)` fixes what
     // would be refused) and build the refinable surface.
-    let input = io::read_mesh(input_path, &ReadOptions::default())?;
-    let mut surface = io::build_surface(&input, input_path)?;
+    let mut input = io::read_mesh(input_path, &ReadOptions::default())?;
+    let mut surface = io::build_surface(&mut input, input_path)?;
     // Algorithm 2 with the defaults (stack, score 2, median), then pruning.
     let options = Options::default();
     let stats = make_delaunay(&mut surface, &options)?;

@@ -24,8 +24,8 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = Path::new(args.get(1).map_or("../shared/meshes/anchor.obj", String::as_str));
     let limit: usize = args.get(2).map_or(400_000, |n| n.parse().expect("a work limit"));
-    let input = io::read_mesh(path, &ReadOptions::default()).expect("a readable mesh");
-    let mut s = io::build_surface(&input, path).expect("a mesh delmesh accepts");
+    let mut input = io::read_mesh(path, &ReadOptions::default()).expect("a readable mesh");
+    let mut s = io::build_surface(&mut input, path).expect("a mesh delmesh accepts");
     let mut options = Options::new(Worklist::PriorityQueue, Score::AllEqual, false);
     options.max_added = limit;
     match make_delaunay(&mut s, &options) {

@@ -984,13 +984,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let input = args.settings.read(input_path)?;
+    let mut input = args.settings.read(input_path)?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {
         faces: input.triangles.len(),
     });
-    let surface = io::build_surface(&input, input_path)?;
+    let surface = io::build_surface(&mut input, input_path)?;
     let transfer =
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
@@ -2043,7 +2043,7 @@ mod tests {
     fn an_output_that_fails_the_check_is_renamed_and_reported() {
         let dir = tempfile::tempdir().unwrap();
         let cube = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
-        let mesh = io::read_mesh(&cube, &Default::default()).unwrap();
+        let mut mesh = io::read_mesh(&cube, &Default::default()).unwrap();
         // The input itself is not Delaunay (delmesh adds 5 vertices to it).
         let output = dir.path().join("cube.obj");
         std::fs::copy(&cube, &output).unwrap();
@@ -2054,7 +2054,7 @@ mod tests {
         assert!(dir.path().join("cube.obj.rejected").exists());
         // A refined one passes and stays.
         let surface = {
-            let mut s = io::build_surface(&mesh, &cube).unwrap();
+            let mut s = io::build_surface(&mut mesh, &cube).unwrap();
             delmesh::make_delaunay(&mut s, &Default::default()).unwrap();
             s
         };

@@ -32,9 +32,9 @@ fn every_fixture_every_combination_passes_check() {
     let fixtures = common::fixtures();
     assert!(fixtures.len() >= 3, "data/ must hold the fixtures");
     for path in fixtures {
-        let input = io::read_obj(&path).unwrap();
+        let mut input = io::read_obj(&path).unwrap();
         for options in combinations() {
-            let mut surface = io::build_surface(&input, &path).unwrap();
+            let mut surface = io::build_surface(&mut input, &path).unwrap();
             let stats = make_delaunay(&mut surface, &options)
                 .unwrap_or_else(|e| panic!("{}: {options:?}: {e}", path.display()));
             surface
@@ -62,8 +62,8 @@ fn every_fixture_every_combination_passes_check() {
 #[test]
 fn cube_fixture_needs_both_splits_and_flips() {
     let path = common::data_dir().join("cube.obj");
-    let input = io::read_obj(&path).unwrap();
-    let mut surface = io::build_surface(&input, &path).unwrap();
+    let mut input = io::read_obj(&path).unwrap();
+    let mut surface = io::build_surface(&mut input, &path).unwrap();
     // The crease 5-6 (0-based 4-5) cannot be flipped; bottom edge 9-3 can.
     let find = |s: &delmesh::mesh::Surface, a: u32, b: u32| {
         (0..s.topo.n_edges() as u32).map(delmesh::mesh::EdgeId).find(|&e| {
@@ -87,8 +87,8 @@ fn splits_and_flips_keep_the_mesh_valid_step_by_step() {
     // Drive the operations by hand on the bunny: split or flip each
     // non-Delaunay edge once, validating after every operation.
     let path = common::data_dir().join("bunny.obj");
-    let input = io::read_obj(&path).unwrap();
-    let mut s = io::build_surface(&input, &path).unwrap();
+    let mut input = io::read_obj(&path).unwrap();
+    let mut s = io::build_surface(&mut input, &path).unwrap();
     let n = s.topo.n_edges();
     let mut ops = 0;
     for e in 0..n as u32 {

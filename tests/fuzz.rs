@@ -1429,12 +1429,18 @@ fn finish_both(raw: &RawMesh) -> Result<String, String> {
     let tag = if underflow { "[underflow] " } else { "" };
     for (repaired, options) in [(false, ReadOptions::default()), (true, repair_options())] {
         match io::finish(raw.clone(), path, &options) {
-            Ok(input) => {
+            Ok(mut input) => {
                 input_invariants(&input, repaired).map_err(|e| format!("{tag}{e}"))?;
-                match io::build_surface(&input, path) {
+                let prebuilt = input.topology.is_some();
+                match io::build_surface(&mut input, path) {
                     Ok(s) => {
                         s.validate()
                             .map_err(|e| format!("built surface does not validate: {e}"))?;
+                        // the connectivity repair built must be the one building gives
+                        if prebuilt && Surface::new(input.positions.clone(), &input.triangles).ok().as_ref() != Some(&s)
+                        {
+                            return Err("the surface from repair's connectivity differs from a fresh one".into());
+                        }
                         sig.push_str(&format!(" built{}", bucket(input.triangles.len())));
                     }
                     Err(e) if repaired => return Err(format!("repaired mesh refused by build_surface: {e}")),
@@ -1709,14 +1715,14 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         .into_iter()
         .enumerate()
     {
-        let input = match io::finish(raw.clone(), path, &read_options) {
+        let mut input = match io::finish(raw.clone(), path, &read_options) {
             Ok(input) => input,
             Err(e) => {
                 sig.push_str(&format!(" finish {}", error_kind(&e.to_string())));
                 continue;
             }
         };
-        let mut s = match io::build_surface(&input, path) {
+        let mut s = match io::build_surface(&mut input, path) {
             Ok(s) => s,
             Err(e) if repaired => return Err(format!("repaired mesh refused by build_surface: {e}")),
             Err(e) => {
@@ -2379,8 +2385,8 @@ fn regression_extreme_scale() {
     let read = |name: &str| io::read_mesh(&regression_file(name), &ReadOptions::default());
     let mut failures = Vec::new();
     for name in ["bug-scale-1e100-rhombus.obj", "bug-scale-1e-100-rhombus.obj"] {
-        let Ok(input) = read(name) else { continue }; // refusing is fine
-        let mut s = io::build_surface(&input, Path::new(name)).unwrap();
+        let Ok(mut input) = read(name) else { continue }; // refusing is fine
+        let mut s = io::build_surface(&mut input, Path::new(name)).unwrap();
         let Ok(stats) = make_delaunay(&mut s, &Options::default()) else {
             continue;
         };
@@ -2479,8 +2485,8 @@ fn regression_subnormal_crease_is_not_flipped() {
     }
     text.push_str("f 1 2 3\nf 2 1 4\n");
     let path = Path::new("crease.obj");
-    let input = io::finish(parse_obj(text.as_bytes()).unwrap(), path, &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, path).unwrap();
+    let mut input = io::finish(parse_obj(text.as_bytes()).unwrap(), path, &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&mut input, path).unwrap();
     let stats = make_delaunay(&mut s, &Options::default()).unwrap();
     assert_eq!(stats.flips, 0, "an edge was flipped across the crease");
     assert!(stats.splits > 0);
@@ -2530,8 +2536,8 @@ fn regression_checker_needle_faces() {
     if !report.passed() {
         failures.push(format!("an untouched valid triangle: {:?}", report.failures));
     }
-    let input = read("bug-checker-needle-after-refine.obj");
-    let mut s = io::build_surface(&input, Path::new("box")).unwrap();
+    let mut input = read("bug-checker-needle-after-refine.obj");
+    let mut s = io::build_surface(&mut input, Path::new("box")).unwrap();
     if make_delaunay(&mut s, &Options::new(Worklist::Stack, Score::AllEqual, true)).is_ok() {
         for t in s.triangles() {
             let [a, b, c] = t.map(|v| s.positions[v as usize]);
@@ -2568,12 +2574,12 @@ fn regression_checker_subnormal_right_angle() {
     if !report.passed() {
         failures.push(format!("an untouched Delaunay pair: {:?}", report.failures));
     }
-    let input = io::read_mesh(
+    let mut input = io::read_mesh(
         &regression_file("bug-checker-subnormal-right-angle-pipeline.obj"),
         &ReadOptions::default(),
     )
     .unwrap();
-    let mut s = io::build_surface(&input, Path::new("pipeline")).unwrap();
+    let mut s = io::build_surface(&mut input, Path::new("pipeline")).unwrap();
     make_delaunay(&mut s, &Options::new(Worklist::Queue, Score::AlwaysCenter, false)).unwrap();
     let report = common::check_refined(&input, &s);
     if !report.passed() {
@@ -2652,8 +2658,8 @@ fn saved_fuzz_inputs_pass() {
 
 /// A regression OBJ file as read (without repair) and built into a surface.
 fn regression_surface(name: &str) -> (InputMesh, Surface) {
-    let input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
-    let s = io::build_surface(&input, Path::new(name)).unwrap();
+    let mut input = io::read_mesh(&regression_file(name), &ReadOptions::default()).unwrap();
+    let s = io::build_surface(&mut input, Path::new(name)).unwrap();
     (input, s)
 }
 
@@ -2832,8 +2838,8 @@ fn regression_refine_face_on_one_input_edge() {
 #[test]
 fn regression_refine_pillow_duplicate_edge() {
     let path = regression_file("bug-refine-pillow-duplicate-edge.obj");
-    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
-    let Err(err) = io::build_surface(&input, Path::new("pillow.obj")) else {
+    let mut input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let Err(err) = io::build_surface(&mut input, Path::new("pillow.obj")) else {
         panic!("a pillow must be refused");
     };
     let msg = err.to_string();

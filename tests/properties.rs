@@ -982,8 +982,8 @@ fn assert_ok_or_refused(file: &str, options: Options) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/regressions")
         .join(file);
-    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, &path).unwrap();
+    let mut input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&mut input, &path).unwrap();
     let Ok(stats) = make_delaunay(&mut s, &options) else {
         return;
     };
@@ -1042,8 +1042,8 @@ fn regression_flip_beside_two_long_fans() {
     }
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/regressions/bug-flip-duplicate-edge-long-fans.obj");
-    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
-    let mut s = io::build_surface(&input, &path).unwrap();
+    let mut input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let mut s = io::build_surface(&mut input, &path).unwrap();
     make_delaunay(&mut s, &Options::default()).expect("the defaults refine it");
     s.validate().unwrap();
     let report = common::check_refined(&input, &s);
@@ -1072,12 +1072,12 @@ fn round_trip_through_files() {
             let in_path = dir.path().join(format!("in{i}.{ext}"));
             let out_path = dir.path().join(format!("out{i}.{ext}"));
             io::write_mesh(&in_path, &m.positions, &m.triangles).unwrap();
-            let input = io::read_mesh(&in_path, &ReadOptions::default()).unwrap();
+            let mut input = io::read_mesh(&in_path, &ReadOptions::default()).unwrap();
             if bits(&input.positions) != bits(&m.positions) || input.triangles != m.triangles {
                 failures.push(format!("{what}: does not read back as written"));
                 continue;
             }
-            let mut s = io::build_surface(&input, &in_path).unwrap();
+            let mut s = io::build_surface(&mut input, &in_path).unwrap();
             let stats = match make_delaunay(&mut s, &Options::default()) {
                 Ok(stats) => stats,
                 Err(e) => {

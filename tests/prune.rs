@@ -21,8 +21,8 @@ const SCORES: [Score; 4] = [
 /// Refines and prunes `path` with `options`, checks everything, and returns
 /// the added vertices before and after pruning.
 fn refine_prune_check(path: &std::path::Path, options: &Options, dir: &std::path::Path) -> (usize, usize) {
-    let input = io::read_mesh(path, &io::ReadOptions::default()).unwrap();
-    let mut surface = io::build_surface(&input, path).unwrap();
+    let mut input = io::read_mesh(path, &io::ReadOptions::default()).unwrap();
+    let mut surface = io::build_surface(&mut input, path).unwrap();
     let bound = surface.added_vertex_lower_bound();
     let stats = make_delaunay(&mut surface, options).unwrap_or_else(|e| panic!("{}: {options:?}: {e}", path.display()));
     let pruned = prune(&mut surface, options);
@@ -126,8 +126,8 @@ fn fewer_passes_stop_pruning_early_and_stay_delaunay() {
     use delmesh::prune::{prune_passes, MAX_PASSES};
     let dir = tempfile::tempdir().unwrap();
     let path = common::data_dir().join("cad").join("rotor.obj");
-    let input = io::read_mesh(&path, &io::ReadOptions::default()).unwrap();
-    let mut refined = io::build_surface(&input, &path).unwrap();
+    let mut input = io::read_mesh(&path, &io::ReadOptions::default()).unwrap();
+    let mut refined = io::build_surface(&mut input, &path).unwrap();
     let options = Options::default();
     make_delaunay(&mut refined, &options).unwrap();
     let mut full = refined.clone();

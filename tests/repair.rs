@@ -7,7 +7,40 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 use std::time::Instant;
 
-use delmesh::repair::{repair, RepairOptions, RepairReport, Repaired};
+use delmesh::mesh::Topology;
+use delmesh::repair::{RepairOptions, RepairReport, Repaired};
+
+/// `repair::repair`, after checking that `repair_with_topology` gives the same result, and
+/// connectivity only when repair changed no more than welds and dropped faces (and then that of
+/// the result). Every test below goes through it.
+fn repair(positions: &[[f64; 3]], triangles: &[[u32; 3]], options: &RepairOptions) -> Repaired {
+    repair_and_topology(positions, triangles, options).0
+}
+
+/// As [`repair`], with the connectivity `repair_with_topology` gave.
+fn repair_and_topology(
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    options: &RepairOptions,
+) -> (Repaired, Option<Topology>) {
+    let out = delmesh::repair::repair(positions, triangles, options);
+    let (fast, topology) = delmesh::repair::repair_with_topology(positions, triangles, options);
+    assert_eq!(fast, out, "repair_with_topology differs from repair");
+    if let Some(topology) = &topology {
+        let r = &out.report;
+        assert!(
+            r.duplicate_faces == 0
+                && r.reoriented_faces == 0
+                && r.non_manifold_edges == 0
+                && r.orientation_cuts == 0
+                && out.positions.len() + r.welded_vertices + r.unreferenced_vertices == positions.len(),
+            "connectivity given for a repair that did more than weld and drop: {r:?}"
+        );
+        let built = Topology::from_triangles(out.positions.len(), &out.triangles).expect("a manifold");
+        assert_eq!(*topology, built);
+    }
+    (out, topology)
+}
 
 // ---------------------------------------------------------------------------------------------
 // Independent checker
@@ -313,6 +346,39 @@ fn inconsistent_pair_is_reoriented() {
     );
     assert_eq!(out.triangles, vec![[0, 1, 2], [0, 2, 3]]);
     assert_eq!(out.report.lines(), vec!["reoriented 1 face".to_string()]);
+}
+
+/// The connectivity comes with the result exactly when welding and dropping faces was enough and
+/// every closed part faces outwards by a clear margin.
+#[test]
+fn connectivity_comes_with_meshes_that_only_needed_welds_and_drops() {
+    let has_topology = |positions: &[[f64; 3]], triangles: &[[u32; 3]]| {
+        let (out, topology) = repair_and_topology(positions, triangles, &RepairOptions::default());
+        check(positions, triangles, &out, 0.0);
+        topology.is_some()
+    };
+    // clean, closed and outward; as a soup (every face its own corners); open, with a stray vertex
+    let (positions, triangles) = subdivided_octahedron(2);
+    assert!(has_topology(&positions, &triangles));
+    let soup_positions: Vec<[f64; 3]> = triangles.iter().flatten().map(|&v| positions[v as usize]).collect();
+    let soup: Vec<[u32; 3]> = (0..triangles.len() as u32)
+        .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+        .collect();
+    assert!(has_topology(&soup_positions, &soup));
+    let mut open_positions = positions.clone();
+    open_positions.push([9.0, 9.0, 9.0]);
+    let mut open = triangles[1..].to_vec();
+    open.push([0, 0, 1]);
+    assert!(has_topology(&open_positions, &open));
+    // inward: turned by step 4, so repaired in full
+    let inward: Vec<[u32; 3]> = triangles.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    assert!(!has_topology(&positions, &inward));
+    // closed but flat (two fans of a square, back to back): volume zero, repaired in full, and
+    // step 4 keeps the faces as they are
+    let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let sandwich = [[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]];
+    assert!(!has_topology(&square, &sandwich));
+    assert_eq!(repaired(&square, &sandwich).triangles, sandwich);
 }
 
 #[test]

@@ -28,7 +28,7 @@ fn wavy_cone(n: usize) -> String {
 /// Refines the mesh at `path` with `options`, writes it and checks it;
 /// returns the added vertices.
 fn refine_and_check(input: &InputMesh, path: &std::path::Path, options: &Options, dir: &std::path::Path) -> usize {
-    let mut surface = io::build_surface(input, path).unwrap();
+    let mut surface = io::build_surface(&mut input.clone(), path).unwrap();
     let stats = make_delaunay(&mut surface, options).unwrap();
     surface.validate().unwrap();
     assert_eq!(stats.non_delaunay_after, 0);

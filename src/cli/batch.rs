@@ -250,10 +250,10 @@ struct Failed {
 fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> Result<Done, Failed> {
     let t0 = Instant::now();
     let read = || -> anyhow::Result<_> {
-        let mesh = args.settings.read(input)?;
+        let mut mesh = args.settings.read(input)?;
         let read_s = t0.elapsed().as_secs_f64();
         let t_build = Instant::now();
-        let surface = io::build_surface(&mesh, input)?;
+        let surface = io::build_surface(&mut mesh, input)?;
         Ok((mesh, surface, read_s, t_build.elapsed().as_secs_f64()))
     };
     let (mut mesh, surface, read_s, build_s) = read().map_err(|error| Failed {

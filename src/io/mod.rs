@@ -30,7 +30,7 @@ pub use formats::{Format, FormatError, OriginKind, PlyColumn, RawMesh};
 use crate::attributes::{Attributes, Kind, PerVertex, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
-use crate::mesh::{room_for_splits, Surface, TopologyError};
+use crate::mesh::{room_for_splits, Surface, Topology, TopologyError};
 use crate::repair::{self, RepairOptions, RepairReport};
 
 /// The largest decompressed size accepted from a `.gz` input (16 GiB).
@@ -73,6 +73,11 @@ pub struct InputMesh {
     pub attributes: Attributes,
     /// Why attributes of the file were left out (one line each).
     pub notes: Vec<String>,
+    /// The connectivity of `triangles`, when reading built it on the way
+    /// (`--repair` builds it to learn that a mesh needs no more than welding
+    /// and dropping degenerate faces: [`repair::repair_with_topology`]);
+    /// [`build_surface`] takes it instead of building it again.
+    pub topology: Option<Topology>,
 }
 
 /// How to read an input.
@@ -316,6 +321,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         repair: None,
         attributes,
         notes,
+        topology: None,
     })
 }
 
@@ -383,7 +389,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             triangle_face.push(f);
         }
     }
-    let fixed = repair::repair(&raw.positions, &triangles, options);
+    let (fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
     if fixed.triangles.is_empty() {
         return Err(Error::Mesh {
             path: path.to_owned(),
@@ -433,6 +439,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             }
             notes
         },
+        topology,
     })
 }
 
@@ -440,7 +447,11 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
 /// messages that name the file, line and vertices. Planar regions are cut
 /// where the input's attributes could not survive a flip
 /// ([`Attributes::keep_apart`]).
-pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
+///
+/// Takes the connectivity the reader built ([`InputMesh::topology`]), if any.
+pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
+    let topology = input.topology.take();
+    let input = &*input;
     let attributes = &input.attributes;
     let keep_apart = |f1, f2| attributes.keep_apart(&input.positions, &input.triangles, f1, f2);
     let cut: &dyn Fn(u32, u32) -> bool = if attributes.is_empty() {
@@ -451,6 +462,9 @@ pub fn build_surface(input: &InputMesh, path: &Path) -> Result<Surface> {
     // With room for the splits to come (no copy when the surface reserves it).
     let mut positions = Vec::with_capacity(input.positions.len() + room_for_splits(input.triangles.len()));
     positions.extend_from_slice(&input.positions);
+    if let Some(topology) = topology {
+        return Ok(Surface::with_topology(positions, topology, cut));
+    }
     Surface::with_region_cuts(positions, &input.triangles, cut).map_err(|e| {
         let at = |face: usize| {
             let origin = input.triangle_origin.get(face).copied().unwrap_or(0);
@@ -849,18 +863,18 @@ mod tests {
     #[test]
     fn topology_errors_name_lines_and_vertices() {
         let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n";
-        let m = parse(&format!("{tri}f 1 2 3\nf 1 2 4\n")).unwrap();
-        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        let mut m = parse(&format!("{tri}f 1 2 3\nf 1 2 4\n")).unwrap();
+        let msg = build_surface(&mut m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(
             msg.contains("line 7") && msg.contains("inconsistent orientation"),
             "{msg}"
         );
         assert!(msg.contains("--repair would fix this"), "{msg}");
-        let m = parse(&format!("{tri}f 1 2 3\nf 2 1 4\nf 1 2 5\n")).unwrap();
-        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        let mut m = parse(&format!("{tri}f 1 2 3\nf 2 1 4\nf 1 2 5\n")).unwrap();
+        let msg = build_surface(&mut m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(msg.contains("more than two faces"), "{msg}");
-        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n").unwrap();
-        let msg = build_surface(&m, Path::new("t.obj")).unwrap_err().to_string();
+        let mut m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n").unwrap();
+        let msg = build_surface(&mut m, Path::new("t.obj")).unwrap_err().to_string();
         assert!(
             msg.contains("vertex 1:") && msg.contains("non-manifold vertex"),
             "{msg}"
@@ -874,14 +888,33 @@ mod tests {
         let opts = ReadOptions {
             repair: Some(RepairOptions::default()),
         };
-        let m = finish(raw, Path::new("t.obj"), &opts).unwrap();
+        let mut m = finish(raw, Path::new("t.obj"), &opts).unwrap();
         let report = m.repair.clone().unwrap();
         assert_eq!(report.non_manifold_vertices, 1);
         assert_eq!(report.welded_vertices, 1);
         assert!(report.repeated_vertex_faces >= 1);
-        let s = build_surface(&m, Path::new("t.obj")).unwrap();
+        assert!(m.topology.is_none(), "a split vertex: repaired in full");
+        let s = build_surface(&mut m, Path::new("t.obj")).unwrap();
         s.validate().unwrap();
         assert_eq!(s.topo.n_faces(), 2);
+    }
+
+    #[test]
+    fn repair_that_only_welds_hands_its_connectivity_to_the_surface() {
+        // two triangles of a square, each with its own copy of the shared edge, and a
+        // repeated-vertex face: welding and dropping are all the repair does
+        let soup = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\nf 1 1 2\n";
+        let opts = ReadOptions {
+            repair: Some(RepairOptions::default()),
+        };
+        let mut m = finish(obj::parse_obj(soup.as_bytes()).unwrap(), Path::new("t.obj"), &opts).unwrap();
+        assert_eq!(m.welded, 2);
+        assert!(m.topology.is_some());
+        let fresh = Surface::new(m.positions.clone(), &m.triangles).unwrap();
+        let s = build_surface(&mut m, Path::new("t.obj")).unwrap();
+        assert!(m.topology.is_none(), "taken by build_surface");
+        s.validate().unwrap();
+        assert_eq!(s, fresh);
     }
 
     #[test]

@@ -38,7 +38,7 @@ pub const NO_INPUT_EDGE: u32 = u32::MAX;
 /// A triangle mesh with the bookkeeping of its input. Sizes: 12 bytes per
 /// half-edge (topology) + 4 per edge (input edge) + 8 per face (topology and
 /// region) + 44 per vertex (position 24, carrier 16, topology 4).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Surface {
     /// Connectivity.
     pub topo: Topology,
@@ -109,8 +109,14 @@ impl Surface {
         cut: &dyn Fn(u32, u32) -> bool,
     ) -> Result<Surface, TopologyError> {
         let topo = Topology::from_triangles(positions.len(), triangles)?;
+        Ok(Surface::with_topology(positions, topo, cut))
+    }
+
+    /// As [`Surface::with_region_cuts`], with the connectivity already built
+    /// ([`Topology::from_triangles`] of the same positions and triangles).
+    pub fn with_topology(positions: Vec<DVec3>, topo: Topology, cut: &dyn Fn(u32, u32) -> bool) -> Surface {
         let n = positions.len();
-        let spare = room_for_splits(triangles.len());
+        let spare = room_for_splits(topo.n_faces());
         let mut positions = positions;
         positions.reserve_exact(spare);
         let input_edges = (0..topo.n_edges())
@@ -148,7 +154,7 @@ impl Surface {
         };
         s.find_regions(cut);
         s.input_figures = s.figures();
-        Ok(s)
+        s
     }
 
     /// Joins faces across exactly flat edges into planar regions, except

@@ -136,7 +136,7 @@ pub enum Saved {
 }
 
 /// Half-edge connectivity. See the module documentation for the layout.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Topology {
     he_origin: Vec<VertexId>,
     he_next: Vec<HalfEdgeId>,
