@@ -767,6 +767,14 @@ fn gzip_input() {
     let mut bad = gz.clone();
     bad[15] ^= 0xff;
     let _ = maybe_gunzip(&bad, 1 << 20);
+    // The size in the footer only sizes the first allocation: a false one is an error
+    // (the member's own check), too small or too large, never a crash.
+    for size in [0u32, 1, ply.len() as u32 - 1, ply.len() as u32 + 1, u32::MAX] {
+        let mut lying = gz.clone();
+        let at = lying.len() - 4;
+        lying[at..].copy_from_slice(&size.to_le_bytes());
+        assert!(maybe_gunzip(&lying, 1 << 20).is_err(), "footer size {size}");
+    }
 }
 
 #[test]

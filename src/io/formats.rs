@@ -139,7 +139,22 @@ pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, Forma
     if !bytes.starts_with(&[0x1f, 0x8b]) {
         return Ok(Cow::Borrowed(bytes));
     }
-    let guess = (bytes.len() as u64).saturating_mul(4).min(max_bytes).min(1 << 30);
+    // A gzip member ends with its decompressed size modulo 2^32: exact for the usual single
+    // member under 4 GiB, so the output is usually allocated once, not grown by copying. Not
+    // believed beyond what deflate can expand to (1032 times), nor past the limit.
+    let compressed = bytes.len() as u64;
+    let footer = bytes
+        .len()
+        .checked_sub(4)
+        .map(|at| u32::from_le_bytes([0, 1, 2, 3].map(|k| bytes[at + k])));
+    let stated = footer
+        .map_or(0, |size| u64::from(size) + 1)
+        .min(compressed.saturating_mul(1032));
+    let guess = compressed
+        .saturating_mul(4)
+        .max(stated)
+        .min(max_bytes.saturating_add(1))
+        .min(1 << 30);
     let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
     let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
     decoder
