@@ -377,12 +377,17 @@ fn unseen_note(count: usize) -> String {
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
 fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
     let n_faces = raw.face_start.len() - 1;
-    let mut triangles = Vec::new();
-    let mut triangle_face = Vec::new();
+    let mut triangles = Vec::with_capacity(n_faces);
+    let mut triangle_face = Vec::with_capacity(n_faces);
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
     for f in 0..n_faces {
         let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+        if let &[a, b, c] = p {
+            triangles.push([a, b, c]);
+            triangle_face.push(f);
+            continue;
+        }
         unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
         for &[a, b, c] in &pieces {
             triangles.push([p[a], p[b], p[c]]);
