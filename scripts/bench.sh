@@ -9,7 +9,9 @@
 # prints the faces, the median seconds of each phase as delmesh reports them,
 # the median end-to-end wall time (hyperfine if installed, else a loop), the
 # peak memory (/usr/bin/time -v), and the I/O floor: the same command with
-# --no-refine (read, validate, write). Also `-all` on armadillo, parallel
+# --no-refine (read, validate, write), and the wall time again with the
+# output removed before each run (a new file, not one replaced). Also `-all`
+# on armadillo, parallel
 # against sequential (--jobs 1), and --prune on the armadillo and the
 # dragon at 202k faces. Then every mesh of ../shared/meshes that
 # ../shared/reference/peers.md times, against those figures. Timings are
@@ -42,6 +44,20 @@ wall() { # median wall seconds of a command
   fi
 }
 
+wall_new() { # median wall seconds of a command writing FILE, removed before each run
+  local file=$1; shift
+  if command -v hyperfine >/dev/null; then
+    hyperfine -N --warmup 1 --runs "$runs" --prepare "rm -f $file" --export-json "$out/h.json" "$*" >/dev/null 2>&1
+    python3 -c "import json;print('%.4f' % json.load(open('$out/h.json'))['results'][0]['median'])"
+  else
+    for _ in $(seq "$runs"); do
+      rm -f "$file"
+      s=$(date +%s.%N); "$@" >/dev/null; e=$(date +%s.%N)
+      echo "$e - $s" | bc -l
+    done | median
+  fi
+}
+
 bench_mesh() { # name path [flags...]
   local name=$1 path=$2; shift 2
   [ -f "$path" ] || { echo "$name: $path missing, skipped"; return; }
@@ -56,12 +72,17 @@ bench_mesh() { # name path [flags...]
   for phase in read build refine write; do
     printf '  %s %s' "$phase" "$(sed -n "s/.*$phase \([0-9.]*\).*/\1/p" "$out/phases" | median)"
   done
-  local total floor mem
+  local total floor mem new
   total=$(wall "${cmd[@]}")
   floor=$(wall "${cmd[@]}" --no-refine)
   mem=$(/usr/bin/time -v "${cmd[@]}" 2>&1 >/dev/null | sed -n 's/.*Maximum resident set size (kbytes): //p')
-  printf '  | total %s s  I/O floor %s s  (x%.2f)  peak %s MB  %.2f us/face\n' "$total" "$floor" \
-    "$(echo "$total / $floor" | bc -l)" "$((mem / 1024))" "$(echo "$total * 1000000 / $faces" | bc -l)"
+  # Each run above replaces the previous run's output; a run writing a new
+  # file is spared what ext4 does at such a rename (it allocates the new
+  # file's blocks there: auto_da_alloc).
+  new=$(wall_new "$out/o.obj" "${cmd[@]}")
+  printf '  | total %s s  I/O floor %s s  (x%.2f)  peak %s MB  %.2f us/face  | new file %s s  %.2f us/face\n' \
+    "$total" "$floor" "$(echo "$total / $floor" | bc -l)" "$((mem / 1024))" \
+    "$(echo "$total * 1000000 / $faces" | bc -l)" "$new" "$(echo "$new * 1000000 / $faces" | bc -l)"
 }
 
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); median of $runs runs"
