@@ -283,9 +283,9 @@ fn repair_faces(positions: &[[f64; 3]], rep: &[u32], candidates: Faces, mut repo
 /// that shows it (see [`repair_with_topology`]); `None` if they would change more.
 ///
 /// Every referenced representative is then one output vertex, in input order, and every face is
-/// kept as it is. Components are walked as step 4 walks them (breadth-first from their lowest
-/// face, each face's edges in order) and their volumes summed in the same order, so a closed
-/// component of negative volume goes to the full repair exactly when step 4 would turn it.
+/// kept as it is. The connectivity's own checks find any duplicate face (a second face on each
+/// of its edges), edge with more than two faces, disagreeing orientation or vertex of several
+/// fans; [`closed_components_face_outwards`] finds a closed component step 4 could turn.
 fn unchanged_topology(
     positions: &[[f64; 3]],
     rep: &[u32],
