@@ -33,25 +33,19 @@ trap 'rm -rf "$out"' EXIT
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2==1) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 
 wall() { # median wall seconds of a command
-  if command -v hyperfine >/dev/null; then
-    hyperfine -N --warmup 1 --runs "$runs" --export-json "$out/h.json" "$*" >/dev/null 2>&1
-    python3 -c "import json;print('%.4f' % json.load(open('$out/h.json'))['results'][0]['median'])"
-  else
-    for _ in $(seq "$runs"); do
-      s=$(date +%s.%N); "$@" >/dev/null; e=$(date +%s.%N)
-      echo "$e - $s" | bc -l
-    done | median
-  fi
+  wall_new "" "$@"
 }
 
-wall_new() { # median wall seconds of a command writing FILE, removed before each run
+wall_new() { # as wall, with FILE (if not empty) removed before each run
   local file=$1; shift
   if command -v hyperfine >/dev/null; then
-    hyperfine -N --warmup 1 --runs "$runs" --prepare "rm -f $file" --export-json "$out/h.json" "$*" >/dev/null 2>&1
+    local prepare=()
+    [ -n "$file" ] && prepare=(--prepare "rm -f $file")
+    hyperfine -N --warmup 1 --runs "$runs" "${prepare[@]}" --export-json "$out/h.json" "$*" >/dev/null 2>&1
     python3 -c "import json;print('%.4f' % json.load(open('$out/h.json'))['results'][0]['median'])"
   else
     for _ in $(seq "$runs"); do
-      rm -f "$file"
+      [ -n "$file" ] && rm -f "$file"
       s=$(date +%s.%N); "$@" >/dev/null; e=$(date +%s.%N)
       echo "$e - $s" | bc -l
     done | median

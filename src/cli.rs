@@ -1454,13 +1454,7 @@ fn combination_path(output: &Path, o: &Options) -> PathBuf {
         Worklist::Queue => "q",
         Worklist::PriorityQueue => "p",
     };
-    let score = match o.score {
-        Score::AllEqual => 0,
-        Score::WeightedCenter => 1,
-        Score::AlwaysCenter => 2,
-        Score::SplitAware => 3,
-        Score::Uniform => 4,
-    };
+    let score = stats_json::score_key(o.score);
     let name = format!("{stem}-{ds}-{score}{}.{ext}", if o.median { "-m" } else { "" });
     output.with_file_name(name)
 }

@@ -368,8 +368,7 @@ fn closed_components_face_outwards(positions: &[[f64; 3]], triangles: &[[u32; 3]
     drop(faces);
     let terms = crate::parallel::map(n, |f| {
         let origin = positions[triangles[lowest[component[f] as usize]][0] as usize];
-        let [a, b, c] = triangles[f].map(|v| sub(&positions[v as usize], &origin));
-        dot(&a, &cross(&b, &c))
+        volume_term(positions, &triangles[f], &origin)
     });
     // (open, volume, sum of magnitudes, terms) by component
     let mut sums = vec![(false, 0.0f64, 0.0f64, 0usize); lowest.len()];
@@ -992,8 +991,7 @@ fn signed_volume(positions: &[[f64; 3]], verts: &[[u32; 3]], component: &[u32], 
     component
         .iter()
         .map(|&f| {
-            let [a, b, c] = verts[f as usize].map(|v| sub(&positions[v as usize], &origin));
-            let det = dot(&a, &cross(&b, &c));
+            let det = volume_term(positions, &verts[f as usize], &origin);
             if flip[f as usize] {
                 -det
             } else {
@@ -1001,6 +999,13 @@ fn signed_volume(positions: &[[f64; 3]], verts: &[[u32; 3]], component: &[u32], 
             }
         })
         .sum()
+}
+
+/// Six times the signed volume of the tetrahedron of `origin` and a face (as it is listed): one
+/// term of [`signed_volume`], and of the outward test of [`closed_components_face_outwards`].
+fn volume_term(positions: &[[f64; 3]], face: &[u32; 3], origin: &[f64; 3]) -> f64 {
+    let [a, b, c] = face.map(|v| sub(&positions[v as usize], origin));
+    dot(&a, &cross(&b, &c))
 }
 
 // ---------------------------------------------------------------------------------------------

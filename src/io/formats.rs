@@ -143,10 +143,7 @@ pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, Forma
     // member under 4 GiB, so the output is usually allocated once, not grown by copying. Not
     // believed beyond what deflate can expand to (1032 times), nor past the limit.
     let compressed = bytes.len() as u64;
-    let footer = bytes
-        .len()
-        .checked_sub(4)
-        .map(|at| u32::from_le_bytes([0, 1, 2, 3].map(|k| bytes[at + k])));
+    let footer = bytes.last_chunk::<4>().map(|size| u32::from_le_bytes(*size));
     let stated = footer
         .map_or(0, |size| u64::from(size) + 1)
         .min(compressed.saturating_mul(1032));
