@@ -780,15 +780,22 @@ const BLOCK_LINES: usize = 1 << 14;
 
 /// Writes one line per item, appended to a buffer by `line`. Formatting
 /// (shortest round-trip floats, mostly) costs more than writing, so on
-/// several cores blocks of [`BLOCK_LINES`] consecutive items are formatted
-/// at once on scoped threads, then written in order: the bytes are exactly
-/// those of a sequential loop, and memory stays one block per thread.
+/// several cores the items are cut into blocks of [`BLOCK_LINES`], which
+/// worker threads (started once) format in turn while the calling thread
+/// writes the finished ones in order, formatting too whenever the next one
+/// is not ready: the bytes are exactly those of a sequential loop. Workers
+/// stay at most two blocks each ahead of the writer, so memory stays a
+/// few blocks per thread.
+///
+/// ```text
+///   blocks   0 1 2 3 4 5 6 ...
+///            ^written  ^next to format (< written + window)
+/// ```
 fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut Vec<u8>) + Sync) -> std::io::Result<()> {
-    let threads = crate::parallel::threads();
-    let blocks: Vec<&[T]> = items.chunks(BLOCK_LINES).collect();
-    let threads = threads.min(blocks.len()).max(1);
-    let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); threads];
-    let fill = |block: &[T], buffer: &mut Vec<u8>| {
+    use std::sync::{Condvar, Mutex, PoisonError};
+    let n_blocks = items.len().div_ceil(BLOCK_LINES);
+    let fill = |block: usize, buffer: &mut Vec<u8>| {
+        let block = &items[block * BLOCK_LINES..((block + 1) * BLOCK_LINES).min(items.len())];
         buffer.clear();
         // About 64 bytes a line (three shortest round-trip coordinates):
         // growing by doubling would copy the block once or twice more.
@@ -797,36 +804,112 @@ fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut V
             line(item, buffer);
         }
     };
-    for round in blocks.chunks(threads) {
-        if round.len() == 1 {
-            fill(round[0], &mut buffers[0]);
-        } else {
-            let (first, rest) = buffers.split_at_mut(1);
-            // Each other block with its buffer, taken by its thread, or
-            // here if the thread could not be started.
-            let jobs: Vec<_> = (round[1..].iter().zip(rest.iter_mut()))
-                .map(|job| std::sync::Mutex::new(Some(job)))
-                .collect();
-            let run = |job: &std::sync::Mutex<Option<(&&[T], &mut Vec<u8>)>>| {
-                if let Some((block, buffer)) = job.lock().unwrap_or_else(|p| p.into_inner()).take() {
-                    fill(block, buffer);
-                }
-            };
-            std::thread::scope(|scope| {
-                let started: Vec<bool> = (jobs.iter())
-                    .map(|job| crate::parallel::try_spawn(scope, move || run(job)).is_some())
-                    .collect();
-                fill(round[0], &mut first[0]);
-                for (job, _) in jobs.iter().zip(started).filter(|(_, started)| !started) {
-                    run(job);
-                }
-            });
+    let threads = crate::parallel::threads().min(n_blocks);
+    if threads <= 1 {
+        let mut buffer = Vec::new();
+        for block in 0..n_blocks {
+            fill(block, &mut buffer);
+            w.write_all(&buffer)?;
         }
-        for buffer in &buffers[..round.len()] {
-            w.write_all(buffer)?;
+        return Ok(());
+    }
+    let window = 2 * threads;
+    /// What the writer and the workers share.
+    struct Shared {
+        /// The next block nobody formats yet.
+        next: usize,
+        /// Blocks written so far.
+        written: usize,
+        /// Formatted blocks not yet written, block b at b % window.
+        ready: Vec<Option<Vec<u8>>>,
+        /// Buffers written out, for reuse.
+        spare: Vec<Vec<u8>>,
+        /// The writer is done (finished, or failed) or a worker panicked:
+        /// everybody stops.
+        stop: bool,
+    }
+    let shared = Mutex::new(Shared {
+        next: 0,
+        written: 0,
+        ready: vec![None; window],
+        spare: Vec::new(),
+        stop: false,
+    });
+    let changed = Condvar::new();
+    let lock = || shared.lock().unwrap_or_else(PoisonError::into_inner);
+    let wait = |guard| changed.wait(guard).unwrap_or_else(PoisonError::into_inner);
+    // Claims the next block if it is within the window: its number and a buffer.
+    let claim = |s: &mut Shared| {
+        (s.next < n_blocks && s.next < s.written + window).then(|| {
+            s.next += 1;
+            (s.next - 1, s.spare.pop().unwrap_or_default())
+        })
+    };
+    let deliver = |block: usize, buffer: Vec<u8>| {
+        lock().ready[block % window] = Some(buffer);
+        changed.notify_all();
+    };
+    // A panic in `line` on any thread stops the others (which could be
+    // waiting for it), and the scope then resumes it.
+    struct StopOnPanic<'a>(&'a Mutex<Shared>, &'a Condvar);
+    impl Drop for StopOnPanic<'_> {
+        fn drop(&mut self) {
+            if std::thread::panicking() {
+                self.0.lock().unwrap_or_else(PoisonError::into_inner).stop = true;
+                self.1.notify_all();
+            }
         }
     }
-    Ok(())
+    let worker = || {
+        let _guard = StopOnPanic(&shared, &changed);
+        loop {
+            let mut s = lock();
+            let (block, mut buffer) = loop {
+                if s.stop || s.next >= n_blocks {
+                    return;
+                }
+                match claim(&mut s) {
+                    Some(job) => break job,
+                    None => s = wait(s),
+                }
+            };
+            drop(s);
+            fill(block, &mut buffer);
+            deliver(block, buffer);
+        }
+    };
+    std::thread::scope(|scope| {
+        for _ in 1..threads {
+            // One that cannot start leaves its blocks to the others.
+            let _ = crate::parallel::try_spawn(scope, worker);
+        }
+        let _guard = StopOnPanic(&shared, &changed);
+        let result = (|| {
+            let mut s = lock();
+            while s.written < n_blocks && !s.stop {
+                let slot = s.written % window;
+                if let Some(buffer) = s.ready[slot].take() {
+                    drop(s);
+                    w.write_all(&buffer)?;
+                    s = lock();
+                    s.spare.push(buffer);
+                    s.written += 1;
+                    changed.notify_all();
+                } else if let Some((block, mut buffer)) = claim(&mut s) {
+                    drop(s);
+                    fill(block, &mut buffer);
+                    deliver(block, buffer);
+                    s = lock();
+                } else {
+                    s = wait(s);
+                }
+            }
+            Ok(())
+        })();
+        lock().stop = true;
+        changed.notify_all();
+        result
+    })
 }
 
 /// Writes a triangle mesh with attributes (per corner of `triangles`) as
@@ -980,6 +1063,80 @@ mod tests {
         crate::parallel::set_threads(0);
         assert!(threaded == alone);
         assert_eq!(threaded.iter().filter(|&&b| b == b'\n').count(), 2 * n - 2);
+    }
+
+    /// A sink that takes `limit` bytes, then fails; optionally slowly, so
+    /// that the formatting threads run a full window ahead of it.
+    struct Sink {
+        bytes: Vec<u8>,
+        limit: usize,
+        slow: bool,
+    }
+
+    impl Write for Sink {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.slow {
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+            if self.bytes.len() + buf.len() > self.limit {
+                return Err(std::io::Error::other("disk full"));
+            }
+            self.bytes.extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn blocks_are_written_in_order_past_the_window_and_failures_stop_the_threads() {
+        // More blocks than the formatting threads may run ahead (two each).
+        let items: Vec<u32> = (0..13 * BLOCK_LINES as u32 + 77).collect();
+        let line = |i: &u32, out: &mut Vec<u8>| push_index(out, *i);
+        let expected: Vec<u8> = {
+            let mut out = Vec::new();
+            items.iter().for_each(|i| line(i, &mut out));
+            out
+        };
+        let _settings = crate::parallel::settings_lock_for_tests();
+        for threads in [1, 2, 3] {
+            crate::parallel::set_threads(threads);
+            for slow in [false, true] {
+                let mut sink = Sink {
+                    bytes: Vec::new(),
+                    limit: usize::MAX,
+                    slow,
+                };
+                write_lines(&mut sink, &items, line).unwrap();
+                assert!(sink.bytes == expected, "{threads} threads, slow {slow}");
+                // A write that fails half way is the result, and returns.
+                let mut sink = Sink {
+                    bytes: Vec::new(),
+                    limit: expected.len() / 2,
+                    slow,
+                };
+                let error = write_lines(&mut sink, &items, line).unwrap_err();
+                assert_eq!(error.to_string(), "disk full");
+                assert!(expected.starts_with(&sink.bytes));
+            }
+            // A panic while formatting reaches the caller instead of leaving
+            // the writer waiting for a block that never comes.
+            let panicking = |i: &u32, out: &mut Vec<u8>| {
+                assert!(*i != 5 * BLOCK_LINES as u32 + 3, "formatting failed");
+                line(i, out)
+            };
+            let mut sink = Sink {
+                bytes: Vec::new(),
+                limit: usize::MAX,
+                slow: false,
+            };
+            let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let _ = write_lines(&mut sink, &items, panicking);
+            }));
+            assert!(caught.is_err(), "{threads} threads");
+        }
+        crate::parallel::set_threads(0);
     }
 
     #[test]
