@@ -824,8 +824,8 @@ fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut V
         ready: Vec<Option<Vec<u8>>>,
         /// Buffers written out, for reuse.
         spare: Vec<Vec<u8>>,
-        /// The writer is done (finished, or failed) or a worker panicked:
-        /// everybody stops.
+        /// The writer is done (finished, or failed) or a thread panicked
+        /// (the writer or a worker): everybody stops.
         stop: bool,
     }
     let shared = Mutex::new(Shared {
