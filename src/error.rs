@@ -53,7 +53,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, near_coincident))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *longest_first, near_coincident))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -64,6 +64,9 @@ pub enum Error {
         /// Whether the run used the median rule with score 2 (the
         /// defaults), which usually needs the fewest splits.
         median_score_2: bool,
+        /// Whether the run took the longest edge first (`-ds pqueue`), which
+        /// flips a flat region far from Delaunay the fewest times.
+        longest_first: bool,
         /// The input's near-coincident vertices, the likely cause if any.
         near_coincident: NearCoincident,
     },
@@ -152,16 +155,28 @@ fn worst_text(excess: f64) -> String {
 /// stopped by its flips (few splits) is a large flat region far from
 /// Delaunay, which the stack and queue flip quadratically often (a polygon
 /// of n corners fanned from one corner: about n²/12 flips with the stack,
-/// n longest edge first); a run stopped by its splits needs other settings,
-/// unless it already used the ones that usually split least, or the input
-/// has near-coincident vertices, around which most settings split without
-/// end.
-fn work_limit_hint(splits: usize, limit: usize, median_score_2: bool, near_coincident: &NearCoincident) -> String {
+/// n longest edge first), unless it already took the longest edge first;
+/// a run stopped by its splits needs other settings, unless it already used
+/// the ones that usually split least, or the input has near-coincident
+/// vertices, around which most settings split without end. A hint never
+/// names the settings the run used.
+fn work_limit_hint(
+    splits: usize,
+    limit: usize,
+    median_score_2: bool,
+    longest_first: bool,
+    near_coincident: &NearCoincident,
+) -> String {
     let general = if limit < 1000 {
         "raise --max-added"
-    } else if splits < limit {
+    } else if splits < limit && !longest_first {
         "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes the \
          stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
+    } else if splits < limit && !median_score_2 {
+        // Longest first already: what is left to change is the sample rule.
+        "the median rule (the default) with -s 2 usually needs far less"
+    } else if splits < limit {
+        "raise --max-added if that much work is expected"
     } else if near_coincident.edges > 0 {
         // The cause, and what to do about it, are known.
         return near_coincident.hint();
@@ -195,6 +210,35 @@ mod tests {
     }
 
     #[test]
+    fn a_flip_bound_stop_never_suggests_the_order_it_used() {
+        let stop = |longest_first, median_score_2| {
+            Error::WorkLimit {
+                splits: 194_557,
+                flips: 30_000_000,
+                limit: 10_000_000,
+                median_score_2,
+                longest_first,
+                near_coincident: NearCoincident::default(),
+            }
+            .to_string()
+        };
+        for median_score_2 in [false, true] {
+            assert!(stop(false, median_score_2).contains("--ds pqueue (longest edge first)"));
+        }
+        let pqueue = stop(true, false);
+        assert!(
+            !pqueue.contains("pqueue")
+                && pqueue.ends_with("the median rule (the default) with -s 2 usually needs far less"),
+            "{pqueue}"
+        );
+        let defaults = stop(true, true);
+        assert!(
+            !defaults.contains("pqueue") && !defaults.contains("-s 2") && defaults.contains("raise --max-added"),
+            "{defaults}"
+        );
+    }
+
+    #[test]
     fn a_split_bound_stop_says_what_the_settings_cannot_fix() {
         let stop = |median_score_2, edges| {
             Error::WorkLimit {
@@ -202,6 +246,7 @@ mod tests {
                 flips: 5,
                 limit: 10_000,
                 median_score_2,
+                longest_first: false,
                 near_coincident: NearCoincident {
                     edges,
                     shorter_than: 2.5e-9,

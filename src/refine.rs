@@ -268,6 +268,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                     flips,
                     limit: options.max_added,
                     median_score_2: options.median && options.score == Score::AlwaysCenter,
+                    longest_first: options.worklist == Worklist::PriorityQueue,
                     near_coincident: NearCoincident::of(&run.s.input_figures),
                 });
             }

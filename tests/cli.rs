@@ -1630,6 +1630,36 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
     check_passes(&input, &out);
 }
 
+/// A flip-bound stop of a run that already took the longest edge first
+/// (a 4000-gon needs 3997 flips so) does not point to --ds pqueue again.
+#[test]
+fn a_flip_bound_work_limit_with_the_priority_queue_does_not_point_to_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ellipse.obj");
+    let n = 4000;
+    let mut text = String::new();
+    for i in 0..n {
+        let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        text += &format!("v {} {} 0\n", 2.0 * a.cos(), a.sin());
+    }
+    text += &format!("f {}\n", (1..=n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
+    std::fs::write(&input, text).unwrap();
+    let out = dir.path().join("out.obj");
+    let run = refine(&input, &out)
+        .args(["-q", "--max-added", "1000", "--ds", "pqueue"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("0 splits and 3000 flips"), "{stderr}");
+    assert!(
+        !stderr.contains("pqueue") && stderr.contains("raise --max-added"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
+
 /// An extruded gear whose caps are single polygons (as CAD programs and
 /// Blender write extruded outlines): no corner sees a cap whole, so each is
 /// cut into ears; the solid refines without a note and passes the check.
