@@ -913,6 +913,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sweep_combinations(args.extended).len()
         );
     }
+    if args.output.is_none() && input_path.is_dir() {
+        // The output would be the input: the input is what is wrong.
+        bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
+    }
     check_output_dir(&output)?;
     io::set_sync_writes(args.settings.sync);
     if let Some(jobs) = args.jobs {

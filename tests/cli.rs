@@ -1630,6 +1630,29 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
     check_passes(&input, &out);
 }
 
+/// A folder given as the input, with or without -o, is reported as an
+/// input that cannot be read (without -o it is also the output, but the
+/// output is not what is wrong).
+#[test]
+fn a_folder_as_input_is_an_unreadable_input_with_or_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("meshes");
+    std::fs::create_dir(&folder).unwrap();
+    let out = dir.path().join("out.obj");
+    for run in [
+        refine(&folder, &out).output().unwrap(),
+        delmesh().arg("-i").arg(&folder).output().unwrap(),
+    ] {
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("meshes: cannot read"), "{stderr}");
+        assert!(!stderr.contains("output"), "{stderr}");
+    }
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
+}
+
 /// A flip-bound stop of a run that already took the longest edge first
 /// (a 4000-gon needs 3997 flips so) does not point to --ds pqueue again.
 #[test]
