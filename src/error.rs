@@ -159,7 +159,7 @@ fn worst_text(excess: f64) -> String {
 /// a run stopped by its splits needs other settings, unless it already used
 /// the ones that usually split least, or the input has near-coincident
 /// vertices, around which most settings split without end. A hint never
-/// names the settings the run used.
+/// suggests what the run already used.
 fn work_limit_hint(
     splits: usize,
     limit: usize,
