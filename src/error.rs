@@ -169,14 +169,17 @@ fn work_limit_hint(
 ) -> String {
     let general = if limit < 1000 {
         "raise --max-added"
-    } else if splits < limit && !longest_first {
-        "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes the \
-         stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
-    } else if splits < limit && !median_score_2 {
-        // Longest first already: what is left to change is the sample rule.
-        "the median rule (the default) with -s 2 usually needs far less"
     } else if splits < limit {
-        "raise --max-added if that much work is expected"
+        // Stopped by its flips.
+        if !longest_first {
+            "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes \
+             the stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
+        } else if !median_score_2 {
+            // Longest first already: what is left to change is the sample rule.
+            "the median rule (the default) with -s 2 usually needs far less"
+        } else {
+            "raise --max-added if that much work is expected"
+        }
     } else if near_coincident.edges > 0 {
         // The cause, and what to do about it, are known.
         return near_coincident.hint();

@@ -4,7 +4,7 @@
 mod common;
 
 use assert_cmd::Command;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn delmesh() -> Command {
     Command::cargo_bin("delmesh").unwrap()
@@ -1585,15 +1585,10 @@ fn gzip_outputs_and_byte_order_marks() {
     assert_eq!(piped.stdout, std::fs::read(&plain).unwrap());
 }
 
-/// A flat 400-gon on an ellipse, fanned from its first corner: the stack
-/// flips it about n²/12 times, longest edge first about n times. A run
-/// stopped by its flips says so and points to --ds pqueue, which gets
-/// through under the same limit.
-#[test]
-fn a_flip_bound_work_limit_points_to_the_priority_queue() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("ellipse.obj");
-    let n = 400;
+/// Writes `ellipse.obj` in `dir`: one flat n-gon on an ellipse (axes 2
+/// and 1), which delmesh fans from its first corner.
+fn fanned_ellipse(dir: &Path, n: usize) -> PathBuf {
+    let input = dir.join("ellipse.obj");
     let mut text = String::new();
     for i in 0..n {
         let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
@@ -1601,6 +1596,18 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
     }
     text += &format!("f {}\n", (1..=n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
     std::fs::write(&input, text).unwrap();
+    input
+}
+
+/// A flat 400-gon on an ellipse, fanned from its first corner: the stack
+/// flips it about n²/12 times, longest edge first about n times. A run
+/// stopped by its flips says so and points to --ds pqueue, which gets
+/// through under the same limit.
+#[test]
+fn a_flip_bound_work_limit_points_to_the_priority_queue() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 400;
+    let input = fanned_ellipse(dir.path(), n);
     let out = dir.path().join("out.obj");
     let run = refine(&input, &out)
         .args(["-q", "--max-added", "1000"])
@@ -1658,15 +1665,8 @@ fn a_folder_as_input_is_an_unreadable_input_with_or_without_output() {
 #[test]
 fn a_flip_bound_work_limit_with_the_priority_queue_does_not_point_to_it() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("ellipse.obj");
     let n = 4000;
-    let mut text = String::new();
-    for i in 0..n {
-        let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
-        text += &format!("v {} {} 0\n", 2.0 * a.cos(), a.sin());
-    }
-    text += &format!("f {}\n", (1..=n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
-    std::fs::write(&input, text).unwrap();
+    let input = fanned_ellipse(dir.path(), n);
     let out = dir.path().join("out.obj");
     let run = refine(&input, &out)
         .args(["-q", "--max-added", "1000", "--ds", "pqueue"])
