@@ -235,6 +235,14 @@ struct Settings {
     #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
     max_added: usize,
 
+    /// Take the edges in the --ds order to the end. Without it, a stack or
+    /// queue run that has flipped more than 8 times per edge of the mesh
+    /// (a large flat region far from Delaunay, such as an oval polygon
+    /// fanned from one corner) takes the rest longest edge first, and says
+    /// so: the stack would flip such a region quadratically often.
+    #[arg(long = "keep-order")]
+    keep_order: bool,
+
     /// Fix what would be refused: weld positions (see --weld-tolerance),
     /// drop faces that repeat a vertex, zero-area and duplicate faces, orient
     /// each component consistently, cut non-manifold edges and vertices apart.
@@ -293,6 +301,7 @@ impl Settings {
         let mut options = Options::new(self.ds.into(), score_of(&self.score), !self.nomedian);
         options.shells = self.shells;
         options.max_added = self.max_added;
+        options.keep_order = self.keep_order;
         options
     }
 
@@ -577,6 +586,18 @@ pub(crate) fn growth_note(surface: &Surface, pruned: bool) -> Option<String> {
             } else {
                 "; --prune or --smallest remove many of them"
             }
+        )
+    })
+}
+
+/// When a stack or queue run switched to longest edge first: after how many
+/// flips, why, and how to keep the order.
+pub(crate) fn longest_first_note(stats: &refine::Stats) -> Option<String> {
+    stats.longest_first_after.map(|flips| {
+        format!(
+            "after {flips} flips (over {} per edge) the rest was taken longest edge first, as by -ds pqueue: the stack \
+             and the queue flip a large flat region far from Delaunay quadratically often (--keep-order keeps the order)",
+            refine::FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST
         )
     })
 }
@@ -1269,6 +1290,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             s.non_delaunay_before,
             s.non_delaunay_after
         );
+        if let Some(note) = longest_first_note(s) {
+            say!("note    {note}");
+        }
         if let Some(p) = &out.pruned {
             say!(
                 "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
@@ -1677,6 +1701,7 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
         .into_iter()
         .map(|o| Options {
             max_added: args.settings.max_added,
+            keep_order: args.settings.keep_order,
             progress: progress::refine_hook(),
             ..o
         })
@@ -1775,6 +1800,22 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
                 }
                 Err(e) => say!("{head} {:>9}  not written: {}", "failed", one_line(e)),
             }
+        }
+        let switched: Vec<_> = (rows.iter())
+            .filter(|r| r.result.as_ref().is_ok_and(|f| f.stats.longest_first_after.is_some()))
+            .map(|r| r.file.file_name().map(|f| f.to_string_lossy()).unwrap_or_default())
+            .collect();
+        if !switched.is_empty() {
+            say!(
+                "note    {} last edges longest first, after more than {} flips per edge \
+                 (--keep-order keeps the order): {}",
+                match switched.len() {
+                    1 => "1 run took its".to_string(),
+                    n => format!("{n} runs took their"),
+                },
+                refine::FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST,
+                switched.join(", ")
+            );
         }
         if args.check && failed == 0 {
             say!(

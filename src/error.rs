@@ -64,7 +64,9 @@ pub enum Error {
         /// Whether the run used the median rule with score 2 (the
         /// defaults), which usually needs the fewest splits.
         median_score_2: bool,
-        /// Whether the run took the longest edge first (`-ds pqueue`), which
+        /// Whether the run took the longest edge first when it stopped
+        /// (`-ds pqueue`, or a stack or queue run past
+        /// [`crate::refine::FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST`]), which
         /// flips a flat region far from Delaunay the fewest times.
         longest_first: bool,
         /// The input's near-coincident vertices, the likely cause if any.

@@ -200,7 +200,7 @@ pub fn score_key(s: Score) -> u32 {
 }
 
 /// The fields of a run record, in order: also the CSV columns after `input`.
-pub const RUN_FIELDS: [&str; 19] = [
+pub const RUN_FIELDS: [&str; 20] = [
     "data_structure",
     "score",
     "median",
@@ -218,6 +218,7 @@ pub const RUN_FIELDS: [&str; 19] = [
     "non_delaunay_before",
     "non_delaunay_after",
     "passes",
+    "longest_first_after_flips",
     "seconds_refine",
     "seconds_write",
 ];
@@ -256,6 +257,10 @@ fn run_object(r: &RunRecord) -> Json {
         ("non_delaunay_before", Json::opt_int(st.map(|s| s.non_delaunay_before))),
         ("non_delaunay_after", Json::opt_int(st.map(|s| s.non_delaunay_after))),
         ("passes", Json::opt_int(done.map(|s| s.passes))),
+        (
+            "longest_first_after_flips",
+            Json::opt_int(done.and_then(|s| s.longest_first_after)),
+        ),
         ("seconds_refine", f.map_or(Json::Null, |f| Json::Num(f.seconds_refine))),
         ("seconds_write", f.map_or(Json::Null, |f| Json::Num(f.seconds_write))),
     ]);

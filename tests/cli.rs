@@ -1660,6 +1660,46 @@ fn a_folder_as_input_is_an_unreadable_input_with_or_without_output() {
     assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
 }
 
+/// A stack run that flips more than 8 times per edge (a 1500-gon fanned
+/// from one corner) takes the rest longest edge first and says so, in the
+/// printout and in --stats-json; --keep-order keeps the stack to the end,
+/// with about n²/12 flips. Both outputs pass the check.
+#[test]
+fn many_flips_switch_to_longest_first_unless_the_order_is_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 1500;
+    let input = fanned_ellipse(dir.path(), n);
+    let out = dir.path().join("out.obj");
+    let json = dir.path().join("stats.json");
+    let flips_of = |stdout: &str| -> usize {
+        let rest = stdout.split("0 splits, ").nth(1).unwrap_or_else(|| panic!("{stdout}"));
+        rest.split(' ').next().unwrap().parse().unwrap()
+    };
+    let run = refine(&input, &out).arg("--stats-json").arg(&json).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("note    after ") && stdout.contains("the rest was taken longest edge first"),
+        "{stdout}"
+    );
+    let switched = flips_of(&stdout);
+    check_passes(&input, &out);
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let after = doc["runs"][0]["longest_first_after_flips"].as_u64().unwrap() as usize;
+    assert!(
+        after < switched && stdout.contains(&format!("after {after} flips")),
+        "{stdout}"
+    );
+
+    let run = refine(&input, &out).arg("--keep-order").output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(!stdout.contains("longest edge first"), "{stdout}");
+    let kept = flips_of(&stdout);
+    assert!(kept > n * n / 16 && switched * 2 < kept, "{switched} against {kept}");
+    check_passes(&input, &out);
+}
+
 /// A flip-bound stop of a run that already took the longest edge first
 /// (a 4000-gon needs 3997 flips so) does not point to --ds pqueue again.
 #[test]

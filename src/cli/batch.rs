@@ -18,8 +18,8 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, file_key, growth_note, near_coincident_note, one_line, refine_once,
-    smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
+    check_output, check_output_dir, failure_record, file_key, growth_note, longest_first_note, near_coincident_note,
+    one_line, refine_once, smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord};
 use delmesh::attributes::Transfer;
@@ -336,6 +336,7 @@ fn refine_read(
     let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(near_coincident_note(&out.surface.input_figures));
     notes.extend(growth_note(&out.surface, out.pruned.is_some() || args.smallest));
+    notes.extend(longest_first_note(&out.stats));
     let written = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
     notes.extend(written.notes.iter().cloned());
     let seconds_write = t_write.elapsed().as_secs_f64();
