@@ -92,9 +92,10 @@ pub const FLIPS_PER_ADDED: usize = 3;
 /// first, unless [`Options::keep_order`].
 ///
 /// Flips alone cannot make the stack and the queue stop, but they can make
-/// them slow: a flat polygon of n corners fanned from one of them (an oval
-/// cap of a CAD part) takes the stack about n²/6 flips, 16.7 million for
-/// n = 10,000, where longest edge first takes about 2n. Runs of the median
+/// them slow: a flat polygon of n corners on an ellipse, fanned from one of
+/// them (an oval cap of a CAD part), takes the stack about n²/12 flips (an
+/// oval cylinder of 10,000 segments with two such caps: 16.7 million),
+/// where longest edge first takes about n. Runs of the median
 /// rule on the shipped meshes flip at most 0.4 times per edge (the most,
 /// 2.9, is the queue with score 0 and no median, on the armadillo), so the
 /// switch leaves them as they are; after it, the flips grow linearly.
