@@ -98,7 +98,9 @@ pub const FLIPS_PER_ADDED: usize = 3;
 /// where longest edge first takes about n. Runs of the median
 /// rule on the shipped meshes flip at most 0.4 times per edge (the most,
 /// 2.9, is the queue with score 0 and no median, on the armadillo), so the
-/// switch leaves them as they are; after it, the flips grow linearly.
+/// switch leaves them as they are; after it, the oval's flips grow linearly
+/// (not every flat region's: on a parabola, fanned, every order tried is
+/// quadratic).
 pub const FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST: usize = 8;
 
 impl Options {
