@@ -156,8 +156,10 @@ fn worst_text(excess: f64) -> String {
 /// What to try after [`Error::WorkLimit`]: a low limit can be raised; a run
 /// stopped by its flips (few splits) is a large flat region far from
 /// Delaunay, which the stack and queue flip quadratically often (a polygon
-/// of n corners fanned from one corner: about n²/12 flips with the stack,
-/// n longest edge first), unless it already took the longest edge first;
+/// of n corners on an ellipse fanned from one corner: about n²/12 flips
+/// with the stack, n longest edge first), unless it already took the
+/// longest edge first (some regions, such as a fan along a parabola, are
+/// quadratic in any order);
 /// a run stopped by its splits needs other settings, unless it already used
 /// the ones that usually split least, or the input has near-coincident
 /// vertices, around which most settings split without end. A hint never
@@ -180,7 +182,8 @@ fn work_limit_hint(
             // Longest first already: what is left to change is the sample rule.
             "the median rule (the default) with -s 2 usually needs far less"
         } else {
-            "raise --max-added if that much work is expected"
+            "some flat regions far from Delaunay (such as a polygon fanned along a parabola) take quadratically many \
+             flips in any order; raise --max-added if that much work is expected"
         }
     } else if near_coincident.edges > 0 {
         // The cause, and what to do about it, are known.
@@ -238,7 +241,9 @@ mod tests {
         );
         let defaults = stop(true, true);
         assert!(
-            !defaults.contains("pqueue") && !defaults.contains("-s 2") && defaults.contains("raise --max-added"),
+            !defaults.contains("pqueue")
+                && !defaults.contains("-s 2")
+                && defaults.contains("quadratically many flips in any order; raise --max-added"),
             "{defaults}"
         );
     }
