@@ -1585,6 +1585,16 @@ fn gzip_outputs_and_byte_order_marks() {
     assert_eq!(piped.stdout, std::fs::read(&plain).unwrap());
 }
 
+/// The flips a run's `work` line reports, for a run that split nothing.
+fn flips_of_no_split_run(stdout: &str) -> usize {
+    stdout
+        .split("work    0 splits, ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|f| f.parse().ok())
+        .unwrap_or_else(|| panic!("no flip count: {stdout}"))
+}
+
 /// Writes `ellipse.obj` in `dir`: one flat n-gon on an ellipse (axes 2
 /// and 1), which delmesh fans from its first corner.
 fn fanned_ellipse(dir: &Path, n: usize) -> PathBuf {
@@ -1627,12 +1637,7 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
         .unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
-    let flips: usize = stdout
-        .split("0 splits, ")
-        .nth(1)
-        .and_then(|rest| rest.split(' ').next())
-        .and_then(|f| f.parse().ok())
-        .unwrap_or_else(|| panic!("no flip count: {stdout}"));
+    let flips = flips_of_no_split_run(&stdout);
     assert!(flips <= n, "{flips} flips for a {n}-gon, longest edge first");
     check_passes(&input, &out);
 }
@@ -1671,10 +1676,6 @@ fn many_flips_switch_to_longest_first_unless_the_order_is_kept() {
     let input = fanned_ellipse(dir.path(), n);
     let out = dir.path().join("out.obj");
     let json = dir.path().join("stats.json");
-    let flips_of = |stdout: &str| -> usize {
-        let rest = stdout.split("0 splits, ").nth(1).unwrap_or_else(|| panic!("{stdout}"));
-        rest.split(' ').next().unwrap().parse().unwrap()
-    };
     let run = refine(&input, &out).arg("--stats-json").arg(&json).output().unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
@@ -1682,7 +1683,7 @@ fn many_flips_switch_to_longest_first_unless_the_order_is_kept() {
         stdout.contains("note    after ") && stdout.contains("the rest was taken longest edge first"),
         "{stdout}"
     );
-    let switched = flips_of(&stdout);
+    let switched = flips_of_no_split_run(&stdout);
     check_passes(&input, &out);
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let after = doc["runs"][0]["longest_first_after_flips"].as_u64().unwrap() as usize;
@@ -1695,7 +1696,7 @@ fn many_flips_switch_to_longest_first_unless_the_order_is_kept() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
     assert!(!stdout.contains("longest edge first"), "{stdout}");
-    let kept = flips_of(&stdout);
+    let kept = flips_of_no_split_run(&stdout);
     assert!(kept > n * n / 16 && switched * 2 < kept, "{switched} against {kept}");
     check_passes(&input, &out);
 }

@@ -3,6 +3,8 @@
 //! exports write them, takes the stack and the queue quadratically many
 //! flips; after the switch the flips grow linearly. Every output is checked.
 
+mod common;
+
 use delmesh::io;
 use delmesh::refine::{make_delaunay, Options, Stats, Worklist, FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST};
 use delmesh::samples::Score;
@@ -35,9 +37,7 @@ fn refine_checked(path: &std::path::Path, options: &Options) -> Stats {
     let stats = make_delaunay(&mut surface, options).unwrap();
     surface.validate().unwrap();
     assert_eq!(stats.splits, 0, "flat caps need flips only");
-    let out = path.with_file_name("out.obj");
-    io::write_obj(&out, &surface.positions, &surface.triangles()).unwrap();
-    let report = delmesh::check::check_files(path, &out).unwrap();
+    let report = common::check_refined(&input, &surface);
     assert!(report.passed(), "{options:?}: {:?}", report.failures);
     stats
 }
