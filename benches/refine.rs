@@ -71,3 +71,20 @@ fn predicates(bencher: divan::Bencher, name: &str) {
         (zero_area, flat)
     });
 }
+
+/// Parsing the OBJ text alone (statements into a raw mesh), the file's
+/// bytes already in memory.
+#[divan::bench(args = ["armadillo.obj", "bunny.obj"], sample_count = 20)]
+fn parse(bencher: divan::Bencher, name: &str) {
+    let bytes = std::fs::read(mesh_path(name)).expect("readable file");
+    bencher.bench_local(|| io::obj::parse_obj(&bytes).expect("an OBJ file"));
+}
+
+/// The whole read phase but the file system: parsing, then welding,
+/// triangulating and checking the polygons (`io::parse_obj`).
+#[divan::bench(args = ["armadillo.obj", "bunny.obj"], sample_count = 20)]
+fn read(bencher: divan::Bencher, name: &str) {
+    let path = mesh_path(name);
+    let bytes = std::fs::read(&path).expect("readable file");
+    bencher.bench_local(|| io::parse_obj(&bytes, &path).expect("valid mesh"));
+}

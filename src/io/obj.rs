@@ -94,6 +94,13 @@ pub fn join_continued_lines(bytes: &[u8]) -> std::borrow::Cow<'_, [u8]> {
 /// bytes, `#` ends a line, coordinates go through [`parse_f64`] (exact)
 /// and indices are parsed by hand.
 pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    parse_obj_with(bytes, true)
+}
+
+/// [`parse_obj`], with the one-scan reading of plain `v` and `f` lines
+/// (`plain_lines`) or without it: every line the general way, which the
+/// tests compare it with.
+fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatError> {
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
@@ -147,6 +154,32 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let mut extra = Extras::default();
     while tokens.i < text.len() {
         line_no += 1;
+        // The two statements nearly every file is made of, in their plain
+        // form, are read in one scan; any other line, or one these do not
+        // take whole, is read the general way below from its start.
+        match text.as_bytes()[tokens.i] {
+            _ if !plain_lines => {}
+            b'v' => {
+                if let Some(xyz) = tokens.plain_vertex_line() {
+                    raw.positions.push(xyz);
+                    raw.vertex_origin.push(line_no as u32);
+                    extra.vertex_color(&[], line_no);
+                    continue;
+                }
+            }
+            b'f' if !extra.has_corners() => {
+                if tokens.plain_face_line(&mut raw.indices) {
+                    if raw.face_start.is_empty() {
+                        raw.face_start.push(0);
+                    }
+                    raw.face_start.push(raw.indices.len() as u32);
+                    raw.face_origin.push(line_no as u32);
+                    extra.face();
+                    continue;
+                }
+            }
+            _ => {}
+        }
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
             "v" => {
@@ -611,6 +644,79 @@ impl<'a> Tokens<'a> {
         Some(v)
     }
 
+    /// A whole line `v x y z` at the cursor (which is at the line's start),
+    /// the coordinates short decimals (see
+    /// [`super::number::short_decimal_prefix`]) separated by spaces or tabs,
+    /// followed by nothing but blanks: its coordinates, the cursor moved
+    /// past the line. `None`, the cursor unmoved, for any other line. The
+    /// values are those the general path reads (the same number parser, the
+    /// same token ends), and such a line has no colour or weight.
+    #[inline]
+    fn plain_vertex_line(&mut self) -> Option<[f64; 3]> {
+        let b = self.s.as_bytes();
+        let mut i = self.i + 1;
+        let mut xyz = [0.0f64; 3];
+        for c in &mut xyz {
+            if !matches!(b.get(i), Some(b' ' | b'\t')) {
+                return None;
+            }
+            while matches!(b.get(i), Some(b' ' | b'\t')) {
+                i += 1;
+            }
+            let (x, len) = super::number::short_decimal_prefix(&b[i..])?;
+            *c = x;
+            i += len;
+        }
+        self.i = end_of_plain_line(b, i)?;
+        Some(xyz)
+    }
+
+    /// A whole line `f i j k ...` at the cursor (which is at the line's
+    /// start) of at least three positive indices of 1 to 18 digits below
+    /// 2^32, separated by spaces or tabs and followed by nothing but
+    /// blanks: appends them 0-based to `indices`, moves the cursor past the
+    /// line and says `true`. Otherwise `false`, with `indices` and the
+    /// cursor unchanged: the general path then reads the line (and refuses
+    /// it if it must, with its own message).
+    #[inline]
+    fn plain_face_line(&mut self, indices: &mut Vec<u32>) -> bool {
+        let b = self.s.as_bytes();
+        let start = indices.len();
+        let mut i = self.i + 1;
+        loop {
+            if !matches!(b.get(i), Some(b' ' | b'\t')) {
+                break;
+            }
+            while matches!(b.get(i), Some(b' ' | b'\t')) {
+                i += 1;
+            }
+            let first = i;
+            let mut v: u64 = 0;
+            while i - first < 18 && i < b.len() && b[i].is_ascii_digit() {
+                v = v * 10 + u64::from(b[i] - b'0');
+                i += 1;
+            }
+            if i == first {
+                break; // a line end, a comment or a token of another form
+            }
+            if v == 0 || v > u64::from(u32::MAX) || !matches!(b.get(i), None | Some(b' ' | b'\t' | b'\r' | b'\n')) {
+                indices.truncate(start);
+                return false;
+            }
+            indices.push((v - 1) as u32);
+        }
+        match end_of_plain_line(b, i) {
+            Some(next) if indices.len() - start >= 3 => {
+                self.i = next;
+                true
+            }
+            _ => {
+                indices.truncate(start);
+                false
+            }
+        }
+    }
+
     /// Moves the cursor past blanks (not past a line end).
     #[inline]
     fn skip_blanks(&mut self) {
@@ -644,6 +750,21 @@ impl<'a> Tokens<'a> {
         }
         // Both ends are at ASCII bytes (or the end of the text): char boundaries.
         self.s.get(start..self.i)
+    }
+}
+
+/// Where the line goes on after byte `i` of `b` if nothing but spaces, tabs
+/// and carriage returns is left on it: past its line feed, or the end of
+/// `b`. `None` if something else is.
+#[inline]
+fn end_of_plain_line(b: &[u8], mut i: usize) -> Option<usize> {
+    while matches!(b.get(i), Some(b' ' | b'\t' | b'\r')) {
+        i += 1;
+    }
+    match b.get(i) {
+        None => Some(i),
+        Some(b'\n') => Some(i + 1),
+        Some(_) => None,
     }
 }
 
@@ -1041,6 +1162,110 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The parsed mesh (or error) in a comparable form: positions by their
+    /// bits, everything else as read.
+    fn summary(r: Result<RawMesh, FormatError>) -> String {
+        match r {
+            Err(e) => format!("error {e:?}"),
+            Ok(m) => format!(
+                "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+                m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>(),
+                m.face_start,
+                m.indices,
+                m.face_origin,
+                m.vertex_origin,
+                m.notes,
+                m.attributes,
+            ),
+        }
+    }
+
+    #[test]
+    fn plain_lines_read_in_one_scan_as_the_general_way_reads_them() {
+        // Lines near the plain forms: every blank, signs, points, exponents,
+        // Windows' specials, comments, long and zero and huge indices,
+        // attribute corners, colours and weights, missing numbers.
+        let pieces: &[&str] = &[
+            " ",
+            " ",
+            "\t",
+            "\r",
+            "\x0c",
+            "  ",
+            "1",
+            "-2.5",
+            "+0.125",
+            "7.",
+            ".5",
+            "-.5",
+            "0",
+            "-0",
+            "12345678901234567890",
+            "1e3",
+            "1.#INF",
+            "1.5#c",
+            "#",
+            "# note",
+            "3/1",
+            "2//4",
+            "-1",
+            "0",
+            "4294967296",
+            "4294967295",
+            "123456789012345678",
+            "1234567890123456789",
+            "x",
+            "9007199254740993",
+            "0.1234567890123456789012",
+        ];
+        let mut rng = crate::test_rng::Rng(0x5eed_0b1);
+        for _ in 0..4000 {
+            let mut text = String::new();
+            // A few vertices first, so that most indices resolve.
+            for _ in 0..rng.below(6) {
+                text.push_str("v 1 2 3\n");
+            }
+            for _ in 0..1 + rng.below(8) {
+                // Mostly plain lines (`v` with three short decimals, `f`
+                // with small indices), some with one token or blank swapped
+                // for an odd piece; the rest free-form.
+                let mut words: Vec<String> = match rng.below(4) {
+                    0 => ["v", "-1.5", "2", "0.25"].map(String::from).to_vec(),
+                    1 => (0..4 + rng.below(3))
+                        .map(|k| {
+                            if k == 0 {
+                                "f".into()
+                            } else {
+                                (1 + rng.below(9)).to_string()
+                            }
+                        })
+                        .collect(),
+                    2 => vec![["v", "f", "vt", "vn", "g x", "", "#"][rng.below(7) as usize].into()],
+                    _ => vec![["v", "f"][rng.below(2) as usize].into()],
+                };
+                if rng.below(2) == 0 {
+                    let k = rng.below(words.len() as u64) as usize;
+                    words[k] = pieces[rng.below(pieces.len() as u64) as usize].into();
+                }
+                for _ in 0..rng.below(3) {
+                    words.push(pieces[rng.below(pieces.len() as u64) as usize].into());
+                }
+                for (k, w) in words.iter().enumerate() {
+                    if k > 0 {
+                        text.push_str([" ", " ", "\t", "  ", "", "\r"][rng.below(6) as usize]);
+                    }
+                    text.push_str(w);
+                }
+                text.push_str(["\n", "\r\n", " \n", "\t\n", "", "\n"][rng.below(6) as usize]);
+            }
+            let (fast, general) = (
+                parse_obj_with(text.as_bytes(), true),
+                parse_obj_with(text.as_bytes(), false),
+            );
+            assert_eq!(summary(fast), summary(general), "{text:?}");
+        }
+    }
 
     #[test]
     fn lines_are_the_same_whether_or_not_threads_start() {
