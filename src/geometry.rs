@@ -260,6 +260,20 @@ pub const FAST_MIN: f64 = f64::from_bits((1023 - 250) << 52);
 /// See [`FAST_MIN`]: 2^250, about 1.8e75.
 pub const FAST_MAX: f64 = f64::from_bits((1023 + 250) << 52);
 
+/// Whether every coordinate of `points` is in the range where `robust`'s
+/// predicates are exact (see [`FAST_MIN`]): then [`collinear_in_range`]
+/// and [`flat_pair_in_range`] may be called on them, once for a whole mesh
+/// instead of once per predicate.
+pub fn all_in_fast_range(points: &[DVec3]) -> bool {
+    points.chunks(64).all(|chunk| {
+        let mut inside = true;
+        for p in chunk {
+            inside &= fast_range(&[p.x, p.y, p.z]);
+        }
+        inside
+    })
+}
+
 /// Whether `robust`'s predicates are exact on coordinates `coords` (see
 /// [`FAST_MIN`]): each is ±0 or has a magnitude in [`FAST_MIN`,
 /// [`FAST_MAX`]] (NaN and infinities are not).
@@ -511,6 +525,13 @@ pub fn collinear(a: DVec3, b: DVec3, c: DVec3) -> bool {
     if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]) {
         return collinear_slow(a, b, c);
     }
+    collinear_in_range(a, b, c)
+}
+
+/// [`collinear`] of points whose coordinates are known to be in the fast
+/// range ([`all_in_fast_range`]); outside it the answer may be wrong.
+#[inline]
+pub fn collinear_in_range(a: DVec3, b: DVec3, c: DVec3) -> bool {
     PLANES
         .iter()
         .all(|&(i, j)| robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == 0)
@@ -533,6 +554,13 @@ pub fn flat_pair(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
         return flat_pair_slow(a, b, c, d);
     }
+    flat_pair_in_range(a, b, c, d)
+}
+
+/// [`flat_pair`] of points whose coordinates are known to be in the fast
+/// range ([`all_in_fast_range`]); outside it the answer may be wrong.
+#[inline]
+pub fn flat_pair_in_range(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     if !in_axis_plane(a, b, c, d) && robust_orient3d_sign(a, b, c, d) != 0 {
         return false;
     }

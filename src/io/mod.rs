@@ -258,10 +258,30 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     let mut scratch = Vec::new();
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
+    // Coordinates checked once for the whole mesh, not per triangle.
+    let collinear = if geometry::all_in_fast_range(&positions) {
+        geometry::collinear_in_range
+    } else {
+        geometry::collinear
+    };
     for f in 0..n_faces {
         let p = poly(f);
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
-        if let Some(w) = repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch) {
+        let repeated = match *p {
+            // A triangle (nearly every face): three comparisons, its own fan.
+            [i, j, k] => {
+                let [i, j, k] = [i, j, k].map(|v| welded_to[v as usize]);
+                pieces.clear();
+                pieces.push([0, 1, 2]);
+                if i == j {
+                    Some(j)
+                } else {
+                    (k == i || k == j).then_some(k)
+                }
+            }
+            _ => repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch),
+        };
+        if let Some(w) = repeated {
             let what = format!(
                 "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
                 f + 1,
@@ -271,7 +291,9 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         }
         // A fan from the first corner that sees the whole polygon (0 for
         // triangles and convex polygons), or its ears (`polygon::triangulate`).
-        unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
+        if p.len() != 3 {
+            unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
+        }
         for &corner in &pieces {
             let t = corner.map(|c| new_index[welded_to[p[c] as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
@@ -288,7 +310,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
                 );
                 return Err(face_error(path, &raw, f, what));
             }
-            if geometry::collinear(a, b, c) {
+            if collinear(a, b, c) {
                 return Err(face_error(
                     path,
                     &raw,

@@ -171,11 +171,17 @@ impl Surface {
         }
         // The exact test on every interior edge (read-only: on every core),
         // then the joins (sequential, cheap).
+        // Coordinates checked once for the whole mesh, not per edge.
+        let flat_pair = if geometry::all_in_fast_range(&self.positions) {
+            geometry::flat_pair_in_range
+        } else {
+            geometry::flat_pair
+        };
         let flat = crate::parallel::filter_indices(self.topo.n_edges(), |e| {
             let e = EdgeId(e as u32);
             self.topo.is_interior(e) && {
                 let [a, b, c, d] = self.edge_quad(e);
-                geometry::flat_pair(a, b, c, d)
+                flat_pair(a, b, c, d)
             }
         });
         for e in flat {
