@@ -1,7 +1,9 @@
 //! `cargo bench`: the refine phase alone (Algorithm 2 on an already built
-//! mesh), and the build phase, on the armadillo (52,000 faces) and the bunny.
-//! The meshes are read once, outside the timed code. Needs `../shared/meshes`
-//! beside the crate for the armadillo; the bunny ships in `data/`.
+//! mesh), the build phase, and the read phase (parsing alone, and parsing
+//! with welding and triangulating), on the armadillo (52,000 faces) and the
+//! bunny. Files are read from disk once, outside the timed code. Needs
+//! `../shared/meshes` beside the crate for the armadillo; the bunny ships in
+//! `data/`.
 
 use std::path::{Path, PathBuf};
 
