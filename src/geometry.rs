@@ -1298,6 +1298,36 @@ mod tests {
     }
 
     #[test]
+    fn the_mesh_wide_range_check_sees_every_coordinate() {
+        // More points than one chunk of the check, so that a bad coordinate
+        // in a later chunk or the last point is found too.
+        let mut points: Vec<DVec3> = (0..200).map(|i| DVec3::new(i as f64, -0.5 * i as f64, 1e70)).collect();
+        points[7] = DVec3::ZERO;
+        assert!(all_in_fast_range(&points));
+        assert!(all_in_fast_range(&[]));
+        for bad in [1e-300, -1e-80, 1e76, f64::NAN, f64::INFINITY, 5e-324] {
+            for at in [0, 130, 199] {
+                for axis in 0..3 {
+                    let mut p = points.clone();
+                    p[at][axis] = bad;
+                    assert!(!all_in_fast_range(&p), "{bad} at point {at}, axis {axis}");
+                }
+            }
+        }
+        // In range, the unchecked predicates answer as the checked ones.
+        let (a, b, c, d) = (
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(0.0, 1.0, 1.0),
+            DVec3::new(0.5, -1.0, 1.0),
+        );
+        assert_eq!(flat_pair_in_range(a, b, c, d), flat_pair(a, b, c, d));
+        assert!(flat_pair_in_range(a, b, c, d));
+        assert!(collinear_in_range(a, b, (a + b) * 0.5));
+        assert!(!collinear_in_range(a, b, c));
+    }
+
+    #[test]
     fn axis_scaling_is_exact_and_lands_in_the_fast_range() {
         let t = f64::from_bits(1);
         let scaled = scale_axis([0.0, 2e-323, -3.0 * t, 1e-310]).unwrap();
