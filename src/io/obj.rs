@@ -92,7 +92,10 @@ pub fn join_continued_lines(bytes: &[u8]) -> std::borrow::Cow<'_, [u8]> {
 ///
 /// A byte cursor over text validated once: tokens are runs of non-blank
 /// bytes, `#` ends a line, coordinates go through [`parse_f64`] (exact)
-/// and indices are parsed by hand.
+/// and indices are parsed by hand. The lines nearly every file is made of,
+/// `v x y z` and `f i j k` in their plain forms, are read in one scan each
+/// (with the same number parser, to the same values); every other line the
+/// general way.
 pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     parse_obj_with(bytes, true)
 }
