@@ -752,7 +752,14 @@ fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, 
     for (i, (what, path)) in written.iter().enumerate() {
         let Some(key) = &keys[i] else { continue };
         if in_place != Some(i) && Some(key) == input_key.as_ref() {
-            bail!("{}: {what} would overwrite the input", path.display());
+            // (Rewriting the input is what a run without -o does, after
+            // the checks that make it safe: say so.)
+            let hint = if what == "the output" {
+                ": leave out -o to rewrite the input in place"
+            } else {
+                ""
+            };
+            bail!("{}: {what} would overwrite the input{hint}", path.display());
         }
         if let Some(j) = keys[..i].iter().position(|k| k.as_ref() == Some(key)) {
             bail!("{}: {what} and {} name the same file", path.display(), written[j].0);

@@ -333,6 +333,18 @@ fn unreadable_input_and_bad_output_paths() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("cannot write in folder /proc"), "{stderr}");
     assert_eq!(std::fs::read(&input).unwrap(), before);
+    // -o naming the input itself (here by another spelling of its path):
+    // refused with the way to rewrite it, the input left as it was.
+    let spelled = dir.path().join(".").join(input.file_name().unwrap());
+    let out = refine(&input, &spelled).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the output would overwrite the input: leave out -o to rewrite the input in place"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert_eq!(std::fs::read(&input).unwrap(), before);
     // -all whose file names would fall on the input.
     let trap = dir.path().join("x-s-0-m.obj");
     copy_fixture("cube.obj", &trap);
