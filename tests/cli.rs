@@ -28,6 +28,15 @@ fn check_passes(input: &Path, output: &Path) {
     assert!(stdout.contains("PASS"), "{stdout}");
 }
 
+/// The error of a run that failed as a bad input or setting should: exit
+/// status 1 and one line on standard error, which it returns.
+fn one_line_error(run: &std::process::Output) -> String {
+    let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    stderr
+}
+
 #[test]
 fn report_example_line_with_pqueue() {
     let dir = tempfile::tempdir().unwrap();
@@ -336,14 +345,11 @@ fn unreadable_input_and_bad_output_paths() {
     // -o naming the input itself (here by another spelling of its path):
     // refused with the way to rewrite it, the input left as it was.
     let spelled = dir.path().join(".").join(input.file_name().unwrap());
-    let out = refine(&input, &spelled).output().unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = one_line_error(&refine(&input, &spelled).output().unwrap());
     assert!(
         stderr.contains("the output would overwrite the input: leave out -o to rewrite the input in place"),
         "{stderr}"
     );
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert_eq!(std::fs::read(&input).unwrap(), before);
     // -all whose file names would fall on the input.
     let trap = dir.path().join("x-s-0-m.obj");
@@ -1045,10 +1051,7 @@ fn a_stuck_run_points_to_smallest() {
     let dir = tempfile::tempdir().unwrap();
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
     let out = dir.path().join("out.obj");
-    let run = refine(&input, &out).arg("-q").output().unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1));
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = one_line_error(&refine(&input, &out).arg("-q").output().unwrap());
     assert!(
         stderr.contains("neither split") && stderr.contains("--smallest"),
         "{stderr}"
@@ -1631,13 +1634,12 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
     let n = 400;
     let input = fanned_ellipse(dir.path(), n);
     let out = dir.path().join("out.obj");
-    let run = refine(&input, &out)
-        .args(["-q", "--max-added", "1000"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = one_line_error(
+        &refine(&input, &out)
+            .args(["-q", "--max-added", "1000"])
+            .output()
+            .unwrap(),
+    );
     assert!(
         stderr.contains("0 splits and 3000 flips") && stderr.contains("--ds pqueue"),
         "{stderr}"
@@ -1667,9 +1669,7 @@ fn a_folder_as_input_is_an_unreadable_input_with_or_without_output() {
         refine(&folder, &out).output().unwrap(),
         delmesh().arg("-i").arg(&folder).output().unwrap(),
     ] {
-        let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(1), "{stderr}");
-        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        let stderr = one_line_error(&run);
         assert!(stderr.contains("meshes: cannot read"), "{stderr}");
         assert!(!stderr.contains("output"), "{stderr}");
     }
@@ -1721,13 +1721,12 @@ fn a_flip_bound_work_limit_with_the_priority_queue_does_not_point_to_it() {
     let n = 4000;
     let input = fanned_ellipse(dir.path(), n);
     let out = dir.path().join("out.obj");
-    let run = refine(&input, &out)
-        .args(["-q", "--max-added", "1000", "--ds", "pqueue"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = one_line_error(
+        &refine(&input, &out)
+            .args(["-q", "--max-added", "1000", "--ds", "pqueue"])
+            .output()
+            .unwrap(),
+    );
     assert!(stderr.contains("0 splits and 3000 flips"), "{stderr}");
     assert!(
         !stderr.contains("pqueue") && stderr.contains("raise --max-added"),
@@ -1853,29 +1852,23 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
 #[test]
 fn messages_name_the_real_problem() {
     let dir = tempfile::tempdir().unwrap();
-    let one_line_error = |args: &[&std::ffi::OsStr]| {
-        let run = delmesh().args(args).output().unwrap();
-        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
-        assert_eq!(run.status.code(), Some(1), "{stderr}");
-        assert_eq!(stderr.lines().count(), 1, "{stderr}");
-        stderr
-    };
+    let error_of = |args: &[&std::ffi::OsStr]| one_line_error(&delmesh().args(args).output().unwrap());
     let out = dir.path().join("o.obj");
     let dup = dir.path().join("dup.obj");
     std::fs::write(&dup, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 2 3\n").unwrap();
-    let e = one_line_error(&["-i".as_ref(), dup.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let e = error_of(&["-i".as_ref(), dup.as_os_str(), "-o".as_ref(), out.as_os_str()]);
     assert!(
         e.contains("line 7: face repeats the one at line 5 (duplicate face)"),
         "{e}"
     );
     let mac = dir.path().join("mac.obj");
     std::fs::write(&mac, "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r").unwrap();
-    let e = one_line_error(&["-i".as_ref(), mac.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let e = error_of(&["-i".as_ref(), mac.as_os_str(), "-o".as_ref(), out.as_os_str()]);
     assert!(e.contains("carriage return alone"), "{e}");
     let file = dir.path().join("afile");
     std::fs::write(&file, "").unwrap();
     let cube = common::data_dir().join("cube.obj");
-    let e = one_line_error(&["batch".as_ref(), "-d".as_ref(), file.as_os_str(), cube.as_os_str()]);
+    let e = error_of(&["batch".as_ref(), "-d".as_ref(), file.as_os_str(), cube.as_os_str()]);
     assert!(e.contains("names a file, not a folder"), "{e}");
     let run = delmesh().arg("check").arg(&cube).arg(&cube).output().unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);

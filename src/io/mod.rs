@@ -176,7 +176,17 @@ fn face_error(path: &Path, raw: &RawMesh, f: usize, what: String) -> Error {
 /// The first vertex that occurs twice in `ids`, if any: a linear scan for
 /// small polygons, sorting for large ones (a face may have millions of
 /// vertices in a hostile file).
-fn repeated_vertex(ids: impl ExactSizeIterator<Item = u32>, scratch: &mut Vec<u32>) -> Option<u32> {
+fn repeated_vertex(mut ids: impl ExactSizeIterator<Item = u32>, scratch: &mut Vec<u32>) -> Option<u32> {
+    if ids.len() == 3 {
+        // A triangle (nearly every face): as the scan below, in three
+        // comparisons.
+        let [i, j, k] = [(); 3].map(|()| ids.next().expect("three ids"));
+        return if i == j {
+            Some(j)
+        } else {
+            (k == i || k == j).then_some(k)
+        };
+    }
     scratch.clear();
     scratch.extend(ids);
     if scratch.len() <= 16 {
@@ -267,21 +277,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     for f in 0..n_faces {
         let p = poly(f);
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
-        let repeated = match *p {
-            // A triangle (nearly every face): three comparisons, its own fan.
-            [i, j, k] => {
-                let [i, j, k] = [i, j, k].map(|v| welded_to[v as usize]);
-                pieces.clear();
-                pieces.push([0, 1, 2]);
-                if i == j {
-                    Some(j)
-                } else {
-                    (k == i || k == j).then_some(k)
-                }
-            }
-            _ => repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch),
-        };
-        if let Some(w) = repeated {
+        if let Some(w) = repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch) {
             let what = format!(
                 "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
                 f + 1,
@@ -291,9 +287,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         }
         // A fan from the first corner that sees the whole polygon (0 for
         // triangles and convex polygons), or its ears (`polygon::triangulate`).
-        if p.len() != 3 {
-            unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
-        }
+        unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
         for &corner in &pieces {
             let t = corner.map(|c| new_index[welded_to[p[c] as usize] as usize]);
             let [a, b, c] = t.map(|v| positions[v as usize]);
@@ -828,6 +822,17 @@ fn bytemuck_positions(p: &[DVec3]) -> &[[f64; 3]] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_triangles_repeated_vertex_is_the_one_the_scan_finds() {
+        let mut scratch = Vec::new();
+        for ids in (0..27u32).map(|n| [n % 3, n / 3 % 3, n / 9]) {
+            // The scan: the first id that occurs earlier in the list.
+            let scan = (1..3).find(|&i| ids[..i].contains(&ids[i])).map(|i| ids[i]);
+            assert_eq!(repeated_vertex(ids.into_iter(), &mut scratch), scan, "{ids:?}");
+        }
+        assert_eq!(repeated_vertex([4, 5, 6, 5].into_iter(), &mut scratch), Some(5));
+    }
 
     fn parse(text: &str) -> Result<InputMesh> {
         parse_obj(text.as_bytes(), Path::new("t.obj"))

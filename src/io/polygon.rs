@@ -91,6 +91,11 @@ pub const MAX_EAR_CLIPPED: usize = 100_000;
 /// corner, whose triangles overlap.
 pub fn triangulate(n: usize, corner: impl Fn(usize) -> [f64; 3], out: &mut Vec<[usize; 3]>) -> bool {
     out.clear();
+    if n == 3 {
+        // Nearly every face: the fan from corner 0, without computing it.
+        out.push([0, 1, 2]);
+        return true;
+    }
     let f = fan(n, &corner);
     if f.proper || n > MAX_EAR_CLIPPED || !ears(n, &corner, out) {
         out.clear();
@@ -248,6 +253,15 @@ fn length(a: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_triangle_is_its_own_fan() {
+        let mut out = Vec::new();
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(triangulate(3, |i| t[i], &mut out));
+        assert_eq!(out, [[0, 1, 2]]);
+        assert_eq!(fan(3, |i| t[i]).apex, 0);
+    }
 
     fn apex(p: &[[f64; 3]]) -> usize {
         fan_apex(p.len(), |i| p[i])
