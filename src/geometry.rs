@@ -63,7 +63,7 @@ pub fn delaunay_excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 /// (0 ≤ `tolerance` < π/2), without computing the angle.
 #[inline]
 pub fn exceeds(y: f64, x: f64, tolerance: f64) -> bool {
-    y > 0.0 && (x <= 0.0 || y > x * tan_of_tolerance(tolerance))
+    (y > 0.0) & ((x <= 0.0) | (y > x * tan_of_tolerance(tolerance)))
 }
 
 /// tan(t), without a libm call for the tiny tolerances used here: for
@@ -137,7 +137,7 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
     let (u1, v1) = (a - c, b - c);
     let (u2, v2) = (a - d, b - d);
     let (c1, c2) = (u1.dot(v1), u2.dot(v2));
-    if c1 >= 0.0 && c2 >= 0.0 {
+    if (c1 >= 0.0) & (c2 >= 0.0) {
         // A dot product this small may have underflowed, and then its sign
         // says nothing (a fuzz finding: at a needle 1e-323 wide every product
         // is ±0); exact right angles land here too.
@@ -161,9 +161,13 @@ fn decide(y: f64, x: f64, tolerance: f64) -> DelaunayTest {
     // needs s₁ = c₁ = 0 or s₂ = c₂ = 0): sines and a cosine all underflowed,
     // and nothing can be told (a fuzz finding: a needle 1e-323 from its
     // edge's line, whose true excess was about π/2, was called Delaunay).
-    if y == 0.0 && x == 0.0 {
+    //
+    // (`&` and `|`, not `&&` and `||`: the outcome varies from edge to edge,
+    // and one branch on it mispredicts less than one per comparison.)
+    let underflow = (y == 0.0) & (x == 0.0);
+    if underflow {
         DelaunayTest::Underflow
-    } else if exceeds(y, x, tolerance) || (y == 0.0 && x < 0.0) {
+    } else if exceeds(y, x, tolerance) | ((y == 0.0) & (x < 0.0)) {
         DelaunayTest::NonDelaunay
     } else {
         DelaunayTest::Delaunay

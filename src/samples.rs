@@ -160,12 +160,19 @@ impl Score {
     /// The score, doubled so that it is an integer.
     pub fn doubled(self, halves: [bool; 2], outer_delaunay: u32) -> u32 {
         let h = halves.iter().filter(|&&x| x).count() as u32;
+        self.doubled_from_counts(h, outer_delaunay)
+    }
+
+    /// [`Score::doubled`] from the number `h` of Delaunay halves, written
+    /// without a branch on the counts.
+    #[inline]
+    fn doubled_from_counts(self, h: u32, outer_delaunay: u32) -> u32 {
         let outer = 2 * outer_delaunay;
         match self {
             Score::AllEqual => 2 * h + outer,
             Score::WeightedCenter => 3 * h + outer,
-            Score::AlwaysCenter | Score::SplitAware if h == 2 => 10 + outer,
-            Score::AlwaysCenter | Score::SplitAware => 2 * h + outer,
+            // 10 (not 4) when both halves are Delaunay.
+            Score::AlwaysCenter | Score::SplitAware => 2 * h + 6 * (h == 2) as u32 + outer,
             Score::Uniform => 0,
         }
     }
@@ -235,10 +242,14 @@ pub struct SplitQuery<'a> {
 }
 
 impl SplitQuery<'_> {
-    /// Whether outer edge `i` counts as Delaunay whatever the split point.
+    /// The outer edges that count as Delaunay whatever the split point, as
+    /// bits 2..6 (numbered as in [`SplitQuery::conditions`]).
     #[inline]
-    fn free_outer(&self, i: usize) -> bool {
-        self.score == Score::SplitAware && self.outer_flippable[i]
+    fn free_outer_mask(&self) -> u8 {
+        let split_aware = self.score == Score::SplitAware;
+        (0..4).fold(0, |m, i| {
+            m | (((split_aware & self.outer_flippable[i]) as u8) << (i + 2))
+        })
     }
 
     /// The six conditions: the halves (0, 1), then the outer edges (2..6).
@@ -249,10 +260,25 @@ impl SplitQuery<'_> {
 
     /// The doubled score of a split point at which condition `i` holds
     /// when `holds(i)` (numbered as in [`SplitQuery::conditions`]).
-    #[inline]
     fn score_where(&self, holds: impl Fn(usize) -> bool) -> u32 {
-        let outer = (2..6).filter(|&i| self.free_outer(i - 2) || holds(i)).count() as u32;
-        self.score.doubled([holds(0), holds(1)], outer)
+        self.score_of_mask((0..6).fold(0, |m, i| m | ((holds(i) as u8) << i)))
+    }
+
+    /// The doubled score of a split point at which condition `i` holds when
+    /// bit `i` of `mask` is set.
+    #[inline]
+    fn score_of_mask(&self, mask: u8) -> u32 {
+        self.score_of_mask_with(mask, self.free_outer_mask())
+    }
+
+    /// [`SplitQuery::score_of_mask`], given [`SplitQuery::free_outer_mask`].
+    #[inline]
+    fn score_of_mask_with(&self, mask: u8, free: u8) -> u32 {
+        // Bit counts by table: the baseline x86-64 has no popcnt.
+        const ONES: [u8; 16] = [0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4];
+        let h = ONES[(mask & 0b11) as usize] as u32;
+        let outer = ONES[((mask | free) >> 2 & 0b1111) as usize] as u32;
+        self.score.doubled_from_counts(h, outer)
     }
 }
 
@@ -357,16 +383,47 @@ impl<'a> Window<'a> {
 
     /// The first local index at which `c` changes value (the first j with
     /// x > breakpoint for `AtMost`, with x ≥ breakpoint for `AtLeast`).
+    #[inline]
     fn cut(&self, c: &Condition) -> u64 {
         if c.breakpoint.is_nan() {
             return 0;
         }
         let g = self.guess(c.breakpoint);
-        match c.side {
-            Side::AtMost => first_true(self.count, g, |j| self.x(j) > c.breakpoint),
-            Side::AtLeast => first_true(self.count, g, |j| self.x(j) >= c.breakpoint),
-        }
+        // One predicate for both sides (`|` and `&`, not `||` and `&&`: the
+        // side alternates from condition to condition, so a branch on it is
+        // mispredicted about half the time).
+        let at_least = c.side == Side::AtLeast;
+        first_true(self.count, g, |j| {
+            let x = self.x(j);
+            (x > c.breakpoint) | (at_least & (x == c.breakpoint))
+        })
     }
+}
+
+/// `v` in increasing order, by a sorting network (12 compare-exchanges,
+/// each a `min` and a `max`: no branch on the values).
+#[inline]
+fn sorted6(mut v: [u64; 6]) -> [u64; 6] {
+    const PAIRS: [(usize, usize); 12] = [
+        (0, 5),
+        (1, 3),
+        (2, 4),
+        (1, 2),
+        (3, 4),
+        (0, 3),
+        (2, 5),
+        (0, 1),
+        (2, 3),
+        (4, 5),
+        (1, 2),
+        (3, 4),
+    ];
+    for (i, j) in PAIRS {
+        let (a, b) = (v[i], v[j]);
+        v[i] = a.min(b);
+        v[j] = a.max(b);
+    }
+    v
 }
 
 /// The first index in `0..n` at which the monotone predicate `pred` (false
@@ -459,26 +516,30 @@ impl<'a> Pieces<'a> {
     pub fn new(q: &SplitQuery<'a>) -> Option<Self> {
         let w = Window::new(q)?;
         let conds = q.conditions();
-        let mut cuts = [0u64; 6];
-        for (cut, c) in cuts.iter_mut().zip(&conds) {
-            *cut = w.cut(c);
-        }
-        // Piece boundaries: 0, the cuts, count.
+        let cuts = conds.map(|c| w.cut(&c));
+        // Piece boundaries: 0, the cuts in increasing order, count. The
+        // loops below are written without data-dependent branches (sorting
+        // network, masks and lengths computed, not tested): which pieces
+        // are empty and which conditions hold vary from split to split, and
+        // branches on them were mispredicted about 20 times a split.
         let mut bounds = [0u64; 8];
-        bounds[1..7].copy_from_slice(&cuts);
+        bounds[1..7].copy_from_slice(&sorted6(cuts));
         bounds[7] = w.count;
-        bounds.sort_unstable();
-        let holds = |i: usize, j: u64| match conds[i].side {
-            _ if conds[i].breakpoint.is_nan() => true,
-            Side::AtMost => j < cuts[i],
-            Side::AtLeast => j >= cuts[i],
-        };
+        // Condition i holds at local index j iff its breakpoint is NaN, or
+        // j < cut (AtMost), or j ≥ cut (AtLeast).
+        let always = conds.map(|c| c.breakpoint.is_nan());
+        let at_least = conds.map(|c| c.side == Side::AtLeast);
         let mut pieces = [(0u64, 0u64, 0u8); 7];
         let mut len = 0;
-        for b in bounds.windows(2).filter(|b| b[0] < b[1]) {
-            let mask = (0..6).filter(|&i| holds(i, b[0])).fold(0u8, |m, i| m | 1 << i);
-            pieces[len] = (b[0], b[1], mask);
-            len += 1;
+        for k in 0..7 {
+            let (lo, hi) = (bounds[k], bounds[k + 1]);
+            let mut mask = 0u8;
+            for i in 0..6 {
+                let holds = always[i] | ((lo < cuts[i]) != at_least[i]);
+                mask |= (holds as u8) << i;
+            }
+            pieces[len] = (lo, hi, mask);
+            len += (lo < hi) as usize;
         }
         Some(Pieces { w, pieces, len })
     }
@@ -489,11 +550,9 @@ impl<'a> Pieces<'a> {
     pub fn choose(&self, q: &SplitQuery) -> Choice {
         let pieces = &self.pieces[..self.len];
         // Each non-empty piece scored once.
-        let mut scores = [0u32; 7];
-        for (s, p) in scores.iter_mut().zip(pieces) {
-            *s = q.score_where(|i| p.2 & (1 << i) != 0);
-        }
-        let scores = &scores[..self.len];
+        let free = q.free_outer_mask();
+        let all_scores = self.pieces.map(|p| q.score_of_mask_with(p.2, free));
+        let scores = &all_scores[..self.len];
         let best = *scores.iter().max().expect("a window has at least one piece");
         let j = if q.shells {
             // The best sample nearest the shell point (ties: the first from
@@ -512,21 +571,23 @@ impl<'a> Pieces<'a> {
             }
             nearest.expect("best is a score").1
         } else if q.median {
-            let total: u64 = (pieces.iter().zip(scores))
-                .filter(|(_, &s)| s == best)
-                .map(|(p, _)| p.1 - p.0)
-                .sum();
+            // The best samples counted, then the middle one found, piece by
+            // piece without branching on which pieces are best.
+            let sizes: [u64; 7] = std::array::from_fn(|k| {
+                let (lo, hi, _) = self.pieces[k];
+                if (k < self.len) & (all_scores[k] == best) {
+                    hi - lo
+                } else {
+                    0
+                }
+            });
+            let total: u64 = sizes.iter().sum();
             let mut rank = (total - 1) / 2;
-            let mut found = 0;
-            for (&(lo, hi, _), &s) in pieces.iter().zip(scores) {
-                if s != best {
-                    continue;
-                }
-                if rank < hi - lo {
-                    found = lo + rank;
-                    break;
-                }
-                rank -= hi - lo;
+            let mut found = u64::MAX;
+            for (k, &size) in sizes.iter().enumerate() {
+                let here = (found == u64::MAX) & (rank < size);
+                found = if here { self.pieces[k].0 + rank } else { found };
+                rank = if found == u64::MAX { rank - size } else { rank };
             }
             found
         } else {
@@ -745,6 +806,25 @@ mod tests {
         let n = u64::MAX / 4;
         assert_eq!(first_true(n, 12.0, |j| j >= n / 3), n / 3);
         assert_eq!(first_true(n, 1e300, |j| j >= 7), 7);
+    }
+
+    #[test]
+    fn the_sorting_network_sorts() {
+        // Every 0/1 input (which suffices for a comparator network), then
+        // inputs with ties and large values.
+        for bits in 0u32..64 {
+            let v: [u64; 6] = std::array::from_fn(|i| ((bits >> i) & 1) as u64);
+            let mut want = v;
+            want.sort_unstable();
+            assert_eq!(sorted6(v), want, "{v:?}");
+        }
+        let mut rng = crate::test_rng::Rng(6);
+        for _ in 0..1000 {
+            let v: [u64; 6] = std::array::from_fn(|_| rng.below(4) * (u64::MAX / 3));
+            let mut want = v;
+            want.sort_unstable();
+            assert_eq!(sorted6(v), want, "{v:?}");
+        }
     }
 
     #[test]
