@@ -106,7 +106,9 @@ impl EdgeSamples {
     /// is above f64 resolution).
     #[inline]
     pub fn t(&self, k: u64) -> f64 {
-        (self.rho_v + k as f64 * self.step) / self.len
+        // k < count <= 2^62 + 1: through i64, one instruction, the same value.
+        debug_assert!(k < 1 << 63);
+        (self.rho_v + k as i64 as f64 * self.step) / self.len
     }
 
     /// The index whose parameter is about `t` (a starting guess for searches).
@@ -433,7 +435,13 @@ pub fn first_true(n: u64, guess: f64, pred: impl Fn(u64) -> bool) -> u64 {
     if n == 0 {
         return 0;
     }
-    let g = if guess >= 0.0 { (guess as u64).min(n - 1) } else { 0 };
+    // Through i64 (one instruction; n - 1 < 9e18 < 2^63, so the clamp to
+    // 9e18 first changes nothing).
+    let g = if guess >= 0.0 {
+        (guess.min(9e18) as i64 as u64).min(n - 1)
+    } else {
+        0
+    };
     // Bracket: pred is false below `lo`, and true at `hi` (or hi == n).
     let (mut lo, mut hi);
     if pred(g) {
@@ -496,18 +504,24 @@ pub fn middle(q: &SplitQuery) -> Option<Choice> {
     Some(Window::new(q)?.middle())
 }
 
-/// The samples inside a sub-edge cut into at most seven pieces (runs of
-/// consecutive samples) on each of which every one of the six conditions
-/// either holds or not: what [`choose`] computes before scoring. The
-/// pieces do not depend on the score or the median rule, so one `Pieces`
-/// serves every variant of a query ([`Pieces::choose`]).
+/// The samples inside a sub-edge cut into seven pieces (runs of
+/// consecutive samples, some of them empty) on each of which every one of
+/// the six conditions either holds or not: what [`choose`] computes before
+/// scoring. The pieces do not depend on the score or the median rule, so
+/// one `Pieces` serves every variant of a query ([`Pieces::choose`]).
+///
+/// Which pieces are empty and which conditions hold vary from split to
+/// split, so both are computed here, not branched on (a sorting network,
+/// bit masks): branches on them were mispredicted about 20 times a split.
 #[derive(Clone, Copy)]
 pub struct Pieces<'a> {
     w: Window<'a>,
-    /// (first local index, end, which conditions hold: bit i for condition
-    /// i, the halves 0 and 1 then the outer edges 2..6).
-    pieces: [(u64, u64, u8); 7],
-    len: usize,
+    /// Piece k holds the local indices `bounds[k]..bounds[k + 1]`: 0, the
+    /// six conditions' cuts in increasing order, the window's count.
+    bounds: [u64; 8],
+    /// Which conditions hold on piece k: bit i for condition i, the halves
+    /// 0 and 1 then the outer edges 2..6.
+    masks: [u8; 7],
 }
 
 impl<'a> Pieces<'a> {
@@ -517,43 +531,34 @@ impl<'a> Pieces<'a> {
         let w = Window::new(q)?;
         let conds = q.conditions();
         let cuts = conds.map(|c| w.cut(&c));
-        // Piece boundaries: 0, the cuts in increasing order, count. The
-        // loops below are written without data-dependent branches (sorting
-        // network, masks and lengths computed, not tested): which pieces
-        // are empty and which conditions hold vary from split to split, and
-        // branches on them were mispredicted about 20 times a split.
         let mut bounds = [0u64; 8];
         bounds[1..7].copy_from_slice(&sorted6(cuts));
         bounds[7] = w.count;
         // Condition i holds at local index j iff its breakpoint is NaN, or
-        // j < cut (AtMost), or j ≥ cut (AtLeast).
-        let always = conds.map(|c| c.breakpoint.is_nan());
-        let at_least = conds.map(|c| c.side == Side::AtLeast);
-        let mut pieces = [(0u64, 0u64, 0u8); 7];
-        let mut len = 0;
-        for k in 0..7 {
-            let (lo, hi) = (bounds[k], bounds[k + 1]);
-            let mut mask = 0u8;
-            for i in 0..6 {
-                let holds = always[i] | ((lo < cuts[i]) != at_least[i]);
-                mask |= (holds as u8) << i;
-            }
-            pieces[len] = (lo, hi, mask);
-            len += (lo < hi) as usize;
-        }
-        Some(Pieces { w, pieces, len })
+        // j < cut (AtMost), or j ≥ cut (AtLeast): with `passed` the
+        // conditions whose cut is at most j, the mask is
+        // always | (passed ^ at_most).
+        let bits = |f: &dyn Fn(&Condition) -> bool| (0..6).fold(0u8, |m, i| m | ((f(&conds[i]) as u8) << i));
+        let always = bits(&|c| c.breakpoint.is_nan());
+        let at_most = bits(&|c| c.side == Side::AtMost);
+        let masks = std::array::from_fn(|k| {
+            let passed = (0..6).fold(0u8, |m, i| m | (((cuts[i] <= bounds[k]) as u8) << i));
+            always | (passed ^ at_most)
+        });
+        Some(Pieces { w, bounds, masks })
     }
 
     /// The sample that the score and median rule of `q` choose (`q` being
     /// the query these pieces were made from, or one differing from it only
     /// in those two).
     pub fn choose(&self, q: &SplitQuery) -> Choice {
-        let pieces = &self.pieces[..self.len];
-        // Each non-empty piece scored once.
         let free = q.free_outer_mask();
-        let all_scores = self.pieces.map(|p| q.score_of_mask_with(p.2, free));
-        let scores = &all_scores[..self.len];
-        let best = *scores.iter().max().expect("a window has at least one piece");
+        let (lo, hi) = (|k: usize| self.bounds[k], |k: usize| self.bounds[k + 1]);
+        // Each piece's score plus one, 0 for an empty piece: the best is that
+        // of a non-empty piece (a window has one).
+        let ranks: [u32; 7] =
+            std::array::from_fn(|k| (q.score_of_mask_with(self.masks[k], free) + 1) * (lo(k) < hi(k)) as u32);
+        let best = *ranks.iter().max().expect("seven pieces");
         let j = if q.shells {
             // The best sample nearest the shell point (ties: the first from
             // `a`): in each best piece, the index guessed for the target,
@@ -561,8 +566,8 @@ impl<'a> Pieces<'a> {
             let target = shell_target(q);
             let g = self.w.nearest_local(target);
             let mut nearest: Option<(f64, u64)> = None;
-            for (&(lo, hi, _), _) in pieces.iter().zip(scores).filter(|(_, &s)| s == best) {
-                for j in [g.saturating_sub(1), g, g + 1].map(|j| j.clamp(lo, hi - 1)) {
+            for k in (0..7).filter(|&k| ranks[k] == best) {
+                for j in [g.saturating_sub(1), g, g + 1].map(|j| j.clamp(lo(k), hi(k) - 1)) {
                     let d = (self.w.samples.t(self.w.k(j)) - target).abs();
                     if nearest.is_none_or(|(best_d, best_j)| (d, j) < (best_d, best_j)) {
                         nearest = Some((d, j));
@@ -573,26 +578,18 @@ impl<'a> Pieces<'a> {
         } else if q.median {
             // The best samples counted, then the middle one found, piece by
             // piece without branching on which pieces are best.
-            let sizes: [u64; 7] = std::array::from_fn(|k| {
-                let (lo, hi, _) = self.pieces[k];
-                if (k < self.len) & (all_scores[k] == best) {
-                    hi - lo
-                } else {
-                    0
-                }
-            });
+            let sizes: [u64; 7] = std::array::from_fn(|k| if ranks[k] == best { hi(k) - lo(k) } else { 0 });
             let total: u64 = sizes.iter().sum();
             let mut rank = (total - 1) / 2;
             let mut found = u64::MAX;
             for (k, &size) in sizes.iter().enumerate() {
                 let here = (found == u64::MAX) & (rank < size);
-                found = if here { self.pieces[k].0 + rank } else { found };
+                found = if here { lo(k) + rank } else { found };
                 rank = if found == u64::MAX { rank - size } else { rank };
             }
             found
         } else {
-            let first = scores.iter().position(|&s| s == best).expect("best is a score");
-            pieces[first].0
+            lo(ranks.iter().position(|&r| r == best).expect("best is a rank"))
         };
         let k = self.w.k(j);
         Choice {
