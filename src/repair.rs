@@ -682,11 +682,14 @@ fn filter_faces(positions: &[[f64; 3]], triangles: &[[u32; 3]], rep: &[u32], rep
         RepeatedVertex,
         ZeroArea,
     }
+    // Coordinates checked once for the whole mesh, not per triangle.
+    let points: &[glam::DVec3] = bytemuck::cast_slice(positions);
+    let in_range = crate::geometry::all_in_fast_range(points);
     let verdicts = crate::parallel::map(triangles.len(), |t| {
         let v = triangles[t].map(|i| rep[i as usize]);
         if v[0] == v[1] || v[1] == v[2] || v[2] == v[0] {
             Verdict::RepeatedVertex
-        } else if is_zero_area(&v.map(|i| positions[i as usize])) {
+        } else if is_zero_area(&v.map(|i| points[i as usize]), in_range) {
             Verdict::ZeroArea
         } else {
             Verdict::Keep
@@ -746,10 +749,14 @@ fn find_duplicates(verts: &[[u32; 3]], n_vertices: usize) -> Vec<bool> {
 
 /// Exact test: a triangle has zero area iff its projections on the xy, yz and zx planes all do
 /// ([`crate::geometry::collinear`], exact for subnormal coordinates too, on which `robust` alone
-/// underflows).
-fn is_zero_area(p: &[[f64; 3]; 3]) -> bool {
-    let [a, b, c] = p.map(glam::DVec3::from_array);
-    crate::geometry::collinear(a, b, c)
+/// underflows; [`crate::geometry::collinear_in_range`] when the whole mesh is `in_range`, see
+/// [`crate::geometry::all_in_fast_range`]).
+fn is_zero_area([a, b, c]: &[glam::DVec3; 3], in_range: bool) -> bool {
+    if in_range {
+        crate::geometry::collinear_in_range(*a, *b, *c)
+    } else {
+        crate::geometry::collinear(*a, *b, *c)
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1192,4 +1199,35 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 
 fn scale(a: &[f64; 3], s: f64) -> [f64; 3] {
     a.map(|x| x * s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The zero-area test is exact at every scale: the mesh-wide range check
+    /// sends meshes with subnormal coordinates to the slow exact test, on
+    /// which a proper triangle 1e-310 across is kept (the fast test alone
+    /// underflows and would call it collinear), and a collinear one dropped.
+    #[test]
+    fn zero_area_faces_are_found_at_every_scale() {
+        for scale in [1.0, 1e-310] {
+            let positions = [
+                [0.0, 0.0, 0.0],
+                [scale, 0.0, 0.0],
+                [0.0, scale, 0.0],
+                [2.0 * scale, 0.0, 0.0],
+            ];
+            let triangles = [[0, 1, 2], [0, 1, 3], [1, 1, 2]];
+            let rep = [0, 1, 2, 3];
+            let mut report = RepairReport::default();
+            let faces = filter_faces(&positions, &triangles, &rep, &mut report);
+            assert_eq!(faces.source, [0], "scale {scale}");
+            assert_eq!(
+                (report.zero_area_faces, report.repeated_vertex_faces),
+                (1, 1),
+                "scale {scale}"
+            );
+        }
+    }
 }
