@@ -272,6 +272,27 @@ pub fn all_in_fast_range(points: &[DVec3]) -> bool {
     points.iter().all(|p| fast_range(&[p.x, p.y, p.z]))
 }
 
+/// The zero-area test for triangles on `points`: [`collinear_in_range`]
+/// if every coordinate is in the fast range ([`all_in_fast_range`], checked
+/// here once for the whole mesh), else [`collinear`].
+pub fn collinear_for(points: &[DVec3]) -> fn(DVec3, DVec3, DVec3) -> bool {
+    if all_in_fast_range(points) {
+        collinear_in_range
+    } else {
+        collinear
+    }
+}
+
+/// The flat-pair test for quads on `points`, chosen as [`collinear_for`]
+/// chooses: [`flat_pair_in_range`] or [`flat_pair`].
+pub fn flat_pair_for(points: &[DVec3]) -> fn(DVec3, DVec3, DVec3, DVec3) -> bool {
+    if all_in_fast_range(points) {
+        flat_pair_in_range
+    } else {
+        flat_pair
+    }
+}
+
 /// Whether `robust`'s predicates are exact on coordinates `coords` (see
 /// [`FAST_MIN`]): each is ±0 or has a magnitude in [`FAST_MIN`,
 /// [`FAST_MAX`]] (NaN and infinities are not).
@@ -1322,6 +1343,17 @@ mod tests {
         assert!(flat_pair_in_range(a, b, c, d));
         assert!(collinear_in_range(a, b, (a + b) * 0.5));
         assert!(!collinear_in_range(a, b, c));
+        // The mesh-wide choice: on a triangle 1e-310 across the unchecked
+        // test underflows; the choice made for its points is the exact one.
+        let tiny = [DVec3::ZERO, DVec3::new(1e-310, 0.0, 0.0), DVec3::new(0.0, 1e-310, 0.0)];
+        assert!(collinear_in_range(tiny[0], tiny[1], tiny[2]), "underflows, as said");
+        assert!(!collinear_for(&tiny)(tiny[0], tiny[1], tiny[2]));
+        assert!(!collinear_for(&[a, b, c])(a, b, c));
+        assert!(flat_pair_for(&[a, b, c, d])(a, b, c, d));
+        let far = DVec3::new(0.0, 0.0, 1e-310);
+        assert!(!flat_pair_for(&[tiny[0], tiny[1], tiny[2], far])(
+            tiny[0], tiny[1], tiny[2], far
+        ));
     }
 
     #[test]

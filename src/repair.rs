@@ -682,14 +682,17 @@ fn filter_faces(positions: &[[f64; 3]], triangles: &[[u32; 3]], rep: &[u32], rep
         RepeatedVertex,
         ZeroArea,
     }
-    // Coordinates checked once for the whole mesh, not per triangle.
+    // The exact zero-area test: a triangle has zero area iff its
+    // projections on the xy, yz and zx planes all do (exact for subnormal
+    // coordinates too, on which `robust` alone underflows). Coordinates
+    // checked once for the whole mesh, not per triangle.
     let points: &[glam::DVec3] = bytemuck::cast_slice(positions);
-    let in_range = crate::geometry::all_in_fast_range(points);
+    let collinear = crate::geometry::collinear_for(points);
     let verdicts = crate::parallel::map(triangles.len(), |t| {
         let v = triangles[t].map(|i| rep[i as usize]);
         if v[0] == v[1] || v[1] == v[2] || v[2] == v[0] {
             Verdict::RepeatedVertex
-        } else if is_zero_area(&v.map(|i| points[i as usize]), in_range) {
+        } else if collinear(points[v[0] as usize], points[v[1] as usize], points[v[2] as usize]) {
             Verdict::ZeroArea
         } else {
             Verdict::Keep
@@ -745,18 +748,6 @@ fn find_duplicates(verts: &[[u32; 3]], n_vertices: usize) -> Vec<bool> {
         }
     }
     duplicate
-}
-
-/// Exact test: a triangle has zero area iff its projections on the xy, yz and zx planes all do
-/// ([`crate::geometry::collinear`], exact for subnormal coordinates too, on which `robust` alone
-/// underflows; [`crate::geometry::collinear_in_range`] when the whole mesh is `in_range`, see
-/// [`crate::geometry::all_in_fast_range`]).
-fn is_zero_area([a, b, c]: &[glam::DVec3; 3], in_range: bool) -> bool {
-    if in_range {
-        crate::geometry::collinear_in_range(*a, *b, *c)
-    } else {
-        crate::geometry::collinear(*a, *b, *c)
-    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -538,9 +538,11 @@ impl<'a> Pieces<'a> {
         // j < cut (AtMost), or j ≥ cut (AtLeast): with `passed` the
         // conditions whose cut is at most j, the mask is
         // always | (passed ^ at_most).
-        let bits = |f: &dyn Fn(&Condition) -> bool| (0..6).fold(0u8, |m, i| m | ((f(&conds[i]) as u8) << i));
-        let always = bits(&|c| c.breakpoint.is_nan());
-        let at_most = bits(&|c| c.side == Side::AtMost);
+        let (mut always, mut at_most) = (0u8, 0u8);
+        for (i, c) in conds.iter().enumerate() {
+            always |= (c.breakpoint.is_nan() as u8) << i;
+            at_most |= ((c.side == Side::AtMost) as u8) << i;
+        }
         let masks = std::array::from_fn(|k| {
             let passed = (0..6).fold(0u8, |m, i| m | (((cuts[i] <= bounds[k]) as u8) << i));
             always | (passed ^ at_most)

@@ -269,11 +269,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
     // Coordinates checked once for the whole mesh, not per triangle.
-    let collinear = if geometry::all_in_fast_range(&positions) {
-        geometry::collinear_in_range
-    } else {
-        geometry::collinear
-    };
+    let collinear = geometry::collinear_for(&positions);
     for f in 0..n_faces {
         let p = poly(f);
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);

@@ -172,11 +172,7 @@ impl Surface {
         // The exact test on every interior edge (read-only: on every core),
         // then the joins (sequential, cheap).
         // Coordinates checked once for the whole mesh, not per edge.
-        let flat_pair = if geometry::all_in_fast_range(&self.positions) {
-            geometry::flat_pair_in_range
-        } else {
-            geometry::flat_pair
-        };
+        let flat_pair = geometry::flat_pair_for(&self.positions);
         let flat = crate::parallel::filter_indices(self.topo.n_edges(), |e| {
             let e = EdgeId(e as u32);
             self.topo.is_interior(e) && {
