@@ -170,25 +170,29 @@ impl Topology {
                 return Err(TopologyError::RepeatedVertex { face: f, vertex });
             }
         }
-        // Corners c = 3f + i are the directed edges tri[i] -> tri[i+1].
+        // Corners c = 3f + i are the directed edges tri[i] -> tri[i+1]. The
+        // loops below run over faces and their three corners, so that no
+        // corner number is divided by 3.
         let n_corners = triangles.len() * 3;
-        let origin = |c: usize| triangles[c / 3][c % 3];
-        let dest = |c: usize| triangles[c / 3][(c % 3 + 1) % 3];
         // Outgoing corners per vertex, compressed (counting sort), each with
         // its destination so that scanning a vertex's list reads one block.
         let mut start = vec![0u32; n_vertices + 1];
-        for c in 0..n_corners {
-            start[origin(c) as usize + 1] += 1;
+        for t in triangles {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
         }
         for v in 0..n_vertices {
             start[v + 1] += start[v];
         }
         let mut fill = start.clone();
         let mut out = vec![(0u32, 0u32); n_corners]; // (destination, corner)
-        for c in 0..n_corners {
-            let v = origin(c) as usize;
-            out[fill[v] as usize] = (dest(c), c as u32);
-            fill[v] += 1;
+        for (f, t) in triangles.iter().enumerate() {
+            for i in 0..3 {
+                let v = t[i] as usize;
+                out[fill[v] as usize] = (t[(i + 1) % 3], (3 * f + i) as u32);
+                fill[v] += 1;
+            }
         }
         drop(fill);
         // A vertex with many faces (the apex of a fan of thousands) has its
@@ -220,11 +224,14 @@ impl Topology {
         let mut corner_he = vec![UNSET; n_corners];
         let spare = room_for_splits(triangles.len());
         let mut he_origin = Vec::with_capacity(n_corners + n_corners / 8 + 6 * spare);
-        for c in 0..n_corners {
+        for (c, (u, v)) in triangles
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .enumerate()
+        {
             if corner_he[c] != UNSET {
                 continue;
             }
-            let (u, v) = (origin(c), dest(c));
             let same = towards(u, v).iter().filter(|o| o.0 == v).count();
             let mut twin = None;
             let mut opposite = 0;
