@@ -1203,11 +1203,12 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         // The input's vertex lines do not change: on a spare core, format
         // them while this thread refines (OBJ output without attributes),
         // unless the mesh is too small to repay starting the thread.
-        let ahead = transfer.is_none()
+        // (The size first: asking for the cores reads cgroup files.)
+        let ahead = input.positions.len() >= FORMAT_AHEAD_MIN_VERTICES
+            && transfer.is_none()
             && io::output_format(&output) == io::Format::Obj
-            && delmesh::parallel::cores() > 1
             && args.jobs.is_none_or(|j| j > 1)
-            && input.positions.len() >= FORMAT_AHEAD_MIN_VERTICES;
+            && delmesh::parallel::cores() > 1;
         std::thread::scope(|scope| {
             // (None if the thread cannot be started: the writer then
             // formats the lines itself.)

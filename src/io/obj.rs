@@ -926,7 +926,13 @@ fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut V
             line(item, buffer);
         }
     };
-    let threads = crate::parallel::threads().min(n_blocks);
+    // (One block needs no thread, nor asking how many there may be: that
+    // reads cgroup files.)
+    let threads = if n_blocks <= 1 {
+        1
+    } else {
+        crate::parallel::threads().min(n_blocks)
+    };
     if threads <= 1 {
         let mut buffer = Vec::new();
         for block in 0..n_blocks {
