@@ -611,13 +611,22 @@ impl Pruner<'_> {
     /// non-flippable edge may be bad for a while: a later flip can give it a
     /// better opposite vertex, so splits wait until no flip is left to do.
     fn refine_locally(&mut self, budget: usize) -> bool {
+        let mut hopeless = false;
         loop {
             let bad = match self.settle() {
                 Err(()) => return false,
-                Ok(None) => return true,
+                Ok(None) => {
+                    debug_assert!(!hopeless, "a local refinement found hopeless ended Delaunay");
+                    return true;
+                }
                 Ok(Some(bad)) => bad,
             };
             if self.splits >= budget || self.s.is_flippable(bad) {
+                return false;
+            }
+            // Debug builds (every test) go on, and check the claim above.
+            hopeless |= self.left_after_settle().needs_more_than(budget - self.splits);
+            if hopeless && !cfg!(debug_assertions) {
                 return false;
             }
             let Some(choice) = refine::choose_sample(self.s, &self.constants, &self.options, bad) else {
@@ -638,6 +647,13 @@ impl Pruner<'_> {
             Ok(Some(_)) if budget == 0 => return Attempt::Failed,
             Ok(Some(_)) => {}
         }
+        // More bad edges than splits left: hopeless (see `Left`). Debug
+        // builds (every test) go on and check that the attempt fails indeed.
+        let left = self.left_after_settle();
+        let hopeless = left.needs_more_than(budget.saturating_sub(self.splits));
+        if hopeless && !cfg!(debug_assertions) {
+            return Attempt::Failed;
+        }
         let mut bad_edges: Vec<EdgeId> = Vec::new();
         for &e in &self.touched {
             if bad_edges.len() == FIRST_SPLITS {
@@ -652,11 +668,12 @@ impl Pruner<'_> {
             }
         }
         let mark = self.mark();
-        let last_split = self.splits + 1 >= budget;
+        // Splits the budget leaves after the first.
+        let after_first = budget.saturating_sub(self.splits + 1);
         for bad in bad_edges {
             let candidates = self.candidates(bad);
             for &t in candidates.as_slice() {
-                if last_split && self.split_is_doomed(bad, t) {
+                if self.split_is_doomed(bad, t, &left, after_first) {
                     // Debug builds (every test) check the claim: the trial
                     // itself fails, and leaves nothing behind once undone.
                     #[cfg(debug_assertions)]
@@ -669,6 +686,7 @@ impl Pruner<'_> {
                 }
                 self.split(bad, t);
                 if self.refine_locally(budget) {
+                    debug_assert!(!hopeless, "an attempt found hopeless ended Delaunay");
                     return Attempt::Kept;
                 }
                 self.undo_to(mark);
@@ -677,10 +695,36 @@ impl Pruner<'_> {
         Attempt::Failed
     }
 
-    /// Whether splitting the non-flippable edge `bad` at `t`, as the
-    /// attempt's last split, certainly leaves an edge non-Delaunay: then the
-    /// trial would fail, and is skipped (the result is the same, only
-    /// sooner). Six edges are looked at, those whose quads the split makes:
+    /// What the touched edges left non-Delaunay just after
+    /// [`Pruner::settle`] say about the splits still needed (see [`Left`]).
+    fn left_after_settle(&self) -> Left {
+        let s = &*self.s;
+        let mut left = Left {
+            fixed: [EdgeId::NONE; MAX_GROUP + 1],
+            count: 0,
+            regions_delaunay: true,
+        };
+        for &e in &self.touched {
+            let bad = || self.verdict[e.idx()].unwrap_or_else(|| s.is_non_delaunay(e, ALGORITHM_TOLERANCE));
+            if s.topo.is_dead_edge(e) || !bad() {
+                continue;
+            }
+            if s.is_flippable(e) {
+                left.regions_delaunay = false;
+            } else if left.count < left.fixed.len() && !left.fixed[..left.count].contains(&e) {
+                left.fixed[left.count] = e;
+                left.count += 1;
+            }
+        }
+        left
+    }
+
+    /// Whether splitting the non-flippable edge `bad` at `t` certainly
+    /// leaves more edges non-Delaunay than the `splits_after` splits the
+    /// budget leaves can mend: then the trial would fail, and is skipped
+    /// (the result is the same, only sooner). `left`: what the settle before
+    /// it left ([`Pruner::left_after_settle`]). Six edges are looked at,
+    /// those whose quads the split makes:
     ///
     /// ```text
     ///          x1     x0
@@ -690,18 +734,34 @@ impl Pruner<'_> {
     ///          x2     x3
     /// ```
     ///
-    /// An edge's quad changes only if a face of it does, and after this
-    /// split only flips can change faces. Flippability never changes (a
-    /// flip or split keeps each face's region), p-c and p-d are never
-    /// flipped (the flip would make the face (a, p, b) on one input edge,
-    /// which `flip_is_valid` refuses) and the halves are not flippable (as
-    /// `bad` is not). So a half keeps its quad if the two outer edges at its
-    /// end (a-c and d-a for a-p) are not flippable, and an outer edge that
-    /// is not flippable keeps its quad if the other two edges of the face
-    /// beyond it are not. Such an edge that the split leaves non-Delaunay
-    /// stays so: the test here is the one `settle` makes, on the same four
+    /// The halves are not flippable (as `bad` is not). If the regions are
+    /// constrained-Delaunay ([`Left`]), a non-flippable edge of the six that
+    /// the split leaves non-Delaunay, with the apexes it has then, stays so
+    /// until a vertex is added on it: each needs a split of its own, as does
+    /// each other edge in `left`.
+    ///
+    /// If not (only as the last split): an edge's quad changes only if a
+    /// face of it does, and after the last split only flips can change
+    /// faces. Flippability never changes (a flip or split keeps each face's
+    /// region), p-c and p-d are never flipped (the flip would make the face
+    /// (a, p, b) on one input edge, which `flip_is_valid` refuses). So a
+    /// half keeps its quad if the two outer edges at its end (a-c and d-a
+    /// for a-p) are not flippable, and an outer edge that is not flippable
+    /// keeps its quad if the other two edges of the face beyond it are not.
+    /// Such an edge that the split leaves non-Delaunay stays so.
+    ///
+    /// Either way the test here is the one `settle` makes, on the same four
     /// positions (it is symmetric in the edge's ends and in its apexes).
-    fn split_is_doomed(&self, bad: EdgeId, t: f64) -> bool {
+    fn split_is_doomed(&self, bad: EdgeId, t: f64, left: &Left, splits_after: usize) -> bool {
+        let delaunay = left.regions_delaunay;
+        if !delaunay && splits_after > 0 {
+            return false;
+        }
+        // The other edges already waiting for a split of their own.
+        let others = left.count.saturating_sub(1);
+        if delaunay && others > splits_after {
+            return true;
+        }
         let s = &*self.s;
         let topo = &s.topo;
         let [a, b, c, d] = s.edge_quad(bad);
@@ -710,21 +770,39 @@ impl Pruner<'_> {
         let outer = topo.outer_halfedges(bad); // c→a, b→c, d→b, a→d
         let fixed = outer.map(|x| !s.is_flippable(x.edge()));
         let bad_edge = |q: [DVec3; 4]| geometry::is_non_delaunay(q[0], q[1], q[2], q[3], ALGORITHM_TOLERANCE);
-        if (fixed[0] && fixed[3] && bad_edge([a, p, c, d])) || (fixed[1] && fixed[2] && bad_edge([p, b, c, d])) {
-            return true;
+        let mut needed = if delaunay { others } else { 0 };
+        let halves = [
+            ([a, p, c, d], fixed[0] && fixed[3]),
+            ([p, b, c, d], fixed[1] && fixed[2]),
+        ];
+        for (quad, kept) in halves {
+            if (delaunay || kept) && bad_edge(quad) {
+                needed += 1;
+                if needed > splits_after {
+                    return true;
+                }
+            }
         }
         // Outer edge i runs between `ends[i]`; its new apex on this side is p.
         let ends = [[c, a], [b, c], [d, b], [a, d]];
-        (0..4).any(|i| {
+        for i in 0..4 {
             let beyond = outer[i].twin();
             if !fixed[i] || topo.face(beyond).is_none() {
-                return false;
+                continue;
             }
             let (n1, n2) = (topo.next(beyond), topo.next(topo.next(beyond)));
-            !s.is_flippable(n1.edge())
-                && !s.is_flippable(n2.edge())
+            let kept = delaunay || (!s.is_flippable(n1.edge()) && !s.is_flippable(n2.edge()));
+            if kept
+                && !left.fixed[..left.count].contains(&outer[i].edge())
                 && bad_edge([ends[i][0], ends[i][1], p, s.positions[topo.dest(n1).idx()]])
-        })
+            {
+                needed += 1;
+                if needed > splits_after {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Where to split the non-flippable edge `bad`: the sample each of
@@ -812,6 +890,32 @@ impl Candidates {
 
     fn as_slice(&self) -> &[f64] {
         &self.ts[..self.len]
+    }
+}
+
+/// The touched edges left non-Delaunay after a settle.
+///
+/// Each of them that is not flippable lies between two regions. Once every
+/// flippable edge is Delaunay (`regions_delaunay`), each flat region is
+/// triangulated constrained-Delaunay, so such an edge's apex on each side
+/// sees it under the largest angle of any vertex visible from near it;
+/// splits elsewhere only add vertices (the old apex stays visible from near
+/// the edge), so that angle can only grow, and the edge stays non-Delaunay
+/// until a vertex is added on it: each needs a split of its own. Nothing is
+/// claimed while a flippable edge is left non-Delaunay (a flip refused where
+/// a region overlaps itself).
+struct Left {
+    /// The distinct non-flippable ones (the first `count`).
+    fixed: [EdgeId; MAX_GROUP + 1],
+    count: usize,
+    /// Whether every flippable touched edge is Delaunay.
+    regions_delaunay: bool,
+}
+
+impl Left {
+    /// Whether more than `splits` splits are certainly needed.
+    fn needs_more_than(&self, splits: usize) -> bool {
+        self.regions_delaunay && self.count > splits
     }
 }
 
