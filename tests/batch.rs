@@ -256,6 +256,27 @@ fn collisions_and_overwrites_are_refused_before_any_work() {
     assert_eq!(std::fs::read(a.join("cube.obj")).unwrap(), before);
 }
 
+#[cfg(unix)]
+#[test]
+fn an_output_or_vertex_map_linked_to_an_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cube.obj");
+    std::fs::copy(common::data_dir().join("cube.obj"), &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    // The output's name in the folder is a symbolic link to the input (the
+    // writer follows links), then the vertex map's.
+    for link in ["cube.obj", "cube.vertex-map.csv"] {
+        let out_dir = dir.path().join(format!("out-{link}"));
+        std::fs::create_dir(&out_dir).unwrap();
+        std::os::unix::fs::symlink("../cube.obj", out_dir.join(link)).unwrap();
+        let (ok, _, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--vertex-maps"], &[input.clone()]);
+        assert!(!ok, "{link}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("would overwrite an input"), "{stderr}");
+        assert_eq!(std::fs::read(&input).unwrap(), before, "{link}");
+    }
+}
+
 #[test]
 fn a_folder_stands_for_its_mesh_files() {
     let dir = tempfile::tempdir().unwrap();

@@ -183,9 +183,6 @@ fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 /// The output path of every input, in order; refuses two inputs with one
 /// output, and an output that is an input.
 fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: bool) -> anyhow::Result<Vec<PathBuf>> {
-    // Where the outputs go, if the folder exists already (if not, no input
-    // is in it).
-    let dir = std::fs::canonicalize(out_dir).ok();
     let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
@@ -205,7 +202,10 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: boo
                     written.display()
                 );
             }
-            if dir.as_ref().is_some_and(|d| canonical.contains(&d.join(&name))) {
+            // The file the output names, symbolic links followed (the
+            // writer follows them too): none if its folder does not exist
+            // yet, and then no input is in it.
+            if super::file_key(written).is_some_and(|key| canonical.contains(&key)) {
                 bail!("{}: would overwrite an input", written.display());
             }
         }
