@@ -128,11 +128,13 @@ pub enum CheckError {
         #[source]
         source: std::io::Error,
     },
-    /// The file is not a readable OBJ mesh (syntax, bad index, non-finite coordinate, ...).
-    #[error("{}: not a valid OBJ mesh: {reason}", .path.display())]
+    /// The file is not a readable mesh (syntax, bad index, non-finite coordinate, ...).
+    #[error("{}: not a valid {format} mesh: {reason}", .path.display())]
     Parse {
         /// The file.
         path: PathBuf,
+        /// Its format as read ("OBJ", "OFF", "PLY", "STL"; "gzip" if it could not be inflated).
+        format: &'static str,
         /// What is wrong.
         reason: String,
     },
@@ -343,17 +345,27 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3) -> Mesh3
 /// gzip-compressed) with the readers of [`crate::io::formats`].
 fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
     use crate::io::formats;
-    let parse_error = |reason: String| CheckError::Parse {
-        path: path.to_path_buf(),
-        reason,
-    };
     let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| parse_error(e.to_string()))?;
+    let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| CheckError::Parse {
+        path: path.to_path_buf(),
+        format: "gzip",
+        reason: e.to_string(),
+    })?;
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
     let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
+    let parse_error = |reason: String| CheckError::Parse {
+        path: path.to_path_buf(),
+        format: match format {
+            Some(formats::Format::Off) => "OFF",
+            Some(formats::Format::Ply) => "PLY",
+            Some(formats::Format::Stl) => "STL",
+            None | Some(formats::Format::Obj) => "OBJ",
+        },
+        reason,
+    };
     let raw = match format {
         None | Some(formats::Format::Obj) => return read_obj_welded(path, &bytes),
         Some(formats::Format::Off) => formats::read_off(&bytes),
@@ -413,12 +425,19 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
 fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
+        format: "OBJ",
         reason,
     };
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement, as for the construction's readers: tobj would read
     // `\u{feff}v` as an unknown statement and lose the first vertex.
     let bytes = crate::io::formats::strip_bom(bytes);
+    // Lines ended by a carriage return alone: refused as the construction's
+    // reader refuses them (tobj would read one long line, and say why not
+    // in terms that mislead).
+    if let Some(reason) = crate::io::obj::cr_only_lines(bytes) {
+        return Err(parse_error(reason.into()));
+    }
     // OBJ's line continuations joined as the construction's reader joins
     // them (a shared piece of reading, like the polygon rule).
     let bytes = &geometry_lines(&crate::io::obj::join_continued_lines(bytes));

@@ -629,7 +629,18 @@ fn one_line(e: &anyhow::Error) -> String {
             s.push_str(&c);
         }
     }
-    s.replace('\n', " ")
+    // One line, and nothing that drives a terminal: a path or a header
+    // name may hold control characters too (file tokens are escaped where
+    // they are quoted, `io::formats::show`).
+    let mut line = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '\n' => line.push(' '),
+            c if c.is_control() => line.extend(c.escape_debug()),
+            c => line.push(c),
+        }
+    }
+    line
 }
 
 /// `x` with six significant digits, in plain notation where that reads well.
@@ -1234,7 +1245,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             // samples chosen: other settings often get through.
             if stuck_elsewhere(&e) && !args.smallest {
                 return Err(anyhow::anyhow!(
-                    "{}; other settings may get through (--smallest tries 18 and keeps the smallest that does)",
+                    "{}; other settings may get through (--smallest tries 24 and keeps the smallest that does)",
                     one_line(&e)
                 ));
             }
@@ -1942,6 +1953,9 @@ fn run_render(
     input: Option<&Path>,
     view: delmesh::render::View,
 ) -> anyhow::Result<ExitCode> {
+    if mesh == Path::new("-") && input == Some(Path::new("-")) {
+        bail!("MESH and --input are both standard input: at most one of them can be `-`");
+    }
     check_output_dir(output)?;
     // A picture never replaces a mesh: neither one it reads nor, by a slip
     // of the name, any other.

@@ -39,8 +39,9 @@ pub struct Options {
     /// Among the best samples, the one nearest the concentric-shell point
     /// ([`samples::shell_target`]) instead: `median` is then ignored.
     pub shells: bool,
-    /// Stop with [`Error::WorkLimit`] after adding this many vertices (or
-    /// flipping [`FLIPS_PER_ADDED`] times as many edges).
+    /// Stop with [`Error::WorkLimit`] once a run has added more than this
+    /// many vertices (or flipped more than [`FLIPS_PER_ADDED`] times as
+    /// many edges): a run that needs exactly this many succeeds.
     pub max_added: usize,
     /// Take edges in the `worklist` order to the end. If `false` (the
     /// default), a stack or queue run that has flipped more than
@@ -303,7 +304,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                     hook(&run.stats, ds.len());
                 }
             }
-            if run.stats.splits >= options.max_added || run.stats.flips / FLIPS_PER_ADDED >= options.max_added {
+            if run.stats.splits > options.max_added || run.stats.flips / FLIPS_PER_ADDED > options.max_added {
                 let (splits, flips) = (run.stats.splits, run.stats.flips);
                 return Err(Error::WorkLimit {
                     splits,

@@ -269,7 +269,10 @@ fn an_output_or_vertex_map_linked_to_an_input_is_refused() {
         let out_dir = dir.path().join(format!("out-{link}"));
         std::fs::create_dir(&out_dir).unwrap();
         std::os::unix::fs::symlink("../cube.obj", out_dir.join(link)).unwrap();
-        let (ok, _, stderr) = batch(&["-d", out_dir.to_str().unwrap(), "--vertex-maps"], &[input.clone()]);
+        let (ok, _, stderr) = batch(
+            &["-d", out_dir.to_str().unwrap(), "--vertex-maps"],
+            std::slice::from_ref(&input),
+        );
         assert!(!ok, "{link}");
         assert_eq!(stderr.lines().count(), 1, "{stderr}");
         assert!(stderr.contains("would overwrite an input"), "{stderr}");

@@ -513,6 +513,26 @@ fn unreadable_files_are_errors() {
             assert!(err.to_string().contains(name), "{name}: {err}");
         }
     }
+    // The message names the format read, and says why as the main
+    // command's readers do.
+    let cases = [
+        (
+            "short.ply",
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\nend_header\n0 0 0\n",
+            "short.ply: not a valid PLY mesh",
+        ),
+        (
+            "mac.obj",
+            "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r",
+            "mac.obj: not a valid OBJ mesh: lines end in a carriage return alone",
+        ),
+    ];
+    for (name, text, expected) in cases {
+        let bad = write(&dir, name, text);
+        let err = check_files(&good, &bad).expect_err(name);
+        assert!(err.to_string().contains(expected), "{name}: {err}");
+    }
     let missing = dir.path().join("missing.obj");
     let err = check_files(&missing, &good).expect_err("missing file");
     assert!(matches!(err, CheckError::Io { .. }), "{err}");

@@ -265,6 +265,35 @@ fn bad_inputs_are_refused_with_one_line() {
         b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
         "vertex 1: its faces form more than one fan (non-manifold vertex)",
     );
+    // What the file says is quoted short, and cannot drive the terminal.
+    refused(
+        "escape.obj",
+        format!("\x1b]0;title\x07\x1b[31mred\n{TRI}f 1 2 3\n").as_bytes(),
+        "unknown statement '\\u{1b}]0;title\\u{7}\\u{1b}[31mred'",
+    );
+    refused(
+        "long.obj",
+        format!("v 0 0 0\nv 1{} 0 0\nv 0 1 0\nf 1 2 3\n", "0".repeat(5000)).as_bytes(),
+        &format!("vertex 2 has a non-finite coordinate '1{}…'", "0".repeat(39)),
+    );
+    // PLY: a coordinate declared twice; more values on a line than declared.
+    let ply = |props: &str, rows: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\n{props}element face 1\n\
+             property list uchar int vertex_indices\nend_header\n{rows}3 0 1 2\n"
+        )
+    };
+    let xyz = "property float x\nproperty float y\nproperty float z\n";
+    refused(
+        "twice.ply",
+        ply(&xyz.replace("float y", "float x"), "0 0 0\n1 0 0\n0 1 0\n").as_bytes(),
+        "the PLY vertex element has two `x` properties",
+    );
+    refused(
+        "extra.ply",
+        ply(xyz, "0 0 0 5\n1 0 0 5\n0 1 0 5\n").as_bytes(),
+        ":10: more values on the line of vertex 0 than the PLY header declares (3 properties)",
+    );
 }
 
 /// The construction and the judge (`check`, on top of `tobj`) must read an
@@ -1489,6 +1518,12 @@ fn dash_is_standard_input_and_output() {
     assert!(checked.status.success() && String::from_utf8_lossy(&checked.stdout).contains("PASS"));
     let both = run(&["check", "-", "-"], &output);
     assert_eq!(both.status.code(), Some(1));
+    let picture = dir.path().join("p.svg");
+    let both = run(&["render", "-", "-i", "-", "-o", picture.to_str().unwrap()], &output);
+    assert_eq!(both.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&both.stderr);
+    assert!(stderr.contains("both standard input"), "{stderr}");
+    assert!(!picture.exists());
     // Refused: two files on standard output, -all on a stream or without a name.
     for args in [
         &["-i", "-", "-o", "-", "--stats-json", "/dev/stdout"][..],

@@ -382,15 +382,24 @@ fn is_space(c: u8) -> bool {
 }
 
 /// A token as it can be shown in a message: lossy UTF-8, at most 40 characters.
-fn show(tok: &[u8]) -> String {
+/// A token of the file as an error message quotes it: at most 40
+/// characters (then `…`), control characters escaped (`\u{1b}`), so that
+/// a file cannot fill or drive the terminal the message goes to.
+pub(crate) fn show(tok: &[u8]) -> String {
     let s = String::from_utf8_lossy(tok);
-    if s.chars().count() > 40 {
-        let mut cut: String = s.chars().take(40).collect();
-        cut.push('…');
-        cut
-    } else {
-        s.into_owned()
+    let mut shown = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i == 40 {
+            shown.push('…');
+            break;
+        }
+        if c.is_control() {
+            shown.extend(c.escape_debug());
+        } else {
+            shown.push(c);
+        }
     }
+    shown
 }
 
 fn parse_f64(tok: &[u8]) -> Option<f64> {
@@ -445,6 +454,13 @@ impl<'a> Tokens<'a> {
         }
         self.pos = p;
         (p > start).then(|| (&d[start..p], self.line))
+    }
+
+    /// Whether nothing but blanks is left on the current line.
+    fn line_is_done(&self) -> bool {
+        let rest = &self.data[self.pos..];
+        let end = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
+        rest[..end].iter().all(|&c| is_space(c))
     }
 
     /// Skips past the end of the current line.
@@ -1025,6 +1041,12 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                     _ => continue,
                 };
                 if found[slot].is_some() {
+                    if slot < 3 {
+                        return Err(FormatError::at(
+                            el.line,
+                            format!("the PLY vertex element has two `{}` properties", p.name),
+                        ));
+                    }
                     continue;
                 }
                 if matches!(p.ty, PropType::List { .. }) {
@@ -1406,6 +1428,19 @@ fn read_ascii_element(
                     }
                 }
             }
+        }
+        // One record per line: values left on it mean the header declares
+        // fewer properties than the lines hold (read on, every later value
+        // would be taken for the wrong property).
+        if !t.line_is_done() {
+            return Err(FormatError::at(
+                t.line,
+                format!(
+                    "more values on the line of {name} {i} than the PLY header declares ({} propert{})",
+                    el.props.len(),
+                    if el.props.len() == 1 { "y" } else { "ies" }
+                ),
+            ));
         }
         finish_record(b, kind, &v, i, origin)?;
     }

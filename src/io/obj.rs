@@ -9,7 +9,7 @@
 
 use std::io::Write;
 
-use super::formats::{FormatError, OriginKind, RawMesh};
+use super::formats::{show, FormatError, OriginKind, RawMesh};
 use super::number::parse_f64;
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -100,6 +100,14 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     parse_obj_with(bytes, true)
 }
 
+/// Why `bytes` are refused if their lines end in a carriage return alone
+/// (classic Mac OS text): read as one long line, the file would be refused
+/// for a reason that misleads.
+pub(crate) fn cr_only_lines(bytes: &[u8]) -> Option<&'static str> {
+    (bytes.contains(&b'\r') && !bytes.contains(&b'\n'))
+        .then_some("lines end in a carriage return alone (classic Mac OS text): convert them to line feeds")
+}
+
 /// [`parse_obj`], with the one-scan reading of plain `v` and `f` lines
 /// (`plain_lines`) or without it: every line the general way, which the
 /// tests compare it with.
@@ -107,13 +115,8 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
-    // Classic Mac OS text ends lines with CR alone: read as one long line,
-    // it would be refused for a reason that misleads.
-    if bytes.contains(&b'\r') && !bytes.contains(&b'\n') {
-        return Err(error(
-            1,
-            "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds".into(),
-        ));
+    if let Some(reason) = cr_only_lines(bytes) {
+        return Err(error(1, reason.into()));
     }
     let joined = join_continued_lines(bytes);
     let bytes = &joined[..];
@@ -199,16 +202,23 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
                         let v = raw.positions.len() + 1;
                         return Err(error(
                             line_no,
-                            format!("vertex {v} has a non-finite coordinate '{tok}' (Windows' NaN or infinity)"),
+                            format!(
+                                "vertex {v} has a non-finite coordinate '{}' (Windows' NaN or infinity)",
+                                show(tok.as_bytes())
+                            ),
                         ));
                     }
-                    *c = parse_f64(tok.as_bytes())
-                        .ok_or_else(|| error(line_no, format!("vertex coordinate '{tok}' is not a number")))?;
+                    *c = parse_f64(tok.as_bytes()).ok_or_else(|| {
+                        error(
+                            line_no,
+                            format!("vertex coordinate '{}' is not a number", show(tok.as_bytes())),
+                        )
+                    })?;
                     if !c.is_finite() {
                         let v = raw.positions.len() + 1;
                         return Err(error(
                             line_no,
-                            format!("vertex {v} has a non-finite coordinate '{tok}'"),
+                            format!("vertex {v} has a non-finite coordinate '{}'", show(tok.as_bytes())),
                         ));
                     }
                 }
@@ -228,8 +238,12 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
                     0 | 3 => {}
                     1 => {
                         let v = raw.positions.len() + 1;
-                        let w = parse_f64(rest[0].as_bytes())
-                            .ok_or_else(|| error(line_no, format!("vertex weight '{}' is not a number", rest[0])))?;
+                        let w = parse_f64(rest[0].as_bytes()).ok_or_else(|| {
+                            error(
+                                line_no,
+                                format!("vertex weight '{}' is not a number", show(rest[0].as_bytes())),
+                            )
+                        })?;
                         if w == 0.0 || !w.is_finite() {
                             return Err(error(
                                 line_no,
@@ -281,8 +295,12 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
                         Some(value) => (value, ""),
                         None => {
                             let Some(tok) = tokens.next() else { break };
-                            let value = parse_index(tok)
-                                .ok_or_else(|| error(line_no, format!("face index '{tok}' is not an integer")))?;
+                            let value = parse_index(tok).ok_or_else(|| {
+                                error(
+                                    line_no,
+                                    format!("face index '{}' is not an integer", show(tok.as_bytes())),
+                                )
+                            })?;
                             (value, tok)
                         }
                     };
@@ -309,10 +327,9 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
             }
             k if IGNORED.contains(&k) => {}
             k => {
-                let shown: String = k.chars().take(20).collect();
                 return Err(error(
                     line_no,
-                    format!("unknown statement '{shown}': this is not an OBJ file"),
+                    format!("unknown statement '{}': this is not an OBJ file", show(k.as_bytes())),
                 ));
             }
         }
@@ -576,7 +593,7 @@ impl Extras {
 
 /// At most 20 characters of `tok`, for messages.
 fn shown(tok: &str) -> String {
-    tok.chars().take(20).collect()
+    show(tok.as_bytes())
 }
 
 /// Blank-separated tokens of the current line of `s` (blank: space, tab,
