@@ -39,9 +39,9 @@ pub struct Options {
     /// Among the best samples, the one nearest the concentric-shell point
     /// ([`samples::shell_target`]) instead: `median` is then ignored.
     pub shells: bool,
-    /// Stop with [`Error::WorkLimit`] once a run has added more than this
-    /// many vertices (or flipped more than [`FLIPS_PER_ADDED`] times as
-    /// many edges): a run that needs exactly this many succeeds.
+    /// Stop with [`Error::WorkLimit`] when a run needs more than this many
+    /// added vertices (or more than [`FLIPS_PER_ADDED`] times as many
+    /// flips): a run that needs exactly this many finishes.
     pub max_added: usize,
     /// Take edges in the `worklist` order to the end. If `false` (the
     /// default), a stack or queue run that has flipped more than
@@ -272,6 +272,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         constants,
         stats: Stats::default(),
         stuck: FastMap::default(),
+        over_limit: false,
     };
     run.stats.constants = Some(constants);
     // Room for about one split per edge, as a freshly built mesh already has
@@ -304,7 +305,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                     hook(&run.stats, ds.len());
                 }
             }
-            if run.stats.splits > options.max_added || run.stats.flips / FLIPS_PER_ADDED > options.max_added {
+            if run.over_limit {
                 let (splits, flips) = (run.stats.splits, run.stats.flips);
                 return Err(Error::WorkLimit {
                     splits,
@@ -374,6 +375,9 @@ struct Run<'a> {
     /// Edges found non-Delaunay that could be neither flipped nor split,
     /// with their [`Run::neighbourhood`] at the time (few: a map).
     stuck: FastMap<EdgeId, [VertexId; 8]>,
+    /// Set when an edge needed a split or flip past the work limit
+    /// ([`Options::max_added`]), which was then not made.
+    over_limit: bool,
 }
 
 impl Run<'_> {
@@ -439,6 +443,10 @@ impl Run<'_> {
         let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
         let flippable = self.s.is_flippable(e);
         if flippable && self.s.flip_is_valid(e) {
+            if self.stats.flips >= FLIPS_PER_ADDED.saturating_mul(self.options.max_added) {
+                self.over_limit = true;
+                return;
+            }
             self.s.flip(e);
             self.stats.flips += 1;
             // The new diagonal itself is Delaunay: `flip_is_valid` tested it
@@ -461,6 +469,10 @@ impl Run<'_> {
         // edge is split instead, at a sample like any other.
         match self.choose_sample(e) {
             Some(choice) => {
+                if self.stats.splits >= self.options.max_added {
+                    self.over_limit = true;
+                    return;
+                }
                 let n = self.s.topo.n_edges() as u32;
                 self.s.split(e, choice.t);
                 self.stats.splits += 1;

@@ -278,6 +278,20 @@ fn an_output_or_vertex_map_linked_to_an_input_is_refused() {
         assert!(stderr.contains("would overwrite an input"), "{stderr}");
         assert_eq!(std::fs::read(&input).unwrap(), before, "{link}");
     }
+    // A folder the run created is not left behind empty: after a refusal
+    // (the CSV would replace the input), or when every input fails.
+    let out_dir = dir.path().join("new");
+    let (ok, _, _) = batch(
+        &["-d", out_dir.to_str().unwrap(), "--stats-csv", input.to_str().unwrap()],
+        std::slice::from_ref(&input),
+    );
+    assert!(!ok);
+    assert!(!out_dir.exists(), "an empty output folder was left");
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\n").unwrap();
+    let (ok, _, _) = batch(&["-d", out_dir.to_str().unwrap()], std::slice::from_ref(&bad));
+    assert!(!ok);
+    assert!(!out_dir.exists(), "an empty output folder was left");
 }
 
 #[test]

@@ -1659,6 +1659,35 @@ fn fanned_ellipse(dir: &Path, n: usize) -> PathBuf {
     input
 }
 
+/// `--max-added N`: a run that needs exactly N added vertices finishes; one
+/// that needs more stops when it needs the (N+1)th, saying it made N.
+#[test]
+fn the_work_limit_allows_exactly_its_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let json = dir.path().join("s.json");
+    let run = refine(&input, &out).arg("--stats-json").arg(&json).output().unwrap();
+    assert!(run.status.success());
+    let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let added = doc["runs"][0]["added_vertices"].as_u64().unwrap();
+    assert!(added > 1, "{added}");
+    let limit = added.to_string();
+    let run = refine(&input, &out)
+        .args(["-q", "--max-added", &limit])
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let fewer = (added - 1).to_string();
+    let stderr = one_line_error(
+        &refine(&input, &out)
+            .args(["-q", "--max-added", &fewer])
+            .output()
+            .unwrap(),
+    );
+    assert!(stderr.contains(&format!("stopped after {fewer} splits")), "{stderr}");
+}
+
 /// A flat 400-gon on an ellipse, fanned from its first corner: the stack
 /// flips it about n²/12 times, longest edge first about n times. A run
 /// stopped by its flips says so and points to --ds pqueue, which gets

@@ -361,6 +361,16 @@ fn refine_read(
     })
 }
 
+/// A folder removed when this is dropped, if it is empty then.
+struct RemovedIfEmpty(PathBuf);
+
+impl Drop for RemovedIfEmpty {
+    fn drop(&mut self) {
+        // Fails, harmlessly, on a folder with anything in it.
+        let _ = std::fs::remove_dir(&self.0);
+    }
+}
+
 /// `delmesh batch`.
 pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
@@ -376,6 +386,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             args.out_dir.display()
         );
     }
+    // A folder this run creates is removed again if nothing ends up in it
+    // (a refusal below, or every input failing).
+    let _created = (!args.out_dir.exists()).then(|| RemovedIfEmpty(args.out_dir.clone()));
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
     check_output_dir(&outputs[0])?;
