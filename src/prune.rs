@@ -58,6 +58,8 @@ const SPREAD: [f64; 6] = [0.5, 0.35, 0.65, 0.2, 0.8, 0.1];
 /// How many of the edges left non-Delaunay after a removal are tried as the
 /// place of the first new vertex.
 const FIRST_SPLITS: usize = 1;
+// The first edges to split are taken from `Left::fixed`.
+const _: () = assert!(FIRST_SPLITS <= MAX_GROUP + 1);
 /// Triples are made of p and two of its this many nearest added neighbours.
 const TRIPLE_NEIGHBOURS: usize = 4;
 /// The sample choices tried, in turn, for the first vertex of a replacement.
@@ -654,23 +656,12 @@ impl Pruner<'_> {
         if hopeless && !cfg!(debug_assertions) {
             return Attempt::Failed;
         }
-        let mut bad_edges: Vec<EdgeId> = Vec::new();
-        for &e in &self.touched {
-            if bad_edges.len() == FIRST_SPLITS {
-                break;
-            }
-            if !self.s.topo.is_dead_edge(e)
-                && !bad_edges.contains(&e)
-                && !self.s.is_flippable(e)
-                && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE)
-            {
-                bad_edges.push(e);
-            }
-        }
         let mark = self.mark();
         // Splits the budget leaves after the first.
         let after_first = budget.saturating_sub(self.splits + 1);
-        for bad in bad_edges {
+        // The first non-flippable edges left non-Delaunay, in the order
+        // touched: `left` has found them.
+        for &bad in &left.fixed[..left.count.min(FIRST_SPLITS)] {
             let candidates = self.candidates(bad);
             for &t in candidates.as_slice() {
                 if self.split_is_doomed(bad, t, &left, after_first) {

@@ -418,7 +418,9 @@ impl Extras {
             }
             match parse_f64(tok.as_bytes()) {
                 Some(x) if x.is_finite() => v[n] = x,
-                _ => self.note(kind, line, || format!("'{}' is not a finite number", shown(tok))),
+                _ => self.note(kind, line, || {
+                    format!("'{}' is not a finite number", show(tok.as_bytes()))
+                }),
             }
             n += 1;
         }
@@ -443,7 +445,9 @@ impl Extras {
             match parse_f64(tok.as_bytes()) {
                 Some(x) if x.is_finite() => self.colors.push(x),
                 _ => {
-                    self.note(Kind::Color, line, || format!("'{}' is not a finite number", shown(tok)));
+                    self.note(Kind::Color, line, || {
+                        format!("'{}' is not a finite number", show(tok.as_bytes()))
+                    });
                     self.colors.push(0.0);
                 }
             }
@@ -478,7 +482,9 @@ impl Extras {
                     Some(i) if i > 0 && i <= u32::MAX as i64 => (i - 1) as u32,
                     Some(i) if i < 0 && -i <= count as i64 => (count as i64 + i) as u32,
                     _ => {
-                        self.note(kind, line, || format!("face index '{}' is out of range", shown(p)));
+                        self.note(kind, line, || {
+                            format!("face index '{}' is out of range", show(p.as_bytes()))
+                        });
                         NO_VALUE
                     }
                 },
@@ -589,11 +595,6 @@ impl Extras {
         }
         (a, self.defect.into_iter().flatten().collect())
     }
-}
-
-/// At most 20 characters of `tok`, for messages.
-fn shown(tok: &str) -> String {
-    show(tok.as_bytes())
 }
 
 /// Blank-separated tokens of the current line of `s` (blank: space, tab,
