@@ -349,7 +349,8 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let bytes = formats::maybe_gunzip(&bytes, 16 << 30).map_err(|e| CheckError::Parse {
+    let named = path.to_str().and_then(formats::format_from_name);
+    let bytes = formats::gunzip_judged(&bytes, 16 << 30, named).map_err(|e| CheckError::Parse {
         path: path.to_path_buf(),
         format: "gzip",
         reason: e.to_string(),

@@ -2059,3 +2059,98 @@ fn a_mesh_large_enough_to_format_ahead_is_written_as_by_one_thread() {
     assert!(vertices > 101 * 101, "nothing was added: {vertices} vertices");
     check_passes(&input, &ahead);
 }
+
+/// An input that is not a regular file and never ends (`/dev/zero`,
+/// `/dev/urandom`, or a link to one named like a mesh) is refused after
+/// its first 64 KiB, which no mesh can start with, instead of being read
+/// until memory runs out; as is a small gzip file of zeros, after
+/// inflating that much. No output is left.
+#[cfg(unix)]
+#[test]
+fn endless_and_hopeless_inputs_are_refused_at_once() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    let mut inputs = vec![
+        (PathBuf::from("/dev/zero"), "not a mesh (OBJ, OFF, PLY or STL)"),
+        (PathBuf::from("/dev/urandom"), "not a mesh (OBJ, OFF, PLY or STL)"),
+    ];
+    for (ext, what) in [
+        ("obj", "an OBJ"),
+        ("off", "an OFF"),
+        ("ply", "a PLY"),
+        ("stl", "an STL"),
+    ] {
+        let link = dir.path().join(format!("zero.{ext}"));
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        inputs.push((link, what));
+    }
+    for (input, what) in &inputs {
+        let run = refine(input, &out)
+            .timeout(std::time::Duration::from_secs(60))
+            .output()
+            .unwrap();
+        let error = one_line_error(&run);
+        assert!(error.contains(what) && error.contains("reading stopped"), "{error}");
+        assert!(!out.exists());
+        let run = delmesh()
+            .arg("check")
+            .arg(input)
+            .arg(common::data_dir().join("cube.obj"))
+            .timeout(std::time::Duration::from_secs(60))
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(1));
+        let said = format!(
+            "{}{}",
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(said.contains(what) && said.contains("reading stopped"), "{said}");
+    }
+    // 256 MiB of zeros, compressed to a quarter of a megabyte.
+    let bomb = dir.path().join("bomb.obj.gz");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    let zeros = vec![0u8; 1 << 20];
+    for _ in 0..256 {
+        gz.write_all(&zeros).unwrap();
+    }
+    std::fs::write(&bomb, gz.finish().unwrap()).unwrap();
+    let run = refine(&bomb, &out).output().unwrap();
+    let error = one_line_error(&run);
+    assert!(
+        error.contains("not an OBJ file") && error.contains("decompressing stopped"),
+        "{error}"
+    );
+    assert!(!out.exists());
+}
+
+/// Every format reads the same from a pipe as from its file: the first
+/// 64 KiB of a pipe are judged before the rest is read, and a mesh is
+/// never refused for them (binary STL and PLY included).
+#[cfg(unix)]
+#[test]
+fn every_format_reads_the_same_from_a_pipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    for ext in ["obj", "off", "ply", "stl", "obj.gz"] {
+        let file = dir.path().join(format!("bunny.{ext}"));
+        refine(&bunny, &file).args(["--no-refine", "-q"]).assert().success();
+        let size = std::fs::metadata(&file).unwrap().len();
+        assert!(ext.ends_with("gz") || size > 65 * 1024, "{ext}: too small to judge");
+        let from_file = dir.path().join(format!("from-file-{ext}.obj"));
+        refine(&file, &from_file).arg("-q").assert().success();
+        let piped = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+            .args(["-i", "-", "-o", "-", "-q"])
+            .stdin(std::fs::File::open(&file).unwrap())
+            .output()
+            .unwrap();
+        assert!(
+            piped.status.success(),
+            "{ext}: {}",
+            String::from_utf8_lossy(&piped.stderr)
+        );
+        assert_eq!(piped.stdout, std::fs::read(&from_file).unwrap(), "{ext}");
+    }
+}
+

@@ -136,6 +136,14 @@ impl std::error::Error for FormatError {}
 /// (error if larger). Concatenated gzip members are decompressed one after the other. Other bytes are
 /// returned as they are.
 pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, FormatError> {
+    gunzip_judged(bytes, max_bytes, None)
+}
+
+/// [`maybe_gunzip`] for a file whose name gives the format `named`: the
+/// decompressing stops, refused, after [`STREAM_PREFIX`] bytes if those
+/// are refused whatever follows ([`refused_from_start`]), so that a small
+/// file of compressed zeros is not inflated to the limit first.
+pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>) -> Result<Cow<'_, [u8]>, FormatError> {
     if !bytes.starts_with(&[0x1f, 0x8b]) {
         return Ok(Cow::Borrowed(bytes));
     }
@@ -154,9 +162,19 @@ pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, Forma
         .min(1 << 30);
     let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
     let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
-    decoder
+    let corrupt = |e: io::Error| FormatError::new(format!("the gzip data is corrupt or truncated ({e})"));
+    (&mut decoder)
+        .take(STREAM_PREFIX as u64)
         .read_to_end(&mut out)
-        .map_err(|e| FormatError::new(format!("the gzip data is corrupt or truncated ({e})")))?;
+        .map_err(corrupt)?;
+    if out.len() == STREAM_PREFIX {
+        if let Some(why) = refused_from_start(named, &out) {
+            return Err(FormatError::new(format!(
+                "the gzip data is not {why}: its first 64 KiB cannot start one (decompressing stopped there)"
+            )));
+        }
+    }
+    decoder.read_to_end(&mut out).map_err(corrupt)?;
     if out.len() as u64 > max_bytes {
         return Err(FormatError::new(format!(
             "the gzip data decompresses to more than the limit of {max_bytes} bytes"
@@ -232,6 +250,75 @@ pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
 
 /// How many bytes of a file the text sniffers look at.
 const SNIFF_WINDOW: usize = 64 * 1024;
+
+/// How many bytes of an input that is not a regular file (a pipe, a
+/// device) are read before [`refused_from_start`] judges them: the text
+/// sniffers' window, after a byte order mark.
+pub(crate) const STREAM_PREFIX: usize = SNIFF_WINDOW + 3;
+
+/// What an input whose first bytes are `prefix` (at least [`STREAM_PREFIX`]
+/// of them, more to follow) is sure not to be, whatever follows ("an OBJ
+/// file"), if it is sure; `named` is the format its name gives. An endless input
+/// (`/dev/zero`, `/dev/urandom`) is then stopped instead of read to the
+/// end. Says nothing (`None`) when unsure, and of gzip data.
+pub(crate) fn refused_from_start(named: Option<Format>, prefix: &[u8]) -> Option<&'static str> {
+    let obj = || super::obj::refused_from_start(prefix);
+    let solid = || starts_with_solid(strip_bom(prefix));
+    let refused = match named {
+        _ if prefix.starts_with(&[0x1f, 0x8b]) => false,
+        Some(Format::Obj) => obj(),
+        Some(Format::Stl) => !solid() && binary_stl_refused(prefix, false),
+        Some(Format::Ply) => {
+            let text = strip_bom(prefix);
+            !text.starts_with(b"ply\n") && !text.starts_with(b"ply\r\n")
+        }
+        Some(Format::Off) => off_refused(prefix),
+        // Read as OBJ unless its size is exactly a binary STL's.
+        None => match sniff_format(prefix) {
+            None | Some(Format::Obj) => obj() && !solid() && binary_stl_refused(prefix, true),
+            Some(_) => false,
+        },
+    };
+    refused.then_some(match named {
+        Some(Format::Obj) => "an OBJ file",
+        Some(Format::Off) => "an OFF file",
+        Some(Format::Ply) => "a PLY file",
+        Some(Format::Stl) => "an STL file",
+        None => "a mesh (OBJ, OFF, PLY or STL)",
+    })
+}
+
+/// Whether an OFF file starting with `prefix` (more to follow) is sure to
+/// be refused: its first line is neither a header nor counts.
+fn off_refused(prefix: &[u8]) -> bool {
+    let text = strip_bom(prefix);
+    let Some((_, first)) = Lines::new(text).next_meaningful() else {
+        return false;
+    };
+    let head = words(first).next().unwrap_or(b"");
+    // A word running to the end of the prefix may go on: unsure if short.
+    if head.as_ptr_range().end == text.as_ptr_range().end && head.len() <= 32 {
+        return false;
+    }
+    glued_vertex_count(head).is_none() && off_keyword(head).is_none() && parse_int(head).is_none()
+}
+
+/// Whether a binary STL starting with `prefix` (more to follow) is sure
+/// to be refused: it declares no facets, or one of its first facets has a
+/// coordinate that is not finite; or, if `exact` (read as STL only when
+/// its size is what the header declares), it declares fewer bytes than
+/// `prefix` has.
+fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
+    let Some((n, need)) = binary_stl_size(prefix) else {
+        return false;
+    };
+    let finite = |rec: &[u8]| {
+        rec[12..48]
+            .chunks_exact(4)
+            .all(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite())
+    };
+    n == 0 || (exact && need <= prefix.len() as u64) || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
+}
 
 /// `bytes` without a leading UTF-8 byte order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {

@@ -114,7 +114,8 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
         path: path.to_owned(),
         source,
     })?;
-    let bytes = formats::maybe_gunzip(&bytes, MAX_DECOMPRESSED).map_err(|e| format_error(path, e))?;
+    let named = path.to_str().and_then(formats::format_from_name);
+    let bytes = formats::gunzip_judged(&bytes, MAX_DECOMPRESSED, named).map_err(|e| format_error(path, e))?;
     let format = detect_format(path, &bytes).unwrap_or(Format::Obj);
     let raw = match format {
         Format::Obj => obj::parse_obj(&bytes),
@@ -126,15 +127,40 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
 }
 
 /// The bytes of the file `path`, or of standard input to its end if `path`
-/// names it ([`is_standard_input`]).
+/// names it ([`is_standard_input`]). What is not a regular file (a pipe,
+/// a device) is read to its end only if its first bytes may start a mesh
+/// ([`formats::refused_from_start`]): `/dev/zero` is refused at once.
 pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    let named = path.to_str().and_then(formats::format_from_name);
     if is_standard_input(path) {
-        let mut bytes = Vec::new();
-        std::io::stdin().lock().read_to_end(&mut bytes)?;
-        Ok(bytes)
-    } else {
-        std::fs::read(path)
+        return read_stream(std::io::stdin().lock(), named);
     }
+    let file = std::fs::File::open(path)?;
+    match file.metadata() {
+        Ok(m) if m.is_file() => {
+            let mut bytes = Vec::with_capacity(usize::try_from(m.len()).unwrap_or(0).saturating_add(1));
+            (&file).read_to_end(&mut bytes)?;
+            Ok(bytes)
+        }
+        _ => read_stream(file, named),
+    }
+}
+
+/// All of `reader`, unless its first [`formats::STREAM_PREFIX`] bytes are
+/// refused whatever follows (then an `InvalidData` error saying why).
+fn read_stream(mut reader: impl Read, named: Option<Format>) -> std::io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    (&mut reader)
+        .take(formats::STREAM_PREFIX as u64)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() == formats::STREAM_PREFIX {
+        if let Some(why) = formats::refused_from_start(named, &bytes) {
+            let why = format!("not {why}: its first 64 KiB cannot start one, and it goes on (reading stopped there)");
+            return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
+        }
+        reader.read_to_end(&mut bytes)?;
+    }
+    Ok(bytes)
 }
 
 /// Parses OBJ text; `path` only names the file in errors.

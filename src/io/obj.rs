@@ -47,6 +47,45 @@ const IGNORED: &[&str] = &[
     "d_interp",
 ];
 
+/// The statements the reader takes (the others it knows are [`IGNORED`]).
+const READ: &[&str] = &["v", "vt", "vn", "f", "o", "g", "usemtl", "mtllib"];
+
+/// Whether OBJ text starting with `prefix` (the first bytes of an input,
+/// more to follow) is sure to be refused, whatever follows: its first
+/// statement is none of OBJ's, which [`parse_obj`] refuses on that line.
+/// Lets a reader stop an endless input (`/dev/zero`, `/dev/urandom`)
+/// instead of reading it to the end. `false` when unsure.
+pub(crate) fn refused_from_start(prefix: &[u8]) -> bool {
+    let bytes = crate::io::formats::strip_bom(prefix);
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        let (line, complete) = match rest.iter().position(|&b| b == b'\n') {
+            Some(end) => (&rest[..end], true),
+            None => (rest, false),
+        };
+        rest = rest.get(line.len() + 1..).unwrap_or(&[]);
+        let code = line.split(|&b| b == b'#').next().unwrap_or(&[]);
+        let start = code.iter().position(|&b| !is_token_end(b));
+        let Some(start) = start else {
+            if code.len() < line.len() || complete {
+                continue; // A blank line or a comment.
+            }
+            return false;
+        };
+        let word = &code[start..];
+        let word = &word[..word.iter().position(|&b| is_token_end(b)).unwrap_or(word.len())];
+        // The word may go on past the prefix, or the line on the next one
+        // (a backslash): unsure then, unless no statement is that long.
+        let cut = !complete && start + word.len() == line.len();
+        let longest = READ.iter().chain(IGNORED).map(|k| k.len()).max().unwrap_or(0);
+        if (cut || word.ends_with(b"\\")) && word.len() <= longest {
+            return false;
+        }
+        return !READ.iter().chain(IGNORED).any(|k| k.as_bytes() == word);
+    }
+    false
+}
+
 fn error(line: usize, what: String) -> FormatError {
     FormatError {
         line: Some(line as u64),
@@ -1204,6 +1243,56 @@ mod tests {
                 m.attributes,
             ),
         }
+    }
+
+    /// `prefix` followed by filler up to the stream prefix's length.
+    fn padded(prefix: &[u8]) -> Vec<u8> {
+        let mut bytes = prefix.to_vec();
+        while bytes.len() < crate::io::formats::STREAM_PREFIX {
+            bytes.extend_from_slice(b"# filler\n");
+        }
+        bytes
+    }
+
+    #[test]
+    fn a_start_is_refused_only_if_the_parser_refuses_its_first_statement() {
+        // Every statement the reader knows starts an OBJ file, and the
+        // parser does not call it unknown.
+        for k in READ.iter().chain(IGNORED) {
+            let line = format!("{k} 1 2 3\n");
+            assert!(!refused_from_start(&padded(line.as_bytes())), "{k}");
+            let parsed = summary(parse_obj(line.as_bytes()));
+            assert!(!parsed.contains("unknown statement"), "{k}: {parsed}");
+        }
+        // Blank lines, comments and a byte order mark come first at times.
+        for start in [
+            "\n\n  \t\nv 0 0 0\n",
+            "# c\n#\nf 1 2 3\n",
+            "\u{feff}v 1 2 3\n",
+            "  g#x\n",
+        ] {
+            assert!(!refused_from_start(&padded(start.as_bytes())), "{start:?}");
+        }
+        // Refused, as the parser refuses them: zeros, an unknown word (also
+        // after comments), bytes that are not text.
+        let zeros = vec![0u8; crate::io::formats::STREAM_PREFIX];
+        assert!(refused_from_start(&zeros));
+        assert!(parse_obj(&zeros).is_err());
+        for start in ["hello 1 2\n", "# c\n\nvv 1 2 3\n", "V 1 2 3\n", "\u{1}v 0 0 0\n"] {
+            assert!(refused_from_start(&padded(start.as_bytes())), "{start:?}");
+            let parsed = summary(parse_obj(start.as_bytes()));
+            assert!(
+                parsed.contains("unknown statement") || parsed.contains("not text"),
+                "{start:?}: {parsed}"
+            );
+        }
+        assert!(refused_from_start(&padded(b"\xff\xfe 1 2\n")));
+        // Unsure, so not refused: a short word cut by the prefix's end, a
+        // line going on past a backslash.
+        let mut cut = vec![b' '; crate::io::formats::STREAM_PREFIX - 2];
+        cut.extend_from_slice(b"vt");
+        assert!(!refused_from_start(&cut));
+        assert!(!refused_from_start(&padded(b"usemt\\\nl x\n")));
     }
 
     #[test]
