@@ -875,6 +875,21 @@ fn write_vertex_map(
     Ok(())
 }
 
+/// What an error writing a side file becomes once the mesh went to a
+/// stream (standard output, a device), where it cannot be taken back: says
+/// that the mesh is written and complete. Other errors as they are: the
+/// mesh is not yet in place then ([`io::Staged`]).
+fn mesh_streamed<'a>(staged: &io::Staged, output: &'a Path) -> impl Fn(anyhow::Error) -> anyhow::Error + Copy + 'a {
+    let streamed = staged.is_in_place();
+    move |e| {
+        if streamed {
+            e.context(format!("{} is written and complete, but", output.display()))
+        } else {
+            e
+        }
+    }
+}
+
 /// The record of a run of `options` that failed with `e`.
 fn failure_record(options: Options, output: &Path, e: &anyhow::Error) -> stats_json::RunRecord {
     stats_json::RunRecord {
@@ -1161,13 +1176,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Write {
             name: file_name(&output),
         });
-        let written = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
-        if let Some(map) = &args.vertex_map {
-            write_vertex_map(map, &surface, &input, &written)?;
-        }
-        let notes = written.notes;
+        let (written, staged) = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
         let write_s = t1.elapsed().as_secs_f64();
         progress::phase(Phase::Idle);
+        // The side files before the mesh is put in place (as below).
+        let streamed = mesh_streamed(&staged, &output);
+        if let Some(map) = &args.vertex_map {
+            write_vertex_map(map, &surface, &input, &written).map_err(streamed)?;
+        }
+        let notes = written.notes;
         let run = stats_json::RunRecord {
             options: None,
             output: output.display().to_string(),
@@ -1181,7 +1198,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 seconds_write: write_s,
             }),
         };
-        let total = report.write(&[run], false)?;
+        let total = report.write(&[run], false).map_err(streamed)?;
+        staged.commit()?;
         if !args.quiet {
             for note in &notes {
                 say!("note    {note}");
@@ -1260,23 +1278,30 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Write {
         name: file_name(&output),
     });
-    let written = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
+    let (written, mut staged) = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     if args.check {
-        if let Err(e) = check_output(input_path, &input, &output) {
-            report.write(&[failure_record(options, &output, &e)], true)?;
-            return Err(e);
-        }
+        staged = match check_output(input_path, &input, staged, &output) {
+            Ok(staged) => staged,
+            Err(e) => {
+                report.write(&[failure_record(options, &output, &e)], true)?;
+                return Err(e);
+            }
+        };
     }
-    // The mesh is written (and checked): a side file that fails now says so.
-    let mesh_written = |e: anyhow::Error| e.context(format!("{} is written and complete, but", output.display()));
+    // The mesh is complete (and checked) under a temporary name: the side
+    // files are written before it is put in place, so that a side file
+    // that cannot be written leaves no output, and the input of a run in
+    // place untouched. (A mesh written to a stream is there already.)
+    let streamed = mesh_streamed(&staged, &output);
     if let Some(map) = &args.vertex_map {
-        write_vertex_map(map, &out.surface, &input, &written).map_err(mesh_written)?;
+        write_vertex_map(map, &out.surface, &input, &written).map_err(streamed)?;
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = out.record(options, &output, write_s);
-    let total = report.write(&[run], true).map_err(mesh_written)?;
+    let total = report.write(&[run], true).map_err(streamed)?;
+    staged.commit()?;
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
@@ -1548,14 +1573,14 @@ fn write_output(
     surface: &Surface,
     transfer: Option<&Transfer>,
     done: &io::obj::VertexLines,
-) -> anyhow::Result<io::Written> {
+) -> anyhow::Result<(io::Written, io::Staged)> {
     let triangles = surface.triangles();
-    let mut written = match transfer {
-        None => {
-            io::write_mesh_after(path, done, &surface.positions, &triangles)?;
-            io::Written::default()
-        }
-        Some(t) => io::write_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
+    let (mut written, staged) = match transfer {
+        None => (
+            io::Written::default(),
+            io::stage_mesh_after(path, done, &surface.positions, &triangles)?,
+        ),
+        Some(t) => io::stage_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
     };
     if io::output_format(path) == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());
@@ -1566,7 +1591,7 @@ fn write_output(
             path.display()
         ));
     }
-    Ok(written)
+    Ok((written, staged))
 }
 
 /// The extension of `path` (before any `.gz`) if it has one that names no
@@ -1599,8 +1624,8 @@ impl std::error::Error for CheckFailed {}
 /// input, written to a temporary file beside the output for the judge to
 /// read); an output that fails, or that the judge cannot read, is renamed
 /// to `<output>.rejected`.
-fn check_output(input: &Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<()> {
-    CheckReference::new(input, mesh, output)?.check(output)
+fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
+    CheckReference::new(input, mesh, output)?.check(staged, output)
 }
 
 /// What `--check` compares outputs with: the input file, or with --repair
@@ -1634,13 +1659,15 @@ impl<'a> CheckReference<'a> {
         Ok(CheckReference { input, repaired })
     }
 
-    /// Runs the judge on `output`; renames it to `<output>.rejected` if it
+    /// Runs the judge on `staged`, the file written for `output`, and
+    /// hands it back if it passes; puts it at `<output>.rejected` if it
     /// fails, or if the judge cannot read the files ([`CheckFailed`]): an
-    /// output is left under its name only once verified.
-    fn check(&self, output: &Path) -> anyhow::Result<()> {
+    /// output is put under its name only once verified, and an input
+    /// rewritten in place is replaced only then.
+    fn check(&self, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
         let reference = self.repaired.as_ref().map_or(self.input, |(_, f)| f.path());
-        let why = match delmesh::check::check_files(reference, output) {
-            Ok(report) if report.passed() => return Ok(()),
+        let why = match delmesh::check::check_files(reference, staged.path()) {
+            Ok(report) if report.passed() => return Ok(staged),
             Ok(report) => {
                 let more = report.failures.len() - 1;
                 format!(
@@ -1657,7 +1684,7 @@ impl<'a> CheckReference<'a> {
         };
         let mut rejected = output.as_os_str().to_owned();
         rejected.push(".rejected");
-        std::fs::rename(output, &rejected).with_context(|| output.display().to_string())?;
+        staged.commit_to(Path::new(&rejected))?;
         Err(CheckFailed(format!(
             "{}: {why} (renamed to {})",
             output.display(),
@@ -1700,11 +1727,12 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
         prune,
     )?;
     let t = Instant::now();
-    write_output(file, &out.surface, sweep.transfer, &Default::default())?;
+    let (_, mut staged) = write_output(file, &out.surface, sweep.transfer, &Default::default())?;
     let seconds_write = t.elapsed().as_secs_f64();
     if let Some(reference) = sweep.check {
-        reference.check(file)?;
+        staged = reference.check(staged, file)?;
     }
+    staged.commit()?;
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
         vertices: out.surface.positions.len(),
@@ -2112,24 +2140,33 @@ mod tests {
         // The input itself is not Delaunay (delmesh adds 5 vertices to it).
         let output = dir.path().join("cube.obj");
         std::fs::copy(&cube, &output).unwrap();
-        let e = check_output(&cube, &mesh, &output).unwrap_err();
+        let stage = |path: &Path, positions: &[glam::DVec3], triangles: &[[u32; 3]]| {
+            io::stage_mesh_after(path, &Default::default(), positions, triangles).unwrap()
+        };
+        let staged = stage(&output, &mesh.positions, &mesh.triangles);
+        let e = check_output(&cube, &mesh, staged, &output).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("failed the check"), "{e}");
-        assert!(!output.exists());
+        // The file it would have replaced is untouched (a run in place
+        // keeps its input); the rejected one is beside it.
+        assert_eq!(std::fs::read(&output).unwrap(), std::fs::read(&cube).unwrap());
         assert!(dir.path().join("cube.obj.rejected").exists());
+        std::fs::remove_file(&output).unwrap();
         // A refined one passes and stays.
         let surface = {
             let mut s = io::build_surface(&mut mesh, &cube).unwrap();
             delmesh::make_delaunay(&mut s, &Default::default()).unwrap();
             s
         };
-        io::write_mesh(&output, &surface.positions, &surface.triangles()).unwrap();
-        check_output(&cube, &mesh, &output).unwrap();
+        let staged = stage(&output, &surface.positions, &surface.triangles());
+        check_output(&cube, &mesh, staged, &output).unwrap().commit().unwrap();
         assert!(output.exists());
+        std::fs::remove_file(&output).unwrap();
         // One the judge cannot verify (here: its reference is unreadable)
-        // is not left standing as if verified either.
+        // is not put in place as if verified either.
         let missing = dir.path().join("missing.obj");
-        let e = check_output(&missing, &mesh, &output).unwrap_err();
+        let staged = stage(&output, &surface.positions, &surface.triangles());
+        let e = check_output(&missing, &mesh, staged, &output).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(!output.exists());

@@ -2154,3 +2154,81 @@ fn every_format_reads_the_same_from_a_pipe() {
     }
 }
 
+/// The mesh is put in place last, after the side files: a run whose
+/// `--stats-json`, `--stats-csv` or `--vertex-map` cannot be written (a
+/// full disk) leaves no output and an input rewritten in place untouched,
+/// and no temporary file. A mesh already sent to a stream says it is
+/// complete.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_side_file_that_cannot_be_written_leaves_the_input_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("bunny.obj");
+    copy_fixture("bunny.obj", &input);
+    let original = std::fs::read(&input).unwrap();
+    let out = dir.path().join("out.obj");
+    for flag in ["--stats-json", "--stats-csv", "--vertex-map"] {
+        for no_refine in [false, true] {
+            let mut in_place = delmesh();
+            in_place.arg("-i").arg(&input).args(["-q", flag, "/dev/full"]);
+            let mut to_file = refine(&input, &out);
+            to_file.args(["-q", flag, "/dev/full"]);
+            for mut cmd in [in_place, to_file] {
+                if no_refine {
+                    cmd.arg("--no-refine");
+                }
+                let error = one_line_error(&cmd.output().unwrap());
+                assert!(error.contains("/dev/full: cannot write"), "{flag}: {error}");
+                assert!(!error.contains("written and complete"), "{flag}: {error}");
+                assert_eq!(std::fs::read(&input).unwrap(), original, "{flag}: the input changed");
+                assert!(!out.exists(), "{flag}: an output was left");
+                let names: Vec<_> = std::fs::read_dir(dir.path())
+                    .unwrap()
+                    .map(|e| e.unwrap().file_name())
+                    .collect();
+                assert_eq!(names.len(), 1, "{flag}: {names:?}");
+            }
+        }
+    }
+    let to_stdout = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .args(["-q", "-o", "-", "--stats-json", "/dev/full"])
+        .output()
+        .unwrap();
+    let error = one_line_error(&to_stdout);
+    assert!(error.contains("- is written and complete, but"), "{error}");
+    assert!(String::from_utf8_lossy(&to_stdout.stdout).ends_with('\n'));
+    // With --check too; and a run that succeeds rewrites the input.
+    let run = refine(&input, &out)
+        .args(["-q", "--check", "--stats-json", "/dev/full"])
+        .output()
+        .unwrap();
+    one_line_error(&run);
+    assert!(!out.exists());
+    delmesh().arg("-i").arg(&input).arg("-q").assert().success();
+    assert_ne!(std::fs::read(&input).unwrap(), original);
+    check_passes(&common::data_dir().join("bunny.obj"), &input);
+}
+
+/// A run in place keeps the file's mode, and its owner and group where the
+/// caller may set them: root rewriting a user's mesh leaves it the user's.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_run_in_place_keeps_the_files_mode_and_owner() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cube.obj");
+    copy_fixture("cube.obj", &input);
+    std::fs::set_permissions(&input, std::fs::Permissions::from_mode(0o640)).unwrap();
+    let root = std::fs::metadata("/proc/self").unwrap().uid() == 0;
+    if root {
+        std::os::unix::fs::chown(&input, Some(12345), Some(23456)).unwrap();
+    }
+    let before = std::fs::metadata(&input).unwrap();
+    delmesh().arg("-i").arg(&input).arg("-q").assert().success();
+    let after = std::fs::metadata(&input).unwrap();
+    assert_ne!(after.ino(), before.ino(), "not rewritten");
+    assert_eq!(after.mode() & 0o7777, 0o640);
+    assert_eq!((after.uid(), after.gid()), (before.uid(), before.gid()));
+}

@@ -337,20 +337,19 @@ fn refine_read(
     notes.extend(near_coincident_note(&out.surface.input_figures));
     notes.extend(growth_note(&out.surface, out.pruned.is_some() || args.smallest));
     notes.extend(longest_first_note(&out.stats));
-    let written = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
+    let (written, mut staged) = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
     notes.extend(written.notes.iter().cloned());
     let seconds_write = t_write.elapsed().as_secs_f64();
     if args.check {
-        check_output(input, mesh, output)?;
+        staged = check_output(input, mesh, staged, output)?;
     }
     if args.vertex_maps {
         // An output stands for a finished file (--skip-existing skips it):
-        // without its vertex map it is taken back.
-        if let Err(e) = write_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written) {
-            let _ = std::fs::remove_file(output);
-            return Err(e.context(format!("{} removed again", output.display())));
-        }
+        // it is put in place only with its vertex map.
+        write_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
+            .with_context(|| format!("{} not written", output.display()))?;
     }
+    staged.commit()?;
     Ok(Done {
         record: out.record(options, output, seconds_write),
         smallest: args.smallest,

@@ -637,9 +637,24 @@ pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
 /// and kept; a target that is not a regular file ([`is_stream`]: a device,
 /// a pipe) is written into directly, there being no file to replace.
 pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    stage(path, fill)?.commit()
+}
+
+/// The first half of [`write_atomic`]: what `fill` produces, complete in a
+/// temporary file beside `path` (or written into `path` if it is a stream,
+/// which has no second half), to be renamed into place by
+/// [`Staged::commit`] once whatever must come first has succeeded: a run
+/// writes its side files, and checks its output, before it replaces its
+/// input. The temporary file's name ends in `path`'s extension, so that a
+/// reader takes it for the same format.
+pub fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<Staged> {
     let err = |source| Error::Write {
         path: path.to_owned(),
         source,
+    };
+    let streamed = || Staged {
+        path: path.to_owned(),
+        file: None,
     };
     if let Some(fd) = standard_stream(path) {
         let mut w: Box<dyn Write> = if fd == 1 {
@@ -648,24 +663,26 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
             Box::new(std::io::stderr().lock())
         };
         fill_compressed_if_gz(path, &mut w, fill).map_err(err)?;
-        return w.flush().map_err(err);
+        w.flush().map_err(err)?;
+        return Ok(streamed());
     }
     if is_stream(path) {
         let file = std::fs::OpenOptions::new().write(true).open(path).map_err(err)?;
         let mut w = BufWriter::with_capacity(1 << 16, file);
         fill_compressed_if_gz(path, &mut w, fill).map_err(err)?;
-        return w.flush().map_err(err);
+        w.flush().map_err(err)?;
+        return Ok(streamed());
     }
     let (target, dir) = write_target(path);
     let path = target.as_path();
     let mut tmp = tempfile::Builder::new()
         .prefix(".delmesh-")
-        .suffix(".tmp")
+        .suffix(&format!(".tmp{}", extensions(path)))
         .tempfile_in(&dir)
         .map_err(err)?;
     // Removed by the signal handler if the run is interrupted; unregistered
-    // when this function returns (renamed into place, or removed on error).
-    let _registered = temporary::register(tmp.path());
+    // when renamed into place, or removed (the `Staged` dropped).
+    let registered = temporary::register(tmp.path());
     {
         // Small: the OBJ writer hands over blocks of about a megabyte, which
         // a buffer this size passes straight to the file instead of copying.
@@ -676,14 +693,87 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     if SYNC_WRITES.load(std::sync::atomic::Ordering::Relaxed) {
         tmp.as_file().sync_all().map_err(err)?;
     }
-    // Keep the permissions of a file being replaced; a new file gets 0644.
+    // Keep the permissions of a file being replaced, and its owner and
+    // group where allowed (a run as root rewriting a user's file in place
+    // leaves it the user's); a new file gets 0644.
     let perms = match std::fs::metadata(path) {
-        Ok(m) => m.permissions(),
+        Ok(m) => {
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::MetadataExt;
+                // Refused (and harmless) unless root or a group change
+                // to one of the caller's groups.
+                let _ = std::os::unix::fs::fchown(tmp.as_file(), Some(m.uid()), Some(m.gid()));
+            }
+            m.permissions()
+        }
         Err(_) => default_permissions(&dir),
     };
     tmp.as_file().set_permissions(perms).map_err(err)?;
-    tmp.persist(path).map_err(|e| err(e.error))?;
-    Ok(())
+    Ok(Staged {
+        path: target,
+        file: Some((tmp, registered)),
+    })
+}
+
+/// A file written by [`stage`], not yet in place; dropped uncommitted, its
+/// temporary file is removed and the target left untouched.
+#[must_use = "a staged file is removed unless committed"]
+#[derive(Debug)]
+pub struct Staged {
+    /// The file the write is for (a symbolic link followed).
+    path: PathBuf,
+    /// The complete temporary file; `None` for a stream, written already.
+    file: Option<(tempfile::NamedTempFile, temporary::Registration)>,
+}
+
+impl Staged {
+    /// Where the complete bytes are now: the temporary file, or the stream.
+    pub fn path(&self) -> &Path {
+        self.file.as_ref().map_or(&self.path, |(tmp, _)| tmp.path())
+    }
+
+    /// Whether the bytes are where they were asked for already (a stream).
+    pub fn is_in_place(&self) -> bool {
+        self.file.is_none()
+    }
+
+    /// Renames the temporary file over the target (nothing for a stream).
+    pub fn commit(self) -> Result<()> {
+        self.commit_as(None)
+    }
+
+    /// Renames the temporary file to `other` instead of the target: where
+    /// a run puts an output that failed its check.
+    pub fn commit_to(self, other: &Path) -> Result<()> {
+        self.commit_as(Some(other))
+    }
+
+    fn commit_as(self, other: Option<&Path>) -> Result<()> {
+        let Some((tmp, _registered)) = self.file else {
+            return Ok(());
+        };
+        let to = other.unwrap_or(&self.path);
+        tmp.persist(to).map_err(|e| Error::Write {
+            path: to.to_owned(),
+            source: e.error,
+        })?;
+        Ok(())
+    }
+}
+
+/// The extensions of `path`'s name that say its format (`.obj`,
+/// `.ply.gz`), or nothing if it has none short enough.
+fn extensions(path: &Path) -> String {
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    let (stem, gz) = match name.len().checked_sub(3).filter(|&i| name.is_char_boundary(i)) {
+        Some(i) if name[i..].eq_ignore_ascii_case(".gz") => (&name[..i], &name[i..]),
+        _ => (name, ""),
+    };
+    match stem.rsplit_once('.') {
+        Some((before, ext)) if !before.is_empty() && !ext.is_empty() && ext.len() <= 8 => format!(".{ext}{gz}"),
+        _ => gz.to_string(),
+    }
 }
 
 /// `fill(w)`, gzip-compressed if `path` ends in `.gz` (as the readers
@@ -739,9 +829,19 @@ pub fn write_mesh_after(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
 ) -> Result<()> {
+    stage_mesh_after(path, done, positions, triangles)?.commit()
+}
+
+/// [`write_mesh_after`], staged ([`stage`]): not yet renamed into place.
+pub fn stage_mesh_after(
+    path: &Path,
+    done: &obj::VertexLines,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> Result<Staged> {
     let positions: &[[f64; 3]] = bytemuck_positions(positions);
     let format = output_format(path);
-    write_atomic(path, |w| match format {
+    stage(path, |w| match format {
         Format::Obj => obj::write_obj_after(w, done, positions, triangles),
         Format::Off => formats::write_off(w, positions, triangles),
         Format::Ply => formats::write_ply_binary(w, positions, triangles, None),
@@ -762,13 +862,26 @@ pub fn write_mesh_with_attributes(
     triangles: &[[u32; 3]],
     attributes: &Attributes,
 ) -> Result<Written> {
+    let (written, staged) = stage_mesh_with_attributes(path, positions, triangles, attributes)?;
+    staged.commit()?;
+    Ok(written)
+}
+
+/// [`write_mesh_with_attributes`], staged ([`stage`]): not yet renamed
+/// into place.
+pub fn stage_mesh_with_attributes(
+    path: &Path,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+) -> Result<(Written, Staged)> {
     let format = output_format(path);
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
     let mut lost = |what: &str, format: &str| notes.push(format!("{what} not written: {format} cannot hold them"));
     let mut copies_of = Vec::new();
-    match format {
-        Format::Obj => write_atomic(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
+    let staged = match format {
+        Format::Obj => stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
         Format::Ply => {
             if !attributes.face_group.is_empty() || !attributes.mtllib.is_empty() {
                 lost("groups and materials", "PLY");
@@ -798,20 +911,20 @@ pub fn write_mesh_with_attributes(
                 }
             }
             let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
-            write_atomic(path, |w| {
-                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
-            })?;
             copies_of = split.source[positions.len()..].to_vec();
+            stage(path, |w| {
+                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
+            })?
         }
         Format::Off | Format::Stl => {
             let name = if format == Format::Off { "OFF" } else { "STL" };
             if attributes.channels().next().is_some() || !attributes.face_group.is_empty() {
                 lost("texture coordinates, normals, colours and groups", name);
             }
-            write_mesh(path, positions, triangles)?;
+            stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?
         }
-    }
-    Ok(Written { notes, copies_of })
+    };
+    Ok((Written { notes, copies_of }, staged))
 }
 
 /// What [`write_mesh_with_attributes`] wrote besides the mesh's own vertices.

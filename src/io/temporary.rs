@@ -56,6 +56,7 @@ static REGISTERED: [Slot; SLOTS] = [EMPTY; SLOTS];
 /// A registered file; dropping it unregisters the file (once it has been
 /// renamed into place or removed).
 #[must_use = "the file is unregistered when this is dropped"]
+#[derive(Debug)]
 pub struct Registration {
     #[cfg(unix)]
     slot: Option<usize>,
