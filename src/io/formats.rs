@@ -307,7 +307,7 @@ fn off_refused(prefix: &[u8]) -> bool {
 /// to be refused: it declares no facets, or one of its first facets has a
 /// coordinate that is not finite; or, if `exact` (read as STL only when
 /// its size is what the header declares), it declares fewer bytes than
-/// `prefix` has.
+/// `prefix` has, so the whole input cannot be that size.
 fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
     let Some((n, need)) = binary_stl_size(prefix) else {
         return false;
@@ -317,7 +317,7 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
             .chunks_exact(4)
             .all(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite())
     };
-    n == 0 || (exact && need <= prefix.len() as u64) || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
+    n == 0 || (exact && need < prefix.len() as u64) || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
 }
 
 /// `bytes` without a leading UTF-8 byte order mark.
