@@ -129,7 +129,7 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
 /// The bytes of the file `path`, or of standard input to its end if `path`
 /// names it ([`is_standard_input`]). What is not a regular file (a pipe,
 /// a device) is read to its end only if its first bytes may start a mesh
-/// ([`formats::refused_from_start`]): `/dev/zero` is refused at once.
+/// (see `formats::refused_from_start`): `/dev/zero` is refused at once.
 pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
     let named = path.to_str().and_then(formats::format_from_name);
     if is_standard_input(path) {
