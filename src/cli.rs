@@ -1628,27 +1628,32 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
     CheckReference::new(input, mesh, output)?.check(staged, output)
 }
 
-/// What `--check` compares outputs with: the input file, or with --repair
-/// the repaired input written once to a temporary file (removed when this
-/// is dropped, or by the signal handler).
+/// What `--check` compares outputs with: the input file, or the mesh read
+/// from it written once to a temporary file (removed when this is dropped,
+/// or by the signal handler): with --repair the repaired input, and the
+/// mesh of an input that cannot be read twice (standard input, a pipe).
 struct CheckReference<'a> {
     input: &'a Path,
-    repaired: Option<(io::temporary::Registration, tempfile::NamedTempFile)>,
+    written: Option<(io::temporary::Registration, tempfile::NamedTempFile)>,
 }
 
 impl<'a> CheckReference<'a> {
-    /// The reference for outputs of `mesh`, read from `input`; a repaired
+    /// The reference for outputs of `mesh`, read from `input`; a written
     /// one goes beside `output`.
     fn new(input: &'a Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<Self> {
-        let repaired = match mesh.repair {
-            None => None,
-            Some(_) => {
+        // An input that is not a regular file (standard input, a pipe)
+        // cannot be read a second time: the mesh read from it is written
+        // once, as a repaired one is.
+        let stream = io::is_standard_input(input) || std::fs::metadata(input).is_ok_and(|m| !m.is_file());
+        let written = match mesh.repair {
+            None if !stream => None,
+            _ => {
                 let dir = output
                     .parent()
                     .filter(|d| !d.as_os_str().is_empty())
                     .unwrap_or(Path::new("."));
                 let file = tempfile::Builder::new()
-                    .prefix(".delmesh-repaired-")
+                    .prefix(".delmesh-reference-")
                     .suffix(".obj")
                     .tempfile_in(dir)
                     .with_context(|| dir.display().to_string())?;
@@ -1656,7 +1661,7 @@ impl<'a> CheckReference<'a> {
                 Some((io::temporary::register(file.path()), file))
             }
         };
-        Ok(CheckReference { input, repaired })
+        Ok(CheckReference { input, written })
     }
 
     /// Runs the judge on `staged`, the file written for `output`, and
@@ -1665,7 +1670,7 @@ impl<'a> CheckReference<'a> {
     /// output is put under its name only once verified, and an input
     /// rewritten in place is replaced only then.
     fn check(&self, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
-        let reference = self.repaired.as_ref().map_or(self.input, |(_, f)| f.path());
+        let reference = self.written.as_ref().map_or(self.input, |(_, f)| f.path());
         let why = match delmesh::check::check_files(reference, staged.path()) {
             Ok(report) if report.passed() => return Ok(staged),
             Ok(report) => {

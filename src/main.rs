@@ -10,11 +10,14 @@ fn main() -> std::process::ExitCode {
     cli::main()
 }
 
-/// Ctrl-C (SIGINT), `kill` (SIGTERM) and a closed terminal (SIGHUP) end
-/// the process as before, but first remove the temporary file of any
-/// output being written ([`delmesh::io::temporary`]): an interrupted run
-/// leaves nothing behind (its outputs are either complete or absent
-/// anyway). A signal the parent set to be ignored (`nohup`) stays ignored.
+/// Ctrl-C (SIGINT), `kill` (SIGTERM), a closed terminal (SIGHUP), and the
+/// other signals whose default is to end the process and that a run may
+/// get (Ctrl-\ SIGQUIT, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, a CPU
+/// limit's SIGXCPU, a file size limit's SIGXFSZ) end it as before, but
+/// first remove the temporary file of any output being written
+/// ([`delmesh::io::temporary`]): an interrupted run leaves nothing behind
+/// (its outputs are either complete or absent anyway). A signal the parent
+/// set to be ignored (`nohup`) stays ignored.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn remove_temporary_files_on_signals() {
     extern "C" fn on_signal(signal: libc::c_int) {
@@ -27,7 +30,19 @@ fn remove_temporary_files_on_signals() {
             libc::raise(signal);
         }
     }
-    for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+    for signal in [
+        libc::SIGINT,
+        libc::SIGTERM,
+        libc::SIGHUP,
+        libc::SIGQUIT,
+        libc::SIGUSR1,
+        libc::SIGUSR2,
+        libc::SIGALRM,
+        libc::SIGVTALRM,
+        libc::SIGPROF,
+        libc::SIGXCPU,
+        libc::SIGXFSZ,
+    ] {
         // SAFETY: installs a handler that only does async-signal-safe work;
         // called before any other thread exists.
         unsafe {

@@ -2232,3 +2232,61 @@ fn a_run_in_place_keeps_the_files_mode_and_owner() {
     assert_eq!(after.mode() & 0o7777, 0o640);
     assert_eq!((after.uid(), after.gid()), (before.uid(), before.gid()));
 }
+
+/// `--check` on a mesh read from standard input or a pipe compares with
+/// the mesh read (written once to a temporary file): the input cannot be
+/// read a second time (it was rejected as "no faces", and a pipe hung).
+#[cfg(unix)]
+#[test]
+fn check_works_on_an_input_that_can_be_read_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let run = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .args(["-q", "--check", "-i", "-", "-o"])
+        .arg(&out)
+        .stdin(std::fs::File::open(&bunny).unwrap())
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    check_passes(&bunny, &out);
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["out.obj"], "a temporary file was left");
+}
+
+/// A good first line and then zeros without end, on standard input, is
+/// refused at once too: every complete line of the first 64 KiB is read
+/// as the parser reads it.
+#[cfg(unix)]
+#[test]
+fn a_good_line_then_zeros_without_end_is_refused() {
+    use std::io::Write;
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .args(["-i", "-", "-o", "-", "-q"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    // Up to 4 GiB, which delmesh must not wait for: the writer stops when
+    // it closes the pipe.
+    let writer = std::thread::spawn(move || {
+        let zeros = vec![0u8; 1 << 20];
+        let _ = stdin.write_all(b"v 1 2 3\n");
+        for _ in 0..4096 {
+            if stdin.write_all(&zeros).is_err() {
+                return true;
+            }
+        }
+        false
+    });
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("reading stopped"), "{stderr}");
+    assert!(writer.join().unwrap(), "delmesh read all 4 GiB");
+}

@@ -141,7 +141,7 @@ pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, Forma
 
 /// [`maybe_gunzip`] for a file whose name gives the format `named`: the
 /// decompressing stops, refused, after [`STREAM_PREFIX`] bytes if those
-/// are refused whatever follows ([`refused_from_start`]), so that a small
+/// are refused whatever follows ([`judge_start`]), so that a small
 /// file of compressed zeros is not inflated to the limit first.
 pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>) -> Result<Cow<'_, [u8]>, FormatError> {
     if !bytes.starts_with(&[0x1f, 0x8b]) {
@@ -167,12 +167,23 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
         .take(STREAM_PREFIX as u64)
         .read_to_end(&mut out)
         .map_err(corrupt)?;
-    if out.len() == STREAM_PREFIX {
-        if let Some(why) = refused_from_start(named, &out) {
-            return Err(FormatError::new(format!(
-                "the gzip data is not {why}: its first 64 KiB cannot start one (decompressing stopped there)"
-            )));
+    let refused = |why: &str| {
+        FormatError::new(format!(
+            "the gzip data is not {why}: its first 64 KiB cannot start one (decompressing stopped there)"
+        ))
+    };
+    match (out.len() == STREAM_PREFIX).then(|| judge_start(named, &out)) {
+        Some(Start::Refused(why)) => return Err(refused(why)),
+        Some(Start::AtMost(limit, why)) => {
+            let more = (limit + 1).saturating_sub(out.len() as u64);
+            (&mut decoder).take(more).read_to_end(&mut out).map_err(corrupt)?;
+            if out.len() as u64 > limit {
+                return Err(FormatError::new(format!(
+                    "the gzip data is not {why}: longer than the binary STL its header would make it (decompressing stopped there)"
+                )));
+            }
         }
+        _ => {}
     }
     decoder.read_to_end(&mut out).map_err(corrupt)?;
     if out.len() as u64 > max_bytes {
@@ -252,18 +263,46 @@ pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
 const SNIFF_WINDOW: usize = 64 * 1024;
 
 /// How many bytes of an input that is not a regular file (a pipe, a
-/// device) are read before [`refused_from_start`] judges them: the text
+/// device) are read before [`judge_start`] judges them: the text
 /// sniffers' window, after a byte order mark.
 pub(crate) const STREAM_PREFIX: usize = SNIFF_WINDOW + 3;
 
+/// What the first bytes of an input say of it ([`judge_start`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Start {
+    /// Sure to be refused: not this (`an OBJ file`).
+    Refused(&'static str),
+    /// Read only if it has exactly this many bytes (a binary STL, by its
+    /// header's count, for an input without a name): refused once longer.
+    AtMost(u64, &'static str),
+    /// It may be a mesh.
+    Unsure,
+}
+
 /// What an input whose first bytes are `prefix` (at least [`STREAM_PREFIX`]
-/// of them, more to follow) is sure not to be, whatever follows ("an OBJ
-/// file"), if it is sure; `named` is the format its name gives. An endless input
-/// (`/dev/zero`, `/dev/urandom`) is then stopped instead of read to the
-/// end. Says nothing (`None`) when unsure, and of gzip data.
-pub(crate) fn refused_from_start(named: Option<Format>, prefix: &[u8]) -> Option<&'static str> {
+/// of them, more to follow) is sure not to be, whatever follows, if it is
+/// sure ([`Start::Refused`]); `named` is the format its name gives. An
+/// endless input (`/dev/zero`, `/dev/urandom`) is then stopped instead of
+/// read to the end. Without a name, text no OBJ reader takes is read on
+/// only as far as the binary STL its first bytes would make it
+/// ([`Start::AtMost`]). Says nothing of gzip data.
+pub(crate) fn judge_start(named: Option<Format>, prefix: &[u8]) -> Start {
     let obj = || super::obj::refused_from_start(prefix);
     let solid = || starts_with_solid(strip_bom(prefix));
+    let what = match named {
+        Some(Format::Obj) => "an OBJ file",
+        Some(Format::Off) => "an OFF file",
+        Some(Format::Ply) => "a PLY file",
+        Some(Format::Stl) => "an STL file",
+        None => "a mesh (OBJ, OFF, PLY or STL)",
+    };
+    if named.is_none() && !prefix.starts_with(&[0x1f, 0x8b]) {
+        if let (None | Some(Format::Obj), Some((_, need))) = (sniff_format(prefix), binary_stl_size(prefix)) {
+            if obj() && !solid() && !binary_stl_refused(prefix, true) {
+                return Start::AtMost(need, what);
+            }
+        }
+    }
     let refused = match named {
         _ if prefix.starts_with(&[0x1f, 0x8b]) => false,
         Some(Format::Obj) => obj(),
@@ -279,13 +318,11 @@ pub(crate) fn refused_from_start(named: Option<Format>, prefix: &[u8]) -> Option
             Some(_) => false,
         },
     };
-    refused.then_some(match named {
-        Some(Format::Obj) => "an OBJ file",
-        Some(Format::Off) => "an OFF file",
-        Some(Format::Ply) => "a PLY file",
-        Some(Format::Stl) => "an STL file",
-        None => "a mesh (OBJ, OFF, PLY or STL)",
-    })
+    if refused {
+        Start::Refused(what)
+    } else {
+        Start::Unsure
+    }
 }
 
 /// Whether an OFF file starting with `prefix` (more to follow) is sure to

@@ -129,7 +129,7 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
 /// The bytes of the file `path`, or of standard input to its end if `path`
 /// names it ([`is_standard_input`]). What is not a regular file (a pipe,
 /// a device) is read to its end only if its first bytes may start a mesh
-/// (see `formats::refused_from_start`): `/dev/zero` is refused at once.
+/// (see `formats::judge_start`): `/dev/zero` is refused at once.
 pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
     let named = path.to_str().and_then(formats::format_from_name);
     if is_standard_input(path) {
@@ -153,13 +153,29 @@ fn read_stream(mut reader: impl Read, named: Option<Format>) -> std::io::Result<
     (&mut reader)
         .take(formats::STREAM_PREFIX as u64)
         .read_to_end(&mut bytes)?;
-    if bytes.len() == formats::STREAM_PREFIX {
-        if let Some(why) = formats::refused_from_start(named, &bytes) {
-            let why = format!("not {why}: its first 64 KiB cannot start one, and it goes on (reading stopped there)");
-            return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
-        }
-        reader.read_to_end(&mut bytes)?;
+    if bytes.len() < formats::STREAM_PREFIX {
+        return Ok(bytes);
     }
+    let refused = |why: &str| {
+        let why = format!("not {why}: its first 64 KiB cannot start one, and it goes on (reading stopped there)");
+        std::io::Error::new(std::io::ErrorKind::InvalidData, why)
+    };
+    match formats::judge_start(named, &bytes) {
+        formats::Start::Refused(why) => return Err(refused(why)),
+        formats::Start::AtMost(limit, why) => {
+            // Only a binary STL of the size its header says is left.
+            let more = (limit + 1).saturating_sub(bytes.len() as u64);
+            (&mut reader).take(more).read_to_end(&mut bytes)?;
+            if bytes.len() as u64 > limit {
+                let why = format!(
+                    "not {why}: longer than the binary STL its header would make it, and no other kind (reading stopped there)"
+                );
+                return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
+            }
+        }
+        formats::Start::Unsure => {}
+    }
+    reader.read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 

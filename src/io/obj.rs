@@ -51,39 +51,46 @@ const IGNORED: &[&str] = &[
 const READ: &[&str] = &["v", "vt", "vn", "f", "o", "g", "usemtl", "mtllib"];
 
 /// Whether OBJ text starting with `prefix` (the first bytes of an input,
-/// more to follow) is sure to be refused, whatever follows: its first
-/// statement is none of OBJ's, which [`parse_obj`] refuses on that line.
-/// Lets a reader stop an endless input (`/dev/zero`, `/dev/urandom`)
-/// instead of reading it to the end. `false` when unsure.
+/// more to follow) is sure to be refused, whatever follows: one of its
+/// complete lines is refused by [`parse_obj`] (which reads line by line, so
+/// that a line it refuses is refused in the whole file too; the checks
+/// that need the whole file, such as indices out of range, are not made
+/// here), or its last, incomplete line starts with a word longer than any
+/// statement. Lets a reader stop an endless input (`/dev/zero`,
+/// `/dev/urandom`, a good first line and then zeros) instead of reading
+/// it to the end. `false` when unsure.
 pub(crate) fn refused_from_start(prefix: &[u8]) -> bool {
-    let bytes = crate::io::formats::strip_bom(prefix);
-    let mut rest = bytes;
-    while !rest.is_empty() {
-        let (line, complete) = match rest.iter().position(|&b| b == b'\n') {
-            Some(end) => (&rest[..end], true),
-            None => (rest, false),
-        };
-        rest = rest.get(line.len() + 1..).unwrap_or(&[]);
-        let code = line.split(|&b| b == b'#').next().unwrap_or(&[]);
-        let start = code.iter().position(|&b| !is_token_end(b));
-        let Some(start) = start else {
-            if code.len() < line.len() || complete {
-                continue; // A blank line or a comment.
-            }
-            return false;
-        };
-        let word = &code[start..];
-        let word = &word[..word.iter().position(|&b| is_token_end(b)).unwrap_or(word.len())];
-        // The word may go on past the prefix, or the line on the next one
-        // (a backslash): unsure then, unless no statement is that long.
-        let cut = !complete && start + word.len() == line.len();
-        let longest = READ.iter().chain(IGNORED).map(|k| k.len()).max().unwrap_or(0);
-        if (cut || word.ends_with(b"\\")) && word.len() <= longest {
-            return false;
+    let text = crate::io::formats::strip_bom(prefix);
+    let complete = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let (mut lines, last) = text.split_at(complete);
+    // Less the lines a backslash continues into what follows.
+    while let Some(body) = lines.strip_suffix(b"\n") {
+        let start = body.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let line = body[start..].strip_suffix(b"\r").unwrap_or(&body[start..]);
+        if !line.ends_with(b"\\") || line.contains(&b'#') {
+            break;
         }
-        return !READ.iter().chain(IGNORED).any(|k| k.as_bytes() == word);
+        lines = &lines[..start];
     }
-    false
+    if !lines.is_empty() && parse_obj_with(lines, true, false).is_err() {
+        return true;
+    }
+    if lines.len() < complete {
+        return false; // The last line goes on a continued one.
+    }
+    let code = last.split(|&b| b == b'#').next().unwrap_or(&[]);
+    let Some(start) = code.iter().position(|&b| !is_token_end(b)) else {
+        return false;
+    };
+    let word = &code[start..];
+    let word = &word[..word.iter().position(|&b| is_token_end(b)).unwrap_or(word.len())];
+    let longest = READ.iter().chain(IGNORED).map(|k| k.len()).max().unwrap_or(0);
+    if word.len() > longest {
+        return true;
+    }
+    // A short word may go on past the prefix, or on the next line.
+    let cut = start + word.len() == last.len();
+    !cut && !word.ends_with(b"\\") && !READ.iter().chain(IGNORED).any(|k| k.as_bytes() == word)
 }
 
 fn error(line: usize, what: String) -> FormatError {
@@ -136,7 +143,7 @@ pub fn join_continued_lines(bytes: &[u8]) -> std::borrow::Cow<'_, [u8]> {
 /// (with the same number parser, to the same values); every other line the
 /// general way.
 pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
-    parse_obj_with(bytes, true)
+    parse_obj_with(bytes, true, true)
 }
 
 /// Why `bytes` are refused if their lines end in a carriage return alone
@@ -149,8 +156,9 @@ pub(crate) fn cr_only_lines(bytes: &[u8]) -> Option<&'static str> {
 
 /// [`parse_obj`], with the one-scan reading of plain `v` and `f` lines
 /// (`plain_lines`) or without it: every line the general way, which the
-/// tests compare it with.
-fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatError> {
+/// tests compare it with; without the checks that need the `whole` file
+/// when it is only the start of one ([`refused_from_start`]).
+fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMesh, FormatError> {
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
@@ -373,6 +381,9 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatErro
             }
         }
         tokens.start_line();
+    }
+    if !whole {
+        return Ok(raw); // The start of a file: the rest may follow.
     }
     // Out-of-range indices (forward references are allowed, so only now).
     let nv = raw.positions.len();
@@ -1292,7 +1303,19 @@ mod tests {
         let mut cut = vec![b' '; crate::io::formats::STREAM_PREFIX - 2];
         cut.extend_from_slice(b"vt");
         assert!(!refused_from_start(&cut));
-        assert!(!refused_from_start(&padded(b"usemt\\\nl x\n")));
+        let mut continued = padded(b"v 1 2 3\n");
+        continued.extend_from_slice(b"v 1 2 \\\n");
+        assert!(!refused_from_start(&continued));
+        // A line the parser refuses, after good ones, is refused: zeros
+        // after a good line, a vertex that is no numbers, a statement
+        // joined by a backslash into an unknown one. Faces may name
+        // vertices given later: not refused.
+        let mut zeros_after = b"v 1 2 3\n".to_vec();
+        zeros_after.resize(crate::io::formats::STREAM_PREFIX, 0);
+        assert!(refused_from_start(&zeros_after));
+        assert!(refused_from_start(&padded(b"v 0 0 0\nv a b c\n")));
+        assert!(refused_from_start(&padded(b"usemt\\\nl x\n")));
+        assert!(!refused_from_start(&padded(b"f 1 2 3\nf 4 5 6\n")));
     }
 
     #[test]
@@ -1374,8 +1397,8 @@ mod tests {
                 text.push_str(["\n", "\r\n", " \n", "\t\n", "", "\n"][rng.below(6) as usize]);
             }
             let (fast, general) = (
-                parse_obj_with(text.as_bytes(), true),
-                parse_obj_with(text.as_bytes(), false),
+                parse_obj_with(text.as_bytes(), true, true),
+                parse_obj_with(text.as_bytes(), false, true),
             );
             assert_eq!(summary(fast), summary(general), "{text:?}");
         }
