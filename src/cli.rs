@@ -1508,22 +1508,12 @@ fn all_combinations() -> Vec<Options> {
 fn combination_path(output: &Path, o: &Options) -> PathBuf {
     // A compressed name keeps its format's extension too: `n.ply.gz` gives
     // `n-s-2-m.ply.gz` (gzipped PLY), not `n.ply-s-2-m.gz` (gzipped OBJ).
-    let name = output.file_name().map(|n| n.to_string_lossy().into_owned());
-    let (stem, ext) = match name.as_deref().map(|n| n.rsplit_once('.')) {
-        Some(Some((rest, gz))) if gz.eq_ignore_ascii_case("gz") => match rest.rsplit_once('.') {
-            Some((stem, ext)) if !stem.is_empty() => (stem.to_string(), format!("{ext}.{gz}")),
-            _ => (rest.to_string(), gz.to_string()),
-        },
-        _ => (
-            output
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "out".into()),
-            output
-                .extension()
-                .map(|e| e.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "obj".into()),
-        ),
+    let name = output
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let (stem, ext) = match io::split_extensions(&name) {
+        (stem, Some(ext)) => (stem, ext),
+        (stem, None) => (stem, "obj"),
     };
     let ds = match o.worklist {
         Worklist::Stack => "s",

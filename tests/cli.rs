@@ -21,6 +21,16 @@ fn refine(input: impl AsRef<std::ffi::OsStr>, output: impl AsRef<std::ffi::OsStr
     cmd
 }
 
+/// A run of `delmesh ARGS` with the file `stdin` on its standard input
+/// (a regular file there, not a pipe).
+fn with_stdin<S: AsRef<std::ffi::OsStr>>(args: &[S], stdin: &Path) -> std::process::Output {
+    std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .args(args)
+        .stdin(std::fs::File::open(stdin).unwrap())
+        .output()
+        .unwrap()
+}
+
 fn check_passes(input: &Path, output: &Path) {
     let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -1476,13 +1486,7 @@ fn dash_is_standard_input_and_output() {
     let input = dir.path().join("in.obj");
     std::fs::copy(&bunny, &input).unwrap();
     let original = std::fs::read(&input).unwrap();
-    let run = |args: &[&str], stdin: &Path| {
-        std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
-            .args(args)
-            .stdin(std::fs::File::open(stdin).unwrap())
-            .output()
-            .unwrap()
-    };
+    let run = with_stdin::<&str>;
     let piped = run(&["-i", "-", "-o", "-"], &input);
     assert!(piped.status.success(), "{}", String::from_utf8_lossy(&piped.stderr));
     let printout = String::from_utf8_lossy(&piped.stderr);
@@ -2140,11 +2144,7 @@ fn every_format_reads_the_same_from_a_pipe() {
         assert!(ext.ends_with("gz") || size > 65 * 1024, "{ext}: too small to judge");
         let from_file = dir.path().join(format!("from-file-{ext}.obj"));
         refine(&file, &from_file).arg("-q").assert().success();
-        let piped = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
-            .args(["-i", "-", "-o", "-", "-q"])
-            .stdin(std::fs::File::open(&file).unwrap())
-            .output()
-            .unwrap();
+        let piped = with_stdin(&["-i", "-", "-o", "-", "-q"], &file);
         assert!(
             piped.status.success(),
             "{ext}: {}",
@@ -2242,12 +2242,15 @@ fn check_works_on_an_input_that_can_be_read_once() {
     let dir = tempfile::tempdir().unwrap();
     let bunny = common::data_dir().join("bunny.obj");
     let out = dir.path().join("out.obj");
-    let run = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
-        .args(["-q", "--check", "-i", "-", "-o"])
-        .arg(&out)
-        .stdin(std::fs::File::open(&bunny).unwrap())
-        .output()
-        .unwrap();
+    let args = [
+        Path::new("-q"),
+        Path::new("--check"),
+        Path::new("-i"),
+        Path::new("-"),
+        Path::new("-o"),
+        &out,
+    ];
+    let run = with_stdin(&args, &bunny);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     check_passes(&bunny, &out);
     let names: Vec<_> = std::fs::read_dir(dir.path())

@@ -163,29 +163,11 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
     let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
     let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
     let corrupt = |e: io::Error| FormatError::new(format!("the gzip data is corrupt or truncated ({e})"));
-    (&mut decoder)
-        .take(STREAM_PREFIX as u64)
-        .read_to_end(&mut out)
-        .map_err(corrupt)?;
-    let refused = |why: &str| {
-        FormatError::new(format!(
-            "the gzip data is not {why}: its first 64 KiB cannot start one (decompressing stopped there)"
-        ))
-    };
-    match (out.len() == STREAM_PREFIX).then(|| judge_start(named, &out)) {
-        Some(Start::Refused(why)) => return Err(refused(why)),
-        Some(Start::AtMost(limit, why)) => {
-            let more = (limit + 1).saturating_sub(out.len() as u64);
-            (&mut decoder).take(more).read_to_end(&mut out).map_err(corrupt)?;
-            if out.len() as u64 > limit {
-                return Err(FormatError::new(format!(
-                    "the gzip data is not {why}: longer than the binary STL its header would make it (decompressing stopped there)"
-                )));
-            }
-        }
-        _ => {}
+    if let Some(why) = read_judged(&mut decoder, named, &mut out).map_err(corrupt)? {
+        return Err(FormatError::new(format!(
+            "the gzip data is {why} (decompressing stopped there)"
+        )));
     }
-    decoder.read_to_end(&mut out).map_err(corrupt)?;
     if out.len() as u64 > max_bytes {
         return Err(FormatError::new(format!(
             "the gzip data decompresses to more than the limit of {max_bytes} bytes"
@@ -266,6 +248,37 @@ const SNIFF_WINDOW: usize = 64 * 1024;
 /// device) are read before [`judge_start`] judges them: the text
 /// sniffers' window, after a byte order mark.
 pub(crate) const STREAM_PREFIX: usize = SNIFF_WINDOW + 3;
+
+/// Reads all of `reader` into `out`, unless its first [`STREAM_PREFIX`]
+/// bytes say it is no mesh ([`judge_start`]): then it stops there, or past
+/// the one size it could be read at, and returns why (`not an OBJ file:
+/// ...`).
+pub(crate) fn read_judged(
+    mut reader: impl Read,
+    named: Option<Format>,
+    out: &mut Vec<u8>,
+) -> io::Result<Option<String>> {
+    (&mut reader).take(STREAM_PREFIX as u64).read_to_end(out)?;
+    if out.len() < STREAM_PREFIX {
+        return Ok(None);
+    }
+    match judge_start(named, out) {
+        Start::Refused(what) => return Ok(Some(format!("not {what}: its first 64 KiB cannot start one"))),
+        Start::AtMost(limit, what) => {
+            // Only a binary STL of the size its header says is left.
+            let more = (limit + 1).saturating_sub(out.len() as u64);
+            (&mut reader).take(more).read_to_end(out)?;
+            if out.len() as u64 > limit {
+                return Ok(Some(format!(
+                    "not {what}: longer than the binary STL its header would make it, and no other kind"
+                )));
+            }
+        }
+        Start::Unsure => {}
+    }
+    reader.read_to_end(out)?;
+    Ok(None)
+}
 
 /// What the first bytes of an input say of it ([`judge_start`]).
 #[derive(Clone, Copy, Debug, PartialEq)]

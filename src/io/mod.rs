@@ -146,37 +146,17 @@ pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
     }
 }
 
-/// All of `reader`, unless its first [`formats::STREAM_PREFIX`] bytes are
-/// refused whatever follows (then an `InvalidData` error saying why).
-fn read_stream(mut reader: impl Read, named: Option<Format>) -> std::io::Result<Vec<u8>> {
+/// All of `reader`, unless its first bytes say it is no mesh (then an
+/// `InvalidData` error saying why: [`formats::read_judged`]).
+fn read_stream(reader: impl Read, named: Option<Format>) -> std::io::Result<Vec<u8>> {
     let mut bytes = Vec::new();
-    (&mut reader)
-        .take(formats::STREAM_PREFIX as u64)
-        .read_to_end(&mut bytes)?;
-    if bytes.len() < formats::STREAM_PREFIX {
-        return Ok(bytes);
+    match formats::read_judged(reader, named, &mut bytes)? {
+        None => Ok(bytes),
+        Some(why) => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("{why} (reading stopped there)"),
+        )),
     }
-    let refused = |why: &str| {
-        let why = format!("not {why}: its first 64 KiB cannot start one, and it goes on (reading stopped there)");
-        std::io::Error::new(std::io::ErrorKind::InvalidData, why)
-    };
-    match formats::judge_start(named, &bytes) {
-        formats::Start::Refused(why) => return Err(refused(why)),
-        formats::Start::AtMost(limit, why) => {
-            // Only a binary STL of the size its header says is left.
-            let more = (limit + 1).saturating_sub(bytes.len() as u64);
-            (&mut reader).take(more).read_to_end(&mut bytes)?;
-            if bytes.len() as u64 > limit {
-                let why = format!(
-                    "not {why}: longer than the binary STL its header would make it, and no other kind (reading stopped there)"
-                );
-                return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
-            }
-        }
-        formats::Start::Unsure => {}
-    }
-    reader.read_to_end(&mut bytes)?;
-    Ok(bytes)
 }
 
 /// Parses OBJ text; `path` only names the file in errors.
@@ -782,14 +762,25 @@ impl Staged {
 /// `.ply.gz`), or nothing if it has none short enough.
 fn extensions(path: &Path) -> String {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-    let (stem, gz) = match name.len().checked_sub(3).filter(|&i| name.is_char_boundary(i)) {
-        Some(i) if name[i..].eq_ignore_ascii_case(".gz") => (&name[..i], &name[i..]),
-        _ => (name, ""),
-    };
-    match stem.rsplit_once('.') {
-        Some((before, ext)) if !before.is_empty() && !ext.is_empty() && ext.len() <= 8 => format!(".{ext}{gz}"),
-        _ => gz.to_string(),
+    match split_extensions(name) {
+        (_, Some(ext)) if ext.len() <= 12 => format!(".{ext}"),
+        _ => String::new(),
     }
+}
+
+/// A file name's stem and the extensions that say its format: `n.ply.gz`
+/// gives `n` and `ply.gz`, `n.gz` gives `n` and `gz`, `n` and `.n` no
+/// extension.
+pub fn split_extensions(name: &str) -> (&str, Option<&str>) {
+    let last = |n: &str| n.rfind('.').filter(|&i| i > 0);
+    let Some(dot) = last(name) else {
+        return (name, None);
+    };
+    let at = match last(&name[..dot]) {
+        Some(inner) if name[dot + 1..].eq_ignore_ascii_case("gz") => inner,
+        _ => dot,
+    };
+    (&name[..at], Some(&name[at + 1..]))
 }
 
 /// `fill(w)`, gzip-compressed if `path` ends in `.gz` (as the readers
