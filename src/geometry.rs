@@ -213,7 +213,9 @@ impl EdgeFrame {
 /// Unfolds the apex `x3` of the triangle beyond the 2D edge (p2, q2), where
 /// `p3`, `q3` are the 3D positions of that edge: the result keeps the 3D
 /// distances to p and q and lies on the opposite side of the line p2q2 from
-/// `inside` (a 2D point on this side).
+/// `inside` (a 2D point on this side). (The split conditions compute the
+/// circle this unfolding defines from the apex's angle instead,
+/// `refine::split_conditions`; the tests' oracle unfolds with this.)
 #[inline]
 pub fn unfold_across(p3: DVec3, q3: DVec3, x3: DVec3, p2: DVec2, q2: DVec2, inside: DVec2) -> DVec2 {
     let frame = EdgeFrame::new(p3, q3);

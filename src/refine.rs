@@ -222,7 +222,6 @@ pub fn sample_constants(surface: &Surface) -> SampleConstants {
 pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) -> ([Condition; 2], [Condition; 4]) {
     let frame = EdgeFrame::new(a, b);
     let len = frame.length;
-    let (a2, b2) = (DVec2::ZERO, DVec2::new(len, 0.0));
     let (c2, d2) = (frame.unfold(c, true), frame.unfold(d, false));
     let halves = [
         Condition {
@@ -234,20 +233,43 @@ pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) ->
             breakpoint: geometry::second_axis_crossing(len, c2, d2),
         },
     ];
-    // Outer edge from the anchor (a or b, on the x axis) to `other` (c or d):
-    // the circle through both and the apex beyond, unfolded away from `inside`.
-    let outer = |side, (anchor3, anchor2): (DVec3, DVec2), (other3, other2), beyond: Option<DVec3>, inside| {
-        let breakpoint = beyond.map_or(f64::NAN, |x3| {
-            let x2 = geometry::unfold_across(anchor3, other3, x3, anchor2, other2, inside);
-            geometry::second_axis_crossing(anchor2.x, other2, x2)
+    // Outer edge (anchor, other): anchor a or b, other c or d, x the apex
+    // beyond it. Split at p, the edge stays Delaunay while the angles facing
+    // it at p and at x sum to at most π: up to where the circle through
+    // anchor, other and x meets the line ab again (inscribed angles). By the
+    // law of sines in the triangle (anchor, p, other), that point is at
+    // oₓ − o_y·cot X from the anchor, along ab towards the other end of e,
+    // where (oₓ, o_y), o_y ≥ 0, is `other` in the quad's plane, measured
+    // in that direction and away from ab, and X is the angle at x. No
+    // unfolding of the face beyond: one cross product, one division.
+    //
+    //             other
+    //            /  |  `.
+    //           /   |o_y `. x      X: the angle at x facing (anchor, other)
+    //          /    |      |
+    //   anchor *----+------p------ line ab
+    //          |-oₓ-|
+    let k = 1.0 / len; // (scale-free: keeps products of tiny or huge coordinates in range)
+    let cot_at = |x: DVec3, anchor: DVec3, other: DVec3| {
+        let (u, v) = ((anchor - x) * k, (other - x) * k);
+        u.dot(v) / u.cross(v).length()
+    };
+    let outer = |side, from_a: bool, anchor: DVec3, (other3, other2): (DVec3, DVec2), beyond: Option<DVec3>| {
+        let breakpoint = beyond.map_or(f64::NAN, |x| {
+            let reach = other2.y.abs() * cot_at(x, anchor, other3);
+            if from_a {
+                other2.x - reach
+            } else {
+                other2.x + reach
+            }
         });
         Condition { side, breakpoint }
     };
     let outer = [
-        outer(Side::AtLeast, (a, a2), (c, c2), beyond[0], b2),
-        outer(Side::AtMost, (b, b2), (c, c2), beyond[1], a2),
-        outer(Side::AtMost, (b, b2), (d, d2), beyond[2], a2),
-        outer(Side::AtLeast, (a, a2), (d, d2), beyond[3], b2),
+        outer(Side::AtLeast, true, a, (c, c2), beyond[0]),
+        outer(Side::AtMost, false, b, (c, c2), beyond[1]),
+        outer(Side::AtMost, false, b, (d, d2), beyond[2]),
+        outer(Side::AtLeast, true, a, (d, d2), beyond[3]),
     ];
     (halves, outer)
 }
