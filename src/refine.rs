@@ -154,7 +154,19 @@ struct Ds {
     kind: Worklist,
     list: VecDeque<EdgeId>,
     heap: BinaryHeap<(u64, Reverse<u32>)>,
-    queued: Vec<bool>,
+    /// Per edge: whether it is queued, and if so what its last Delaunay test
+    /// said, made when it was queued or its quad last changed (`None`: to
+    /// be tested when taken). One byte per edge.
+    slots: Vec<Slot>,
+}
+
+/// An edge's place in [`Ds`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Slot {
+    /// Not queued.
+    Free,
+    /// Queued, with the test of its quad as it is now, if known.
+    Queued(Option<DelaunayTest>),
 }
 
 impl Ds {
@@ -163,17 +175,18 @@ impl Ds {
             kind,
             list: VecDeque::new(),
             heap: BinaryHeap::new(),
-            queued: vec![false; n_edges],
+            slots: vec![Slot::Free; n_edges],
         }
     }
 
-    /// Queues `e` unless it is queued already; `length` (its 3D length) is
-    /// called only by the priority queue.
-    fn push(&mut self, e: EdgeId, length: impl FnOnce() -> f64) {
-        if e.idx() >= self.queued.len() {
-            self.queued.resize(e.idx() + 1, false);
+    /// Queues `e` unless it is queued already, and records `test`, the
+    /// test of its quad as it is now (`None` if not made); `length` (its 3D
+    /// length) is called only by the priority queue.
+    fn push(&mut self, e: EdgeId, test: Option<DelaunayTest>, length: impl FnOnce() -> f64) {
+        if e.idx() >= self.slots.len() {
+            self.slots.resize(e.idx() + 1, Slot::Free);
         }
-        if std::mem::replace(&mut self.queued[e.idx()], true) {
+        if std::mem::replace(&mut self.slots[e.idx()], Slot::Queued(test)) != Slot::Free {
             return;
         }
         match self.kind {
@@ -183,14 +196,25 @@ impl Ds {
         }
     }
 
-    fn pop(&mut self) -> Option<EdgeId> {
+    /// Records `test` (as [`Ds::push`]) for `e` if it is queued.
+    #[inline]
+    fn retested(&mut self, e: EdgeId, test: Option<DelaunayTest>) {
+        if let Some(slot @ Slot::Queued(_)) = self.slots.get_mut(e.idx()) {
+            *slot = Slot::Queued(test);
+        }
+    }
+
+    /// The next edge, with the last test of its quad if known.
+    fn pop(&mut self) -> Option<(EdgeId, Option<DelaunayTest>)> {
         let e = match self.kind {
             Worklist::Stack => self.list.pop_back(),
             Worklist::Queue => self.list.pop_front(),
             Worklist::PriorityQueue => self.heap.pop().map(|(_, Reverse(e))| EdgeId(e)),
         }?;
-        self.queued[e.idx()] = false;
-        Some(e)
+        match std::mem::replace(&mut self.slots[e.idx()], Slot::Free) {
+            Slot::Queued(test) => Some((e, test)),
+            Slot::Free => Some((e, None)), // (cannot happen: a queued edge has its slot)
+        }
     }
 
     fn len(&self) -> usize {
@@ -307,13 +331,13 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     for &e in first_pass {
         let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
         run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
-        ds.push(e, || run.s.edge_length(e));
+        ds.push(e, None, || run.s.edge_length(e));
     }
     let mut taken: u64 = 0;
     loop {
         run.stats.passes += 1;
-        while let Some(e) = ds.pop() {
-            run.process(e, &mut ds);
+        while let Some((e, test)) = ds.pop() {
+            run.process(e, test, &mut ds);
             taken += 1;
             if run.stats.flips > FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST * run.s.topo.n_edges()
                 && ds.kind != Worklist::PriorityQueue
@@ -352,7 +376,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
             break;
         }
         for e in again {
-            ds.push(e, || run.s.edge_length(e));
+            ds.push(e, None, || run.s.edge_length(e));
         }
     }
     // The claim above, checked by a full pass in debug builds (every test).
@@ -443,15 +467,32 @@ impl Run<'_> {
         ]
     }
 
+    /// Queues `e` if it is non-Delaunay, after a flip or split changed its
+    /// quad; if it is queued already, records the new test (so that taking
+    /// it needs none). Stuck edges are left, and tested again if taken.
     #[inline(always)]
     fn push_if_bad(&self, ds: &mut Ds, e: EdgeId) {
-        if !self.is_stuck(e) && self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) {
-            ds.push(e, || self.s.edge_length(e));
+        if self.is_stuck(e) {
+            ds.retested(e, None);
+            return;
+        }
+        match self.s.delaunay_test(e, ALGORITHM_TOLERANCE) {
+            DelaunayTest::Delaunay => ds.retested(e, Some(DelaunayTest::Delaunay)),
+            test => ds.push(e, Some(test), || self.s.edge_length(e)),
         }
     }
 
-    fn process(&mut self, e: EdgeId, ds: &mut Ds) {
-        match self.s.delaunay_test(e, ALGORITHM_TOLERANCE) {
+    /// Flips or splits `e`, taken from DS, if it is non-Delaunay; `known` is
+    /// the test of its quad as it is now, if DS has it (every flip and split
+    /// tests the edges whose quads it changes: [`Run::push_if_bad`]).
+    fn process(&mut self, e: EdgeId, known: Option<DelaunayTest>, ds: &mut Ds) {
+        let test = known.unwrap_or_else(|| self.s.delaunay_test(e, ALGORITHM_TOLERANCE));
+        debug_assert_eq!(
+            test,
+            self.s.delaunay_test(e, ALGORITHM_TOLERANCE),
+            "DS kept a stale test"
+        );
+        match test {
             DelaunayTest::Delaunay => return,
             DelaunayTest::NonDelaunay => {}
             DelaunayTest::Underflow => {
