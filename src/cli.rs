@@ -858,22 +858,45 @@ fn file_name(path: &Path) -> String {
 }
 
 /// Writes `--vertex-map` for `surface`, read from `input` and written as
-/// `written` says: a row per vertex of the output file, the copies a PLY
-/// output makes at attribute seams (last in the file) repeating the rows
-/// of the vertices they copy.
-fn write_vertex_map(
+/// `written` says, under a temporary name ([`io::stage`]): a row per vertex
+/// of the output file, the copies a PLY output makes at attribute seams
+/// (last in the file) repeating the rows of the vertices they copy.
+fn stage_vertex_map(
     path: &Path,
     surface: &Surface,
     input: &io::InputMesh,
     written: &io::Written,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<io::Staged> {
     let mut sources = surface.vertex_sources();
     let copies: Vec<_> = written.copies_of.iter().map(|&v| sources[v as usize]).collect();
     sources.extend(copies);
     let table = stats_json::vertex_map_csv(&sources, &input.vertex_number);
-    io::write_atomic(path, |w| w.write_all(table.as_bytes()))?;
+    Ok(io::stage(path, |w| w.write_all(table.as_bytes()))?)
+}
+
+/// Puts a run's output in place, then its side files ([`SideFiles`]), all
+/// staged complete beforehand: a side file that could not be written left
+/// nothing in place, and an output that cannot be put in place (a rename
+/// refused) leaves the side files out too.
+fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles) -> anyhow::Result<()> {
+    let streamed = mesh.is_in_place();
+    mesh.commit()?;
+    for file in side {
+        file.commit().map_err(|e| {
+            let e = anyhow::Error::from(e);
+            if streamed {
+                e.context(format!("{} is written and complete, but", output.display()))
+            } else {
+                e.context(format!("{} is written, but", output.display()))
+            }
+        })?;
+    }
     Ok(())
 }
+
+/// Side files (`--vertex-map`, `--stats-json`, `--stats-csv`) staged under
+/// temporary names, in the order they are put in place.
+type SideFiles = Vec<io::Staged>;
 
 /// What an error writing a side file becomes once the mesh went to a
 /// stream (standard output, a device), where it cannot be taken back: says
@@ -928,6 +951,17 @@ impl Report<'_> {
     /// Writes the JSON and CSV files asked for; returns the total seconds
     /// they give (the summary prints the same).
     fn write(&self, runs: &[stats_json::RunRecord], refined: bool) -> anyhow::Result<f64> {
+        let (total, files) = self.stage(runs, refined)?;
+        for file in files {
+            file.commit()?;
+        }
+        Ok(total)
+    }
+
+    /// [`Report::write`], the files left staged (under temporary names) for
+    /// the caller to put in place.
+    fn stage(&self, runs: &[stats_json::RunRecord], refined: bool) -> anyhow::Result<(f64, SideFiles)> {
+        let mut files = SideFiles::new();
         let total = self.t0.elapsed().as_secs_f64();
         if let Some(json) = &self.args.stats_json {
             let inv = stats_json::Invocation {
@@ -943,13 +977,13 @@ impl Report<'_> {
                 seconds_total: total,
             };
             let doc = stats_json::document(&inv, self.constants, runs);
-            io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+            files.push(io::stage(json, |w| w.write_all(doc.as_bytes()))?);
         }
         if let Some(csv) = &self.args.stats_csv {
             let table = stats_json::csv(self.input_path, runs);
-            io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
+            files.push(io::stage(csv, |w| w.write_all(table.as_bytes()))?);
         }
-        Ok(total)
+        Ok((total, files))
     }
 }
 
@@ -1181,8 +1215,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Idle);
         // The side files before the mesh is put in place (as below).
         let streamed = mesh_streamed(&staged, &output);
+        let mut side = SideFiles::new();
         if let Some(map) = &args.vertex_map {
-            write_vertex_map(map, &surface, &input, &written).map_err(streamed)?;
+            side.push(stage_vertex_map(map, &surface, &input, &written).map_err(streamed)?);
         }
         let notes = written.notes;
         let run = stats_json::RunRecord {
@@ -1198,8 +1233,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 seconds_write: write_s,
             }),
         };
-        let total = report.write(&[run], false).map_err(streamed)?;
-        staged.commit()?;
+        let (total, reports) = report.stage(&[run], false).map_err(streamed)?;
+        side.extend(reports);
+        commit_all(staged, &output, side)?;
         if !args.quiet {
             for note in &notes {
                 say!("note    {note}");
@@ -1295,13 +1331,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // that cannot be written leaves no output, and the input of a run in
     // place untouched. (A mesh written to a stream is there already.)
     let streamed = mesh_streamed(&staged, &output);
+    let mut side = SideFiles::new();
     if let Some(map) = &args.vertex_map {
-        write_vertex_map(map, &out.surface, &input, &written).map_err(streamed)?;
+        side.push(stage_vertex_map(map, &out.surface, &input, &written).map_err(streamed)?);
     }
     let added = out.surface.positions.len() - out.surface.n_input_vertices;
     let run = out.record(options, &output, write_s);
-    let total = report.write(&[run], true).map_err(streamed)?;
-    staged.commit()?;
+    let (total, reports) = report.stage(&[run], true).map_err(streamed)?;
+    side.extend(reports);
+    commit_all(staged, &output, side)?;
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
@@ -1877,8 +1915,13 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
         } else {
             "see the table"
         };
+        let others = if failed == rows.len() {
+            "none was written"
+        } else {
+            "the others were written"
+        };
         complain!(
-            "delmesh: {failed} of {} combinations failed ({table}); the others were written",
+            "delmesh: {failed} of {} combinations failed ({table}); {others}",
             rows.len()
         );
         return Ok((ExitCode::from(1), rows));

@@ -2190,6 +2190,20 @@ fn a_side_file_that_cannot_be_written_leaves_the_input_and_no_output() {
             }
         }
     }
+    // Side files are put in place together, after the mesh: a vertex map
+    // is not updated when the JSON after it cannot be written.
+    let map = dir.path().join("map.csv");
+    std::fs::write(&map, "old").unwrap();
+    let run = refine(&input, &out)
+        .arg("--vertex-map")
+        .arg(&map)
+        .args(["-q", "--stats-json", "/dev/full"])
+        .output()
+        .unwrap();
+    assert!(one_line_error(&run).contains("/dev/full: cannot write"));
+    assert_eq!(std::fs::read_to_string(&map).unwrap(), "old");
+    assert!(!out.exists());
+    std::fs::remove_file(&map).unwrap();
     let to_stdout = delmesh()
         .arg("-i")
         .arg(&input)
@@ -2292,4 +2306,73 @@ fn a_good_line_then_zeros_without_end_is_refused() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("reading stopped"), "{stderr}");
     assert!(writer.join().unwrap(), "delmesh read all 4 GiB");
+}
+
+#[test]
+fn all_says_so_when_no_combination_was_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("bunny.obj");
+    copy_fixture("bunny.obj", &input);
+    // The bunny needs hundreds of splits; one is all any run may make.
+    let out = refine(&input, dir.path().join("b.obj"))
+        .args(["-all", "--max-added", "1"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("18 of 18 combinations failed") && stderr.contains("none was written"),
+        "{stderr}"
+    );
+    let written: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(written, ["bunny.obj"], "{written:?}");
+}
+
+/// A run whose output cannot be put in place (here an input rewritten in
+/// place that is immutable, `chattr +i`) leaves its side files out too.
+/// Skipped where the file system or the user cannot make a file immutable.
+#[test]
+fn side_files_stay_out_when_the_output_cannot_be_put_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("bunny.obj");
+    copy_fixture("bunny.obj", &input);
+    let chattr = |flag: &str| {
+        std::process::Command::new("chattr")
+            .arg(flag)
+            .arg(&input)
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if !chattr("+i") {
+        return;
+    }
+    struct Mutable<F: Fn(&str) -> bool>(F);
+    impl<F: Fn(&str) -> bool> Drop for Mutable<F> {
+        fn drop(&mut self) {
+            (self.0)("-i");
+        }
+    }
+    let _mutable = Mutable(chattr);
+    let (map, json) = (dir.path().join("map.csv"), dir.path().join("stats.json"));
+    let out = delmesh()
+        .arg("-i")
+        .arg(&input)
+        .arg("--vertex-map")
+        .arg(&map)
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("-q")
+        .output()
+        .unwrap();
+    let error = one_line_error(&out);
+    assert!(error.contains("bunny.obj"), "{error}");
+    assert!(!map.exists() && !json.exists(), "side files left: {error}");
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["bunny.obj"], "{names:?}");
 }

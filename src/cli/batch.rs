@@ -19,7 +19,7 @@ use clap::ValueEnum;
 
 use super::{
     check_output, check_output_dir, failure_record, file_key, growth_note, longest_first_note, near_coincident_note,
-    one_line, refine_once, smallest, stuck_elsewhere, write_output, write_vertex_map, FirstPass, Settings,
+    one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord};
 use delmesh::attributes::Transfer;
@@ -346,7 +346,8 @@ fn refine_read(
     if args.vertex_maps {
         // An output stands for a finished file (--skip-existing skips it):
         // it is put in place only with its vertex map.
-        write_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
+        stage_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
+            .and_then(|map| Ok(map.commit()?))
             .with_context(|| format!("{} not written", output.display()))?;
     }
     staged.commit()?;
