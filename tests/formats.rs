@@ -706,6 +706,20 @@ fn binary_stl_whose_header_starts_with_solid() {
 }
 
 #[test]
+fn binary_stl_whose_header_starts_with_the_gzip_magic() {
+    // Named STL and of exactly its facets' size: read as it is, not inflated.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.stl");
+    std::fs::write(&path, binary_stl(&[0x1f, 0x8b, 8, 0], &two_facets())).unwrap();
+    let m = delmesh::io::read_raw(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.positions.len(), 6);
+    // Not named STL, it is taken for gzip data (and refused as such).
+    let other = dir.path().join("part.bin");
+    std::fs::copy(&path, &other).unwrap();
+    assert!(delmesh::io::read_raw(&other).unwrap_err().to_string().contains("gzip"));
+}
+
+#[test]
 fn stl_errors() {
     let bytes = binary_stl(b"x", &two_facets());
     for len in 0..bytes.len() {

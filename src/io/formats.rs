@@ -144,7 +144,13 @@ pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, Forma
 /// are refused whatever follows ([`judge_start`]), so that a small
 /// file of compressed zeros is not inflated to the limit first.
 pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>) -> Result<Cow<'_, [u8]>, FormatError> {
-    if !bytes.starts_with(&[0x1f, 0x8b]) {
+    // A binary STL's 80-byte header is free text, and may start with the
+    // gzip magic too: a file named STL whose size is exactly the one its
+    // facet count gives is taken as one (gzip data of a size that matches
+    // its bytes 80..84 so has a chance of 2^-32).
+    let exact_stl =
+        || named == Some(Format::Stl) && binary_stl_size(bytes).is_some_and(|(_, size)| size == bytes.len() as u64);
+    if !bytes.starts_with(&[0x1f, 0x8b]) || exact_stl() {
         return Ok(Cow::Borrowed(bytes));
     }
     // A gzip member ends with its decompressed size modulo 2^32: exact for the usual single
