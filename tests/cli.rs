@@ -1412,6 +1412,17 @@ fn devices_pipes_and_links_are_written_through() {
     refine(&bunny, &link).arg("-q").assert().success();
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
     check_passes(&bunny, &target);
+    // A dangling link (relative, through a second link): the file it names
+    // is created, as a shell's `>` would.
+    let made = dir.path().join("made.obj");
+    let (first, second) = (dir.path().join("first.obj"), dir.path().join("second.obj"));
+    std::os::unix::fs::symlink("second.obj", &first).unwrap();
+    std::os::unix::fs::symlink("made.obj", &second).unwrap();
+    refine(&bunny, &first).arg("-q").assert().success();
+    for link in [&first, &second] {
+        assert!(std::fs::symlink_metadata(link).unwrap().file_type().is_symlink());
+    }
+    check_passes(&bunny, &made);
     // --check cannot read a device back; a FIFO input cannot be rewritten.
     let run = delmesh()
         .arg("-i")

@@ -613,17 +613,41 @@ pub fn is_standard_input(path: &Path) -> bool {
 
 /// The file a write to `path` replaces, and the folder its temporary file
 /// goes in: a symbolic link is followed (the file it points to is
-/// replaced, the link kept), anything else is `path` itself.
+/// replaced, or created if the link dangles; the link kept), anything else
+/// is `path` itself.
 pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
-    let target = match std::fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned()),
-        _ => path.to_owned(),
+    let is_link = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink());
+    let target = if is_link(path) {
+        std::fs::canonicalize(path).unwrap_or_else(|_| dangling_link_target(path).unwrap_or_else(|| path.to_owned()))
+    } else {
+        path.to_owned()
     };
     let dir = match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
         _ => PathBuf::from("."),
     };
     (target, dir)
+}
+
+/// Where the chain of symbolic links from `path` ends, when it ends at a
+/// name that does not exist (a dangling link: writing through it creates
+/// that file, as a shell's `>` does); `None` for a loop of links.
+fn dangling_link_target(path: &Path) -> Option<PathBuf> {
+    let mut p = path.to_owned();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(&p).ok()?;
+                p = match p.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                };
+            }
+            Ok(_) => return None, // exists: `canonicalize` failed for another reason
+            Err(_) => return Some(p),
+        }
+    }
+    None
 }
 
 /// Writes what `fill` produces to `path` atomically: into a temporary file
