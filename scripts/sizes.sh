@@ -52,7 +52,7 @@ sweep() {
   sbest="" sbest_combo=""
   for ds in s q p; do for s in 0 1 2; do for m in -m ""; do
     key="$ds-$s$m"
-    row=$(grep " $name-$key.obj\$" "$out/table")
+    row=$(grep -v "^note" "$out/table" | grep " $name-$key.obj\$")
     if [ -n "$row" ]; then n=$(echo "$row" | awk '{print $(NF-4)}'); else n=limit; fi
     record "$key" "$n"
   done; done; done
