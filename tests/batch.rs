@@ -523,3 +523,21 @@ fn an_output_without_its_vertex_map_is_not_finished() {
     let (ok, stdout, _) = batch(&["-d", d, "--vertex-maps", "--skip-existing"], &[&cube]);
     assert!(ok && stdout.contains("0 written, 1 skipped"), "{stdout}");
 }
+
+#[test]
+fn a_report_that_cannot_be_written_fails_after_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let cube = common::data_dir().join("cube.obj");
+    for flag in ["--stats-json", "--stats-csv"] {
+        let (ok, stdout, stderr) = batch(&["--out-dir", out_dir.to_str().unwrap(), flag, "/dev/full"], &[&cube]);
+        assert!(!ok, "{flag}: {stderr}");
+        assert!(
+            stdout.contains("batch   1 file: 1 written, 0 failed"),
+            "{flag}: {stdout}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "{flag}: {stderr}");
+        assert!(stderr.contains("/dev/full: cannot write"), "{flag}: {stderr}");
+        assert!(out_dir.join("cube.obj").exists());
+    }
+}

@@ -522,15 +522,20 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             }
         }
     });
-    if let Some(csv) = &args.stats_csv {
-        let rows: Vec<(&Path, &RunRecord)> = records.iter().map(|(i, r)| (inputs[*i].as_path(), r)).collect();
-        let table = stats_json::csv_rows(&rows);
-        io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
-    }
-    if let Some(json) = &args.stats_json {
-        let doc = stats_json::batch_document(docs, &refused, &skipped_paths, t0.elapsed().as_secs_f64());
-        io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
-    }
+    // The summary line says what was written even when a report cannot be
+    // (its error then follows, and the exit status is 1).
+    let reports = (|| -> anyhow::Result<()> {
+        if let Some(csv) = &args.stats_csv {
+            let rows: Vec<(&Path, &RunRecord)> = records.iter().map(|(i, r)| (inputs[*i].as_path(), r)).collect();
+            let table = stats_json::csv_rows(&rows);
+            io::write_atomic(csv, |w| w.write_all(table.as_bytes()))?;
+        }
+        if let Some(json) = &args.stats_json {
+            let doc = stats_json::batch_document(docs, &refused, &skipped_paths, t0.elapsed().as_secs_f64());
+            io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
+        }
+        Ok(())
+    })();
     if !args.quiet {
         say!(
             "batch   {} file{}: {} written, {}{} failed; {} added vertices; {:.3} s ({})",
@@ -556,6 +561,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             }
         );
     }
+    reports?;
     Ok(if failed == 0 {
         ExitCode::SUCCESS
     } else {
