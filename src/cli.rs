@@ -879,17 +879,10 @@ fn stage_vertex_map(
 /// nothing in place, and an output that cannot be put in place (a rename
 /// refused) leaves the side files out too.
 fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles) -> anyhow::Result<()> {
-    let streamed = mesh.is_in_place();
     mesh.commit()?;
     for file in side {
-        file.commit().map_err(|e| {
-            let e = anyhow::Error::from(e);
-            if streamed {
-                e.context(format!("{} is written and complete, but", output.display()))
-            } else {
-                e.context(format!("{} is written, but", output.display()))
-            }
-        })?;
+        file.commit()
+            .with_context(|| format!("{} is written, but", output.display()))?;
     }
     Ok(())
 }

@@ -2165,11 +2165,11 @@ fn every_format_reads_the_same_from_a_pipe() {
     }
 }
 
-/// The mesh is put in place last, after the side files: a run whose
-/// `--stats-json`, `--stats-csv` or `--vertex-map` cannot be written (a
-/// full disk) leaves no output and an input rewritten in place untouched,
-/// and no temporary file. A mesh already sent to a stream says it is
-/// complete.
+/// The mesh and its side files are written under temporary names and put
+/// in place only when all are complete: a run whose `--stats-json`,
+/// `--stats-csv` or `--vertex-map` cannot be written (a full disk) leaves
+/// no output and an input rewritten in place untouched, and no temporary
+/// file. A mesh already sent to a stream says it is complete.
 #[cfg(target_os = "linux")]
 #[test]
 fn a_side_file_that_cannot_be_written_leaves_the_input_and_no_output() {
