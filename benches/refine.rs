@@ -90,3 +90,14 @@ fn read(bencher: divan::Bencher, name: &str) {
     let bytes = std::fs::read(&path).expect("readable file");
     bencher.bench_local(|| io::parse_obj(&bytes, &path).expect("valid mesh"));
 }
+
+/// The connectivity alone (`Topology::from_triangles`: pairing half-edges,
+/// checking every vertex is one fan), the first part of the build phase.
+#[divan::bench(args = ["armadillo.obj", "bunny.obj"], sample_count = 20)]
+fn topology(bencher: divan::Bencher, name: &str) {
+    let path = mesh_path(name);
+    let input = io::read_obj(&path).expect("readable mesh");
+    bencher.bench_local(|| {
+        delmesh::mesh::Topology::from_triangles(input.positions.len(), &input.triangles).expect("valid mesh")
+    });
+}
