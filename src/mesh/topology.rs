@@ -361,11 +361,12 @@ pub(crate) fn pair_corners_by_scanning(n_vertices: usize, triangles: &[[u32; 3]]
 impl Topology {
     /// Builds the connectivity of `triangles` over `n_vertices` vertices.
     ///
-    /// Every vertex must be used by some triangle. Runs in linear time: the
-    /// directed edges are paired with their twins by a radix sort on their
-    /// two vertices ([`pair_corners_by_sorting`]), not in a hash map. Where
+    /// Every vertex must be used by some triangle. Runs in linear time for
+    /// bounded degrees (n log n past 16 faces at a vertex): the directed
+    /// edges are paired with their twins in lists by their edge's smaller
+    /// vertex (`pair_corners_by_sorting`), not in a hash map. Where
     /// that finds an edge that is not a plain pair, the pairing is done
-    /// again by scanning adjacency lists ([`pair_corners_by_scanning`]),
+    /// again by scanning adjacency lists (`pair_corners_by_scanning`),
     /// which names the first fault in face order.
     pub fn from_triangles(n_vertices: usize, triangles: &[[u32; 3]]) -> Result<Topology, TopologyError> {
         // The number of faces at each vertex (its corners), counted while
@@ -1165,7 +1166,11 @@ mod tests {
     /// open (an octahedron with a triangle hanging from a vertex).
     #[test]
     fn refuses_two_fans_at_a_vertex() {
-        let shifted = |d: u32| octahedron().into_iter().map(move |t| t.map(|v| if v == 0 { 0 } else { v + d }));
+        let shifted = |d: u32| {
+            octahedron()
+                .into_iter()
+                .map(move |t| t.map(|v| if v == 0 { 0 } else { v + d }))
+        };
         let two_closed: Vec<_> = octahedron().into_iter().chain(shifted(5)).collect();
         assert_eq!(
             Topology::from_triangles(11, &two_closed).unwrap_err(),
