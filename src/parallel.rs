@@ -139,14 +139,29 @@ pub fn map_ranges<T: Send>(n: usize, f: impl Fn(Range<usize>) -> T + Sync) -> Ve
 
 /// The items `i` of `0..n` for which `keep(i)` holds, in increasing order.
 pub fn filter_indices(n: usize, keep: impl Fn(usize) -> bool + Sync) -> Vec<u32> {
-    let parts = map_ranges(n, |r| r.filter(|&i| keep(i)).map(|i| i as u32).collect::<Vec<u32>>());
-    parts.into_iter().flatten().collect()
+    concat(map_ranges(n, |r| {
+        r.filter(|&i| keep(i)).map(|i| i as u32).collect::<Vec<u32>>()
+    }))
 }
 
 /// `f(i)` for every `i` of `0..n`, in order.
 pub fn map<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    let parts = map_ranges(n, |r| r.map(&f).collect::<Vec<T>>());
-    parts.into_iter().flatten().collect()
+    concat(map_ranges(n, |r| r.map(&f).collect::<Vec<T>>()))
+}
+
+/// The parts one after the other: the only part itself when there is one
+/// (every pass over a small mesh), else one copy of each part's block.
+fn concat<T>(parts: Vec<Vec<T>>) -> Vec<T> {
+    let mut parts = parts.into_iter();
+    let Some(mut all) = parts.next() else {
+        return Vec::new();
+    };
+    let rest: Vec<Vec<T>> = parts.collect();
+    all.reserve_exact(rest.iter().map(Vec::len).sum());
+    for mut part in rest {
+        all.append(&mut part);
+    }
+    all
 }
 
 /// `(a(), b())`: `b` on a second thread when `worth_it` and more than one
