@@ -117,6 +117,8 @@ pub fn prune_passes(surface: &mut Surface, options: &Options, passes: usize, hoo
         journal: Vec::new(),
         inputs: Vec::new(),
         touched: Vec::new(),
+        in_touched: Vec::new(),
+        changes: Vec::new(),
         stack: Vec::new(),
         queued: Vec::new(),
         verdict: Vec::new(),
@@ -162,8 +164,15 @@ struct Pruner<'a> {
     journal: Vec<Saved>,
     /// Input-edge labels to restore (flips clear them).
     inputs: Vec<(EdgeId, u32)>,
-    /// Edges whose Delaunay status the attempt may have changed.
+    /// Edges whose Delaunay status the attempt may have changed, each once,
+    /// in the order first touched.
     touched: Vec<EdgeId>,
+    /// Whether each edge is in `touched`.
+    in_touched: Vec<bool>,
+    /// Every touch of the attempt, repeats included: undoing forgets the
+    /// verdicts of all edges touched after the mark, also those first
+    /// touched before it.
+    changes: Vec<EdgeId>,
     stack: Vec<EdgeId>,
     /// Whether each edge is in `stack`.
     queued: Vec<bool>,
@@ -188,57 +197,113 @@ impl Pruner<'_> {
     /// Tries to remove `p` alone, then to replace it and the next added
     /// vertices along its input edge, or it and one added neighbour, by one
     /// vertex fewer; keeps the first attempt that succeeds.
+    ///
+    /// Every attempt begins by detaching `p` from the same mesh (a failed
+    /// one is undone entirely), so that is done once: each attempt undoes
+    /// back to just after it. The attempts and their outcomes are those of
+    /// starting each one afresh.
     fn try_remove(&mut self, p: VertexId) {
         let Carrier::Edge { edge: input, .. } = self.s.carriers[p.idx()] else {
             return;
         };
-        for group in 1..=MAX_GROUP {
-            match self.attempt(|me| me.replace(p, input, group)) {
-                Attempt::Kept => return,
-                Attempt::Failed => {}
-                Attempt::NoGroup => break,
-            }
-        }
-        // Pairs: p and an added neighbour (often a vertex that a split at p
-        // made necessary) replaced by one vertex; then triples: p and two
-        // added neighbours replaced by two.
+        // Pairs and triples below: p with its nearest added neighbours.
         let mut neighbours = self.added_neighbours(p);
         let at = self.s.positions[p.idx()];
         neighbours.sort_by(|&a, &b| {
             let da = self.s.positions[a.idx()].distance_squared(at);
             da.total_cmp(&self.s.positions[b.idx()].distance_squared(at))
         });
-        for (i, &q1) in neighbours.iter().enumerate() {
-            if self.try_replace(&[(p, input), (q1, 0)]) {
-                return;
+        self.begin_attempts();
+        // The next vertex along the input edge, seen before p goes.
+        let along = self.along_input(p, input).map(|[_, to_w]| self.s.topo.dest(to_w));
+        let after_p = self.detach(p, input).then(|| self.mark());
+        let mut kept = false;
+        for group in 1..=MAX_GROUP {
+            let Some(next) = along else {
+                self.stats.tried += 1; // the first attempt finds no group
+                break;
+            };
+            let r = self.conclude(after_p, |me| me.replace_after(next, input, group));
+            kept = matches!(r, Attempt::Kept);
+            if !matches!(r, Attempt::Failed) {
+                break;
             }
+        }
+        // Pairs: p and an added neighbour (often a vertex that a split at p
+        // made necessary) replaced by one vertex; then triples: p and two
+        // added neighbours replaced by two.
+        'pairs: for (i, &q1) in neighbours.iter().enumerate() {
+            if kept {
+                break;
+            }
+            kept = matches!(self.conclude(after_p, |me| me.replace_with(&[q1])), Attempt::Kept);
             if i >= TRIPLE_NEIGHBOURS {
                 continue;
             }
             for &q2 in &neighbours[i + 1..neighbours.len().min(TRIPLE_NEIGHBOURS)] {
-                if self.try_replace(&[(p, input), (q1, 0), (q2, 0)]) {
-                    return;
+                if kept {
+                    break 'pairs;
                 }
+                kept = matches!(self.conclude(after_p, |me| me.replace_with(&[q1, q2])), Attempt::Kept);
             }
         }
+        if !kept {
+            self.undo_to(Mark::default());
+        }
+        self.detached = 0;
     }
 
-    /// One attempt at replacing the added vertices `group` (with their input
-    /// edges; 0 = read from the carrier) by one vertex fewer.
-    fn try_replace(&mut self, group: &[(VertexId, u32)]) -> bool {
-        let r = self.attempt(|me| {
-            for &(v, input) in group {
-                let input = match me.s.carriers[v.idx()] {
-                    Carrier::Edge { edge, .. } if input == 0 || edge == input => edge,
-                    _ => return Attempt::Failed,
-                };
-                if !me.detach(v, input) {
-                    return Attempt::Failed;
-                }
+    /// Counts one attempt and runs `rest` of it if p was detached (`after_p`,
+    /// the mark just after; `None`: p could not be, and the attempt fails);
+    /// keeps it, or undoes back to `after_p`.
+    fn conclude(&mut self, after_p: Option<Mark>, rest: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
+        self.stats.tried += 1;
+        let Some(mark) = after_p else {
+            return Attempt::Failed;
+        };
+        let r = rest(self);
+        if let Attempt::Kept = r {
+            self.keep();
+        } else {
+            self.undo_to(mark);
+            self.detached = 1;
+        }
+        r
+    }
+
+    /// With `p` detached: detaches `next` and the added vertices after it
+    /// along `input`, up to `group` vertices with p, then refines locally
+    /// with at most `group - 1` splits.
+    fn replace_after(&mut self, next: VertexId, input: u32, group: usize) -> Attempt {
+        let mut v = next;
+        for _ in 1..group {
+            if !matches!(self.s.carriers[v.idx()], Carrier::Edge { edge, .. } if edge == input) {
+                return Attempt::NoGroup;
             }
-            me.rebuild(group.len() - 1)
-        });
-        matches!(r, Attempt::Kept)
+            let Some([_, to_w]) = self.along_input(v, input) else {
+                return Attempt::NoGroup;
+            };
+            let after = self.s.topo.dest(to_w);
+            if !self.detach(v, input) {
+                return Attempt::Failed;
+            }
+            v = after;
+        }
+        self.rebuild(group - 1)
+    }
+
+    /// With `p` detached: detaches the added vertices `others` too (each on
+    /// its own input edge), then refines locally with at most as many splits.
+    fn replace_with(&mut self, others: &[VertexId]) -> Attempt {
+        for &v in others {
+            let Carrier::Edge { edge, .. } = self.s.carriers[v.idx()] else {
+                return Attempt::Failed;
+            };
+            if !self.detach(v, edge) {
+                return Attempt::Failed;
+            }
+        }
+        self.rebuild(others.len())
     }
 
     /// The added vertices joined to `p` by an edge.
@@ -259,37 +324,35 @@ impl Pruner<'_> {
         }
     }
 
-    /// Runs one attempt from a clean journal; keeps it or undoes it.
-    fn attempt(&mut self, f: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
+    /// Starts the attempts at removing one vertex from a clean journal.
+    fn begin_attempts(&mut self) {
         self.journal.clear();
         self.inputs.clear();
-        self.forget_from(0);
+        self.forget_from(Mark::default());
         self.flips = 0;
         self.splits = 0;
-        self.stats.tried += 1;
-        let r = f(self);
-        if let Attempt::Kept = r {
-            self.stats.removed += self.detached - self.splits;
-            self.stats.flips += self.flips;
-            self.dirty.resize(self.s.topo.n_vertices(), true);
-            for i in 0..self.touched.len() {
-                let e = self.touched[i];
-                if self.s.topo.is_dead_edge(e) {
-                    continue;
-                }
-                let h = e.halfedge();
-                for v in [self.s.topo.origin(h), self.s.topo.dest(h)] {
-                    self.dirty[v.idx()] = true;
-                    for w in self.added_neighbours(v) {
-                        self.dirty[w.idx()] = true;
-                    }
+        self.detached = 0;
+    }
+
+    /// Keeps the current attempt: counts it, and marks the vertices near
+    /// every edge it touched for the next pass.
+    fn keep(&mut self) {
+        self.stats.removed += self.detached - self.splits;
+        self.stats.flips += self.flips;
+        self.dirty.resize(self.s.topo.n_vertices(), true);
+        for i in 0..self.touched.len() {
+            let e = self.touched[i];
+            if self.s.topo.is_dead_edge(e) {
+                continue;
+            }
+            let h = e.halfedge();
+            for v in [self.s.topo.origin(h), self.s.topo.dest(h)] {
+                self.dirty[v.idx()] = true;
+                for w in self.added_neighbours(v) {
+                    self.dirty[w.idx()] = true;
                 }
             }
-        } else {
-            self.undo_to(Mark::default());
         }
-        self.detached = 0;
-        r
     }
 
     /// Where the current attempt stands, to undo back to.
@@ -298,6 +361,7 @@ impl Pruner<'_> {
             journal: self.journal.len(),
             inputs: self.inputs.len(),
             touched: self.touched.len(),
+            changes: self.changes.len(),
             splits: self.splits,
             flips: self.flips,
         }
@@ -311,7 +375,7 @@ impl Pruner<'_> {
         }
         self.journal.truncate(mark.journal);
         self.inputs.truncate(mark.inputs);
-        self.forget_from(mark.touched);
+        self.forget_from(mark);
         self.splits = mark.splits;
         self.flips = mark.flips;
         let topo = &self.s.topo;
@@ -320,28 +384,6 @@ impl Pruner<'_> {
         self.s.carriers.truncate(nv);
         self.s.edge_input.truncate(ne);
         self.s.face_region.truncate(nf);
-    }
-
-    /// Removes `p` and the `group - 1` added vertices after it along `input`,
-    /// then refines locally with at most `group - 1` splits.
-    fn replace(&mut self, p: VertexId, input: u32, group: usize) -> Attempt {
-        let mut v = p;
-        for i in 0..group {
-            let Some([_, to_w]) = self.along_input(v, input) else {
-                return Attempt::NoGroup;
-            };
-            let next = self.s.topo.dest(to_w);
-            if !self.detach(v, input) {
-                return Attempt::Failed;
-            }
-            if i + 1 < group {
-                if !matches!(self.s.carriers[next.idx()], Carrier::Edge { edge, .. } if edge == input) {
-                    return Attempt::NoGroup;
-                }
-                v = next;
-            }
-        }
-        self.rebuild(group - 1)
     }
 
     /// Flips `p` down to degree four and merges its two sub-edges, saving
@@ -449,7 +491,7 @@ impl Pruner<'_> {
                     return false; // no ear on this side
                 }
             }
-            if !self.flip(h.edge()) {
+            if self.flip(h.edge()).is_none() {
                 return false;
             }
         }
@@ -481,10 +523,11 @@ impl Pruner<'_> {
         [h1.edge(), h2.edge(), t1.edge(), t2.edge()]
     }
 
-    /// Flips `e`, saving what it changes; `false` past the flip budget.
-    fn flip(&mut self, e: EdgeId) -> bool {
+    /// Flips `e`, saving what it changes; returns the four edges around
+    /// it, or `None` past the flip budget.
+    fn flip(&mut self, e: EdgeId) -> Option<[EdgeId; 4]> {
         if self.flips >= MAX_FLIPS_PER_TRY {
-            return false;
+            return None;
         }
         let h = e.halfedge();
         let ends = [self.s.topo.origin(h), self.s.topo.dest(h)];
@@ -494,7 +537,7 @@ impl Pruner<'_> {
         self.flips += 1;
         self.touch([e]);
         self.touch(around);
-        true
+        Some(around)
     }
 
     /// Records that the quads of `edges` changed: their Delaunay status
@@ -503,22 +546,33 @@ impl Pruner<'_> {
         let n = self.s.topo.n_edges();
         if self.verdict.len() < n {
             self.verdict.resize(n, None);
+            self.in_touched.resize(n, false);
         }
         for e in edges {
             self.verdict[e.idx()] = None;
-            self.touched.push(e);
+            self.changes.push(e);
+            if !self.in_touched[e.idx()] {
+                self.in_touched[e.idx()] = true;
+                self.touched.push(e);
+            }
         }
     }
 
-    /// Drops `touched[from..]` (undone, or a new attempt), forgetting what
-    /// `settle` found of those edges.
-    fn forget_from(&mut self, from: usize) {
-        for &e in &self.touched[from.min(self.touched.len())..] {
+    /// Drops what was touched after `mark` (undone, or a new attempt from
+    /// the default mark), forgetting what `settle` found of those edges.
+    fn forget_from(&mut self, mark: Mark) {
+        for &e in &self.changes[mark.changes.min(self.changes.len())..] {
             if let Some(v) = self.verdict.get_mut(e.idx()) {
                 *v = None;
             }
         }
-        self.touched.truncate(from);
+        for &e in &self.touched[mark.touched.min(self.touched.len())..] {
+            if let Some(t) = self.in_touched.get_mut(e.idx()) {
+                *t = false;
+            }
+        }
+        self.changes.truncate(mark.changes);
+        self.touched.truncate(mark.touched);
     }
 
     /// Splits `e` at parameter `t` of its input edge, saving what it changes.
@@ -578,15 +632,13 @@ impl Pruner<'_> {
             if !bad || !self.s.is_flippable(e) || !self.s.flip_is_valid(e) {
                 continue;
             }
-            let before = self.touched.len();
-            if !self.flip(e) {
+            let Some(around) = self.flip(e) else {
                 for &x in &self.stack {
                     self.queued[x.idx()] = false;
                 }
                 return Err(());
-            }
-            for i in before + 1..self.touched.len() {
-                let x = self.touched[i];
+            };
+            for x in around {
                 if !self.queued[x.idx()] {
                     self.queued[x.idx()] = true;
                     self.stack.push(x);
@@ -916,6 +968,7 @@ struct Mark {
     journal: usize,
     inputs: usize,
     touched: usize,
+    changes: usize,
     splits: usize,
     flips: usize,
 }
