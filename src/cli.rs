@@ -569,27 +569,34 @@ pub(crate) fn near_coincident_note(figures: &delmesh::mesh::InputFigures) -> Opt
 }
 
 /// The note on an output with [`GROWTH_NOTE`] or more added vertices per
-/// input vertex: why (the smallest input angle), and what helps (unless
-/// `pruned`: other settings, as `--shells -s 4` adds 195 vertices where the
-/// defaults add 209,083 on a height field of 1 x 0.001 cells, 43,331 for
-/// 158,125 on a box whose sides are fans of obtuse slivers, though 19,448
-/// for 7,051 on mpi_triang; pruning; a weld for marching cubes output). The user who feeds
-/// the mesh to a solver should know before paying for its size.
-pub(crate) fn growth_note(surface: &Surface, pruned: bool) -> Option<String> {
+/// input vertex: why (the smallest input angle), and what helps that the run
+/// did not use: other settings (`shells`: the run had them), as `--shells
+/// -s 4` adds 195 vertices where the defaults add 209,083 on a height field
+/// of 1 x 0.001 cells, 43,331 for 158,125 on a box whose sides are fans of
+/// obtuse slivers, though 19,448 for 7,051 on mpi_triang; pruning (`pruned`)
+/// or `--smallest` (`smallest`: nothing else to suggest); a weld for marching
+/// cubes output. The user who feeds the mesh to a solver should know before
+/// paying for its size.
+pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smallest: bool) -> Option<String> {
     let n = surface.n_input_vertices;
     let added = surface.positions.len().saturating_sub(n);
     (n > 0 && added >= GROWTH_NOTE * n).then(|| {
+        let mut helps = String::new();
+        if !smallest {
+            if !shells {
+                helps += "; other settings may add far fewer (try --shells -s 4, concentric shells)";
+            }
+            helps += if pruned {
+                "; --smallest tries 24 settings, each pruned, and keeps the smallest"
+            } else {
+                "; --prune or --smallest remove many of them"
+            };
+        }
         format!(
             "{:.0} added vertices per input vertex: the smallest input angle ({} rad) calls for vertices at its \
-             scale{}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
+             scale{helps}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
             added as f64 / n as f64,
             sig(surface.input_figures.min_angle),
-            if pruned {
-                ""
-            } else {
-                "; other settings may add far fewer (try --shells -s 4, concentric shells), and --prune or \
-                 --smallest remove many of them"
-            }
         )
     })
 }
@@ -1383,7 +1390,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 if p.passes == 1 { "" } else { "es" }
             );
         }
-        if let Some(note) = growth_note(&out.surface, out.pruned.is_some() || args.smallest) {
+        if let Some(note) = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest) {
             say!("note    {note}");
         }
         if args.check {

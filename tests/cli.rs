@@ -1221,7 +1221,8 @@ fn prune_passes_bound_the_pruning() {
 /// An output with ten or more added vertices per input vertex says so and
 /// why: a marching-tetrahedra sphere over 12 cells with crossings clamped
 /// 1e-5 of a cell from the grid points gets 40 per input vertex; the note
-/// names pruning unless the run pruned; the bunny (0.17) gets no note.
+/// names what the run did not use (other settings, pruning, `--smallest`);
+/// the bunny (0.17) gets no note.
 #[test]
 fn a_large_growth_is_explained() {
     let dir = tempfile::tempdir().unwrap();
@@ -1244,8 +1245,19 @@ fn a_large_growth_is_explained() {
             && plain.contains("weld"),
         "{plain}"
     );
+    assert!(plain.contains("try --shells -s 4"), "{plain}");
     let pruned = note(&["--prune-passes", "1"], &input).unwrap();
-    assert!(!pruned.contains("--prune or --smallest"), "{pruned}");
+    assert!(
+        !pruned.contains("--prune or --smallest")
+            && pruned.contains("try --shells -s 4")
+            && pruned.contains("--smallest tries 24 settings"),
+        "{pruned}"
+    );
+    let shells = note(&["--shells", "-s", "4"], &input).unwrap();
+    assert!(
+        !shells.contains("try --shells") && shells.contains("--prune or --smallest"),
+        "{shells}"
+    );
     assert_eq!(note(&[], &common::data_dir().join("bunny.obj")), None);
     // batch says it on the file's line.
     let out_dir = dir.path().join("batch");

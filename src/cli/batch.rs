@@ -335,7 +335,12 @@ fn refine_read(
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(near_coincident_note(&out.surface.input_figures));
-    notes.extend(growth_note(&out.surface, out.pruned.is_some() || args.smallest));
+    notes.extend(growth_note(
+        &out.surface,
+        options.shells,
+        out.pruned.is_some(),
+        args.smallest,
+    ));
     notes.extend(longest_first_note(&out.stats));
     let (written, mut staged) = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
     notes.extend(written.notes.iter().cloned());
