@@ -168,9 +168,10 @@ struct RunArgs {
     #[arg(long = "no-refine", conflicts_with = "all")]
     no_refine: bool,
 
-    /// Fewest added vertices: run 24 settings with --prune (3 DS x scores 0-3
-    /// with the median, 3 DS x scores 2 and 4 with --shells, 3 DS x scores
-    /// 2-3 without the median) on all cores (or -j), and write the smallest
+    /// Fewest added vertices: run 24 settings (3 DS x scores 0-3 with the
+    /// median, 3 DS x scores 2 and 4 with --shells, 3 DS x scores 2-3
+    /// without the median) on all cores (or -j), prune those that added at
+    /// most 4 times the fewest vertices plus 1000, and write the smallest
     /// result (ties: the first in that order); -ds, -s, -nomedian and
     /// --shells are ignored.
     #[arg(long = "smallest", conflicts_with_all = ["all", "no_refine"])]
@@ -848,14 +849,29 @@ fn refine_once(
     let start = Instant::now();
     let stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
         .with_context(|| path.display().to_string())?;
-    let pruned =
-        prune.map(|passes| delmesh::prune::prune_passes(&mut surface, options, passes, progress::prune_hook()));
-    Ok(Outcome {
+    let out = Outcome {
         surface,
         stats,
-        pruned,
+        pruned: None,
         seconds: first_pass.seconds + start.elapsed().as_secs_f64(),
+    };
+    Ok(match prune {
+        Some(passes) => prune_outcome(out, options, passes),
+        None => out,
     })
+}
+
+/// Prunes the mesh of an unpruned `out` in at most `passes` passes.
+fn prune_outcome(mut out: Outcome, options: &Options, passes: usize) -> Outcome {
+    let start = Instant::now();
+    out.pruned = Some(delmesh::prune::prune_passes(
+        &mut out.surface,
+        options,
+        passes,
+        progress::prune_hook(),
+    ));
+    out.seconds += start.elapsed().as_secs_f64();
+    out
 }
 
 /// The file name of `path`, for the progress line.
@@ -1260,11 +1276,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
     let mut vertex_lines = io::obj::VertexLines::default();
+    let mut pruned_settings = 0;
     let result = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        smallest(surface, &first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out)| {
+        smallest(surface, &first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out, pruned)| {
             options = o;
+            pruned_settings = pruned;
             out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
             out
         })
@@ -1353,9 +1371,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 (false, false) => "no median",
             },
             if args.smallest {
-                " (the smallest of 24 settings, all pruned: --smallest)"
+                smallest_note(pruned_settings)
             } else {
-                ""
+                String::new()
             }
         );
         say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
@@ -1413,12 +1431,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--smallest`: refines and prunes with 24 settings (3 DS x scores 0-3 with
-/// the median, 3 DS x scores 2 and 4 with shells, 3 DS x scores 2-3
-/// without the median), `jobs` at a time, and returns the
-/// settings and outcome with the fewest vertices (ties: the first in that
-/// order, so the result does not depend on the number of threads). Fails
-/// only if every setting fails. Pruning takes at most `prune_passes` passes.
+/// `--smallest`: refines with 24 settings (3 DS x scores 0-3 with the
+/// median, 3 DS x scores 2 and 4 with shells, 3 DS x scores 2-3 without the
+/// median), `jobs` at a time, prunes those whose result has at most
+/// [`SMALLEST_PRUNE_RATIO`] times the fewest added vertices of any plus
+/// [`SMALLEST_PRUNE_SLACK`] ([`worth_pruning`]), and
+/// returns the settings and outcome with the fewest vertices (ties: the
+/// first in that order, so the result does not depend on the number of
+/// threads), with how many settings were pruned. Fails only if every setting
+/// fails. Pruning takes at most `prune_passes` passes.
 fn smallest(
     surface: Surface,
     first_pass: &FirstPass,
@@ -1426,7 +1447,7 @@ fn smallest(
     template: &Options,
     jobs: Option<u16>,
     prune_passes: usize,
-) -> anyhow::Result<(Options, Outcome)> {
+) -> anyhow::Result<(Options, Outcome, usize)> {
     // In this order (ties keep the earlier settings' result): the median
     // runs; concentric shells (score 4 places the points on the shells
     // alone, score 2 only among its best samples); the runs without the
@@ -1460,60 +1481,149 @@ fn smallest(
     // The runs share the cores: each scans on one thread (the chosen mesh
     // is then written with the threads `--jobs` allows again).
     delmesh::parallel::set_threads(1);
-    // The best so far, by (vertices, index of its settings).
-    let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     let first_error = std::sync::Mutex::new(None);
-    // Most splits made by a median run: the runs without the median get a
-    // work limit of a hundred times that (the limit also bounds flips, at
-    // three per vertex: on CAD parts these runs flip a lot), so that an
-    // input on which they would add millions of vertices costs seconds, not
-    // minutes (such a run would not be the smallest after pruning anyway).
-    // Two phases keep the result independent of the number of threads.
-    let most_splits = std::sync::atomic::AtomicUsize::new(0);
-    let n_median = settings.iter().filter(|o| o.median).count();
-    progress::phase(Phase::Sweep {
-        label: "--smallest",
-        total: settings.len(),
-    });
-    for phase in [0..n_median, n_median..settings.len()] {
-        let cap = 100 * most_splits.load(std::sync::atomic::Ordering::Relaxed) + 10_000;
-        let next = std::sync::atomic::AtomicUsize::new(phase.start);
+    let fail = |e: anyhow::Error| {
+        first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+    };
+    // Runs `run(i)` for each i of `indices`, `threads` at a time.
+    let sweep = |label: &'static str, indices: &[usize], run: &(dyn Fn(usize) + Sync)| {
+        progress::phase(Phase::Sweep {
+            label,
+            total: indices.len(),
+        });
+        let next = std::sync::atomic::AtomicUsize::new(0);
         let worker = |worker: usize| loop {
             progress::use_slot(worker);
-            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            if i >= phase.end {
+            let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(&i) = indices.get(k) else {
                 break;
-            }
-            let mut options = settings[i];
-            if !options.median {
-                options.max_added = options.max_added.min(cap);
-            }
-            match refine_once(surface.clone(), first_pass, input_path, &options, Some(prune_passes)) {
-                Ok(out) => {
-                    most_splits.fetch_max(out.stats.splits, std::sync::atomic::Ordering::Relaxed);
-                    let key = (out.surface.positions.len(), i);
-                    let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
-                    if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
-                        *best = Some((key.0, key.1, out));
-                    }
-                }
-                Err(e) => {
-                    first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
-                }
-            }
+            };
+            run(i);
             progress::run_done();
         };
-        std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads.min(phase.len()), &worker));
+        std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads.min(indices.len()), &worker));
+    };
+    // First every setting refines, unpruned: its added vertices. The runs
+    // without the median come last, with a work limit (which also bounds
+    // flips, at three per vertex: on CAD parts these runs flip a lot) of
+    // SMALLEST_PRUNE_RATIO times the fewest vertices the others added, plus
+    // 10,000: past it such a run would not be pruned (`worth_pruning`), and on some inputs
+    // they would add millions of vertices (with 0 and 1, billions). Two
+    // phases keep the result independent of the number of threads.
+    let added: Vec<std::sync::OnceLock<usize>> = settings.iter().map(|_| std::sync::OnceLock::new()).collect();
+    // The results themselves, while their vertices add up to at most
+    // SMALLEST_KEEP_VERTICES: those chosen for pruning are then not refined
+    // again (on small meshes refining is a good part of the time).
+    let kept: Vec<std::sync::Mutex<Option<Outcome>>> = settings.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let kept_vertices = std::sync::atomic::AtomicUsize::new(0);
+    let fewest = || added.iter().filter_map(|n| n.get().copied()).min();
+    let n_median = settings.iter().filter(|o| o.median).count();
+    let mut cap = usize::MAX; // set after the median runs
+    let options_of = |i: usize, cap: usize| {
+        let mut options = settings[i];
+        if !options.median {
+            options.max_added = options.max_added.min(cap);
+        }
+        options
+    };
+    for phase in [0..n_median, n_median..settings.len()] {
+        let median = phase.start == 0;
+        let indices: Vec<usize> = phase.collect();
+        sweep("--smallest, refining", &indices, &|i| match refine_once(
+            surface.clone(),
+            first_pass,
+            input_path,
+            &options_of(i, cap),
+            None,
+        ) {
+            Ok(out) => {
+                let n = out.surface.positions.len() - out.surface.n_input_vertices;
+                added[i].set(n).expect("each setting runs once");
+                let size = out.surface.positions.len();
+                let before = kept_vertices.fetch_add(size, std::sync::atomic::Ordering::Relaxed);
+                if before + size <= SMALLEST_KEEP_VERTICES {
+                    *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
+                }
+            }
+            Err(e) => fail(e),
+        });
+        if median {
+            cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000;
+        }
     }
+    // Then those worth pruning are pruned (refined again if not kept: the
+    // same result, the runs are deterministic). Pruning costs about a hundred
+    // times refining and grows with the vertices it visits; a result many
+    // times larger than the smallest would have to lose nearly all its
+    // added vertices to win (CAD parts: the rotor's runs without the median
+    // add 67,916 and 118,695 where the smallest adds 2,011, and pruned they
+    // keep about 2,500, against 1,573; a height field of thin cells: 470,916
+    // against 7,140, pruned in 158 s each).
+    let fewest = fewest();
+    let chosen: Vec<usize> = (0..settings.len())
+        .filter(|&i| matches!((added[i].get(), fewest), (Some(&n), Some(f)) if worth_pruning(n, f)))
+        .collect();
+    // The best so far, by (vertices, index of its settings).
+    let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
+    sweep("--smallest, pruning", &chosen, &|i| {
+        let options = options_of(i, cap);
+        let unpruned = match kept[i].lock().unwrap_or_else(|p| p.into_inner()).take() {
+            Some(out) => Ok(out),
+            None => refine_once(surface.clone(), first_pass, input_path, &options, None),
+        };
+        match unpruned.map(|out| prune_outcome(out, &options, prune_passes)) {
+            Ok(out) => {
+                let key = (out.surface.positions.len(), i);
+                let mut best = best.lock().unwrap_or_else(|p| p.into_inner());
+                if best.as_ref().is_none_or(|(n, j, _)| key < (*n, *j)) {
+                    *best = Some((key.0, key.1, out));
+                }
+            }
+            Err(e) => fail(e),
+        }
+    });
     delmesh::parallel::set_threads(jobs.map_or(0, usize::from));
     match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        Some((_, i, out)) => Ok((settings[i], out)),
+        Some((_, i, out)) => Ok((settings[i], out, chosen.len())),
         None => Err(first_error
             .into_inner()
             .unwrap_or_else(|p| p.into_inner())
             .unwrap_or_else(|| anyhow::anyhow!("no setting ran"))),
     }
 }
+
+/// What the `run` line adds after `--smallest`, which pruned `pruned` of
+/// its 24 settings.
+fn smallest_note(pruned: usize) -> String {
+    if pruned == 24 {
+        " (the smallest of 24 settings, all pruned: --smallest)".to_string()
+    } else {
+        format!(
+            " (the smallest of 24 settings, --smallest; {pruned} pruned: the others failed or added more than \
+             {SMALLEST_PRUNE_RATIO} times the fewest vertices plus {SMALLEST_PRUNE_SLACK})"
+        )
+    }
+}
+
+/// Whether `--smallest` prunes a setting that added `added` vertices where
+/// the fewest of any setting is `fewest`: one that added many times more
+/// would have to lose nearly all of them to win, and pruning costs in
+/// proportion to the vertices it visits (the slack lets small results be
+/// pruned whatever their ratio: 41 added vertices pruned to 7 win against
+/// 10 pruned to 8 on one of `tests/regressions`).
+fn worth_pruning(added: usize, fewest: usize) -> bool {
+    added <= SMALLEST_PRUNE_RATIO * fewest + SMALLEST_PRUNE_SLACK
+}
+
+/// `--smallest` keeps the unpruned results of its settings in memory while
+/// their vertices add up to at most this many (about 100 MB).
+const SMALLEST_KEEP_VERTICES: usize = 500_000;
+
+/// See [`worth_pruning`].
+const SMALLEST_PRUNE_SLACK: usize = 1000;
+
+/// See [`worth_pruning`].
+const SMALLEST_PRUNE_RATIO: usize = 4;
 
 /// The runs of `-all`: the 18 combinations, and with `--extended` score 3
 /// with each DS, with and without the median.

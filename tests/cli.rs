@@ -875,6 +875,76 @@ fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
     assert!(bytes1 == bytes2, "--smallest depends on -j");
 }
 
+/// `--smallest` prunes only the settings that added at most 4 times the
+/// fewest vertices plus 1000, and says how many: on a height field of 3 x 8
+/// cells of 160:1 (the defaults add 2,451 vertices, concentric shells 3)
+/// most are left unpruned; the result does not depend on `-j`,
+/// and no pruned run comes out smaller than it.
+#[test]
+fn smallest_prunes_only_the_settings_worth_pruning() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("field.obj");
+    let (n, m, aspect) = (3, 8, 60.0);
+    let mut obj = String::new();
+    for i in 0..=n {
+        for j in 0..=m {
+            let (x, y) = (i as f64 * aspect / n as f64, j as f64 / m as f64);
+            let z = 0.05 * (1.7 * i as f64 + 0.3).sin() * (2.3 * j as f64 + 0.1).cos();
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    for i in 0..n {
+        for j in 0..m {
+            let a = i * (m + 1) + j + 1;
+            let (b, c) = (a + 1, a + m + 1);
+            let d = c + 1;
+            obj += &if (i * 7 + j * 3) % 2 == 1 {
+                format!("f {a} {c} {d}\nf {a} {d} {b}\n")
+            } else {
+                format!("f {a} {c} {b}\nf {b} {c} {d}\n")
+            };
+        }
+    }
+    std::fs::write(&input, obj).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = refine(&input, &out).args(extra).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        check_passes(&input, &out);
+        (
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            std::fs::read(&out).unwrap(),
+        )
+    };
+    let (small1, bytes1) = run("small1.obj", &["--smallest", "-j", "1"]);
+    let (small2, bytes2) = run("small2.obj", &["--smallest", "-j", "2"]);
+    let line = small1.lines().find(|l| l.starts_with("run")).unwrap().to_string();
+    let pruned: usize = line
+        .split("--smallest; ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(
+        pruned < 24 && line.contains("more than 4 times the fewest vertices plus 1000"),
+        "{line}"
+    );
+    assert!(bytes1 == bytes2 && small2.contains(&line), "--smallest depends on -j");
+    let (plain, _) = run("plain.obj", &[]);
+    assert!(added_of(&plain) > 4 * added_of(&small1) + 1000, "{plain}");
+    for settings in [
+        &["--prune"][..],
+        &["--prune", "--shells", "-s", "4"],
+        &["--prune", "-ds", "pqueue"],
+    ] {
+        let (pruned, _) = run("pruned.obj", settings);
+        assert!(
+            added_of(&small1) <= added_of(&pruned),
+            "{settings:?}: {small1}\n{pruned}"
+        );
+    }
+}
+
 #[test]
 fn extended_sweep_adds_score_3_and_prune_applies_to_every_run() {
     let dir = tempfile::tempdir().unwrap();

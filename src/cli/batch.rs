@@ -76,8 +76,9 @@ pub(super) struct BatchArgs {
     skip_existing: bool,
 
     /// Fewest added vertices, as the main command's --smallest: each file
-    /// is refined and pruned with 24 settings and the smallest result is
-    /// written (-ds, -s, -nomedian and --shells are ignored). The files are
+    /// is refined with 24 settings, those within 4 times the fewest added
+    /// vertices plus 1000 are pruned, and the smallest result is written
+    /// (-ds, -s, -nomedian and --shells are ignored). The files are
     /// then taken one at a time, each with its 24 runs on all cores (or -j):
     /// one large file would otherwise hold up a core alone.
     #[arg(long = "smallest")]
@@ -323,7 +324,7 @@ fn refine_read(
     let (options, out) = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        let (options, mut out) = smallest(surface, first_pass, input, options, args.jobs, passes)?;
+        let (options, mut out, _) = smallest(surface, first_pass, input, options, args.jobs, passes)?;
         out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
         (options, out)
     } else {
