@@ -1486,11 +1486,7 @@ fn smallest(
         first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
     };
     // Runs `run(i)` for each i of `indices`, `threads` at a time.
-    let sweep = |label: &'static str, indices: &[usize], run: &(dyn Fn(usize) + Sync)| {
-        progress::phase(Phase::Sweep {
-            label,
-            total: indices.len(),
-        });
+    let sweep = |indices: &[usize], run: &(dyn Fn(usize) + Sync)| {
         let next = std::sync::atomic::AtomicUsize::new(0);
         let worker = |worker: usize| loop {
             progress::use_slot(worker);
@@ -1526,27 +1522,28 @@ fn smallest(
         }
         options
     };
+    progress::phase(Phase::Sweep {
+        label: "--smallest, refining",
+        total: settings.len(),
+    });
     for phase in [0..n_median, n_median..settings.len()] {
         let median = phase.start == 0;
         let indices: Vec<usize> = phase.collect();
-        sweep("--smallest, refining", &indices, &|i| match refine_once(
-            surface.clone(),
-            first_pass,
-            input_path,
-            &options_of(i, cap),
-            None,
-        ) {
-            Ok(out) => {
-                let n = out.surface.positions.len() - out.surface.n_input_vertices;
-                added[i].set(n).expect("each setting runs once");
-                let size = out.surface.positions.len();
-                let before = kept_vertices.fetch_add(size, std::sync::atomic::Ordering::Relaxed);
-                if before + size <= SMALLEST_KEEP_VERTICES {
-                    *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
+        sweep(
+            &indices,
+            &|i| match refine_once(surface.clone(), first_pass, input_path, &options_of(i, cap), None) {
+                Ok(out) => {
+                    let n = out.surface.positions.len() - out.surface.n_input_vertices;
+                    added[i].set(n).expect("each setting runs once");
+                    let size = out.surface.positions.len();
+                    let before = kept_vertices.fetch_add(size, std::sync::atomic::Ordering::Relaxed);
+                    if before + size <= SMALLEST_KEEP_VERTICES {
+                        *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
+                    }
                 }
-            }
-            Err(e) => fail(e),
-        });
+                Err(e) => fail(e),
+            },
+        );
         if median {
             cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000;
         }
@@ -1565,7 +1562,11 @@ fn smallest(
         .collect();
     // The best so far, by (vertices, index of its settings).
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
-    sweep("--smallest, pruning", &chosen, &|i| {
+    progress::phase(Phase::Sweep {
+        label: "--smallest, pruning",
+        total: chosen.len(),
+    });
+    sweep(&chosen, &|i| {
         let options = options_of(i, cap);
         let unpruned = match kept[i].lock().unwrap_or_else(|p| p.into_inner()).take() {
             Some(out) => Ok(out),

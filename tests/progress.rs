@@ -66,14 +66,18 @@ fn progress_always_draws_each_phase_and_erases_it() {
     let (ok, stderr) = stderr_of(&["-o", "all/b.obj", "-all", "--progress", "always"], dir.path());
     assert!(ok, "{stderr}");
     assert!(stderr.contains("/18 runs"), "{stderr:?}");
-    // Pruning has a line of its own, and --smallest counts its runs.
+    // Pruning has a line of its own, and --smallest counts its runs: the 24
+    // refinements, then the prunings.
     let (ok, stderr) = stderr_of(&["-o", "b.obj", "--prune", "--progress", "always"], dir.path());
     assert!(ok, "{stderr}");
     assert!(stderr.contains("pruning  pass 1"), "{stderr:?}");
     let (ok, stderr) = stderr_of(&["-o", "b.obj", "--smallest", "--progress", "always"], dir.path());
     assert!(ok, "{stderr}");
     assert!(
-        stderr.contains("--smallest [") && stderr.contains("/24 runs"),
+        stderr.contains("--smallest, refining [")
+            && stderr.contains("/24 runs")
+            && !stderr.contains("/18 runs")
+            && stderr.contains("--smallest, pruning ["),
         "{stderr:?}"
     );
 }
