@@ -588,7 +588,7 @@ pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smalles
                 helps += "; other settings may add far fewer (try --shells -s 4, concentric shells)";
             }
             helps += if pruned {
-                "; --smallest tries 24 settings, each pruned, and keeps the smallest"
+                "; --smallest tries 24 settings and keeps the smallest"
             } else {
                 "; --prune or --smallest remove many of them"
             };
@@ -1485,20 +1485,6 @@ fn smallest(
     let fail = |e: anyhow::Error| {
         first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
     };
-    // Runs `run(i)` for each i of `indices`, `threads` at a time.
-    let sweep = |indices: &[usize], run: &(dyn Fn(usize) + Sync)| {
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let worker = |worker: usize| loop {
-            progress::use_slot(worker);
-            let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let Some(&i) = indices.get(k) else {
-                break;
-            };
-            run(i);
-            progress::run_done();
-        };
-        std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads.min(indices.len()), &worker));
-    };
     // First every setting refines, unpruned: its added vertices. The runs
     // without the median come last, with a work limit (which also bounds
     // flips, at three per vertex: on CAD parts these runs flip a lot) of
@@ -1529,21 +1515,28 @@ fn smallest(
     for phase in [0..n_median, n_median..settings.len()] {
         let median = phase.start == 0;
         let indices: Vec<usize> = phase.collect();
-        sweep(
-            &indices,
-            &|i| match refine_once(surface.clone(), first_pass, input_path, &options_of(i, cap), None) {
-                Ok(out) => {
-                    let n = out.surface.positions.len() - out.surface.n_input_vertices;
-                    added[i].set(n).expect("each setting runs once");
-                    let size = out.surface.positions.len();
-                    let before = kept_vertices.fetch_add(size, std::sync::atomic::Ordering::Relaxed);
-                    if before + size <= SMALLEST_KEEP_VERTICES {
-                        *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
-                    }
+        run_each(threads, &indices, &|i| match refine_once(
+            surface.clone(),
+            first_pass,
+            input_path,
+            &options_of(i, cap),
+            None,
+        ) {
+            Ok(out) => {
+                let n = out.surface.positions.len() - out.surface.n_input_vertices;
+                added[i].set(n).expect("each setting runs once");
+                let size = out.surface.positions.len();
+                let fits = kept_vertices.fetch_update(
+                    std::sync::atomic::Ordering::Relaxed,
+                    std::sync::atomic::Ordering::Relaxed,
+                    |k| Some(k + size).filter(|&k| k <= SMALLEST_KEEP_VERTICES),
+                );
+                if fits.is_ok() {
+                    *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
                 }
-                Err(e) => fail(e),
-            },
-        );
+            }
+            Err(e) => fail(e),
+        });
         if median {
             cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000;
         }
@@ -1560,13 +1553,18 @@ fn smallest(
     let chosen: Vec<usize> = (0..settings.len())
         .filter(|&i| matches!((added[i].get(), fewest), (Some(&n), Some(f)) if worth_pruning(n, f)))
         .collect();
+    for (i, out) in kept.iter().enumerate() {
+        if !chosen.contains(&i) {
+            *out.lock().unwrap_or_else(|p| p.into_inner()) = None;
+        }
+    }
     // The best so far, by (vertices, index of its settings).
     let best: std::sync::Mutex<Option<(usize, usize, Outcome)>> = std::sync::Mutex::new(None);
     progress::phase(Phase::Sweep {
         label: "--smallest, pruning",
         total: chosen.len(),
     });
-    sweep(&chosen, &|i| {
+    run_each(threads, &chosen, &|i| {
         let options = options_of(i, cap);
         let unpruned = match kept[i].lock().unwrap_or_else(|p| p.into_inner()).take() {
             Some(out) => Ok(out),
@@ -1591,6 +1589,24 @@ fn smallest(
             .unwrap_or_else(|p| p.into_inner())
             .unwrap_or_else(|| anyhow::anyhow!("no setting ran"))),
     }
+}
+
+/// Runs `run(i)` for each i of `indices`, in that order, `threads` at a
+/// time, each counted as a run of the progress line's sweep.
+fn run_each(threads: usize, indices: &[usize], run: &(dyn Fn(usize) + Sync)) {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let worker = |worker: usize| {
+        progress::use_slot(worker);
+        loop {
+            let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(&i) = indices.get(k) else {
+                break;
+            };
+            run(i);
+            progress::run_done();
+        }
+    };
+    std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads.min(indices.len()), &worker));
 }
 
 /// What the `run` line adds after `--smallest`, which pruned `pruned` of
@@ -1925,30 +1941,21 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
             !matches!(o.score, Score::WeightedCenter),
         )
     });
-    let next = std::sync::atomic::AtomicUsize::new(0);
     let rows = std::sync::Mutex::new(Vec::with_capacity(combos.len()));
     progress::phase(Phase::Sweep {
         label: "-all",
         total: combos.len(),
     });
-    let worker = |worker: usize| {
-        progress::use_slot(worker);
-        loop {
-            let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let Some(options) = order.get(k).map(|&i| &combos[i]) else {
-                break;
-            };
-            let file = combination_path(output, options);
-            let result = run_combination(sweep, options, args.settings.prune(), &file);
-            progress::run_done();
-            rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
-                options: *options,
-                file,
-                result,
-            });
-        }
-    };
-    std::thread::scope(|scope| delmesh::parallel::spawn_workers(scope, threads, &worker));
+    run_each(threads, &order, &|i| {
+        let options = &combos[i];
+        let file = combination_path(output, options);
+        let result = run_combination(sweep, options, args.settings.prune(), &file);
+        rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
+            options: *options,
+            file,
+            result,
+        });
+    });
     progress::phase(Phase::Idle);
     let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
     // Sorted by faces as the report's tables; failed runs last.

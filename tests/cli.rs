@@ -850,20 +850,23 @@ fn added_of(printout: &str) -> usize {
     words[i - 1].parse().unwrap()
 }
 
+/// Refines `input` into `out` with `extra` flags, which must succeed and
+/// pass the check: the printout and the output's bytes.
+fn refine_checked(input: &Path, out: &Path, extra: &[&str]) -> (String, Vec<u8>) {
+    let o = refine(input, out).args(extra).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    check_passes(input, out);
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        std::fs::read(out).unwrap(),
+    )
+}
+
 #[test]
 fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
     let dir = tempfile::tempdir().unwrap();
     let input = common::data_dir().join("bunny.obj");
-    let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(name);
-        let o = refine(&input, &out).args(extra).output().unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        check_passes(&input, &out);
-        (
-            String::from_utf8_lossy(&o.stdout).into_owned(),
-            std::fs::read(&out).unwrap(),
-        )
-    };
+    let run = |name: &str, extra: &[&str]| refine_checked(&input, &dir.path().join(name), extra);
     let (pruned, _) = run("pruned.obj", &["--prune"]);
     let (plain, _) = run("plain.obj", &[]);
     let (small1, bytes1) = run("small1.obj", &["--smallest", "-j", "1"]);
@@ -906,16 +909,7 @@ fn smallest_prunes_only_the_settings_worth_pruning() {
         }
     }
     std::fs::write(&input, obj).unwrap();
-    let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(name);
-        let o = refine(&input, &out).args(extra).output().unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        check_passes(&input, &out);
-        (
-            String::from_utf8_lossy(&o.stdout).into_owned(),
-            std::fs::read(&out).unwrap(),
-        )
-    };
+    let run = |name: &str, extra: &[&str]| refine_checked(&input, &dir.path().join(name), extra);
     let (small1, bytes1) = run("small1.obj", &["--smallest", "-j", "1"]);
     let (small2, bytes2) = run("small2.obj", &["--smallest", "-j", "2"]);
     let line = small1.lines().find(|l| l.starts_with("run")).unwrap().to_string();
