@@ -17,7 +17,8 @@
 //!    the nearest distance), not of every edge within the tolerance. (Where the output has more
 //!    vertices than the input at an input vertex's position that also lies inside an input edge,
 //!    the surface touching itself, each of them may be either: they belong to the regions of
-//!    both.)
+//!    both.) A vertex no face uses must also be at an input vertex's position (used or not)
+//!    or on an input edge; it is counted in [`CheckReport::unused_vertices`].
 //! 3. Every output face lies inside one planar region of the input (input faces joined across
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
@@ -54,6 +55,8 @@
 use std::f64::consts::PI;
 use std::fmt;
 use std::path::{Path, PathBuf};
+
+use std::collections::HashSet;
 
 use crate::hash::FastMap;
 use crate::io::polygon::triangulate;
@@ -170,6 +173,10 @@ pub struct CheckReport {
     pub output_faces: usize,
     /// Output vertices that are not input vertices (valid or not).
     pub added_vertices: usize,
+    /// Output vertices that no face uses (not counted in `output_vertices`): each must still
+    /// be at an input vertex's position or on an input edge, but gives a Laplacian an empty
+    /// row.
+    pub unused_vertices: usize,
     /// Interior edges of the output (two faces, opposite directions).
     pub interior_edges: usize,
     /// Interior output edges with `alpha + beta > pi + DELAUNAY_TOLERANCE`.
@@ -196,6 +203,7 @@ impl CheckReport {
             output_vertices: 0,
             output_faces: output.triangles.len(),
             added_vertices: 0,
+            unused_vertices: 0,
             interior_edges: 0,
             non_delaunay_edges: 0,
             max_excess: f64::NEG_INFINITY,
@@ -217,6 +225,9 @@ impl fmt::Display for CheckReport {
             "output: {} vertices ({} added), {} faces",
             self.output_vertices, self.added_vertices, self.output_faces
         )?;
+        if self.unused_vertices > 0 {
+            writeln!(f, "unused output vertices (in no face): {}", self.unused_vertices)?;
+        }
         writeln!(
             f,
             "interior edges: {}, non-Delaunay: {}, max alpha+beta-pi: {:.3e} rad",
@@ -245,10 +256,16 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     // error, if any, is still the one reported first).
     let size = |path: &Path| std::fs::metadata(path).map_or(0, |m| m.len());
     let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
-    let (input_mesh, output_read) = crate::parallel::join(worth_it, || Mesh3::read(input), || read_welded(output));
-    let input_mesh = input_mesh?;
-    let (welded, file_corners) = output_read?;
-    let output_mesh = settle_like(welded, &file_corners, &input_mesh);
+    let read_input =
+        || read_welded(input).map(|(welded, file_corners, strays)| (settle(welded, &file_corners), strays));
+    let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
+    let (mut input_mesh, input_strays) = input_read?;
+    let (welded, file_corners, output_strays) = output_read?;
+    let mut output_mesh = settle_like(welded, &file_corners, &input_mesh);
+    // The vertices no face uses, after all the others (their own numbers are not the file's):
+    // an output one must still be an input vertex or lie on an input edge.
+    input_mesh.positions.extend(input_strays);
+    output_mesh.positions.extend(output_strays);
     check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
         reason,
@@ -256,7 +273,9 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
 }
 
 /// Checks OUTPUT against INPUT, both already read. An invalid input is reported as a single
-/// `input mesh is invalid: ...` failure line. Unreferenced vertices of either mesh are ignored.
+/// `input mesh is invalid: ...` failure line. An output vertex no face uses must still be at the
+/// position of an input vertex (used by a face or not) or on an input edge, and is counted in
+/// [`CheckReport::unused_vertices`]; unused input vertices are only such positions.
 pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
     check_core(input, output).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
@@ -275,7 +294,7 @@ impl Mesh3 {
     /// code the judge shares with the construction, for formats `tobj` does not read — followed
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners) = read_welded(path.as_ref())?;
+        let (mesh, file_corners, _) = read_welded(path.as_ref())?;
         Ok(settle(mesh, &file_corners))
     }
 
@@ -285,7 +304,7 @@ impl Mesh3 {
     /// welding must be undone, see `split_welded_sheets`): there the file's own vertices are
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
-        let (welded, file_corners) = read_welded(path.as_ref())?;
+        let (welded, file_corners, _) = read_welded(path.as_ref())?;
         Ok(settle_like(welded, &file_corners, input))
     }
 
@@ -307,7 +326,7 @@ impl Mesh3 {
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners) = read_obj_welded(path, bytes)?;
+        let (mesh, file_corners, _) = read_obj_welded(path, bytes)?;
         Ok(settle(mesh, &file_corners))
     }
 }
@@ -340,10 +359,13 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3) -> Mesh3
     settle(unweld(welded, file_corners, &short), file_corners)
 }
 
-/// Reads a mesh file with bit-identical positions welded, and the file's own vertex of each
-/// corner of its triangles: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
+/// A mesh read with bit-identical positions welded, the file's own vertex of each corner of its
+/// triangles, and the positions of its vertices that no face uses (in file order, each once).
+type Welded = (Mesh3, Vec<[u32; 3]>, Vec<DVec3>);
+
+/// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
 /// gzip-compressed) with the readers of [`crate::io::formats`].
-fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
+fn read_welded(path: &Path) -> Result<Welded, CheckError> {
     use crate::io::formats;
     let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
         path: path.to_path_buf(),
@@ -411,19 +433,22 @@ fn read_welded(path: &Path) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
     triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
     let mut new_id = vec![u32::MAX; used.len()];
     let mut positions = Vec::new();
+    let mut strays = Vec::new();
     for (i, p) in welder.positions.iter().enumerate() {
         if used[i] {
             new_id[i] = positions.len() as u32;
             positions.push(*p);
+        } else {
+            strays.push(*p);
         }
     }
     let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
-    Ok((Mesh3 { positions, triangles }, file_corners))
+    Ok((Mesh3 { positions, triangles }, file_corners, strays))
 }
 
 /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
-/// with the file's own vertex of each corner.
-fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), CheckError> {
+/// as [`Welded`].
+fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
         format: "OBJ",
@@ -472,7 +497,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
             path: path.to_path_buf(),
         });
     }
-    let mesh = renumber_by_obj_order(welder.positions, triangles, bytes);
+    let (mesh, strays) = renumber_by_obj_order(welder.positions, triangles, bytes);
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(parse_error(format!(
             "vertex {} {} has a non-finite coordinate",
@@ -480,7 +505,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<(Mesh3, Vec<[u32; 3]>), 
             fmt_point(mesh.positions[i])
         )));
     }
-    Ok((mesh, file_corners))
+    Ok((mesh, file_corners, strays))
 }
 
 /// The triangles of a tobj model read without triangulation, as slots of
@@ -810,9 +835,25 @@ impl Welder {
 
 /// Renumbers the welded vertices in the order of their first `v` line in the file (the welder
 /// numbers them in order of first use). Vertices not found in the scan keep their relative order
-/// after all others; unused vertices do not exist here (tobj only keeps used positions).
-fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes: &[u8]) -> Mesh3 {
+/// after all others. Also returns the positions of the `v` lines that no face uses (tobj keeps
+/// used positions only), in file order.
+fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes: &[u8]) -> (Mesh3, Vec<DVec3>) {
     let first_line = obj_vertex_numbers(bytes);
+    // Every used position has a `v` line: as many positions as lines, and none is a stray.
+    let mut strays: Vec<(usize, [u64; 3])> = Vec::new();
+    if first_line.len() > positions.len() {
+        let used: HashSet<[u64; 3], crate::hash::FastBuild> = positions.iter().map(|p| bits(*p)).collect();
+        strays.extend(
+            (first_line.iter())
+                .filter(|(p, _)| !used.contains(*p))
+                .map(|(p, &line)| (line, *p)),
+        );
+        strays.sort_unstable();
+    }
+    let strays = strays
+        .into_iter()
+        .map(|(_, p)| DVec3::from_array(p.map(f64::from_bits)))
+        .collect();
     let mut keyed: Vec<(usize, u32)> = positions
         .iter()
         .enumerate()
@@ -827,10 +868,11 @@ fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes:
     for (rank, &old) in order.iter().enumerate() {
         new_id[old as usize] = rank as u32;
     }
-    Mesh3 {
+    let mesh = Mesh3 {
         positions: order.iter().map(|&i| positions[i as usize]).collect(),
         triangles: triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect(),
-    }
+    };
+    (mesh, strays)
 }
 
 /// Maps every position written on a `v` line to the 0-based number of its first `v` line,
@@ -912,6 +954,7 @@ fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
             || {
                 let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
                 report.added_vertices = candidates.added;
+                report.unused_vertices = candidates.unused;
                 let mut assignment = assign_faces(&model.regions, output, &candidates, &mut fail);
                 let rounding = rounding_allowance(&model, &candidates.edge_has_added);
                 check_areas(&model.regions, &mut assignment, &rounding, &mut fail);
@@ -1787,6 +1830,8 @@ struct Candidates {
     known: Vec<bool>,
     /// Number of referenced output vertices that are not input vertices.
     added: usize,
+    /// Number of output vertices no face uses.
+    unused: usize,
     /// Whether an added vertex lies on each input edge (indexed like `Prepared::edges`).
     edge_has_added: Vec<bool>,
 }
@@ -1815,10 +1860,17 @@ fn classify_output_vertices(
     // and the positions of the others, which the grid will look up.
     let mut at_position = vec![0u32; input.positions.len()];
     let mut added_points = Vec::new();
+    // The positions of the input vertices no face uses: an unused output vertex may sit there.
+    let unused_input: HashSet<[u64; 3], crate::hash::FastBuild> = (input.positions.iter().enumerate())
+        .filter(|&(v, _)| !model.prepared.referenced[v])
+        .map(|(_, p)| bits(*p))
+        .collect();
+    let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
     for (v, p) in output.positions.iter().enumerate() {
         match (out_referenced[v], lookup.get(&bits(*p))) {
             (true, Some(&first)) => at_position[first as usize] += 1,
             (true, None) => added_points.push(*p),
+            (false, _) if p.is_finite() && !is_input_position(*p) => added_points.push(*p),
             (false, _) => {}
         }
     }
@@ -1827,12 +1879,29 @@ fn classify_output_vertices(
     let mut regions = CsrBuilder::default();
     let mut known = vec![false; output.positions.len()];
     let mut added = 0;
+    let mut unused = 0;
     let mut edge_has_added = vec![false; model.prepared.edges.len()];
     let mut on_edges = Vec::new();
     let mut set = Vec::new();
     let mut edge_regions = Vec::new();
     for (v, &p) in output.positions.iter().enumerate() {
         if !out_referenced[v] {
+            // In no face, so in no region: it must only be where the output may have vertices.
+            unused += 1;
+            let on_input = p.is_finite()
+                && (is_input_position(p) || {
+                    let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
+                    grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+                    !on_edges.is_empty()
+                });
+            if !on_input {
+                fail.push(KIND_VERTEX, || {
+                    format!(
+                        "an output vertex no face uses, {}, is neither an input vertex nor on an input edge",
+                        fmt_point(p)
+                    )
+                });
+            }
             regions.finish_row();
             continue;
         }
@@ -1895,6 +1964,7 @@ fn classify_output_vertices(
         regions: regions.build(),
         known,
         added,
+        unused,
         edge_has_added,
     }
 }

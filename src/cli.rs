@@ -2218,6 +2218,11 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         report.non_delaunay_edges,
         report.max_excess
     );
+    if report.unused_vertices > 0 {
+        let n = report.unused_vertices;
+        let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
+        say!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
+    }
     for f in &report.failures {
         say!("FAIL    {f}");
     }

@@ -250,6 +250,68 @@ fn added_vertex_off_its_edge_is_reported() {
     }
 }
 
+/// A vertex no face uses is still an output vertex: SPEC's carrier rule holds for it too, so
+/// one off the input's edges fails (before, the reader dropped it unseen), and one at an input
+/// vertex or on an input edge passes, counted, since a Laplacian gets an empty row for it.
+#[test]
+fn unused_output_vertices_must_be_carriers_too() {
+    let input = obj(&kite(true), &KITE_F);
+    let output = split_kite([2.0, 0.0, 0.0]);
+    let with = |extra: &str| format!("{output}{extra}");
+    let stray = check_texts(&input, &with("v 7 7 7\n"));
+    assert_failure(
+        &stray,
+        "an output vertex no face uses, (7, 7, 7), is neither an input vertex nor on an input edge",
+    );
+    assert_eq!((stray.failures.len(), stray.unused_vertices), (1, 1), "{stray}");
+    assert_eq!((stray.output_vertices, stray.added_vertices), (5, 1));
+    let not_finite = check_texts(&input, &with("v nan 0 0\n"));
+    assert_failure(&not_finite, "an output vertex no face uses, (NaN, 0, 0), is neither");
+    // Off the folded edge by 1e-7: not on it (the same rule as a used vertex's).
+    assert_failure(
+        &check_texts(&input, &with("v 1 1e-7 0\n")),
+        "no face uses, (1, 0.0000001, 0)",
+    );
+    for fine in ["v 1 0 0\n", "v 2 0.3 0\nv 1 0 0\n", "v 0 0 0\n"] {
+        let report = check_texts(&input, &with(fine));
+        assert_passes(&report);
+        // A repeated position is the same vertex, welded: not unused.
+        let expected = if fine == "v 0 0 0\n" { 0 } else { 1 };
+        assert_eq!(report.unused_vertices, expected, "{fine:?}");
+    }
+    // An input vertex no face uses may stay one in the output; elsewhere it is a stray.
+    let input_with_stray = format!("{input}v 5 5 5\n");
+    let kept = check_texts(&input_with_stray, &with("v 5 5 5\n"));
+    assert_passes(&kept);
+    assert_eq!(kept.unused_vertices, 1);
+    assert_passes(&check_texts(&input_with_stray, &output));
+    // The same through OFF, whose reader is another.
+    let dir = TempDir::new().expect("tempdir");
+    let input_path = write(&dir, "input.obj", &input);
+    let mut v = kite(true).to_vec();
+    v.extend([[2.0, 0.0, 0.0], [7.0, 7.0, 7.0]]);
+    let mut off = format!("OFF\n{} 4 0\n", v.len());
+    v.iter()
+        .for_each(|p| off.push_str(&format!("{} {} {}\n", p[0], p[1], p[2])));
+    ["0 4 2", "4 1 2", "1 4 3", "4 0 3"]
+        .iter()
+        .for_each(|f| off.push_str(&format!("3 {f}\n")));
+    let report = check_files(&input_path, &write(&dir, "output.off", &off)).expect("valid files");
+    assert_failure(&report, "an output vertex no face uses, (7, 7, 7)");
+    // And through the library, with a position no triangle refers to.
+    let mut mesh = Mesh3 {
+        positions: v.iter().map(|p| DVec3::from_array(*p)).collect(),
+        triangles: vec![[0, 4, 2], [4, 1, 2], [1, 4, 3], [4, 0, 3]],
+    };
+    let kite_mesh = Mesh3 {
+        positions: kite(true).iter().map(|p| DVec3::from_array(*p)).collect(),
+        triangles: KITE_F.to_vec(),
+    };
+    assert_failure(&check_meshes(&kite_mesh, &mesh), "no face uses, (7, 7, 7)");
+    mesh.positions.pop();
+    assert_passes(&check_meshes(&kite_mesh, &mesh));
+}
+
 #[test]
 fn missing_input_vertex_is_reported() {
     let v = [
