@@ -177,6 +177,12 @@ pub struct CheckReport {
     /// be at an input vertex's position or on an input edge, but gives a Laplacian an empty
     /// row.
     pub unused_vertices: usize,
+    /// Where the output stops beginning with the input's vertices in the input's order (0-based:
+    /// output vertex `k` is not input vertex `k`, bit for bit); `None` when it does begin so, as
+    /// delmesh writes it. Not a failure (the geometry does not depend on numbering), but the
+    /// input's per-vertex data does not carry over by number. From files, vertices are
+    /// numbered as [`Mesh3::read_obj`] says: bit-identical positions welded, unused ones left out.
+    pub first_reordered_vertex: Option<usize>,
     /// Interior edges of the output (two faces, opposite directions).
     pub interior_edges: usize,
     /// Interior output edges with `alpha + beta > pi + DELAUNAY_TOLERANCE`.
@@ -204,6 +210,7 @@ impl CheckReport {
             output_faces: output.triangles.len(),
             added_vertices: 0,
             unused_vertices: 0,
+            first_reordered_vertex: None,
             interior_edges: 0,
             non_delaunay_edges: 0,
             max_excess: f64::NEG_INFINITY,
@@ -227,6 +234,13 @@ impl fmt::Display for CheckReport {
         )?;
         if self.unused_vertices > 0 {
             writeln!(f, "unused output vertices (in no face): {}", self.unused_vertices)?;
+        }
+        if let Some(k) = self.first_reordered_vertex {
+            writeln!(
+                f,
+                "input vertices not first in input order: output vertex {} differs",
+                k + 1
+            )?;
         }
         writeln!(
             f,
@@ -256,20 +270,36 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     // error, if any, is still the one reported first).
     let size = |path: &Path| std::fs::metadata(path).map_or(0, |m| m.len());
     let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
-    let read_input =
-        || read_welded(input).map(|(welded, file_corners, strays)| (settle(welded, &file_corners), strays));
+    let read_input = || {
+        read_welded(input).map(|(welded, file_corners, strays)| {
+            let in_file = welded.positions.len();
+            (settle(welded, &file_corners), strays, in_file)
+        })
+    };
     let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
-    let (mut input_mesh, input_strays) = input_read?;
+    let (mut input_mesh, input_strays, input_in_file) = input_read?;
     let (welded, file_corners, output_strays) = output_read?;
     let mut output_mesh = settle_like(welded, &file_corners, &input_mesh);
+    // Settling only appends vertices (copies where welding is undone): the first ones are still
+    // the files' own, in file order.
+    let reordered = first_reordered_vertex(&input_mesh.positions[..input_in_file], &output_mesh.positions);
     // The vertices no face uses, after all the others (their own numbers are not the file's):
     // an output one must still be an input vertex or lie on an input edge.
     input_mesh.positions.extend(input_strays);
     output_mesh.positions.extend(output_strays);
-    check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
+    let mut report = check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
         reason,
-    })
+    })?;
+    report.first_reordered_vertex = reordered;
+    Ok(report)
+}
+
+/// The first index below `input.len()` where `output` does not have the input's vertex, bit
+/// for bit (`output` shorter counts as a difference); `None` if `output` begins with `input`.
+fn first_reordered_vertex(input: &[DVec3], output: &[DVec3]) -> Option<usize> {
+    let same = |k: usize| output.get(k).is_some_and(|q| bits(*q) == bits(input[k]));
+    (0..input.len()).find(|&k| !same(k))
 }
 
 /// Checks OUTPUT against INPUT, both already read. An invalid input is reported as a single
@@ -277,11 +307,13 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
 /// position of an input vertex (used by a face or not) or on an input edge, and is counted in
 /// [`CheckReport::unused_vertices`]; unused input vertices are only such positions.
 pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
-    check_core(input, output).unwrap_or_else(|reason| {
+    let mut report = check_core(input, output).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
         report.failures.push(format!("input mesh is invalid: {reason}"));
         report
-    })
+    });
+    report.first_reordered_vertex = first_reordered_vertex(&input.positions, &output.positions);
+    report
 }
 
 // ---------------------------------------------------------------------------------------------

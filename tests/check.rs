@@ -312,6 +312,47 @@ fn unused_output_vertices_must_be_carriers_too() {
     assert_passes(&check_meshes(&kite_mesh, &mesh));
 }
 
+/// The numbering is not geometry: an output that does not begin with the input's vertices in
+/// their order passes, and the report says where it stops doing so.
+#[test]
+fn reordered_input_vertices_are_reported_not_failed() {
+    let input = obj(&kite(true), &KITE_F);
+    let report = check_texts(&input, &split_kite([2.0, 0.0, 0.0]));
+    assert_eq!(report.first_reordered_vertex, None);
+    // Vertices 2 and 3 swapped, the faces renumbered to match.
+    let mut v = kite(true).to_vec();
+    v.swap(1, 2);
+    v.push([2.0, 0.0, 0.0]);
+    let swapped = obj(&v, &[[0, 4, 1], [4, 2, 1], [2, 4, 3], [4, 0, 3]]);
+    let report = check_texts(&input, &swapped);
+    assert_passes(&report);
+    assert_eq!(report.first_reordered_vertex, Some(1));
+    assert!(report.to_string().contains("output vertex 2 differs"), "{report}");
+    // Welded duplicates and unused vertices do not count: positions in order of first use.
+    let dup = format!(
+        "v 9 9 9\n{}",
+        obj(&kite(true), &[[0, 1, 2], [1, 0, 3]]).replace("v 0.0 0.0 0.0\n", "v 0.0 0.0 0.0\nv 0.0 0.0 0.0\n")
+    );
+    let report = check_texts(
+        &dup.replace("f 1 2 3\nf 2 1 4", "f 2 4 5\nf 4 2 6"),
+        &split_kite([2.0, 0.0, 0.0]),
+    );
+    assert_passes(&report);
+    assert_eq!(report.first_reordered_vertex, None, "{report}");
+    // Fewer output vertices than input ones: the first missing one.
+    let report = check_meshes(
+        &Mesh3 {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z],
+            triangles: TETRA_F.to_vec(),
+        },
+        &Mesh3 {
+            positions: vec![DVec3::ZERO, DVec3::X],
+            triangles: vec![],
+        },
+    );
+    assert_eq!(report.first_reordered_vertex, Some(2));
+}
+
 #[test]
 fn missing_input_vertex_is_reported() {
     let v = [

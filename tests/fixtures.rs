@@ -57,6 +57,8 @@ fn every_fixture_every_combination_passes_check() {
             );
             assert_eq!(report.non_delaunay_edges, 0);
             assert_eq!(report.added_vertices, stats.splits);
+            // Judged from the files too: the input's vertices first, in order; none unused.
+            assert_eq!((report.first_reordered_vertex, report.unused_vertices), (None, 0));
         }
     }
 }
