@@ -52,11 +52,10 @@
 //! [`CheckError`] (or a failure line from [`check_meshes`]), anything wrong with OUTPUT gives
 //! failure lines.
 
+use std::collections::HashSet;
 use std::f64::consts::PI;
 use std::fmt;
 use std::path::{Path, PathBuf};
-
-use std::collections::HashSet;
 
 use crate::hash::FastMap;
 use crate::io::polygon::triangulate;
