@@ -156,6 +156,25 @@ pub fn prune_passes(surface: &mut Surface, options: &Options, passes: usize, hoo
     run.stats
 }
 
+/// Calls `f` on each added vertex joined to `p` by an edge, counter-clockwise
+/// from `p`'s first outgoing half-edge (no allocation: [`Pruner::keep`] asks
+/// this around every edge a kept attempt touched).
+fn for_each_added_neighbour(s: &Surface, p: VertexId, mut f: impl FnMut(VertexId)) {
+    let topo = &s.topo;
+    let first = topo.vertex_he(p);
+    let mut h = first;
+    loop {
+        let v = topo.dest(h);
+        if v.idx() >= s.n_input_vertices {
+            f(v);
+        }
+        h = topo.rotate_ccw(h);
+        if h.is_none() || h == first {
+            return;
+        }
+    }
+}
+
 struct Pruner<'a> {
     s: &'a mut Surface,
     constants: SampleConstants,
@@ -308,20 +327,9 @@ impl Pruner<'_> {
 
     /// The added vertices joined to `p` by an edge.
     fn added_neighbours(&self, p: VertexId) -> Vec<VertexId> {
-        let topo = &self.s.topo;
-        let first = topo.vertex_he(p);
-        let mut h = first;
         let mut out = Vec::new();
-        loop {
-            let v = topo.dest(h);
-            if v.idx() >= self.s.n_input_vertices {
-                out.push(v);
-            }
-            h = topo.rotate_ccw(h);
-            if h.is_none() || h == first {
-                return out;
-            }
-        }
+        for_each_added_neighbour(self.s, p, |v| out.push(v));
+        out
     }
 
     /// Starts the attempts at removing one vertex from a clean journal.
@@ -347,10 +355,9 @@ impl Pruner<'_> {
             }
             let h = e.halfedge();
             for v in [self.s.topo.origin(h), self.s.topo.dest(h)] {
-                self.dirty[v.idx()] = true;
-                for w in self.added_neighbours(v) {
-                    self.dirty[w.idx()] = true;
-                }
+                let dirty = &mut self.dirty;
+                dirty[v.idx()] = true;
+                for_each_added_neighbour(self.s, v, |w| dirty[w.idx()] = true);
             }
         }
     }
