@@ -923,7 +923,17 @@ fn ply_face_list_count_of_4e9() {
     }
     let mut b = one_triangle_ply(false, "int", "int");
     b.i32(-3).i32(0).i32(1).i32(2);
-    fails_fast(|| read_ply(&b.buf));
+    let e = fails_fast(|| read_ply(&b.buf));
+    assert!(
+        e.what.contains("face 0 list vertex_indices has a negative length (-3)"),
+        "{e}"
+    );
+    let text = format!(
+        "ply\nformat ascii 1.0\nelement vertex 3\n{XYZ_HEADER}element face 1\nproperty list int int vertex_indices\n\
+end_header\n0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n"
+    );
+    let e = fails_fast(|| read_ply(text.as_bytes()));
+    assert!(e.what.contains("has a negative length (-3)"), "{e}");
     let text = format!(
         "ply\nformat ascii 1.0\nelement vertex 3\n{XYZ_HEADER}element face 1\nproperty list uint int vertex_indices\n\
 end_header\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n"

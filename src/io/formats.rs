@@ -1535,7 +1535,13 @@ fn read_ascii_element(
                             format!("{name} {i} list {} length `{}` is not an integer", p.name, show(tok)),
                         )
                     })?;
-                    if n < 0 || n as u64 > (t.remaining() as u64).div_ceil(2) {
+                    if n < 0 {
+                        return Err(FormatError::at(
+                            line,
+                            format!("{name} {i} list {} has a negative length ({n})", p.name),
+                        ));
+                    }
+                    if n as u64 > (t.remaining() as u64).div_ceil(2) {
                         return Err(FormatError::at(
                             line,
                             format!(
@@ -1663,6 +1669,12 @@ fn read_binary_element(
                 PropType::List { count: count_ty, item } => {
                     let s = r.take(count_ty.size()).ok_or_else(|| truncated(i))?;
                     let n = get_int(count_ty, s, big);
+                    if n < 0 {
+                        return Err(FormatError::new(format!(
+                            "{name} {i} list {} has a negative length ({n})",
+                            p.name
+                        )));
+                    }
                     let bytes = u64::try_from(n).ok().and_then(|n| n.checked_mul(item.size() as u64));
                     let Some(s) = bytes
                         .and_then(|len| usize::try_from(len).ok())
