@@ -200,6 +200,16 @@ impl CheckReport {
         self.failures.is_empty()
     }
 
+    /// [`CheckReport::max_excess`] for a printout: in radians, or `none`
+    /// when the output has no interior edge (a mesh of separate triangles).
+    pub fn max_excess_text(&self) -> String {
+        if self.interior_edges == 0 {
+            "none (no interior edge)".to_string()
+        } else {
+            format!("{:.3e} rad", self.max_excess)
+        }
+    }
+
     fn empty(input: &Mesh3, output: &Mesh3) -> CheckReport {
         CheckReport {
             input_vertices: 0,
@@ -243,8 +253,10 @@ impl fmt::Display for CheckReport {
         }
         writeln!(
             f,
-            "interior edges: {}, non-Delaunay: {}, max alpha+beta-pi: {:.3e} rad",
-            self.interior_edges, self.non_delaunay_edges, self.max_excess
+            "interior edges: {}, non-Delaunay: {}, max alpha+beta-pi: {}",
+            self.interior_edges,
+            self.non_delaunay_edges,
+            self.max_excess_text()
         )?;
         if self.passed() {
             write!(f, "PASS")
@@ -497,7 +509,11 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     }
     // OBJ's line continuations joined as the construction's reader joins
     // them (a shared piece of reading, like the polygon rule).
-    let bytes = &geometry_lines(&crate::io::obj::join_continued_lines(bytes));
+    let joined = crate::io::obj::join_continued_lines(bytes);
+    if let Some(line) = first_binary_line(&joined) {
+        return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
+    }
+    let bytes = &geometry_lines(&joined);
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
@@ -634,6 +650,29 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
         out.push(b'\n');
     }
     out
+}
+
+/// The first line (from 1) whose statement, before any comment, holds
+/// bytes that are not text (not UTF-8, or a NUL), unless it names a group,
+/// object or material (old exporters write Latin-1 names): the
+/// construction's reader refuses such a file (a binary file, UTF-16),
+/// where reading only its `v` and `f` lines would find no faces in it, or
+/// lose the lines it cannot read.
+fn first_binary_line(bytes: &[u8]) -> Option<usize> {
+    if !bytes.contains(&0) && std::str::from_utf8(bytes).is_ok() {
+        return None; // (every file delmesh writes: one fast pass)
+    }
+    bytes
+        .split(|&b| b == b'\n')
+        .position(|line| {
+            let code = &line[..comment_start(line)];
+            let text = std::str::from_utf8(code).is_ok() && !code.contains(&0);
+            let keyword = code
+                .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
+                .find(|w| !w.is_empty());
+            !text && !matches!(keyword, Some(b"g" | b"o" | b"usemtl" | b"mtllib"))
+        })
+        .map(|i| i + 1)
 }
 
 /// The last steps of reading a welded mesh: [`split_welded_sheets`], then

@@ -630,12 +630,31 @@ fn unreadable_files_are_errors() {
             "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r",
             "mac.obj: not a valid OBJ mesh: lines end in a carriage return alone",
         ),
+        // Bytes that are not text: refused as the construction's reader
+        // refuses them, not read as a mesh without faces or without a line.
+        (
+            "nul.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\0\0\0\n",
+            "nul.obj: not a valid OBJ mesh: line 5 is not text",
+        ),
+        (
+            "utf16.obj",
+            "v\0 \x000\0 \x000\0 \x000\0\n\0",
+            "utf16.obj: not a valid OBJ mesh: line 1 is not text",
+        ),
     ];
     for (name, text, expected) in cases {
         let bad = write(&dir, name, text);
         let err = check_files(&good, &bad).expect_err(name);
         assert!(err.to_string().contains(expected), "{name}: {err}");
     }
+    // Not UTF-8 where it is no statement's business (a Latin-1 group
+    // name, a comment) is text enough.
+    let mut latin = octahedron().into_bytes();
+    latin.extend_from_slice(b"g caf\xe9\n# \xff\n");
+    let latin_path = dir.path().join("latin.obj");
+    std::fs::write(&latin_path, latin).unwrap();
+    assert!(check_files(&good, &latin_path).expect("readable").passed());
     let missing = dir.path().join("missing.obj");
     let err = check_files(&missing, &good).expect_err("missing file");
     assert!(matches!(err, CheckError::Io { .. }), "{err}");
