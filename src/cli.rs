@@ -185,11 +185,12 @@ struct RunArgs {
     vertex_map: Option<PathBuf>,
 
     /// Verify the output with `delmesh check` once written (against the
-    /// input, or with --repair the repaired input); if it fails (or the
-    /// check cannot read it), it is renamed to OUTPUT.rejected and the exit
-    /// status is 1. With -all,
-    /// every file, each as soon as it is written.
-    #[arg(long = "check", requires = "output", conflicts_with = "no_refine")]
+    /// input, or with --repair the repaired input), before it is put in
+    /// place; if it fails (or the check cannot read it), it is put at
+    /// OUTPUT.rejected instead and the exit status is 1 (without -o the
+    /// input is then kept as it was). With -all, every file, each as soon
+    /// as it is written.
+    #[arg(long = "check", conflicts_with = "no_refine")]
     check: bool,
 
     /// Print nothing but errors.
@@ -232,7 +233,8 @@ struct Settings {
     /// Work limit: stop (exit 1) when a run needs more than this many added
     /// vertices, or more than three times as many flips. Some settings (the first best sample
     /// instead of the median, on inputs with tiny angles) would otherwise add
-    /// billions of vertices or flip quadratically often.
+    /// billions of vertices or flip quadratically often. With -all and
+    /// --smallest, each of their runs.
     #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
     max_added: usize,
 
@@ -1481,9 +1483,10 @@ fn smallest(
     // The runs share the cores: each scans on one thread (the chosen mesh
     // is then written with the threads `--jobs` allows again).
     delmesh::parallel::set_threads(1);
-    let first_error = std::sync::Mutex::new(None);
-    let fail = |e: anyhow::Error| {
-        first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+    // Each setting's error, if it failed: reported if every setting fails.
+    let errors: Vec<std::sync::OnceLock<anyhow::Error>> = settings.iter().map(|_| std::sync::OnceLock::new()).collect();
+    let fail = |i: usize, e: anyhow::Error| {
+        let _ = errors[i].set(e);
     };
     // First every setting refines, unpruned: its added vertices. The runs
     // without the median come last, with a work limit (which also bounds
@@ -1535,7 +1538,7 @@ fn smallest(
                     *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
                 }
             }
-            Err(e) => fail(e),
+            Err(e) => fail(i, e),
         });
         if median {
             cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000;
@@ -1578,17 +1581,62 @@ fn smallest(
                     *best = Some((key.0, key.1, out));
                 }
             }
-            Err(e) => fail(e),
+            Err(e) => fail(i, e),
         }
     });
     delmesh::parallel::set_threads(jobs.map_or(0, usize::from));
     match best.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some((_, i, out)) => Ok((settings[i], out, chosen.len())),
-        None => Err(first_error
-            .into_inner()
-            .unwrap_or_else(|p| p.into_inner())
-            .unwrap_or_else(|| anyhow::anyhow!("no setting ran"))),
+        None => {
+            // Every setting failed: the defaults' error says why (whichever
+            // run failed first would depend on the threads).
+            let defaults = Options::default();
+            let i = settings
+                .iter()
+                .position(|o| {
+                    (o.worklist, o.score, o.median, o.shells) == (defaults.worklist, defaults.score, true, false)
+                })
+                .expect("--smallest runs the defaults");
+            let e = errors
+                .into_iter()
+                .nth(i)
+                .and_then(std::sync::OnceLock::into_inner)
+                .unwrap_or_else(|| anyhow::anyhow!("no setting ran"));
+            Err(all_settings_failed(e, input_path))
+        }
     }
+}
+
+/// The error of `--smallest` when none of its settings finished, from `e`,
+/// the defaults' error: a work limit's hint then suggests no other
+/// settings (all were tried), only what is left (see
+/// `delmesh::error::Error::WorkLimit`).
+fn all_settings_failed(e: anyhow::Error, input_path: &Path) -> anyhow::Error {
+    let e = match e.downcast_ref::<delmesh::Error>() {
+        Some(&delmesh::Error::WorkLimit {
+            splits,
+            flips,
+            limit,
+            near_coincident,
+            ..
+        }) => anyhow::Error::new(delmesh::Error::WorkLimit {
+            splits,
+            flips,
+            limit,
+            median_score_2: true,
+            longest_first: true,
+            near_coincident,
+        }),
+        Some(delmesh::Error::Unsplittable { .. }) => match e.downcast::<delmesh::Error>() {
+            Ok(inner) => anyhow::Error::new(inner),
+            Err(e) => e,
+        },
+        _ => return e,
+    };
+    e.context(format!(
+        "{}: none of the 24 settings of --smallest finished (each has the work limit); with the defaults (stack, score 2, median)",
+        input_path.display()
+    ))
 }
 
 /// Runs `run(i)` for each i of `indices`, in that order, `threads` at a
@@ -2210,13 +2258,13 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     }
     let report = delmesh::check::check_files(input, output)?;
     say!(
-        "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {:.3e} rad)",
+        "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",
         report.output_vertices,
         report.added_vertices,
         report.output_faces,
         report.interior_edges,
         report.non_delaunay_edges,
-        report.max_excess
+        report.max_excess_text()
     );
     if report.unused_vertices > 0 {
         let n = report.unused_vertices;

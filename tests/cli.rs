@@ -878,6 +878,35 @@ fn smallest_is_no_larger_than_the_pruned_default_and_does_not_depend_on_jobs() {
     assert!(bytes1 == bytes2, "--smallest depends on -j");
 }
 
+/// When none of `--smallest`'s settings finishes, its error gives the
+/// defaults' reason, the same whatever the threads, and suggests none of
+/// the settings it has just tried.
+#[test]
+fn smallest_reports_the_defaults_when_every_setting_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let mut lines = Vec::new();
+    for jobs in ["1", "2"] {
+        let run = refine(&bunny, &out)
+            .args(["--smallest", "--max-added", "5", "-q", "-j", jobs])
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(1));
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("none of the 24 settings of --smallest finished")
+                && stderr.contains("with the defaults (stack, score 2, median): stopped after 5 splits")
+                && !stderr.contains("the median rule (the default)"),
+            "{stderr}"
+        );
+        lines.push(stderr);
+        assert!(!out.exists());
+    }
+    assert_eq!(lines[0], lines[1]);
+}
+
 /// `--smallest` prunes only the settings that added at most 4 times the
 /// fewest vertices plus 1000, and says how many: on a height field of 3 x 8
 /// cells of 160:1 (the defaults add 2,451 vertices, concentric shells 3)
@@ -1042,9 +1071,30 @@ fn check_flag_verifies_the_output() {
     assert!(!run.status.success());
     assert!(String::from_utf8_lossy(&run.stderr).contains("STL stores f32 coordinates"));
     assert!(!stl.exists());
-    // The input is never rewritten in place under --check: it needs -o.
-    let run = delmesh().arg("-i").arg(&bunny).arg("--check").output().unwrap();
+    // An input rewritten in place is checked against itself before it is
+    // replaced (a failing output would go to INPUT.rejected, the input
+    // kept: `an_output_that_fails_the_check_is_renamed_and_reported`).
+    let in_place = dir.path().join("in-place.obj");
+    std::fs::copy(&bunny, &in_place).unwrap();
+    let run = delmesh().arg("-i").arg(&in_place).arg("--check").output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    assert!(stdout.contains("check   PASS: "), "{stdout}");
+    check_passes(&bunny, &in_place);
+    assert_ne!(std::fs::read(&in_place).unwrap(), std::fs::read(&bunny).unwrap());
+    // Standard output cannot be read back.
+    let run = delmesh()
+        .arg("-i")
+        .arg(&bunny)
+        .args(["-o", "-", "--check"])
+        .output()
+        .unwrap();
     assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("--check needs an output file it can read back"),
+        "{stderr}"
+    );
 }
 
 /// Polygons keep their shape: a non-convex one is fanned from a corner that
