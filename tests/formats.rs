@@ -223,6 +223,10 @@ fn stl_binary_round_trip_within_f32() {
     assert_eq!(buf.len(), 84 + 50 * t.len());
     assert!(!buf.starts_with(b"solid"));
     assert_eq!(sniff_format(&buf), Some(Format::Stl));
+    // A text that starts with `solid` is an STL even cut short (read as
+    // one, it says what is missing).
+    assert_eq!(sniff_format(b"solid x\n"), Some(Format::Stl));
+    assert!(read_stl(b"solid x\n").unwrap_err().to_string().contains("endsolid"));
     let m = read_stl(&buf).unwrap();
     check_invariants(&m);
     assert_eq!(m.positions.len(), 9);

@@ -219,8 +219,8 @@ pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
         && (starts(b"INF") || starts(b"IND") || starts(b"QNAN") || starts(b"SNAN"))
 }
 
-/// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, "solid " +
-/// "facet" for ASCII STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
+/// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, the word
+/// "solid" first for STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
 /// (including gzip data: decompress first with [`maybe_gunzip`]).
 pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
     let text = strip_bom(bytes);
@@ -234,8 +234,11 @@ pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
             return Some(Format::Off);
         }
     }
-    if starts_with_solid(text) && (contains_ignore_case(window, b"facet") || contains_ignore_case(window, b"endsolid"))
-    {
+    // No other format starts with the word `solid`: an ASCII STL, or a
+    // binary one whose header says so (`read_stl` tells them apart), even
+    // without a facet in its first 64 KiB (cut short: read as an STL, it
+    // says so, not that `solid` is no OBJ statement).
+    if starts_with_solid(text) {
         return Some(Format::Stl);
     }
     if binary_stl_size(bytes).is_some_and(|(_, need)| need == bytes.len() as u64) {
@@ -379,10 +382,6 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
 /// `bytes` without a leading UTF-8 byte order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
-}
-
-fn contains_ignore_case(hay: &[u8], needle: &[u8]) -> bool {
-    hay.windows(needle.len()).any(|w| w.eq_ignore_ascii_case(needle))
 }
 
 /// Whether the complete lines of the first [`SNIFF_WINDOW`] bytes are OBJ statements, at least one a
