@@ -653,20 +653,22 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
 }
 
 /// The first line (from 1) whose statement, before any comment, holds
-/// bytes that are not text (not UTF-8, or a NUL), unless it names a group,
-/// object or material (old exporters write Latin-1 names): the
-/// construction's reader refuses such a file (a binary file, UTF-16),
-/// where reading only its `v` and `f` lines would find no faces in it, or
-/// lose the lines it cannot read.
+/// bytes that are not UTF-8, unless it names a group, object or material
+/// (old exporters write Latin-1 names): the construction's reader refuses
+/// such a file as not text (a binary file, UTF-16 with its byte order
+/// mark), where reading only its `v` and `f` lines would find no faces in
+/// it, or lose the lines it cannot read. (The same rule as that reader's:
+/// the judge must read every file the construction reads.)
 fn first_binary_line(bytes: &[u8]) -> Option<usize> {
-    if !bytes.contains(&0) && std::str::from_utf8(bytes).is_ok() {
+    if std::str::from_utf8(bytes).is_ok() {
         return None; // (every file delmesh writes: one fast pass)
     }
     bytes
         .split(|&b| b == b'\n')
         .position(|line| {
-            let code = &line[..comment_start(line)];
-            let text = std::str::from_utf8(code).is_ok() && !code.contains(&0);
+            // (Cut at the first `#`, as that reader cuts.)
+            let code = line.split(|&b| b == b'#').next().unwrap_or(&[]);
+            let text = std::str::from_utf8(code).is_ok();
             let keyword = code
                 .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
                 .find(|w| !w.is_empty());
