@@ -1161,16 +1161,30 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             say!("note    {note}");
         }
     }
+    // The repaired input: with -all put in place now (the sweep writes its
+    // files as it goes), otherwise staged and put in place with the other
+    // side files at the end, so that a run that fails leaves none.
+    let mut repaired_staged = None;
     if let Some(repaired) = &args.repaired {
         progress::phase(Phase::Write {
             name: file_name(repaired),
         });
-        io::write_mesh(repaired, &input.positions, &input.triangles)?;
+        let staged = io::stage_mesh_after(repaired, &Default::default(), &input.positions, &input.triangles)?;
         progress::phase(Phase::Idle);
-        if !args.quiet {
-            say!("        repaired input written to {}", repaired.display());
+        if args.all {
+            staged.commit()?;
+            if !args.quiet {
+                say!("        repaired input written to {}", repaired.display());
+            }
+        } else {
+            repaired_staged = Some(staged);
         }
     }
+    let say_repaired = || {
+        if let (Some(repaired), false) = (&args.repaired, args.quiet) {
+            say!("        repaired input written to {}", repaired.display());
+        }
+    };
     let report = Report {
         args,
         input_path,
@@ -1233,7 +1247,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Idle);
         // The side files before the mesh is put in place (as below).
         let streamed = mesh_streamed(&staged, &output);
-        let mut side = SideFiles::new();
+        let mut side: SideFiles = repaired_staged.into_iter().collect();
         if let Some(map) = &args.vertex_map {
             side.push(stage_vertex_map(map, &surface, &input, &written).map_err(streamed)?);
         }
@@ -1264,6 +1278,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 surface.positions.len(),
                 surface.topo.n_faces()
             );
+            say_repaired();
             say!(
                 "seconds {:.4} total (read {:.4}, build {:.4}, write {:.4})",
                 total,
@@ -1351,7 +1366,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // that cannot be written leaves no output, and the input of a run in
     // place untouched. (A mesh written to a stream is there already.)
     let streamed = mesh_streamed(&staged, &output);
-    let mut side = SideFiles::new();
+    let mut side: SideFiles = repaired_staged.into_iter().collect();
     if let Some(map) = &args.vertex_map {
         side.push(stage_vertex_map(map, &out.surface, &input, &written).map_err(streamed)?);
     }
@@ -1389,6 +1404,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             out.surface.topo.n_faces(),
             added
         );
+        say_repaired();
         say!(
             "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
             s.splits,

@@ -2468,6 +2468,35 @@ fn all_says_so_when_no_combination_was_written() {
     assert_eq!(written, ["bunny.obj"], "{written:?}");
 }
 
+/// `--repaired` is a side file like the others: a run that fails leaves
+/// it as it was (here a file already there; the run stops at its work
+/// limit), and one that succeeds puts it in place with the output.
+#[test]
+fn a_failed_run_leaves_the_repaired_file_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let cut = common::data_dir().join("repair/dragon-cut.obj");
+    let (out, repaired) = (dir.path().join("out.obj"), dir.path().join("repaired.obj"));
+    std::fs::write(&repaired, "precious").unwrap();
+    let run = refine(&cut, &out)
+        .args(["--repair", "--max-added", "1", "-q", "--repaired"])
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(std::fs::read_to_string(&repaired).unwrap(), "precious");
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["repaired.obj"], "{names:?}");
+    refine(&cut, &out)
+        .args(["--repair", "-q", "--repaired"])
+        .arg(&repaired)
+        .assert()
+        .success();
+    check_passes(&repaired, &out);
+}
+
 /// A run whose output cannot be put in place (here an input rewritten in
 /// place that is immutable, `chattr +i`) leaves its side files out too.
 /// Skipped where the file system or the user cannot make a file immutable.
