@@ -279,6 +279,28 @@ fn writers_refuse_what_no_reader_takes_back() {
     assert!(write_ply_ascii(&mut buf, &p[..2], &[[0, 1, 2]], None).is_err());
     assert!(write_ply_binary(&mut buf, &p[..2], &[], Some(&[[0, 0, 0]])).is_err());
     assert!(write_stl_binary(&mut buf, &[[1e300, 0.0, 0.0]], &[[0, 0, 0]]).is_err());
+    // OBJ alike (it wrote `f 1 2 4` for three vertices, and NaN as a
+    // number), with and without attributes; through `write_mesh`, no file.
+    use delmesh::io::obj::{write_obj, write_obj_with_attributes};
+    let attributes = delmesh::attributes::Attributes {
+        groups: vec![Default::default()],
+        face_group: vec![0],
+        ..Default::default()
+    };
+    for (p, t) in [(&p[..], [0, 1, 2]), (&p[..2], [0, 1, 2]), (&p[..2], [0, 1, 9])] {
+        assert!(write_obj(&mut buf, p, &[t]).is_err());
+        assert!(write_obj_with_attributes(&mut buf, p, &[t], &attributes).is_err());
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.obj");
+    let positions: Vec<glam::DVec3> = p[..2].iter().map(|c| glam::DVec3::from_array(*c)).collect();
+    let e = delmesh::io::write_mesh(&path, &positions, &[[0, 1, 2]]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("triangle 0 has an index out of range (2 vertices)"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
 #[test]

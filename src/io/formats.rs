@@ -1939,9 +1939,19 @@ fn invalid(what: String) -> io::Error {
 }
 
 /// Refuses what no reader would take back: non-finite positions, out-of-range indices, a colour count
-/// that is not the vertex count.
-fn check_for_writing(positions: &[[f64; 3]], triangles: &[[u32; 3]], colors: Option<&[[u8; 3]]>) -> io::Result<()> {
-    if let Some(i) = positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+/// that is not the vertex count. (Every writer's first step: one pass over the arrays without a branch
+/// per value, then a search for the culprit only if there is one.)
+pub(crate) fn check_for_writing(
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    colors: Option<&[[u8; 3]]>,
+) -> io::Result<()> {
+    let finite = positions.iter().flatten().fold(true, |ok, c| ok & c.is_finite());
+    if !finite {
+        let i = positions
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+            .unwrap_or(0);
         return Err(invalid(format!("vertex {i} has a non-finite coordinate")));
     }
     let n = positions.len();
@@ -1950,7 +1960,12 @@ fn check_for_writing(positions: &[[f64; 3]], triangles: &[[u32; 3]], colors: Opt
             "{n} vertices are more than 32-bit indices can address"
         )));
     }
-    if let Some(f) = triangles.iter().position(|t| t.iter().any(|&i| i as usize >= n)) {
+    let largest = triangles.iter().flatten().fold(0u32, |m, &i| m.max(i));
+    if !triangles.is_empty() && largest as usize >= n {
+        let f = triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= n))
+            .unwrap_or(0);
         return Err(invalid(format!(
             "triangle {f} has an index out of range ({n} vertices)"
         )));

@@ -901,6 +901,7 @@ pub fn write_obj_after(
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
 ) -> std::io::Result<()> {
+    super::formats::check_for_writing(positions, triangles, None)?;
     w.write_all(&done.text)?;
     write_lines(w, &positions[done.count.min(positions.len())..], vertex_line)?;
     write_lines(w, triangles, face_line)
@@ -1124,6 +1125,7 @@ pub fn write_obj_with_attributes(
     if attributes.is_empty() {
         return write_obj(w, positions, triangles);
     }
+    super::formats::check_for_writing(positions, triangles, None)?;
     let mut fmt = zmij::Buffer::new();
     let mut line = Vec::with_capacity(128);
     for lib in &attributes.mtllib {
