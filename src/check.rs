@@ -1129,6 +1129,17 @@ impl Prepared {
                 fail.push(KIND_INDEX, || {
                     format!("{who} vertex {} {} is not finite", v + 1, fmt_point(*p))
                 });
+            } else if referenced[v] && p.abs().max_element() > crate::io::MAX_COORDINATE {
+                // Products of such coordinates overflow: areas and angles
+                // would read NaN. The construction refuses them too.
+                fail.push(KIND_INDEX, || {
+                    format!(
+                        "{who} vertex {} {} has a coordinate beyond ±{:e}, the supported range",
+                        v + 1,
+                        fmt_point(*p),
+                        crate::io::MAX_COORDINATE
+                    )
+                });
             }
         }
         if fail.total() > failures_before {
@@ -3078,7 +3089,16 @@ fn bits(p: DVec3) -> [u64; 3] {
 
 /// `(x, y, z)` with shortest round-trip formatting.
 fn fmt_point(p: DVec3) -> String {
-    format!("({}, {}, {})", p.x, p.y, p.z)
+    // Exactly, and in scientific notation where the plain one runs long
+    // (1e300 has 301 digits, 1e-300 as many).
+    let c = |x: f64| {
+        if x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-15) {
+            format!("{x:e}")
+        } else {
+            format!("{x}")
+        }
+    };
+    format!("({}, {}, {})", c(p.x), c(p.y), c(p.z))
 }
 
 /// `(vA, vB, vC)` with 1-based vertex numbers.

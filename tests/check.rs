@@ -930,3 +930,24 @@ fn refined_fan_around_a_vertex_of_high_valence_passes() {
     assert_passes(&report);
     assert_eq!(report.added_vertices, stats.splits);
 }
+
+/// Coordinates beyond ±1e75 (where products overflow and areas read NaN)
+/// make an input the judge refuses, as the construction does, by name, not
+/// a failure of "area NaN became NaN" when a mesh is compared with itself.
+#[test]
+fn coordinates_beyond_the_supported_range_are_named() {
+    let dir = TempDir::new().expect("tempdir");
+    let big = [[0.0, 0.0, 0.0], [1e300, 0.0, 0.0], [0.0, 1e300, 0.0], [0.0, 0.0, 1e300]];
+    let path = write(
+        &dir,
+        "big.obj",
+        &obj(&big, &[[1, 0, 2], [0, 1, 3], [1, 2, 3], [0, 3, 2]]),
+    );
+    let err = check_files(&path, &path).expect_err("out of range");
+    assert!(matches!(err, CheckError::InvalidInput { .. }), "{err}");
+    assert!(
+        err.to_string()
+            .contains("input vertex 2 (1e300, 0, 0) has a coordinate beyond ±1e75, the supported range"),
+        "{err}"
+    );
+}

@@ -489,6 +489,20 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
 ///
 /// Takes the connectivity the reader built ([`InputMesh::topology`]), if any.
 pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
+    // The readers refuse such coordinates; an input edited since is refused
+    // here (one pass, without a branch per value).
+    // (`max_element` passes NaN over: finiteness is asked first.)
+    let fits = |p: &DVec3| p.is_finite() & (p.abs().max_element() <= MAX_COORDINATE);
+    if !input.positions.iter().fold(true, |ok, p| ok & fits(p)) {
+        let v = input.positions.iter().position(|p| !fits(p)).unwrap_or(0);
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: format!(
+                "vertex {} has a coordinate that is not finite or beyond ±{MAX_COORDINATE:e}, the supported range",
+                input.vertex_number.get(v).copied().unwrap_or(v as u32 + 1)
+            ),
+        });
+    }
     let topology = input.topology.take();
     let input = &*input;
     let attributes = &input.attributes;
@@ -988,6 +1002,25 @@ fn bytemuck_positions(p: &[DVec3]) -> &[[f64; 3]] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An input whose positions were edited after reading into what a
+    /// reader refuses is refused by the build too (it was built, and
+    /// refined into an output `check` rejects).
+    #[test]
+    fn build_refuses_coordinates_no_reader_takes() {
+        let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
+        for bad in [f64::NAN, f64::INFINITY, 1e300] {
+            let mut input = read_mesh(&cube, &Default::default()).unwrap();
+            input.topology = None;
+            input.positions[2].y = bad;
+            let e = build_surface(&mut input, &cube).err().expect("refused");
+            assert!(
+                e.to_string()
+                    .contains("vertex 3 has a coordinate that is not finite or beyond"),
+                "{e}"
+            );
+        }
+    }
 
     #[test]
     fn a_triangles_repeated_vertex_is_the_one_the_scan_finds() {

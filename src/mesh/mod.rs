@@ -93,10 +93,73 @@ pub struct InputFigures {
 /// welded it takes 2,130), or computes them exactly (1e-17 apart).
 pub const NEAR_COINCIDENT: f64 = 1e-7;
 
+/// Why [`Surface::new`] refuses a mesh: what the command line's readers
+/// refuse in a file (their messages name its lines instead).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum InputError {
+    /// The triangles do not make a manifold, consistently oriented mesh.
+    Topology(TopologyError),
+    /// A coordinate of this vertex is NaN or infinite.
+    NonFinite { vertex: u32 },
+    /// A coordinate of this vertex is beyond ±[`crate::io::MAX_COORDINATE`]:
+    /// products of such coordinates overflow.
+    OutOfRange { vertex: u32 },
+    /// No triangle uses this vertex: the mesh would be one the construction
+    /// cannot grow around (and a Laplacian gets an empty row for it).
+    UnusedVertex { vertex: u32 },
+    /// This triangle's corners are collinear, exactly.
+    ZeroArea { face: usize },
+}
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            InputError::Topology(e) => write!(f, "{e}"),
+            InputError::NonFinite { vertex } => write!(f, "vertex {vertex} has a non-finite coordinate"),
+            InputError::OutOfRange { vertex } => write!(
+                f,
+                "vertex {vertex} has a coordinate beyond ±{:e}, the supported range",
+                crate::io::MAX_COORDINATE
+            ),
+            InputError::UnusedVertex { vertex } => write!(f, "vertex {vertex} is in no triangle"),
+            InputError::ZeroArea { face } => write!(f, "triangle {face} has zero area (collinear corners)"),
+        }
+    }
+}
+
+impl std::error::Error for InputError {}
+
+impl From<TopologyError> for InputError {
+    fn from(e: TopologyError) -> Self {
+        InputError::Topology(e)
+    }
+}
+
 impl Surface {
-    /// Builds the mesh of an input (positions welded, every vertex used).
-    pub fn new(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Surface, TopologyError> {
-        Surface::with_region_cuts(positions, triangles, &|_, _| false)
+    /// Builds the mesh of an input whose equal positions are one vertex (as
+    /// the readers weld them; not checked here). Refused, with an error
+    /// naming the 0-based vertex or triangle: a coordinate that is not
+    /// finite or beyond ±[`crate::io::MAX_COORDINATE`], a vertex no
+    /// triangle uses, a triangle of zero area, triangles that do not make
+    /// a manifold, consistently oriented mesh.
+    pub fn new(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Surface, InputError> {
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(InputError::NonFinite { vertex: v as u32 });
+        }
+        let limit = crate::io::MAX_COORDINATE;
+        if let Some(v) = positions.iter().position(|p| p.abs().max_element() > limit) {
+            return Err(InputError::OutOfRange { vertex: v as u32 });
+        }
+        let topo = Topology::from_triangles(positions.len(), triangles)?;
+        if let Some(v) = (0..positions.len() as u32).find(|&v| topo.vertex_he(VertexId(v)).is_none()) {
+            return Err(InputError::UnusedVertex { vertex: v });
+        }
+        let collinear = geometry::collinear_for(&positions);
+        let corners = |t: &[u32; 3]| t.map(|v| positions[v as usize]);
+        if let Some(face) = triangles.iter().map(corners).position(|[a, b, c]| collinear(a, b, c)) {
+            return Err(InputError::ZeroArea { face });
+        }
+        Ok(Surface::with_topology(positions, topo, &|_, _| false))
     }
 
     /// As [`Surface::new`], but two exactly coplanar input faces `f1`, `f2`
@@ -663,6 +726,54 @@ impl Surface {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `Surface::new` refuses what the readers refuse in a file (a library
+    /// caller got `Ok`, then an output `check` rejects, or a mesh whose
+    /// `validate` fails), each named by its 0-based number.
+    #[test]
+    fn new_refuses_what_no_input_may_have() {
+        let tetra = || {
+            vec![
+                DVec3::ZERO,
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+                DVec3::new(0.0, 0.0, 1.0),
+            ]
+        };
+        let faces = [[1, 0, 2], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        assert!(Surface::new(tetra(), &faces).unwrap().validate().is_ok());
+        let with = |v: usize, p: DVec3| {
+            let mut positions = tetra();
+            positions[v] = p;
+            Surface::new(positions, &faces).unwrap_err()
+        };
+        assert_eq!(
+            with(2, DVec3::new(f64::NAN, 1.0, 0.0)),
+            InputError::NonFinite { vertex: 2 }
+        );
+        assert_eq!(
+            with(3, DVec3::new(0.0, 0.0, f64::INFINITY)),
+            InputError::NonFinite { vertex: 3 }
+        );
+        assert_eq!(
+            with(1, DVec3::new(1e300, 0.0, 0.0)),
+            InputError::OutOfRange { vertex: 1 }
+        );
+        assert_eq!(with(3, DVec3::new(2.0, 0.0, 0.0)), InputError::ZeroArea { face: 1 });
+        let mut extra = tetra();
+        extra.push(DVec3::splat(5.0));
+        assert_eq!(
+            Surface::new(extra, &faces).unwrap_err(),
+            InputError::UnusedVertex { vertex: 4 }
+        );
+        let e = Surface::new(tetra(), &[[0, 1, 9]]).unwrap_err();
+        assert_eq!(
+            e,
+            InputError::Topology(TopologyError::IndexOutOfRange { face: 0, index: 9 })
+        );
+        assert_eq!(e.to_string(), "triangle 0 uses vertex 9, beyond the vertex count");
+        assert!(Surface::new(Vec::new(), &[]).is_ok()); // nothing to refine
+    }
 
     /// Faces (a, b, c) and (b, a, d) in the plane z = 0, with a, b on the
     /// line y = x / 3 (c above it, d below), and the edge a–b.

@@ -107,6 +107,33 @@ pub enum TopologyError {
     SameThreeVertices { first: usize, face: usize },
 }
 
+impl fmt::Display for TopologyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => write!(
+                f,
+                "the edge between vertices {a} and {b} has more than two triangles (triangle {face} is one): non-manifold edge"
+            ),
+            TopologyError::InconsistentOrientation { face, a, b } => write!(
+                f,
+                "triangle {face} runs along the edge {a} -> {b} in the same direction as another: inconsistent orientation"
+            ),
+            TopologyError::NonManifoldVertex { vertex } => {
+                write!(f, "the triangles around vertex {vertex} form more than one fan: non-manifold vertex")
+            }
+            TopologyError::IndexOutOfRange { face, index } => {
+                write!(f, "triangle {face} uses vertex {index}, beyond the vertex count")
+            }
+            TopologyError::RepeatedVertex { face, vertex } => write!(f, "triangle {face} uses vertex {vertex} twice"),
+            TopologyError::SameThreeVertices { first, face } => {
+                write!(f, "triangles {first} and {face} have the same three vertices")
+            }
+        }
+    }
+}
+
+impl std::error::Error for TopologyError {}
+
 /// The longest fans the construction and pruning walk to learn whether two
 /// vertices are joined ([`Topology::are_adjacent_within_either`]): a
 /// change whose answer is still unknown then counts as making a duplicate
