@@ -1013,7 +1013,9 @@ mod tests {
             let mut input = read_mesh(&cube, &Default::default()).unwrap();
             input.topology = None;
             input.positions[2].y = bad;
-            let e = build_surface(&mut input, &cube).err().expect("refused");
+            let Err(e) = build_surface(&mut input, &cube) else {
+                panic!("{bad} was built");
+            };
             assert!(
                 e.to_string()
                     .contains("vertex 3 has a coordinate that is not finite or beyond"),
