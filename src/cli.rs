@@ -643,13 +643,23 @@ fn one_line(e: &anyhow::Error) -> String {
             s.push_str(&c);
         }
     }
-    // One line, and nothing that drives a terminal: a path or a header
-    // name may hold control characters too (file tokens are escaped where
-    // they are quoted, `io::formats::show`).
+    printable(&s)
+}
+
+/// `s` on one line (its lines joined by spaces), with nothing that drives
+/// a terminal: a path or a header name may hold control characters too
+/// (file tokens are escaped where they are quoted, `io::formats::show`).
+fn printable(s: &str) -> String {
+    escaped(s, true)
+}
+
+/// `s` with its control characters escaped (`\n`, `\u{1b}`), or with line
+/// feeds made spaces if `join_lines`.
+pub(crate) fn escaped(s: &str, join_lines: bool) -> String {
     let mut line = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
-            '\n' => line.push(' '),
+            '\n' if join_lines => line.push(' '),
             c if c.is_control() => line.extend(c.escape_debug()),
             c => line.push(c),
         }

@@ -541,3 +541,21 @@ fn a_report_that_cannot_be_written_fails_after_the_summary() {
         assert!(out_dir.join("cube.obj").exists());
     }
 }
+
+/// A file name with a line feed in it gets one escaped line, not two.
+#[test]
+fn file_names_with_line_feeds_keep_to_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let (inp, out) = (dir.path().join("in"), dir.path().join("out"));
+    std::fs::create_dir_all(&inp).unwrap();
+    std::fs::copy(common::data_dir().join("cube.obj"), inp.join("a\nb.obj")).unwrap();
+    let out_arg = out.to_str().unwrap();
+    let (ok, stdout, stderr) = batch(&["-d", out_arg], &[&inp]);
+    assert!(ok, "{stderr}");
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("ok"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(line.contains("a\\nb.obj -> ") && line.ends_with(" s)"), "{stdout}");
+    assert!(out.join("a\nb.obj").exists());
+}

@@ -18,8 +18,9 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, failure_record, file_key, growth_note, longest_first_note, near_coincident_note,
-    one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
+    check_output, check_output_dir, escaped, failure_record, file_key, growth_note, longest_first_note,
+    near_coincident_note, one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere, write_output, FirstPass,
+    Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord};
 use delmesh::attributes::Transfer;
@@ -501,7 +502,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                         skipped += 1;
                         skipped_paths.push(inputs[i].display().to_string());
                         if !args.quiet {
-                            say!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
+                            let line = format!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
+                            say!("{}", escaped(&line, false));
                         }
                     }
                     Err(Failed {
@@ -606,7 +608,9 @@ fn report_done(input: &Path, done: &Done, checked: bool) {
     if !done.notes.is_empty() {
         line += &format!("; note: {}", done.notes.join("; "));
     }
-    say!("{line} ({:.4} s)", done.seconds);
+    // (File names may hold line feeds and other control characters:
+    // escaped, so that each file gets one line.)
+    say!("{} ({:.4} s)", escaped(&line, false), done.seconds);
 }
 
 #[cfg(test)]
