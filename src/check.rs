@@ -1129,7 +1129,7 @@ impl Prepared {
                 fail.push(KIND_INDEX, || {
                     format!("{who} vertex {} {} is not finite", v + 1, fmt_point(*p))
                 });
-            } else if referenced[v] && p.abs().max_element() > crate::io::MAX_COORDINATE {
+            } else if referenced[v] && !crate::io::in_supported_range(*p) {
                 // Products of such coordinates overflow: areas and angles
                 // would read NaN. The construction refuses them too.
                 fail.push(KIND_INDEX, || {

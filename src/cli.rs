@@ -1653,10 +1653,9 @@ fn all_settings_failed(e: anyhow::Error, input_path: &Path) -> anyhow::Error {
             longest_first: true,
             near_coincident,
         }),
-        Some(delmesh::Error::Unsplittable { .. }) => match e.downcast::<delmesh::Error>() {
-            Ok(inner) => anyhow::Error::new(inner),
-            Err(e) => e,
-        },
+        // (Its own context, the path, is in the line already: `one_line`
+        // leaves it out.)
+        Some(delmesh::Error::Unsplittable { .. }) => e,
         _ => return e,
     };
     e.context(format!(
@@ -2327,6 +2326,25 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn smallest_failing_everywhere_names_the_defaults_and_the_path_once() {
+        let stuck = anyhow::Error::new(delmesh::Error::Unsplittable {
+            count: 2,
+            worst_excess: 0.5,
+            near_coincident: Default::default(),
+        })
+        .context("m.obj");
+        let line = one_line(&all_settings_failed(stuck, Path::new("m.obj")));
+        assert!(
+            line.starts_with(
+                "m.obj: none of the 24 settings of --smallest finished (each has the work limit); with the \
+                 defaults (stack, score 2, median): 2 non-Delaunay edge(s) can be neither split"
+            ),
+            "{line}"
+        );
+        assert_eq!(line.matches("m.obj").count(), 1, "{line}");
+    }
 
     fn args(s: &str) -> Vec<String> {
         legacy_args(s.split_whitespace().map(Into::into))

@@ -1083,12 +1083,7 @@ fn check_flag_verifies_the_output() {
     check_passes(&bunny, &in_place);
     assert_ne!(std::fs::read(&in_place).unwrap(), std::fs::read(&bunny).unwrap());
     // Standard output cannot be read back.
-    let run = delmesh()
-        .arg("-i")
-        .arg(&bunny)
-        .args(["-o", "-", "--check"])
-        .output()
-        .unwrap();
+    let run = refine(&bunny, "-").arg("--check").output().unwrap();
     assert!(!run.status.success());
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(

@@ -40,6 +40,13 @@ const MAX_DECOMPRESSED: u64 = 16 << 30;
 /// coordinates that the geometry computes would overflow an f64.
 pub const MAX_COORDINATE: f64 = 1e75;
 
+/// Whether every coordinate of `p` is finite and within ±[`MAX_COORDINATE`].
+#[inline]
+pub fn in_supported_range(p: DVec3) -> bool {
+    // (`max_element` passes NaN over: finiteness is asked first.)
+    p.is_finite() & (p.abs().max_element() <= MAX_COORDINATE)
+}
+
 /// The shortest edge accepted: below it, those products would underflow.
 pub const MIN_EDGE: f64 = 1e-75;
 
@@ -491,10 +498,12 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
 pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
     // The readers refuse such coordinates; an input edited since is refused
     // here (one pass, without a branch per value).
-    // (`max_element` passes NaN over: finiteness is asked first.)
-    let fits = |p: &DVec3| p.is_finite() & (p.abs().max_element() <= MAX_COORDINATE);
-    if !input.positions.iter().fold(true, |ok, p| ok & fits(p)) {
-        let v = input.positions.iter().position(|p| !fits(p)).unwrap_or(0);
+    if !input.positions.iter().fold(true, |ok, &p| ok & in_supported_range(p)) {
+        let v = input
+            .positions
+            .iter()
+            .position(|&p| !in_supported_range(p))
+            .unwrap_or(0);
         return Err(Error::Mesh {
             path: path.to_owned(),
             what: format!(

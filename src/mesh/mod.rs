@@ -146,8 +146,7 @@ impl Surface {
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(InputError::NonFinite { vertex: v as u32 });
         }
-        let limit = crate::io::MAX_COORDINATE;
-        if let Some(v) = positions.iter().position(|p| p.abs().max_element() > limit) {
+        if let Some(v) = positions.iter().position(|&p| !crate::io::in_supported_range(p)) {
             return Err(InputError::OutOfRange { vertex: v as u32 });
         }
         let topo = Topology::from_triangles(positions.len(), triangles)?;
