@@ -44,9 +44,11 @@ wall_new() { # as wall, with FILE (if not empty) removed before each run
     hyperfine -N --warmup 1 --runs "$runs" "${prepare[@]}" --export-json "$out/h.json" "$*" >/dev/null 2>&1
     python3 -c "import json;print('%.4f' % json.load(open('$out/h.json'))['results'][0]['median'])"
   else
+    # $EPOCHREALTIME (bash 5) reads the clock without a process of its
+    # own: two `date` processes per run would add about 2 ms to each.
     for _ in $(seq "$runs"); do
       [ -n "$file" ] && rm -f "$file"
-      s=$(date +%s.%N); "$@" >/dev/null; e=$(date +%s.%N)
+      s=$EPOCHREALTIME; "$@" >/dev/null; e=$EPOCHREALTIME
       echo "$e - $s" | bc -l
     done | median
   fi
@@ -79,7 +81,12 @@ bench_mesh() { # name path [flags...]
     "$(echo "$total * 1000000 / $faces" | bc -l)" "$new" "$(echo "$new * 1000000 / $faces" | bc -l)"
 }
 
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); median of $runs runs"
+if command -v hyperfine >/dev/null; then
+  timer=$(hyperfine --version)
+else
+  timer="a shell loop (hyperfine is not installed: Debian's package hyperfine)"
+fi
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); median of $runs runs; wall times by $timer"
 bench_mesh armadillo ../shared/meshes/armadillo.obj
 bench_mesh dragon-202k "$data/dragon_vrip_res2.ply.gz" --repair
 bench_mesh dragon-871k "$data/dragon_vrip.ply.gz" --repair
@@ -108,9 +115,9 @@ prune_row() { # name path [flags...]
 prune_row armadillo ../shared/meshes/armadillo.obj
 prune_row dragon-202k "$data/dragon_vrip_res2.ply.gz" --repair
 if [ "${BENCH_PRUNE_FULL:-0}" = 1 ] && [ -f "$data/dragon_vrip.ply.gz" ]; then
-  s=$(date +%s.%N)
+  s=$EPOCHREALTIME
   line=$("$bin" -i "$data/dragon_vrip.ply.gz" --repair -o "$out/p.obj" --prune 2>&1 | grep '^prune')
-  e=$(date +%s.%N)
+  e=$EPOCHREALTIME
   printf -- '--prune %-12s %8.2f s  (%s; one run)\n' dragon-871k "$(echo "$e - $s" | bc -l)" "$line"
 fi
 
