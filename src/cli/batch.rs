@@ -9,6 +9,7 @@
 //! shell loop.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -134,17 +135,17 @@ fn output_name(input: &Path, format: Option<FormatArg>) -> Option<PathBuf> {
     if name.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
         name = Path::new(name.file_stem()?);
     }
-    let own = name.extension().and_then(|e| e.to_str()).and_then(|e| {
-        let e = e.to_ascii_lowercase();
-        FormatArg::from_str(&e, true).ok()
-    });
+    // A name that is all extension (`.obj`: to `Path`, a hidden file
+    // without one) has an empty stem, as the main command reads it.
+    let (stem, own) = match (name.extension(), name.to_str().and_then(|n| n.strip_prefix('.'))) {
+        (Some(e), _) => (name.file_stem()?, e.to_str()),
+        (None, Some(e)) => (OsStr::new(""), Some(e)),
+        (None, None) => (name.as_os_str(), None),
+    };
+    let own = own.and_then(|e| FormatArg::from_str(&e.to_ascii_lowercase(), true).ok());
     let exact = own.filter(|&f| f != FormatArg::Stl);
     let extension = format.or(exact).unwrap_or(FormatArg::Obj).extension();
-    let stem = if own.is_some() {
-        name.file_stem()?
-    } else {
-        name.as_os_str()
-    };
+    let stem = if own.is_some() { stem } else { name.as_os_str() };
     let mut out = stem.to_owned();
     out.push(".");
     out.push(extension);
@@ -634,5 +635,12 @@ mod tests {
         assert_eq!(name("mesh", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("mesh.gz", None).as_deref(), Some("mesh.obj"));
         assert_eq!(name("..", None), None);
+        // All extension: the main command reads `.obj` as OBJ and writes
+        // `-o .ply` as PLY.
+        assert_eq!(name("a/.obj", None).as_deref(), Some(".obj"));
+        assert_eq!(name(".PLY.gz", None).as_deref(), Some(".ply"));
+        assert_eq!(name(".obj", Some(FormatArg::Off)).as_deref(), Some(".off"));
+        assert_eq!(name(".stl", None).as_deref(), Some(".obj"));
+        assert_eq!(name(".hidden", None).as_deref(), Some(".hidden.obj"));
     }
 }
