@@ -179,8 +179,9 @@ struct RunArgs {
 
     /// Also write where each output vertex comes from, as CSV
     /// (output_index,input_index_a,input_index_b,t; 0-based, input indices
-    /// in the input file's numbering): its position is exactly a + t(b - a)
-    /// in f64; input vertices are a,a,0. For carrying per-vertex data over.
+    /// in the input file's numbering, an STL's corner k of facet f being
+    /// 3f + k): its position is exactly a + t(b - a) in f64; input vertices
+    /// are a,a,0. For carrying per-vertex data over.
     #[arg(long = "vertex-map", value_name = "FILE", conflicts_with = "all")]
     vertex_map: Option<PathBuf>,
 
