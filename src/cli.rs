@@ -644,14 +644,10 @@ fn one_line(e: &anyhow::Error) -> String {
             s.push_str(&c);
         }
     }
-    printable(&s)
-}
-
-/// `s` on one line (its lines joined by spaces), with nothing that drives
-/// a terminal: a path or a header name may hold control characters too
-/// (file tokens are escaped where they are quoted, `io::formats::show`).
-fn printable(s: &str) -> String {
-    escaped(s, true)
+    // One line, and nothing that drives a terminal: a path or a header
+    // name may hold control characters too (file tokens are escaped where
+    // they are quoted, `io::formats::show`).
+    escaped(&s, true)
 }
 
 /// `s` with its control characters escaped (`\n`, `\u{1b}`), or with line
@@ -1175,6 +1171,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // The repaired input: with -all put in place now (the sweep writes its
     // files as it goes), otherwise staged and put in place with the other
     // side files at the end, so that a run that fails leaves none.
+    let say_repaired = || {
+        if let (Some(repaired), false) = (&args.repaired, args.quiet) {
+            say!("        repaired input written to {}", repaired.display());
+        }
+    };
     let mut repaired_staged = None;
     if let Some(repaired) = &args.repaired {
         progress::phase(Phase::Write {
@@ -1184,18 +1185,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         progress::phase(Phase::Idle);
         if args.all {
             staged.commit()?;
-            if !args.quiet {
-                say!("        repaired input written to {}", repaired.display());
-            }
+            say_repaired();
         } else {
             repaired_staged = Some(staged);
         }
     }
-    let say_repaired = || {
-        if let (Some(repaired), false) = (&args.repaired, args.quiet) {
-            say!("        repaired input written to {}", repaired.display());
-        }
-    };
     let report = Report {
         args,
         input_path,
