@@ -476,6 +476,22 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Fails once the printout could not be written to standard output (see
+/// [`STDOUT_ERROR`]), saying that `file` is not written (or, if `in_place`,
+/// left as it was): called before a file is put in place. A run that exits
+/// 1 for its printout then has put nothing in place, and an input to be
+/// rewritten in place is as it was.
+pub(crate) fn printout_intact(file: &Path, in_place: bool) -> anyhow::Result<()> {
+    match STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner()).as_deref() {
+        Some(e) => bail!(
+            "standard output: cannot write: {e}; {} {}",
+            file.display(),
+            if in_place { "left as it was" } else { "not written" }
+        ),
+        None => Ok(()),
+    }
+}
+
 /// `code`, unless writing to standard output failed: then that error is
 /// said and the exit status is 1.
 fn with_stdout_checked(code: ExitCode) -> ExitCode {
@@ -909,8 +925,11 @@ fn stage_vertex_map(
 /// Puts a run's output in place, then its side files ([`SideFiles`]), all
 /// staged complete beforehand: a side file that could not be written left
 /// nothing in place, and an output that cannot be put in place (a rename
-/// refused) leaves the side files out too.
-fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles) -> anyhow::Result<()> {
+/// refused) leaves the side files out too; nor is anything put in place
+/// once the printout failed ([`printout_intact`]: the run's summary is
+/// printed before this).
+fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles, in_place: bool) -> anyhow::Result<()> {
+    printout_intact(output, in_place)?;
     mesh.commit()?;
     for file in side {
         file.commit()
@@ -1184,6 +1203,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let staged = io::stage_mesh_after(repaired, &Default::default(), &input.positions, &input.triangles)?;
         progress::phase(Phase::Idle);
         if args.all {
+            printout_intact(repaired, false)?;
             staged.commit()?;
             say_repaired();
         } else {
@@ -1272,7 +1292,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         };
         let (total, reports) = report.stage(&[run], false).map_err(streamed)?;
         side.extend(reports);
-        commit_all(staged, &output, side)?;
+        // The summary before the files are put in place: a printout that
+        // cannot be written leaves them out (`commit_all`).
         if !args.quiet {
             for note in &notes {
                 say!("note    {note}");
@@ -1292,6 +1313,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 write_s
             );
         }
+        commit_all(staged, &output, side, in_place.is_some())?;
         return Ok(ExitCode::SUCCESS);
     }
     let mut options = args.settings.options();
@@ -1379,7 +1401,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let run = out.record(options, &output, write_s);
     let (total, reports) = report.stage(&[run], true).map_err(streamed)?;
     side.extend(reports);
-    commit_all(staged, &output, side)?;
+    // The summary before the files are put in place: a printout that cannot
+    // be written leaves them out (`commit_all`), and an input to be
+    // rewritten as it was.
     if !args.quiet {
         let s = &out.stats;
         let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
@@ -1451,6 +1475,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             write_s
         );
     }
+    commit_all(staged, &output, side, in_place.is_some())?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -1960,6 +1985,7 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
     if let Some(reference) = sweep.check {
         staged = reference.check(staged, file)?;
     }
+    printout_intact(file, false)?;
     staged.commit()?;
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),

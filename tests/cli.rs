@@ -2009,7 +2009,10 @@ fn all_keeps_compressed_formats_and_refuses_devices() {
 
 /// Standard output that cannot be written (a full disk) fails the run with
 /// one line and exit 1: `delmesh man > delmesh.1` on a full disk said
-/// nothing and exited 0. A closed pipe (`| head`) is no failure.
+/// nothing and exited 0. A run that fails so puts no file in place: it
+/// wrote the mesh, and rewrote an input in place, while exiting 1 (a
+/// helper's sweep, thirty-fifth session). A closed pipe (`| head`) is no
+/// failure.
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
@@ -2017,11 +2020,21 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("c.obj");
     let cube = common::data_dir().join("cube.obj");
-    let runs: [Vec<std::ffi::OsString>; 4] = [
+    let in_place = dir.path().join("in_place.obj");
+    std::fs::copy(&cube, &in_place).unwrap();
+    let runs: [Vec<std::ffi::OsString>; 6] = [
         vec!["man".into()],
         vec!["--version".into()],
         vec!["completions".into(), "bash".into()],
         vec!["-i".into(), cube.clone().into(), "-o".into(), out.clone().into()],
+        vec![
+            "-i".into(),
+            cube.clone().into(),
+            "-o".into(),
+            out.clone().into(),
+            "--no-refine".into(),
+        ],
+        vec!["-i".into(), in_place.clone().into()],
     ];
     for args in runs {
         let run = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
@@ -2034,7 +2047,30 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
         assert_eq!(stderr.lines().count(), 1, "{stderr}");
         assert!(stderr.contains("standard output: cannot write"), "{stderr}");
     }
-    assert!(out.exists(), "the mesh itself is written");
+    assert!(!out.exists(), "a run that exits 1 writes no mesh");
+    assert_eq!(
+        std::fs::read(&in_place).unwrap(),
+        std::fs::read(&cube).unwrap(),
+        "the input is as it was"
+    );
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "no temporary file left: {names:?}");
+    // Quiet, nothing is printed, and the run is as any other.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
+        .args(["-q", "-i"])
+        .arg(&in_place)
+        .stdout(full())
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_ne!(
+        std::fs::read(&in_place).unwrap(),
+        std::fs::read(&cube).unwrap(),
+        "rewritten in place"
+    );
     // `| head -c 1`: the reader closes the pipe early.
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
         .arg("man")
