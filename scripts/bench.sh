@@ -14,17 +14,29 @@
 # on armadillo, parallel
 # against sequential (--jobs 1), and --prune on the armadillo and the
 # dragon at 202k faces. Then every mesh of ../shared/meshes that
-# ../shared/reference/peers.md times, against those figures. Timings are
-# never asserted. DELMESH_BIN=path measures that binary instead of building
-# target/release/delmesh.
+# ../shared/reference/peers.md times, against those figures, with the
+# default build and with the statically linked one (built into
+# target/static, README: Performance). Timings are never asserted.
+# DELMESH_BIN=path measures that binary instead of building
+# target/release/delmesh (and no static one).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-5}
+static_bin=
 if [ -n "${DELMESH_BIN:-}" ]; then
   bin=$(realpath "$DELMESH_BIN") # another build, e.g. the static one (README, Performance)
 else
   cargo build --release --quiet
   bin=${CARGO_TARGET_DIR:-$PWD/target}/release/delmesh
+  # The statically linked build of the README (Performance), in a target
+  # folder of its own so that it leaves the default build alone: the peer
+  # table below times both (a process starts sooner without the dynamic
+  # loader). Skipped, with a note, where glibc's static libraries are missing.
+  static_dir=${CARGO_TARGET_DIR:-$PWD/target}/static
+  if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- -C target-feature=+crt-static \
+    2>/dev/null; then
+    static_bin=$static_dir/release/delmesh
+  fi
 fi
 data=$(scripts/fetch-dragon.sh 2>/dev/null || true)
 out=$(mktemp -d)
@@ -133,7 +145,8 @@ nefertiti 0.0005 0.006
 knot 0.0016 0.017
 rotor 0.016 0.026
 anchor 0.456 0.477"
-printf '\n%-10s %12s %12s %8s | %10s %10s %8s\n' mesh refine peer-refine ratio total peer-total ratio
+printf '\n%-10s %12s %12s %8s | %10s %10s %8s | %12s %8s\n' mesh refine peer-refine ratio total peer-total ratio \
+  static-total ratio
 while read -r name prefine ptotal; do
   mesh=../shared/meshes/$name.obj
   [ -f "$mesh" ] || continue
@@ -143,9 +156,16 @@ while read -r name prefine ptotal; do
   done > "$out/refine"
   r=$(median < "$out/refine")
   t=$(wall "$bin" -q -i "$mesh" -o "$out/p.obj")
-  printf '%-10s %12.6f %12s %8.1f | %10.4f %10s %8.1f\n' "$name" "$r" "$prefine" \
+  printf '%-10s %12.6f %12s %8.1f | %10.4f %10s %8.1f' "$name" "$r" "$prefine" \
     "$(echo "$prefine / $r" | bc -l)" "$t" "$ptotal" "$(echo "$ptotal / $t" | bc -l)"
+  if [ -n "$static_bin" ]; then
+    t=$(wall "$static_bin" -q -i "$mesh" -o "$out/p.obj")
+    printf ' | %12.4f %8.1f\n' "$t" "$(echo "$ptotal / $t" | bc -l)"
+  else
+    printf ' | %12s %8s\n' - -
+  fi
 done <<< "$peers"
+[ -n "$static_bin" ] || echo "(static-total: no static build; DELMESH_BIN set, or glibc's static libraries missing)"
 
 # Many small files: the seven small meshes above, 30 copies each (210
 # files), refined with one process per file (a shell loop), and with one
