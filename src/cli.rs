@@ -477,17 +477,13 @@ pub fn main() -> ExitCode {
 }
 
 /// Fails once the printout could not be written to standard output (see
-/// [`STDOUT_ERROR`]), saying that `file` is not written (or, if `in_place`,
-/// left as it was): called before a file is put in place. A run that exits
-/// 1 for its printout then has put nothing in place, and an input to be
-/// rewritten in place is as it was.
-pub(crate) fn printout_intact(file: &Path, in_place: bool) -> anyhow::Result<()> {
+/// [`STDOUT_ERROR`]), saying what became of `file` (`fate`: "not
+/// written", "left as it was"): called before a file is put in place. A
+/// run that exits 1 for its printout then has put nothing in place, and an
+/// input to be rewritten in place is as it was.
+pub(crate) fn printout_intact(file: &Path, fate: &str) -> anyhow::Result<()> {
     match STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner()).as_deref() {
-        Some(e) => bail!(
-            "standard output: cannot write: {e}; {} {}",
-            file.display(),
-            if in_place { "left as it was" } else { "not written" }
-        ),
+        Some(e) => bail!("standard output: cannot write: {e}; {} {fate}", file.display()),
         None => Ok(()),
     }
 }
@@ -929,7 +925,12 @@ fn stage_vertex_map(
 /// once the printout failed ([`printout_intact`]: the run's summary is
 /// printed before this).
 fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles, in_place: bool) -> anyhow::Result<()> {
-    printout_intact(output, in_place)?;
+    let fate = match (mesh.is_in_place(), in_place) {
+        (true, _) => "written (a stream or device), no other file",
+        (false, true) => "left as it was",
+        (false, false) => "not written",
+    };
+    printout_intact(output, fate)?;
     mesh.commit()?;
     for file in side {
         file.commit()
@@ -1203,7 +1204,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let staged = io::stage_mesh_after(repaired, &Default::default(), &input.positions, &input.triangles)?;
         progress::phase(Phase::Idle);
         if args.all {
-            printout_intact(repaired, false)?;
+            printout_intact(repaired, "not written")?;
             staged.commit()?;
             say_repaired();
         } else {
@@ -1985,7 +1986,7 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
     if let Some(reference) = sweep.check {
         staged = reference.check(staged, file)?;
     }
-    printout_intact(file, false)?;
+    printout_intact(file, "not written")?;
     staged.commit()?;
     Ok(RowFigures {
         faces: out.surface.topo.n_faces(),
