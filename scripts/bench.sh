@@ -22,6 +22,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-5}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
 static_bin=
 if [ -n "${DELMESH_BIN:-}" ]; then
   bin=$(realpath "$DELMESH_BIN") # another build, e.g. the static one (README, Performance)
@@ -31,16 +33,15 @@ else
   # The statically linked build of the README (Performance), in a target
   # folder of its own so that it leaves the default build alone: the peer
   # table below times both (a process starts sooner without the dynamic
-  # loader). Skipped, with a note, where glibc's static libraries are missing.
+  # loader). Skipped, with a note and the build's last error line, if it
+  # fails (as where glibc's static libraries are missing).
   static_dir=${CARGO_TARGET_DIR:-$PWD/target}/static
   if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- -C target-feature=+crt-static \
-    2>/dev/null; then
+    2>"$out/static.err"; then
     static_bin=$static_dir/release/delmesh
   fi
 fi
 data=$(scripts/fetch-dragon.sh 2>/dev/null || true)
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2==1) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 
@@ -165,7 +166,13 @@ while read -r name prefine ptotal; do
     printf ' | %12s %8s\n' - -
   fi
 done <<< "$peers"
-[ -n "$static_bin" ] || echo "(static-total: no static build; DELMESH_BIN set, or glibc's static libraries missing)"
+if [ -z "$static_bin" ]; then
+  if [ -n "${DELMESH_BIN:-}" ]; then
+    echo "(static-total: not measured with DELMESH_BIN)"
+  else
+    echo "(static-total: the static build failed: $(grep -m1 -i error "$out/static.err" || tail -n1 "$out/static.err"))"
+  fi
+fi
 
 # Many small files: the seven small meshes above, 30 copies each (210
 # files), refined with one process per file (a shell loop), and with one
