@@ -882,6 +882,18 @@ fn refine_once(
     })
 }
 
+/// `e`, with the worst edge of an [`delmesh::Error::Unsplittable`] named
+/// by the numbers `input`'s file gives its vertices.
+pub(crate) fn name_stuck_edge(mut e: anyhow::Error, input: &io::InputMesh) -> anyhow::Error {
+    if let Some(delmesh::Error::Unsplittable {
+        worst_edge: Some(edge), ..
+    }) = e.downcast_mut()
+    {
+        edge.name_vertices(|v| input.vertex_name(v));
+    }
+    e
+}
+
 /// Prunes the mesh of an unpruned `out` in at most `passes` passes.
 fn prune_outcome(mut out: Outcome, options: &Options, passes: usize) -> Outcome {
     let start = Instant::now();
@@ -1231,6 +1243,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             surface: &surface,
             first_pass: &first_pass,
             transfer: transfer.as_ref(),
+            input: &input,
             input_path,
             check: reference.as_ref(),
         };
@@ -1360,6 +1373,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let out = match result {
         Ok(out) => out,
         Err(e) => {
+            let e = name_stuck_edge(e, &input);
             progress::phase(Phase::Idle);
             report.write(&[failure_record(options, &output, &e)], true)?;
             // Which edges get stuck depends on the order of work and the
@@ -1965,6 +1979,8 @@ struct Sweep<'a> {
     surface: &'a Surface,
     first_pass: &'a FirstPass,
     transfer: Option<&'a Transfer>,
+    /// The input as read (to name its vertices in messages).
+    input: &'a io::InputMesh,
     input_path: &'a Path,
     /// With --check: what each written file is checked against.
     check: Option<&'a CheckReference<'a>>,
@@ -1979,7 +1995,8 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
         sweep.input_path,
         options,
         prune,
-    )?;
+    )
+    .map_err(|e| name_stuck_edge(e, sweep.input))?;
     let t = Instant::now();
     let (_, mut staged) = write_output(file, &out.surface, sweep.transfer, &Default::default())?;
     let seconds_write = t.elapsed().as_secs_f64();
@@ -2354,6 +2371,7 @@ mod tests {
         let stuck = anyhow::Error::new(delmesh::Error::Unsplittable {
             count: 2,
             worst_excess: 0.5,
+            worst_edge: None,
             near_coincident: Default::default(),
         })
         .context("m.obj");

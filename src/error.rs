@@ -40,12 +40,14 @@ pub enum Error {
     /// Some non-Delaunay edge can be neither split (no sample left strictly
     /// inside it) nor flipped (the flip would fold a face or duplicate an
     /// edge), so the algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}{}", worst_text(*.worst_excess), near_coincident.after_semicolon())]
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}{}{}", worst_edge.as_ref().map_or_else(String::new, |e| format!("{e}, ")), worst_text(*.worst_excess), near_coincident.after_semicolon())]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
         /// The largest α+β−π among them, in radians.
         worst_excess: f64,
+        /// Where the edge with that excess lies.
+        worst_edge: Option<StuckEdge>,
         /// The input's near-coincident vertices, the likely cause if any.
         near_coincident: NearCoincident,
     },
@@ -121,6 +123,80 @@ impl NearCoincident {
         } else {
             format!("; {}", self.hint())
         }
+    }
+}
+
+/// An edge of the refined mesh, as the input knows it: for
+/// [`Error::Unsplittable`], which names the worst edge it leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StuckEdge {
+    /// Its two ends.
+    pub ends: [EdgeEnd; 2],
+    /// Its middle.
+    pub middle: [f64; 3],
+    /// Its ends in words, once [`StuckEdge::name_vertices`] named the input
+    /// vertices as the file does; until then "input vertex i", i an index
+    /// into the input's positions.
+    named: Option<String>,
+}
+
+/// One end of a [`StuckEdge`]: an input vertex, or a point added on an input
+/// edge (both as indices into the input's positions).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeEnd {
+    /// The input vertex with this index.
+    Vertex(u32),
+    /// A point of the input edge between these two input vertices.
+    OnEdge(u32, u32),
+}
+
+impl StuckEdge {
+    /// The edge with these ends and middle.
+    pub fn new(ends: [EdgeEnd; 2], middle: [f64; 3]) -> StuckEdge {
+        StuckEdge {
+            ends,
+            middle,
+            named: None,
+        }
+    }
+
+    /// Names the input vertices with `name` (the index into the input's
+    /// positions to the words a message uses, such as the file's own
+    /// number), in place of "input vertex i".
+    pub fn name_vertices(&mut self, name: impl Fn(u32) -> String) {
+        self.named = Some(self.describe(name));
+    }
+
+    fn describe(&self, name: impl Fn(u32) -> String) -> String {
+        let end = |e: EdgeEnd| match e {
+            EdgeEnd::Vertex(v) => name(v),
+            EdgeEnd::OnEdge(a, b) => format!("a point added between {} and {}", name(a), name(b)),
+        };
+        let [x, y, z] = self.middle.map(six_digits);
+        format!(
+            "the edge from {} to {} (its middle at ({x}, {y}, {z}))",
+            end(self.ends[0]),
+            end(self.ends[1])
+        )
+    }
+}
+
+impl std::fmt::Display for StuckEdge {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.named {
+            Some(text) => f.write_str(text),
+            None => f.write_str(&self.describe(|v| format!("input vertex {v}"))),
+        }
+    }
+}
+
+/// `x` to six significant digits, in the shortest form that reads back so.
+fn six_digits(x: f64) -> String {
+    let rounded: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    if rounded != 0.0 && (rounded.abs() >= 1e16 || rounded.abs() < 1e-6) {
+        format!("{rounded:e}")
+    } else {
+        format!("{rounded}")
     }
 }
 

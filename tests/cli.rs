@@ -253,12 +253,12 @@ fn bad_inputs_are_refused_with_one_line() {
     refused(
         "fin.obj",
         format!("{fin}f 1 2 3\nf 2 1 4\nf 1 2 5\n").as_bytes(),
-        "edge between vertices 1 and 2 has more than two faces",
+        "line 8: edge between vertex 1 and vertex 2 has more than two faces, this one the third",
     );
     refused(
         "orient.obj",
         format!("{fin}f 1 2 3\nf 1 2 4\n").as_bytes(),
-        "line 7: face runs along edge 1 -> 2",
+        "line 7: face runs along the edge from vertex 1 to vertex 2",
     );
     refused(
         "five.obj",
@@ -303,6 +303,70 @@ fn bad_inputs_are_refused_with_one_line() {
         "extra.ply",
         ply(xyz, "0 0 0 5\n1 0 0 5\n0 1 0 5\n").as_bytes(),
         ":10: more values on the line of vertex 0 than the PLY header declares (3 properties)",
+    );
+    // Vertices and faces are named as each format counts them: from 0 in
+    // PLY and OFF, by position in STL (which has no vertex list); OBJ's
+    // from 1 above. The face named at a non-manifold edge is the third.
+    let fin_ply = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n\
+                   element face 3\nproperty list uchar int vertex_indices\nend_header\n\
+                   0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+    refused(
+        "fin.ply",
+        fin_ply.as_bytes(),
+        "line 17: edge between vertex 0 and vertex 1 has more than two faces, this one the third",
+    );
+    refused(
+        "orient.off",
+        b"OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n",
+        "line 9: face runs along the edge from vertex 0 to vertex 1 in the same direction",
+    );
+    refused(
+        "flat.off",
+        b"OFF\n3 1 0\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n",
+        ":6: face 0 has zero area",
+    );
+    let facet = |c: [[i32; 3]; 3]| {
+        let corners: String = c.iter().map(|[x, y, z]| format!("vertex {x} {y} {z}\n")).collect();
+        format!("facet normal 0 0 1\nouter loop\n{corners}endloop\nendfacet\n")
+    };
+    let bow_tie = format!(
+        "solid t\n{}{}endsolid t\n",
+        facet([[0, 0, 0], [1, 0, 0], [0, 1, 0]]),
+        facet([[0, 0, 0], [-1, 0, 0], [0, -1, 0]])
+    );
+    refused(
+        "bow.stl",
+        bow_tie.as_bytes(),
+        "bow.stl: the vertex at (0, 0, 0): its faces form more than one fan (non-manifold vertex)",
+    );
+}
+
+/// A run stuck on an edge it can neither split nor flip names that edge by
+/// the input's vertices, numbered as the file's format numbers them, and
+/// where it lies.
+#[test]
+fn a_stuck_edge_is_named_by_the_files_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-refine-theta-min-zero-needle.obj");
+    // Its vertex 2 lies within 1e-17 of the edge from vertex 1 to vertex 5:
+    // a split of that edge beside vertex 2 leaves a needle no sample mends.
+    let place = "(its middle at (0.25, 0.5, 0)), alpha+beta-pi = ";
+    let stderr = one_line_error(&refine(&obj, dir.path().join("o.obj")).output().unwrap());
+    assert!(
+        stderr.contains(&format!(
+            "worst: the edge from vertex 5 to a point added between vertex 1 and vertex 5 {place}"
+        )),
+        "{stderr}"
+    );
+    // The same mesh as PLY counts from 0.
+    let ply = dir.path().join("needle.ply");
+    refine(&obj, &ply).arg("--no-refine").assert().success();
+    let stderr = one_line_error(&refine(&ply, dir.path().join("o.obj")).output().unwrap());
+    assert!(
+        stderr.contains(&format!(
+            "worst: the edge from vertex 4 to a point added between vertex 0 and vertex 4 {place}"
+        )),
+        "{stderr}"
     );
 }
 

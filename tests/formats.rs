@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use delmesh::io::formats::{
     format_from_name, maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off, write_ply_ascii,
-    write_ply_binary, write_stl_binary, Format, FormatError, OriginKind, RawMesh,
+    write_ply_binary, write_stl_binary, Format, FormatError, Numbering, OriginKind, RawMesh,
 };
 
 // ---------------------------------------------------------------------------
@@ -311,12 +311,19 @@ fn empty_mesh_round_trips() {
         read_ply(&buf).unwrap(),
         RawMesh {
             origin_kind: OriginKind::Record,
+            numbering: Numbering::FromZero,
             ..RawMesh::default()
         }
     );
     buf.clear();
     write_off(&mut buf, &[], &[]).unwrap();
-    assert_eq!(read_off(&buf).unwrap(), RawMesh::default());
+    assert_eq!(
+        read_off(&buf).unwrap(),
+        RawMesh {
+            numbering: Numbering::FromZero,
+            ..RawMesh::default()
+        }
+    );
     buf.clear();
     write_stl_binary(&mut buf, &[], &[]).unwrap();
     assert_eq!(read_stl(&buf).unwrap().positions.len(), 0);
@@ -728,6 +735,17 @@ fn binary_stl_whose_header_starts_with_solid() {
         );
         assert_eq!(m.positions.len(), 6);
         assert_eq!(m.positions[4], [1.0, 0.0, 1.5]);
+        // Cut short, it is called a truncated binary STL (not text that
+        // fails to parse, quoting binary bytes).
+        for cut in [1, 30, 50, 99] {
+            let e = read_stl(&bytes[..bytes.len() - cut]).unwrap_err().to_string();
+            assert!(
+                e.starts_with("the binary STL header declares 2 facets (184 bytes) but the file has only")
+                    && e.ends_with("(truncated file?)"),
+                "{:?}, {cut} bytes short: {e}",
+                String::from_utf8_lossy(header)
+            );
+        }
     }
 }
 

@@ -20,8 +20,8 @@ use clap::ValueEnum;
 
 use super::{
     check_output, check_output_dir, escaped, failure_record, file_key, growth_note, longest_first_note,
-    near_coincident_note, one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere, write_output, FirstPass,
-    Settings,
+    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere,
+    write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord};
 use delmesh::attributes::Transfer;
@@ -326,13 +326,15 @@ fn refine_read(
     let (options, out) = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        let (options, mut out, _) = smallest(surface, first_pass, input, options, args.jobs, passes)?;
+        let (options, mut out, _) =
+            smallest(surface, first_pass, input, options, args.jobs, passes).map_err(|e| name_stuck_edge(e, mesh))?;
         out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
         (options, out)
     } else {
         (
             *options,
-            refine_once(surface, first_pass, input, options, args.settings.prune())?,
+            refine_once(surface, first_pass, input, options, args.settings.prune())
+                .map_err(|e| name_stuck_edge(e, mesh))?,
         )
     };
     let t_write = Instant::now();

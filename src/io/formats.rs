@@ -54,6 +54,8 @@ pub struct RawMesh {
     pub vertex_origin: Vec<u32>,
     /// Whether `face_origin` and `vertex_origin` hold lines or record numbers.
     pub origin_kind: OriginKind,
+    /// How the format numbers vertices and faces, for messages.
+    pub numbering: Numbering,
     /// Texture coordinates, normals, colours (one value per entry of
     /// `indices`, [`crate::attributes::NO_VALUE`] where the file gives none),
     /// groups (one per face) and material libraries.
@@ -70,6 +72,45 @@ pub enum OriginKind {
     Line,
     /// 0-based record numbers (binary formats).
     Record,
+}
+
+/// How a format numbers its vertices and faces, so that a message names
+/// them as the user's other tools do: OBJ counts from 1, OFF and PLY from 0,
+/// and STL has no vertex list (a vertex is named by its position).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Numbering {
+    /// OBJ: vertex and face 1 are the first.
+    #[default]
+    FromOne,
+    /// OFF, PLY: vertex and face 0 are the first.
+    FromZero,
+    /// STL: facet 0 is the first; a vertex is where facets' corners meet.
+    Stl,
+}
+
+impl Numbering {
+    /// The vertex at 0-based position `i` of the file's vertex list, at
+    /// `position`, as a message names it.
+    pub fn vertex(self, i: u32, position: [f64; 3]) -> String {
+        match self {
+            Numbering::FromOne => format!("vertex {}", u64::from(i) + 1),
+            Numbering::FromZero => format!("vertex {i}"),
+            Numbering::Stl => {
+                let [x, y, z] = position;
+                format!("the vertex at ({x}, {y}, {z})")
+            }
+        }
+    }
+
+    /// The face at 0-based position `f` of the file's faces, as a message
+    /// names it.
+    pub fn face(self, f: usize) -> String {
+        match self {
+            Numbering::FromOne => format!("face {}", f as u64 + 1),
+            Numbering::FromZero => format!("face {f}"),
+            Numbering::Stl => format!("facet {f}"),
+        }
+    }
 }
 
 /// A mesh file format.
@@ -426,10 +467,11 @@ struct Builder {
 }
 
 impl Builder {
-    fn new(kind: OriginKind) -> Self {
+    fn new(kind: OriginKind, numbering: Numbering) -> Self {
         Builder {
             m: RawMesh {
                 origin_kind: kind,
+                numbering,
                 ..RawMesh::default()
             },
             channels: VertexChannels::default(),
@@ -795,7 +837,7 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     }
     // Both counts are now bounded by the input size.
     let (nv, nf) = (nv as usize, nf as usize);
-    let mut b = Builder::new(OriginKind::Line);
+    let mut b = Builder::new(OriginKind::Line, Numbering::FromZero);
     b.reserve_vertices(nv.min(remaining as usize / 6));
     b.reserve_faces(
         nf.min(remaining as usize / 8),
@@ -1313,7 +1355,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     }
     let ascii = header.encoding == PlyEncoding::Ascii;
     let mut trailing = None;
-    let mut b = Builder::new(if ascii { OriginKind::Line } else { OriginKind::Record });
+    let mut b = Builder::new(
+        if ascii { OriginKind::Line } else { OriginKind::Record },
+        Numbering::FromZero,
+    );
     if has_colors {
         b.m.colors = Some(Vec::new());
     }
@@ -1750,15 +1795,27 @@ pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             Ok((mesh, end)) => {
                 let exact_binary = size.is_some_and(|(_, need)| need == bytes.len() as u64);
                 let clean_end = text.get(end..).unwrap_or(&[]).iter().all(|&c| is_space(c));
-                if !exact_binary || clean_end {
+                // An empty solid followed by binary bytes is the header of
+                // a binary STL (cut short, if it does not fit one).
+                let header_only = mesh.face_start.is_empty() && !clean_end && looks_binary(bytes);
+                if (!exact_binary || clean_end) && !header_only {
                     return Ok(mesh);
                 }
             }
-            Err(e) if !fits_binary => return Err(e),
+            // Text never holds a NUL byte; a binary STL's facet count and
+            // attribute words nearly always do: one whose header starts
+            // with `solid` but that is cut short is called truncated (by
+            // the binary reader), not text that fails to parse.
+            Err(e) if !fits_binary && !looks_binary(bytes) => return Err(e),
             Err(_) => {}
         }
     }
     read_stl_binary(bytes)
+}
+
+/// Whether `bytes` hold a NUL byte in their first 64 KiB, as no text does.
+fn looks_binary(bytes: &[u8]) -> bool {
+    bytes[..bytes.len().min(1 << 16)].contains(&0)
 }
 
 fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
@@ -1770,7 +1827,7 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     };
     if need > bytes.len() as u64 {
         return Err(FormatError::new(format!(
-            "the binary STL header declares {n} facets ({need} bytes) but the file has only {} bytes",
+            "the binary STL header declares {n} facets ({need} bytes) but the file has only {} bytes (truncated file?)",
             bytes.len()
         )));
     }
@@ -1789,7 +1846,7 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             "the binary STL has {n} facets, more than 2^32 vertices"
         )));
     }
-    let mut b = Builder::new(OriginKind::Record);
+    let mut b = Builder::new(OriginKind::Record, Numbering::Stl);
     b.reserve_vertices(3 * n);
     b.reserve_faces(n, 3 * n);
     for (f, rec) in bytes[84..].chunks_exact(50).take(n).enumerate() {
@@ -1813,7 +1870,7 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
 /// Reads ASCII STL; returns the mesh and the offset just after the last `endsolid` line.
 fn read_stl_ascii(bytes: &[u8]) -> Result<(RawMesh, usize), FormatError> {
     let mut t = Tokens::new(bytes, 0, 1);
-    let mut b = Builder::new(OriginKind::Line);
+    let mut b = Builder::new(OriginKind::Line, Numbering::Stl);
     let mut end = 0;
     let mut facet = 0usize;
     let is = |tok: &[u8], kw: &str| tok.eq_ignore_ascii_case(kw.as_bytes());

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-pub use formats::{Format, FormatError, OriginKind, PlyColumn, RawMesh};
+pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};
 
 use crate::attributes::{Attributes, Kind, PerVertex, NO_VALUE};
 use crate::error::{Error, Result};
@@ -67,6 +67,8 @@ pub struct InputMesh {
     pub vertex_number: Vec<u32>,
     /// How `triangle_origin` counts.
     pub origin_kind: OriginKind,
+    /// How the file numbers its vertices and faces, for messages.
+    pub numbering: Numbering,
     /// Faces in the file (before triangulation).
     pub faces_in_file: usize,
     /// Vertices merged into an earlier one at the bit-identical position.
@@ -85,6 +87,17 @@ pub struct InputMesh {
     /// and dropping degenerate faces: [`repair::repair_with_topology`]);
     /// [`build_surface`] takes it instead of building it again.
     pub topology: Option<Topology>,
+}
+
+impl InputMesh {
+    /// Vertex `v` (an index into `positions`) as a message names it: by its
+    /// number in the file, counted as the format counts
+    /// ([`Numbering::vertex`]).
+    pub fn vertex_name(&self, v: u32) -> String {
+        let in_file = self.vertex_number.get(v as usize).map_or(v, |&n| n - 1);
+        let at = self.positions.get(v as usize).map_or([f64::NAN; 3], |p| p.to_array());
+        self.numbering.vertex(in_file, at)
+    }
 }
 
 /// How to read an input.
@@ -244,8 +257,8 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         .position(|p| p.iter().any(|c| c.abs() > MAX_COORDINATE))
     {
         let what = format!(
-            "vertex {} has a coordinate beyond ±{MAX_COORDINATE:e}, the supported range",
-            v + 1
+            "{} has a coordinate beyond ±{MAX_COORDINATE:e}, the supported range",
+            raw.numbering.vertex(v as u32, raw.positions[v])
         );
         let origin = raw.vertex_origin.get(v).copied().unwrap_or(0);
         return Err(match raw.origin_kind {
@@ -304,9 +317,9 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         let origin = raw.face_origin.get(f).copied().unwrap_or(f as u32);
         if let Some(w) = repeated_vertex(p.iter().map(|&v| welded_to[v as usize]), &mut scratch) {
             let what = format!(
-                "face {} repeats vertex {} (after welding equal positions){REPAIR_HINT}",
-                f + 1,
-                w + 1
+                "{} repeats {} (after welding equal positions){REPAIR_HINT}",
+                raw.numbering.face(f),
+                raw.numbering.vertex(w, raw.positions[w as usize])
             );
             return Err(face_error(path, &raw, f, what));
         }
@@ -324,8 +337,8 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
                 .min((a - c).length_squared());
             if shortest < MIN_EDGE * MIN_EDGE {
                 let what = format!(
-                    "face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
-                    f + 1
+                    "{} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
+                    raw.numbering.face(f)
                 );
                 return Err(face_error(path, &raw, f, what));
             }
@@ -334,7 +347,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
                     path,
                     &raw,
                     f,
-                    format!("face {} has zero area{REPAIR_HINT}", f + 1),
+                    format!("{} has zero area{REPAIR_HINT}", raw.numbering.face(f)),
                 ));
             }
             triangles.push(t);
@@ -356,6 +369,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         triangle_origin,
         vertex_number,
         origin_kind: raw.origin_kind,
+        numbering: raw.numbering,
         faces_in_file: n_faces,
         welded,
         unreferenced,
@@ -451,8 +465,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         if shortest < MIN_EDGE * MIN_EDGE {
             let f = triangle_face[fixed.source_triangle[i] as usize];
             let what = format!(
-                "face {} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
-                f + 1
+                "{} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
+                raw.numbering.face(f)
             );
             return Err(face_error(path, raw, f, what));
         }
@@ -468,6 +482,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         vertex_number: fixed.source_vertex.iter().map(|&v| v + 1).collect(),
         triangles: fixed.triangles,
         origin_kind: raw.origin_kind,
+        numbering: raw.numbering,
         faces_in_file: n_faces,
         welded: fixed.report.welded_vertices,
         unreferenced: fixed.report.unreferenced_vertices,
@@ -507,8 +522,8 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
         return Err(Error::Mesh {
             path: path.to_owned(),
             what: format!(
-                "vertex {} has a coordinate that is not finite or beyond ±{MAX_COORDINATE:e}, the supported range",
-                input.vertex_number.get(v).copied().unwrap_or(v as u32 + 1)
+                "{} has a coordinate that is not finite or beyond ±{MAX_COORDINATE:e}, the supported range",
+                input.vertex_name(v as u32)
             ),
         });
     }
@@ -535,10 +550,10 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
                 OriginKind::Record => format!("face record {origin}"),
             }
         };
-        let v = |i: u32| input.vertex_number.get(i as usize).copied().unwrap_or(i + 1);
+        let v = |i: u32| input.vertex_name(i);
         let what = match e {
             TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => format!(
-                "{}: edge between vertices {} and {} has more than two faces (non-manifold edge){REPAIR_HINT}",
+                "{}: edge between {} and {} has more than two faces, this one the third (non-manifold edge){REPAIR_HINT}",
                 at(face),
                 v(a),
                 v(b)
@@ -561,7 +576,7 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
                         at(first)
                     ),
                     None => format!(
-                        "{}: face runs along edge {} -> {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
+                        "{}: face runs along the edge from {} to {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
                         at(face),
                         v(a),
                         v(b)
@@ -569,14 +584,14 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
                 }
             }
             TopologyError::NonManifoldVertex { vertex } => format!(
-                "vertex {}: its faces form more than one fan (non-manifold vertex){REPAIR_HINT}",
+                "{}: its faces form more than one fan (non-manifold vertex){REPAIR_HINT}",
                 v(vertex)
             ),
             TopologyError::IndexOutOfRange { face, index } => {
                 format!("{}: vertex index {} out of range", at(face), index as u64 + 1)
             }
             TopologyError::RepeatedVertex { face, vertex } => {
-                format!("{}: face repeats vertex {}{REPAIR_HINT}", at(face), v(vertex))
+                format!("{}: face repeats {}{REPAIR_HINT}", at(face), v(vertex))
             }
             TopologyError::SameThreeVertices { first, face } => format!(
                 "{}: face uses the same three vertices as the face at {} (a two-face pillow){REPAIR_HINT}",

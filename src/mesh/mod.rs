@@ -360,6 +360,22 @@ impl Surface {
         }
     }
 
+    /// Edge `e` as the input knows it (for [`crate::Error::Unsplittable`]).
+    pub fn stuck_edge(&self, e: EdgeId) -> crate::error::StuckEdge {
+        use crate::error::EdgeEnd;
+        let h = e.halfedge();
+        let end = |v: VertexId| match self.carriers[v.idx()] {
+            Carrier::Vertex(i) => EdgeEnd::Vertex(i),
+            Carrier::Edge { edge, .. } => {
+                let [a, b] = self.input_edges[edge as usize];
+                EdgeEnd::OnEdge(a, b)
+            }
+        };
+        let (a, b) = (self.topo.origin(h), self.topo.dest(h));
+        let middle = (self.positions[a.idx()] + self.positions[b.idx()]) / 2.0;
+        crate::error::StuckEdge::new([end(a), end(b)], middle.to_array())
+    }
+
     /// Where each vertex comes from: `(a, b, t)` with input vertices `a`,
     /// `b` and its position exactly `p_a + t·(p_b − p_a)` in f64 (the
     /// formula of [`point_on_edge`]). An input vertex is `(i, i, 0)`.

@@ -91,7 +91,8 @@ impl EdgeId {
 /// [`Topology::from_triangles`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum TopologyError {
-    /// The edge (a, b) is used by more than two faces; `face` is one of them.
+    /// The edge (a, b) is used by more than two faces; `face` is the third
+    /// of them in list order (the first two alone would be fine).
     EdgeWithMoreThanTwoFaces { face: usize, a: u32, b: u32 },
     /// Two faces (`face` is the second) use the edge a → b in the same
     /// direction: their orientations disagree.
@@ -112,7 +113,7 @@ impl fmt::Display for TopologyError {
         match *self {
             TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => write!(
                 f,
-                "the edge between vertices {a} and {b} has more than two triangles (triangle {face} is one): non-manifold edge"
+                "the edge between vertices {a} and {b} has more than two triangles (triangle {face} is the third): non-manifold edge"
             ),
             TopologyError::InconsistentOrientation { face, a, b } => write!(
                 f,
@@ -355,8 +356,15 @@ pub(crate) fn pair_corners_by_scanning(n_vertices: usize, triangles: &[[u32; 3]]
             }
         }
         if same + opposite > 2 {
+            // The third face on the edge in list order (corner `c`, the
+            // first, is the edge's lowest corner).
+            let mut corners: Vec<u32> = (towards(u, v).iter().filter(|o| o.0 == v))
+                .chain(towards(v, u).iter().filter(|o| o.0 == u))
+                .map(|o| o.1)
+                .collect();
+            corners.sort_unstable();
             return Err(TopologyError::EdgeWithMoreThanTwoFaces {
-                face: c / 3,
+                face: corners[2] as usize / 3,
                 a: u,
                 b: v,
             });
@@ -1266,15 +1274,15 @@ mod tests {
             t.validate().unwrap();
             assert_eq!((t.n_edges(), t.n_faces()), (3 * n as usize, 2 * n as usize));
             assert_eq!(t.fan_len(VertexId(0)), n as usize);
-            // Face 2m = (0, rim m, rim m+1) again, reversed: edge 0-(rim m)
-            // gets a third face; reported at its first face, 2(m - 1).
+            // Face 2n = (0, rim m+1, rim m) again, reversed: edge 0-(rim m)
+            // gets a third face, the one reported.
             let m = n / 2;
             let mut bad = cone.clone();
             bad.push([0, 2 + (m + 1) % n, 2 + m]);
             assert!(
                 matches!(
                     Topology::from_triangles(n as usize + 2, &bad),
-                    Err(TopologyError::EdgeWithMoreThanTwoFaces { face, a: 2.., b: 0 }) if face == 2 * (m as usize - 1)
+                    Err(TopologyError::EdgeWithMoreThanTwoFaces { face, a: 2.., b: 0 }) if face == 2 * n as usize
                 ),
                 "{n}: {:?}",
                 Topology::from_triangles(n as usize + 2, &bad).map(|_| ())
