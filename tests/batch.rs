@@ -126,6 +126,73 @@ fn batch_check_verifies_every_output() {
     assert!(left.is_empty(), "{left:?}");
 }
 
+/// `--repaired-inputs` writes beside each output the repaired input it was
+/// made from, byte for byte what the main command's `--repaired` writes, and
+/// the output checks against it; a file is finished only with it; a
+/// repaired input whose name an output takes is refused before any work.
+#[test]
+fn repaired_inputs_are_written_beside_the_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write_book(dir.path());
+    let out_dir = dir.path().join("out");
+    let d = out_dir.to_str().unwrap();
+    let refused = delmesh()
+        .args(["batch", "-d", d, "--repaired-inputs"])
+        .arg(&book)
+        .output()
+        .unwrap();
+    assert!(!refused.status.success() && !out_dir.exists());
+    let json = dir.path().join("runs.json");
+    let (ok, stdout, stderr) = batch(
+        &[
+            "-d",
+            d,
+            "--repair",
+            "--repaired-inputs",
+            "--stats-json",
+            json.to_str().unwrap(),
+        ],
+        &[&book],
+    );
+    assert!(ok, "{stdout}{stderr}");
+    let repaired = out_dir.join("book.repaired.obj");
+    check_passes(&repaired, &out_dir.join("book.obj"));
+    let one = dir.path().join("one");
+    std::fs::create_dir(&one).unwrap();
+    delmesh()
+        .args(["-q", "--repair", "--repaired"])
+        .arg(one.join("repaired.obj"))
+        .arg("-i")
+        .arg(&book)
+        .arg("-o")
+        .arg(one.join("book.obj"))
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read(&repaired).unwrap(),
+        std::fs::read(one.join("repaired.obj")).unwrap()
+    );
+    let doc = std::fs::read_to_string(&json).unwrap();
+    assert!(
+        doc.contains(&format!("\"repaired\": \"{}\"", repaired.display())),
+        "{doc}"
+    );
+    // Without its repaired input, an output is not a finished file.
+    std::fs::remove_file(&repaired).unwrap();
+    let (ok, stdout, _) = batch(&["-d", d, "--repair", "--repaired-inputs", "--skip-existing"], &[&book]);
+    assert!(ok && stdout.contains("1 written"), "{stdout}");
+    assert!(repaired.exists());
+    // An input named as another's repaired input would collide.
+    let other = dir.path().join("two");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::copy(&book, other.join("book.repaired.obj")).unwrap();
+    let (ok, _, stderr) = batch(
+        &["-d", d, "--repair", "--repaired-inputs"],
+        &[book.clone(), other.join("book.repaired.obj")],
+    );
+    assert!(!ok && stderr.contains("book.repaired.obj"), "{stderr}");
+}
+
 #[test]
 fn batch_output_does_not_depend_on_jobs() {
     let files = inputs();

@@ -71,9 +71,16 @@ pub(super) struct BatchArgs {
     #[arg(long = "vertex-maps")]
     vertex_maps: bool,
 
+    /// With --repair: also write beside each output the repaired input it
+    /// was made from, the mesh `delmesh check` compares it with, as the
+    /// main command's --repaired does: NAME.repaired.obj for NAME.obj.
+    #[arg(long = "repaired-inputs", requires = "repair")]
+    repaired_inputs: bool,
+
     /// Skip the inputs whose output exists already, e.g. to resume an
     /// interrupted batch (outputs are written atomically, so an existing
-    /// one is complete; with --vertex-maps, only if its map exists too).
+    /// one is complete; with --vertex-maps or --repaired-inputs, only if
+    /// those files exist too).
     #[arg(long = "skip-existing")]
     skip_existing: bool,
 
@@ -185,7 +192,12 @@ fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 
 /// The output path of every input, in order; refuses two inputs with one
 /// output, and an output that is an input.
-fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: bool) -> anyhow::Result<Vec<PathBuf>> {
+fn plan(
+    inputs: &[PathBuf],
+    out_dir: &Path,
+    format: Option<FormatArg>,
+    sides: impl Fn(&Path) -> Vec<PathBuf>,
+) -> anyhow::Result<Vec<PathBuf>> {
     let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
@@ -194,8 +206,8 @@ fn plan(inputs: &[PathBuf], out_dir: &Path, format: Option<FormatArg>, maps: boo
             bail!("{}: not a file name", input.display());
         };
         let output = out_dir.join(&name);
-        let map = maps.then(|| vertex_map_path(&output));
-        for written in std::iter::once(&output).chain(&map) {
+        let sides = sides(&output);
+        for written in std::iter::once(&output).chain(&sides) {
             let name = PathBuf::from(written.file_name().unwrap_or_default());
             if let Some(first) = taken.insert(name.clone(), input) {
                 bail!(
@@ -239,6 +251,31 @@ fn vertex_map_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
+/// The repaired input written beside `output` with --repaired-inputs, in
+/// the output's format: NAME.repaired.obj for NAME.obj.
+fn repaired_path(output: &Path) -> PathBuf {
+    let mut name = output.file_stem().unwrap_or_default().to_owned();
+    name.push(".repaired");
+    if let Some(ext) = output.extension() {
+        name.push(".");
+        name.push(ext);
+    }
+    output.with_file_name(name)
+}
+
+/// The files written beside `output` and put in place with it (with
+/// --vertex-maps, --repaired-inputs): an output stands for a finished file.
+fn side_paths(output: &Path, args: &BatchArgs) -> Vec<PathBuf> {
+    let mut sides = Vec::new();
+    if args.vertex_maps {
+        sides.push(vertex_map_path(output));
+    }
+    if args.repaired_inputs {
+        sides.push(repaired_path(output));
+    }
+    sides
+}
+
 /// Why a file was not written: the error, and with --stats-json the
 /// file's document (`None` if the input was refused: not read or built).
 struct Failed {
@@ -274,6 +311,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         0
     };
     let result = refine_read(&mut mesh, surface, &first_pass, input, output, args, options);
+    let repaired = (args.repaired_inputs && result.is_ok()).then(|| repaired_path(output));
     let doc = json.then(|| {
         let failure;
         let record = match &result {
@@ -289,7 +327,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
             figures,
             lower_bound,
             output,
-            repaired: None,
+            repaired: repaired.as_deref(),
             refined: true,
             seconds_read: read_s,
             seconds_build: build_s,
@@ -353,12 +391,22 @@ fn refine_read(
     if args.check {
         staged = check_output(input, mesh, staged, output)?;
     }
+    // An output stands for a finished file (--skip-existing skips it): it
+    // is put in place only with its vertex map and repaired input.
     if args.vertex_maps {
-        // An output stands for a finished file (--skip-existing skips it):
-        // it is put in place only with its vertex map.
         stage_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
             .and_then(|map| Ok(map.commit()?))
             .with_context(|| format!("{} not written", output.display()))?;
+    }
+    if args.repaired_inputs {
+        io::stage_mesh_after(
+            &repaired_path(output),
+            &Default::default(),
+            &mesh.positions,
+            &mesh.triangles,
+        )
+        .and_then(|repaired| repaired.commit())
+        .with_context(|| format!("{} not written", output.display()))?;
     }
     staged.commit()?;
     Ok(Done {
@@ -389,7 +437,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         bail!("--format stl: {}", super::STL_REFUSED);
     }
     let inputs = expand(&args.inputs)?;
-    let outputs = plan(&inputs, &args.out_dir, args.format, args.vertex_maps)?;
+    let outputs = plan(&inputs, &args.out_dir, args.format, |out| side_paths(out, args))?;
     if args.out_dir.exists() && !args.out_dir.is_dir() {
         bail!(
             "{}: the output folder names a file, not a folder",
@@ -415,14 +463,10 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         check_output_dir(report)?;
         let target = file_key(report);
         let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
-        let map = |p: &PathBuf| args.vertex_maps.then(|| file_key(&vertex_map_path(p))).flatten();
-        if is_input
-            || outputs
-                .iter()
-                .any(|p| file_key(p) == target || (target.is_some() && map(p) == target))
-        {
+        let side = |p: &PathBuf| target.is_some() && side_paths(p, args).iter().any(|s| file_key(s) == target);
+        if is_input || outputs.iter().any(|p| file_key(p) == target || side(p)) {
             bail!(
-                "{}: would overwrite an input or an output (or a vertex map)",
+                "{}: would overwrite an input or an output (or a file beside one)",
                 report.display()
             );
         }
@@ -464,7 +508,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             if i >= n {
                 break;
             }
-            let finished = |out: &Path| out.exists() && (!args.vertex_maps || vertex_map_path(out).exists());
+            let finished = |out: &Path| out.exists() && side_paths(out, args).iter().all(|s| s.exists());
             let done = if args.skip_existing && finished(&outputs[i]) {
                 Ok(None)
             } else {
