@@ -94,7 +94,7 @@ impl InputMesh {
     /// number in the file, counted as the format counts
     /// ([`Numbering::vertex`]).
     pub fn vertex_name(&self, v: u32) -> String {
-        let in_file = self.vertex_number.get(v as usize).map_or(v, |&n| n - 1);
+        let in_file = self.vertex_number.get(v as usize).map_or(v, |&n| n.saturating_sub(1));
         let at = self.positions.get(v as usize).map_or([f64::NAN; 3], |p| p.to_array());
         self.numbering.vertex(in_file, at)
     }
