@@ -389,20 +389,13 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     if !run.stuck.is_empty() {
         let mut stuck: Vec<EdgeId> = run.stuck.keys().copied().collect();
         stuck.sort_unstable(); // the map's order: not the run's to decide
-        let (after, worst) = run.s.count_non_delaunay_among(stuck.iter().copied(), ACCEPT_TOLERANCE);
+        let (after, worst, worst_edge) = run.s.worst_non_delaunay_among(stuck, ACCEPT_TOLERANCE);
         run.stats.non_delaunay_after = after;
         if after > 0 {
-            let worst_edge = (stuck.iter().copied())
-                .filter(|&e| run.s.is_non_delaunay(e, ACCEPT_TOLERANCE))
-                .max_by(|&e, &f| {
-                    let excess = |e| run.s.delaunay_excess(e).unwrap_or(0.0);
-                    excess(e).total_cmp(&excess(f)).then(f.cmp(&e))
-                })
-                .map(|e| run.s.stuck_edge(e));
             return Err(Error::Unsplittable {
                 count: after,
                 worst_excess: worst,
-                worst_edge,
+                worst_edge: worst_edge.map(|e| run.s.stuck_edge(e)),
                 near_coincident: NearCoincident::of(&run.s.input_figures),
             });
         }

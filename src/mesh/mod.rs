@@ -637,15 +637,32 @@ impl Surface {
 
     /// [`Surface::count_non_delaunay`] among `edges` only.
     pub fn count_non_delaunay_among(&self, edges: impl IntoIterator<Item = EdgeId>, tolerance: f64) -> (usize, f64) {
+        let (count, worst, _) = self.worst_non_delaunay_among(edges, tolerance);
+        (count, worst)
+    }
+
+    /// [`Surface::count_non_delaunay_among`], and the first edge with the
+    /// largest excess (`None` if none is non-Delaunay; an excess that is not
+    /// a number, where the angles underflow, counts as the smallest).
+    pub fn worst_non_delaunay_among(
+        &self,
+        edges: impl IntoIterator<Item = EdgeId>,
+        tolerance: f64,
+    ) -> (usize, f64, Option<EdgeId>) {
         let mut count = 0;
         let mut worst = f64::NEG_INFINITY;
+        let mut worst_edge = None;
         for e in edges {
             if self.is_non_delaunay(e, tolerance) {
                 count += 1;
-                worst = worst.max(self.delaunay_excess(e).unwrap_or(0.0));
+                let excess = self.delaunay_excess(e).unwrap_or(0.0);
+                if worst_edge.is_none() || excess > worst {
+                    worst_edge = Some(e);
+                }
+                worst = worst.max(excess);
             }
         }
-        (count, worst)
+        (count, worst, worst_edge)
     }
 
     /// A lower bound on the vertices that any method keeping the geometry
