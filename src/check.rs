@@ -58,6 +58,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
+use crate::io::number::point_text;
 use crate::io::polygon::triangulate;
 use glam::DVec3;
 
@@ -549,7 +550,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         return Err(parse_error(format!(
             "vertex {} {} has a non-finite coordinate",
             i + 1,
-            fmt_point(mesh.positions[i])
+            point_text(mesh.positions[i])
         )));
     }
     Ok((mesh, file_corners, strays))
@@ -1127,7 +1128,7 @@ impl Prepared {
         for (v, p) in mesh.positions.iter().enumerate() {
             if referenced[v] && !p.is_finite() {
                 fail.push(KIND_INDEX, || {
-                    format!("{who} vertex {} {} is not finite", v + 1, fmt_point(*p))
+                    format!("{who} vertex {} {} is not finite", v + 1, point_text(*p))
                 });
             } else if referenced[v] && !crate::io::in_supported_range(*p) {
                 // Products of such coordinates overflow: areas and angles
@@ -1136,7 +1137,7 @@ impl Prepared {
                     format!(
                         "{who} vertex {} {} has a coordinate beyond ±{:e}, the supported range",
                         v + 1,
-                        fmt_point(*p),
+                        point_text(*p),
                         crate::io::MAX_COORDINATE
                     )
                 });
@@ -1313,7 +1314,7 @@ fn check_vertex_fans(mesh: &Mesh3, who: &str, fail: &mut Failures) {
                 format!(
                     "{who} vertex {} {}: its faces do not form a single fan (non-manifold vertex)",
                     v + 1,
-                    fmt_point(mesh.positions[v])
+                    point_text(mesh.positions[v])
                 )
             });
         }
@@ -1981,7 +1982,7 @@ fn classify_output_vertices(
                 fail.push(KIND_VERTEX, || {
                     format!(
                         "an output vertex no face uses, {}, is neither an input vertex nor on an input edge",
-                        fmt_point(p)
+                        point_text(p)
                     )
                 });
             }
@@ -2024,7 +2025,7 @@ fn classify_output_vertices(
                     format!(
                         "output vertex {} {} is neither an input vertex nor on an input edge",
                         v + 1,
-                        fmt_point(p)
+                        point_text(p)
                     )
                 });
             } else {
@@ -2039,7 +2040,7 @@ fn classify_output_vertices(
     for (v, &p) in input.positions.iter().enumerate() {
         if model.prepared.referenced[v] && !seen[v] {
             fail.push(KIND_MISSING, || {
-                format!("input vertex {} {} missing from output", v + 1, fmt_point(p))
+                format!("input vertex {} {} missing from output", v + 1, point_text(p))
             });
         }
     }
@@ -3085,20 +3086,6 @@ impl UnionFind {
 /// The bit patterns of a position (the welding key).
 fn bits(p: DVec3) -> [u64; 3] {
     [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
-}
-
-/// `(x, y, z)` with shortest round-trip formatting.
-fn fmt_point(p: DVec3) -> String {
-    // Exactly, and in scientific notation where the plain one runs long
-    // (1e300 has 301 digits, 1e-300 as many).
-    let c = |x: f64| {
-        if x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-15) {
-            format!("{x:e}")
-        } else {
-            format!("{x}")
-        }
-    };
-    format!("({}, {}, {})", c(p.x), c(p.y), c(p.z))
 }
 
 /// `(vA, vB, vC)` with 1-based vertex numbers.

@@ -172,11 +172,13 @@ impl StuckEdge {
             EdgeEnd::Vertex(v) => name(v),
             EdgeEnd::OnEdge(a, b) => format!("a point added between {} and {}", name(a), name(b)),
         };
-        let [x, y, z] = self.middle.map(six_digits);
+        // Six significant digits are enough to find it.
+        let middle = self.middle.map(|x| format!("{x:.5e}").parse().unwrap_or(x));
         format!(
-            "the edge from {} to {} (its middle at ({x}, {y}, {z}))",
+            "the edge from {} to {} (its middle at {})",
             end(self.ends[0]),
-            end(self.ends[1])
+            end(self.ends[1]),
+            crate::io::number::point_text(middle)
         )
     }
 }
@@ -187,16 +189,6 @@ impl std::fmt::Display for StuckEdge {
             Some(text) => f.write_str(text),
             None => f.write_str(&self.describe(|v| format!("input vertex {v}"))),
         }
-    }
-}
-
-/// `x` to six significant digits, in the shortest form that reads back so.
-fn six_digits(x: f64) -> String {
-    let rounded: f64 = format!("{x:.5e}").parse().unwrap_or(x);
-    if rounded != 0.0 && (rounded.abs() >= 1e16 || rounded.abs() < 1e-6) {
-        format!("{rounded:e}")
-    } else {
-        format!("{rounded}")
     }
 }
 

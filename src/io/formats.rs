@@ -95,10 +95,7 @@ impl Numbering {
         match self {
             Numbering::FromOne => format!("vertex {}", u64::from(i) + 1),
             Numbering::FromZero => format!("vertex {i}"),
-            Numbering::Stl => {
-                let [x, y, z] = position;
-                format!("the vertex at ({x}, {y}, {z})")
-            }
+            Numbering::Stl => format!("the vertex at {}", super::number::point_text(position)),
         }
     }
 

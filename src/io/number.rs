@@ -1,5 +1,21 @@
 //! Decimal numbers of the text formats (OBJ, ASCII PLY and OFF), read
-//! exactly as `str::parse::<f64>` reads them, faster for the usual forms.
+//! exactly as `str::parse::<f64>` reads them, faster for the usual forms;
+//! and points as messages print them ([`point_text`]).
+
+/// `(x, y, z)` exactly (shortest round trip), in scientific notation where
+/// the plain one runs long (1e300 has 301 digits, 1e-300 as many): a point
+/// as a message names it.
+pub fn point_text(p: impl Into<[f64; 3]>) -> String {
+    let c = |x: f64| {
+        if x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-15) {
+            format!("{x:e}")
+        } else {
+            format!("{x}")
+        }
+    };
+    let [x, y, z] = p.into();
+    format!("({}, {}, {})", c(x), c(y), c(z))
+}
 
 /// Exact powers of ten: every 10^k with k ≤ 22 is an `f64`.
 const POW10: [f64; 23] = [

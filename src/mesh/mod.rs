@@ -364,12 +364,9 @@ impl Surface {
     pub fn stuck_edge(&self, e: EdgeId) -> crate::error::StuckEdge {
         use crate::error::EdgeEnd;
         let h = e.halfedge();
-        let end = |v: VertexId| match self.carriers[v.idx()] {
-            Carrier::Vertex(i) => EdgeEnd::Vertex(i),
-            Carrier::Edge { edge, .. } => {
-                let [a, b] = self.input_edges[edge as usize];
-                EdgeEnd::OnEdge(a, b)
-            }
+        let end = |v: VertexId| match self.vertex_source(v) {
+            (a, b, _) if a == b => EdgeEnd::Vertex(a),
+            (a, b, _) => EdgeEnd::OnEdge(a, b),
         };
         let (a, b) = (self.topo.origin(h), self.topo.dest(h));
         let middle = (self.positions[a.idx()] + self.positions[b.idx()]) / 2.0;
@@ -380,16 +377,20 @@ impl Surface {
     /// `b` and its position exactly `p_a + t·(p_b − p_a)` in f64 (the
     /// formula of [`point_on_edge`]). An input vertex is `(i, i, 0)`.
     pub fn vertex_sources(&self) -> Vec<(u32, u32, f64)> {
-        self.carriers
-            .iter()
-            .map(|c| match *c {
-                Carrier::Vertex(i) => (i, i, 0.0),
-                Carrier::Edge { edge, t } => {
-                    let [a, b] = self.input_edges[edge as usize];
-                    (a, b, t)
-                }
-            })
+        (0..self.carriers.len() as u32)
+            .map(|v| self.vertex_source(VertexId(v)))
             .collect()
+    }
+
+    /// Where vertex `v` comes from, as [`Surface::vertex_sources`] says.
+    pub fn vertex_source(&self, v: VertexId) -> (u32, u32, f64) {
+        match self.carriers[v.idx()] {
+            Carrier::Vertex(i) => (i, i, 0.0),
+            Carrier::Edge { edge, t } => {
+                let [a, b] = self.input_edges[edge as usize];
+                (a, b, t)
+            }
+        }
     }
 
     /// End points of input edge `edge`.
