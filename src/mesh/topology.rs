@@ -146,8 +146,13 @@ pub const ADJACENCY_LIMIT: usize = 1024;
 /// reserves. Capacity is address space until used, and growing the arrays
 /// later would copy them (and fault their pages in again).
 pub fn room_for_splits(n_triangles: usize) -> usize {
-    3 * n_triangles / 2 + 16
+    (3 * n_triangles / 2 + 16).max(MIN_ROOM_FOR_SPLITS)
 }
+
+/// The least room for splits any mesh gets: CAD parts with slivers add
+/// several vertices per face (the rotor 3.9, mpi_triang 40), and for a
+/// small mesh this much untouched capacity costs address space only.
+const MIN_ROOM_FOR_SPLITS: usize = 16_384;
 
 /// One saved entry of a [`Topology`], for undoing local changes.
 #[derive(Clone, Copy, Debug)]
