@@ -321,9 +321,10 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         over_limit: false,
     };
     run.stats.constants = Some(constants);
-    // Room for about one split per edge, as a freshly built mesh already has
-    // (`room_for_splits`: then this copies nothing): untouched capacity costs
-    // no memory, and typical runs then never copy their arrays.
+    // Room for about one split per edge (at least 16,384), as a freshly
+    // built mesh already has (`room_for_splits`: then this copies nothing):
+    // untouched capacity costs no memory, and typical runs then never copy
+    // their arrays.
     run.s
         .reserve_splits(room_for_splits(run.s.topo.n_faces()).min(options.max_added));
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());

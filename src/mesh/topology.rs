@@ -142,9 +142,10 @@ impl std::error::Error for TopologyError {}
 pub const ADJACENCY_LIMIT: usize = 1024;
 
 /// How many splits the arrays of a mesh built from `n_triangles` triangles
-/// have room for from the start: about one per edge, what `refine`
-/// reserves. Capacity is address space until used, and growing the arrays
-/// later would copy them (and fault their pages in again).
+/// have room for from the start: about one per edge, and at least 16,384,
+/// what `refine` reserves. Capacity is address space until used, and
+/// growing the arrays later would copy them (and fault their pages in
+/// again).
 pub fn room_for_splits(n_triangles: usize) -> usize {
     (3 * n_triangles / 2 + 16).max(MIN_ROOM_FOR_SPLITS)
 }
