@@ -608,9 +608,19 @@ pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smalles
                 "; --prune or --smallest remove many of them"
             };
         }
+        // Flat parts that are not exactly flat, a cause too if any (a pass
+        // over the edges, made only for an output this large), unless
+        // near-coincident vertices are (the weld is then what helps).
+        let nearly_flat = match surface.input_figures.near_coincident_edges {
+            0 => match surface.nearly_flat_input_edges() {
+                0 => String::new(),
+                edges => format!("; {}", delmesh::error::nearly_flat_hint(edges)),
+            },
+            _ => String::new(),
+        };
         format!(
             "{:.0} added vertices per input vertex: the smallest input angle ({} rad) calls for vertices at its \
-             scale{helps}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
+             scale{nearly_flat}{helps}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
             added as f64 / n as f64,
             sig(surface.input_figures.min_angle),
         )
@@ -1679,6 +1689,7 @@ fn all_settings_failed(e: anyhow::Error, input_path: &Path) -> anyhow::Error {
             flips,
             limit,
             near_coincident,
+            nearly_flat_edges,
             ..
         }) => anyhow::Error::new(delmesh::Error::WorkLimit {
             splits,
@@ -1687,6 +1698,7 @@ fn all_settings_failed(e: anyhow::Error, input_path: &Path) -> anyhow::Error {
             median_score_2: true,
             longest_first: true,
             near_coincident,
+            nearly_flat_edges,
         }),
         // (Its own context, the path, is in the line already: `one_line`
         // leaves it out.)

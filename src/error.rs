@@ -55,7 +55,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *longest_first, near_coincident))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *longest_first, near_coincident, *nearly_flat_edges))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -73,6 +73,10 @@ pub enum Error {
         longest_first: bool,
         /// The input's near-coincident vertices, the likely cause if any.
         near_coincident: NearCoincident,
+        /// Input edges between faces coplanar to within rounding but not
+        /// exactly ([`crate::Surface::nearly_flat_input_edges`]), another
+        /// likely cause if any.
+        nearly_flat_edges: usize,
     },
     /// An output file could not be written.
     #[error("{path}: cannot write: {source}")]
@@ -174,12 +178,22 @@ impl StuckEdge {
         };
         // Six significant digits are enough to find it.
         let middle = self.middle.map(|x| format!("{x:.5e}").parse().unwrap_or(x));
-        format!(
-            "the edge from {} to {} (its middle at {})",
-            end(self.ends[0]),
-            end(self.ends[1]),
-            crate::io::number::point_text(middle)
-        )
+        let middle = crate::io::number::point_text(middle);
+        match self.ends {
+            // Both ends added on one input edge: a piece of that edge.
+            [EdgeEnd::OnEdge(a, b), EdgeEnd::OnEdge(c, d)] if [a.min(b), a.max(b)] == [c.min(d), c.max(d)] => {
+                format!(
+                    "a piece of the edge from {} to {} between two points added on it (its middle at {middle})",
+                    name(a),
+                    name(b)
+                )
+            }
+            [first, second] => format!(
+                "the edge from {} to {} (its middle at {middle})",
+                end(first),
+                end(second)
+            ),
+        }
     }
 }
 
@@ -206,6 +220,17 @@ fn round_up_two_digits(x: f64) -> f64 {
     } else {
         format!("{:.1e}", printed + unit).parse().unwrap_or(up)
     }
+}
+
+/// What input edges between faces coplanar to within rounding mean, for a
+/// message: `count` of them ([`crate::Surface::nearly_flat_input_edges`]).
+pub fn nearly_flat_hint(count: usize) -> String {
+    format!(
+        "{count} input edge(s) join faces that are coplanar to within rounding but not exactly (a flat part \
+         rotated or tilted in floating point?): delmesh keeps the geometry exactly, so no flip crosses them, and \
+         flat regions cut up so can need very many vertices; vertices exactly in their planes (a flat part \
+         aligned with the axes) avoid it"
+    )
 }
 
 /// Result with the library's [`Error`].
@@ -238,7 +263,14 @@ fn work_limit_hint(
     median_score_2: bool,
     longest_first: bool,
     near_coincident: &NearCoincident,
+    nearly_flat_edges: usize,
 ) -> String {
+    // Near-coincident vertices, where known, are the cause to name.
+    let nearly_flat = if nearly_flat_edges == 0 || near_coincident.edges > 0 {
+        String::new()
+    } else {
+        format!("; {}", nearly_flat_hint(nearly_flat_edges))
+    };
     let general = if limit < 1000 {
         "raise --max-added"
     } else if splits < limit {
@@ -262,12 +294,35 @@ fn work_limit_hint(
         "inputs with nearly degenerate triangles (see the smallest angle) need vertices at their own tiny scale; \
          raise --max-added if that many is expected (about 170 bytes of memory each)"
     };
-    format!("{general}{}", near_coincident.after_semicolon())
+    format!("{general}{}{nearly_flat}", near_coincident.after_semicolon())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stuck_edges_are_named_by_their_ends() {
+        let name = |v: u32| format!("vertex {}", v + 1);
+        let mut piece = StuckEdge::new([EdgeEnd::OnEdge(3, 8), EdgeEnd::OnEdge(8, 3)], [0.5, 0.0, 1.0]);
+        piece.name_vertices(name);
+        assert_eq!(
+            piece.to_string(),
+            "a piece of the edge from vertex 4 to vertex 9 between two points added on it (its middle at (0.5, 0, 1))"
+        );
+        let mut across = StuckEdge::new([EdgeEnd::Vertex(4), EdgeEnd::OnEdge(0, 1)], [0.25, 0.5, 0.0]);
+        across.name_vertices(name);
+        assert_eq!(
+            across.to_string(),
+            "the edge from vertex 5 to a point added between vertex 1 and vertex 2 (its middle at (0.25, 0.5, 0))"
+        );
+        let two_edges = StuckEdge::new([EdgeEnd::OnEdge(0, 1), EdgeEnd::OnEdge(1, 2)], [1.0, 2.0, 3.0]);
+        assert_eq!(
+            two_edges.to_string(),
+            "the edge from a point added between input vertex 0 and input vertex 1 to a point added between \
+             input vertex 1 and input vertex 2 (its middle at (1, 2, 3))"
+        );
+    }
 
     #[test]
     fn weld_suggestions_are_rounded_up_to_two_digits() {
@@ -295,6 +350,7 @@ mod tests {
                 median_score_2,
                 longest_first,
                 near_coincident: NearCoincident::default(),
+                nearly_flat_edges: 0,
             }
             .to_string()
         };
@@ -329,6 +385,7 @@ mod tests {
                     edges,
                     shorter_than: 2.5e-9,
                 },
+                nearly_flat_edges: 0,
             }
             .to_string()
         };

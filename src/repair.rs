@@ -100,12 +100,22 @@ pub struct RepairReport {
     pub orientation_cuts: usize,
     /// Input vertices (not welded into another) used by no remaining face; they are dropped.
     pub unreferenced_vertices: usize,
+    /// Polygons of the file (more than three corners) that pass through a point twice, such as
+    /// a hole's outline joined to the outer one by a bridge (a keyhole): triangulated as the
+    /// outline they trace. Without `--repair` such a face is refused. Counted by the reader
+    /// ([`crate::io`]), not by [`repair`], which sees triangles only.
+    pub keyhole_polygons: usize,
 }
 
 impl RepairReport {
     /// One human-readable line per kind of change that happened, e.g. `"welded 263 vertices"`.
     pub fn lines(&self) -> Vec<String> {
-        let kinds: [(usize, &str, &str); 10] = [
+        let kinds: [(usize, &str, &str); 11] = [
+            (
+                self.keyhole_polygons,
+                "read {} polygon that passes through a point twice as the outline it traces",
+                "read {} polygons that pass through a point twice as the outlines they trace",
+            ),
             (self.welded_vertices, "welded {} vertex", "welded {} vertices"),
             (
                 self.chained_vertices,

@@ -370,6 +370,51 @@ fn a_stuck_edge_is_named_by_the_files_vertices() {
     );
 }
 
+/// A flat oval cap fanned from one corner and turned about the x axis, its
+/// corners then off their plane by a rounding: no flip may cross its edges,
+/// and the output grows hundreds of times. The note and the work limit's
+/// message say so, beside the smallest angle.
+#[test]
+fn a_turned_flat_part_is_named_as_the_cause_of_growth() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 60;
+    let (sin, cos) = 0.3f64.sin_cos();
+    let mut obj = String::new();
+    for i in 0..n {
+        let t = std::f64::consts::TAU * i as f64 / n as f64;
+        let (x, y) = (10.0 * t.cos(), t.sin());
+        obj += &format!("v {x:?} {:?} {:?}\n", y * cos, y * sin);
+    }
+    obj += &format!("v 0 {:?} {:?}\n", 3.0 * sin, -3.0 * cos);
+    for i in 1..n - 1 {
+        obj += &format!("f 1 {} {}\n", i + 1, i + 2);
+    }
+    for i in 0..n {
+        obj += &format!("f {} {} {}\n", (i + 1) % n + 1, i + 1, n + 1);
+    }
+    let input = dir.path().join("oval.obj");
+    std::fs::write(&input, obj).unwrap();
+    let cause = "input edge(s) join faces that are coplanar to within rounding but not exactly";
+    let out = refine(&input, dir.path().join("o.obj")).output().unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let note = stdout.lines().find(|l| l.starts_with("note")).unwrap_or_default();
+    assert!(
+        note.contains(cause) && note.contains("smallest input angle"),
+        "{stdout}"
+    );
+    let stopped = refine(&input, dir.path().join("p.obj"))
+        .args(["--max-added", "1000"])
+        .output()
+        .unwrap();
+    let stderr = one_line_error(&stopped);
+    assert!(
+        stderr.contains("the work limit of --max-added 1000") && stderr.contains(cause),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("p.obj").exists());
+}
+
 /// The construction and the judge (`check`, on top of `tobj`) must read an
 /// OBJ file alike: a weight `w` divides x y z (as tobj does); inline
 /// comments, a colour on only some vertices and a normal index out of range

@@ -428,6 +428,16 @@ fn unseen_note(count: usize) -> String {
     )
 }
 
+/// Whether polygon `p` has two corners at the same position (what `finish`
+/// refuses as a repeated vertex, and `--repair` reads as the outline the
+/// polygon traces): bit-identical coordinates, as `finish` welds.
+fn passes_a_point_twice(p: &[u32], positions: &[[f64; 3]], scratch: &mut Vec<[u64; 3]>) -> bool {
+    scratch.clear();
+    scratch.extend(p.iter().map(|&v| positions[v as usize].map(f64::to_bits)));
+    scratch.sort_unstable();
+    scratch.windows(2).any(|w| w[0] == w[1])
+}
+
 /// `finish` with `--repair`: triangulate everything, then let
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
 fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
@@ -436,6 +446,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     let mut triangle_face = Vec::with_capacity(n_faces);
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
+    let mut keyhole_polygons = 0;
+    let mut scratch = Vec::new();
     for f in 0..n_faces {
         let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         if let &[a, b, c] = p {
@@ -443,13 +455,15 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             triangle_face.push(f);
             continue;
         }
+        keyhole_polygons += passes_a_point_twice(p, &raw.positions, &mut scratch) as usize;
         unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
         for &[a, b, c] in &pieces {
             triangles.push([p[a], p[b], p[c]]);
             triangle_face.push(f);
         }
     }
-    let (fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
+    let (mut fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
+    fixed.report.keyhole_polygons = keyhole_polygons;
     if fixed.triangles.is_empty() {
         return Err(Error::Mesh {
             path: path.to_owned(),
@@ -1154,6 +1168,40 @@ mod tests {
         let s = build_surface(&mut m, Path::new("t.obj")).unwrap();
         s.validate().unwrap();
         assert_eq!(s.topo.n_faces(), 2);
+    }
+
+    #[test]
+    fn a_keyhole_polygon_is_refused_and_read_with_repair_as_its_outline() {
+        // A 4 × 4 square with a 2 × 2 hole, one face joined by a bridge from
+        // vertex 1 to vertex 5 that the outline passes twice.
+        let keyhole = "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 1 1 0\nv 1 3 0\nv 3 3 0\nv 3 1 0\n\
+                       f 1 2 3 4 1 5 6 7 8 5\n";
+        let read = |repair| {
+            finish(
+                obj::parse_obj(keyhole.as_bytes()).unwrap(),
+                Path::new("k.obj"),
+                &ReadOptions { repair },
+            )
+        };
+        let refused = read(None).unwrap_err().to_string();
+        assert!(refused.contains("face 1 repeats vertex 1"), "{refused}");
+        let m = read(Some(RepairOptions::default())).unwrap();
+        let report = m.repair.clone().unwrap();
+        assert_eq!(
+            report.lines(),
+            ["read 1 polygon that passes through a point twice as the outline it traces"]
+        );
+        assert!(!report.is_clean());
+        // The triangles cover the square less the hole: 16 - 4.
+        let area: f64 = m
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| m.positions[v as usize]);
+                (b - a).cross(c - a).z / 2.0
+            })
+            .sum();
+        assert_eq!(area, 12.0);
     }
 
     #[test]

@@ -93,6 +93,16 @@ pub struct InputFigures {
 /// welded it takes 2,130), or computes them exactly (1e-17 apart).
 pub const NEAR_COINCIDENT: f64 = 1e-7;
 
+/// Two faces whose planes meet at less than this angle (radians) are meant
+/// to be one plane ([`Surface::nearly_flat_input_edges`]): far below what a
+/// modeller or scanner resolves, far above what rounding a rotated plane's
+/// vertices leaves (about 1e-16).
+pub const NEARLY_FLAT: f64 = 1e-9;
+
+/// The least extent of a near-plane that [`Surface::nearly_flat_input_edges`]
+/// counts, as a fraction of the mesh's size.
+const NEARLY_FLAT_EXTENT: f64 = 1e-3;
+
 /// Why [`Surface::new`] refuses a mesh: what the command line's readers
 /// refuse in a file (their messages name its lines instead).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -408,6 +418,83 @@ impl Surface {
         self.carriers.reserve(splits);
         self.edge_input.reserve(3 * splits);
         self.face_region.reserve(2 * splits);
+    }
+
+    /// How many input edges join two faces that are coplanar to within
+    /// [`NEARLY_FLAT`] radians but not exactly (nor kept apart on purpose,
+    /// as by a texture seam), where such edges join three or more planar
+    /// regions into one near-plane: a flat part rotated or tilted in
+    /// floating point, whose vertices can no longer lie exactly in one
+    /// plane. Such an edge is a crease to delmesh, which keeps the geometry
+    /// exactly, so no flip crosses it, and a flat region cut up so can need
+    /// very many added vertices (a 100:1 oval fanned from one corner: none
+    /// when exactly flat, millions when tilted by a rounding). Two faces
+    /// alone cost a split at most, and near-planes smaller than a thousandth
+    /// of the mesh are not counted.
+    /// Read from the mesh as it is (its pieces of input edges keep their
+    /// input faces' planes); for messages, not for the algorithm.
+    pub fn nearly_flat_input_edges(&self) -> usize {
+        let mut nearly_flat = Vec::new();
+        let mut seen = vec![false; self.input_edges.len()];
+        for e in (0..self.topo.n_edges() as u32).map(EdgeId) {
+            let input = self.edge_input[e.idx()];
+            if input == NO_INPUT_EDGE || seen[input as usize] || !self.topo.is_interior(e) {
+                continue;
+            }
+            let h = e.halfedge();
+            let (f1, f2) = (self.topo.face(h), self.topo.face(h.twin()));
+            let (r1, r2) = (self.face_region[f1.idx()], self.face_region[f2.idx()]);
+            if r1 == r2 {
+                continue;
+            }
+            let [a, b, c, d] = self.edge_quad(e);
+            // The faces (a, b, c) and (b, a, d), their normals alike oriented.
+            let (n1, n2) = ((b - a).cross(c - a), (a - b).cross(d - b));
+            let sine = n1.cross(n2).length() / (n1.length() * n2.length());
+            if n1.dot(n2) > 0.0 && sine < NEARLY_FLAT && !geometry::flat_pair(a, b, c, d) {
+                seen[input as usize] = true;
+                nearly_flat.push((r1, r2, [a, b, c, d]));
+            }
+        }
+        // The near-planes: regions joined across those edges, each with how
+        // many regions it holds and the box of its corners seen.
+        let n_regions = self.region_plane.len();
+        let mut parent: Vec<u32> = (0..n_regions as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                parent[x as usize] = parent[parent[x as usize] as usize];
+                x = parent[x as usize];
+            }
+            x
+        }
+        for &(r1, r2, _) in &nearly_flat {
+            let (a, b) = (root(&mut parent, r1), root(&mut parent, r2));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+        let mut size = vec![0u32; n_regions];
+        for r in 0..n_regions as u32 {
+            size[root(&mut parent, r) as usize] += 1;
+        }
+        let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); n_regions];
+        for &(r, _, quad) in &nearly_flat {
+            let b = &mut boxes[root(&mut parent, r) as usize];
+            for p in quad {
+                *b = (b.0.min(p), b.1.max(p));
+            }
+        }
+        // A near-plane of tiny faces (a crowd of near-coincident vertices,
+        // as marching cubes leaves around a grid point, is flat at its own
+        // scale) costs nothing like a flat part of the mesh's size.
+        let least_extent = NEARLY_FLAT_EXTENT * self.input_figures.diagonal;
+        nearly_flat
+            .iter()
+            .filter(|&&(r, _, _)| {
+                let k = root(&mut parent, r) as usize;
+                size[k] >= 3 && (boxes[k].1 - boxes[k].0).max_element() >= least_extent
+            })
+            .count()
     }
 
     /// Whether flipping the flippable edge `e` = (a, b) into (c, d) gives a
@@ -759,6 +846,68 @@ impl Surface {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An oval of `n` corners fanned from its first, in the plane z = 0 or
+    /// turned about the x axis (its corners then off their plane by a
+    /// rounding), closed by a cone below so that every edge is interior.
+    fn fanned_oval(n: usize, turned: bool) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let (sin, cos) = 0.3f64.sin_cos();
+        let mut positions: Vec<DVec3> = (0..n)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / n as f64;
+                let (x, y) = (10.0 * t.cos(), t.sin());
+                if turned {
+                    DVec3::new(x, y * cos, y * sin)
+                } else {
+                    DVec3::new(x, y, 0.0)
+                }
+            })
+            .collect();
+        let apex = positions.len() as u32;
+        positions.push(if turned {
+            DVec3::new(0.0, 3.0 * sin, -3.0 * cos)
+        } else {
+            DVec3::new(0.0, 0.0, -3.0)
+        });
+        let n = n as u32;
+        let mut triangles: Vec<[u32; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
+        triangles.extend((0..n).map(|i| [(i + 1) % n, i, apex]));
+        (positions, triangles)
+    }
+
+    #[test]
+    fn nearly_flat_input_edges_are_those_of_a_plane_off_by_rounding() {
+        let (flat, triangles) = fanned_oval(40, false);
+        let s = Surface::new(flat, &triangles).unwrap();
+        assert_eq!(s.nearly_flat_input_edges(), 0, "exactly flat: one region");
+        let (turned, triangles) = fanned_oval(40, true);
+        let s = Surface::new(turned, &triangles).unwrap();
+        // The cap's 37 inner edges, some of them exactly flat by chance.
+        let nearly_flat = s.nearly_flat_input_edges();
+        assert!((1..=37).contains(&nearly_flat), "{nearly_flat}");
+        // A cube's edges are real creases, its faces' diagonals exactly flat.
+        let cube = Surface::new(
+            (0..8)
+                .map(|i| DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64))
+                .collect(),
+            &[
+                [0, 2, 1],
+                [1, 2, 3],
+                [4, 5, 6],
+                [5, 7, 6],
+                [0, 1, 4],
+                [1, 5, 4],
+                [2, 6, 3],
+                [3, 6, 7],
+                [0, 4, 2],
+                [2, 4, 6],
+                [1, 3, 5],
+                [3, 7, 5],
+            ],
+        )
+        .unwrap();
+        assert_eq!(cube.nearly_flat_input_edges(), 0);
+    }
 
     /// `Surface::new` refuses what the readers refuse in a file (a library
     /// caller got `Ok`, then an output `check` rejects, or a mesh whose
