@@ -1564,8 +1564,10 @@ fn smallest(
     // flips, at three per vertex: on CAD parts these runs flip a lot) of
     // SMALLEST_PRUNE_RATIO times the fewest vertices the others added, plus
     // 10,000: past it such a run would not be pruned (`worth_pruning`), and on some inputs
-    // they would add millions of vertices (with 0 and 1, billions). Two
-    // phases keep the result independent of the number of threads.
+    // they would add millions of vertices (with 0 and 1, billions). The
+    // shells runs with score 4 come first, and bound the splits of the
+    // other median runs alike. Phases keep the result independent of the
+    // number of threads.
     let added: Vec<std::sync::OnceLock<usize>> = settings.iter().map(|_| std::sync::OnceLock::new()).collect();
     // The results themselves, while their vertices add up to at most
     // SMALLEST_KEEP_VERTICES: those chosen for pruning are then not refined
@@ -1573,12 +1575,24 @@ fn smallest(
     let kept: Vec<std::sync::Mutex<Option<Outcome>>> = settings.iter().map(|_| std::sync::Mutex::new(None)).collect();
     let kept_vertices = std::sync::atomic::AtomicUsize::new(0);
     let fewest = || added.iter().filter_map(|n| n.get().copied()).min();
-    let n_median = settings.iter().filter(|o| o.median).count();
-    let mut cap = usize::MAX; // set after the median runs
-    let options_of = |i: usize, cap: usize| {
+    // The limit of the runs without the median, set after the others.
+    let mut cap = usize::MAX;
+    // The runs first made: concentric shells with score 4, which place
+    // the points on the shells alone.
+    let first = |i: usize| settings[i].shells && settings[i].score == Score::Uniform;
+    // The limit on the splits of the other median runs, set after those: a
+    // run that needs more than that many can win nothing, as it would not
+    // be pruned (`worth_pruning`). On thin cells and slivers the median
+    // runs (and shells with score 2) can add many times what score 4 adds
+    // (a 4 × 20 height field of 1000:1 cells: 16,509 to 38,208 against
+    // 6,233), and on larger such fields they go on for seconds each.
+    let mut median_cap = usize::MAX;
+    let options_of = |i: usize, cap: usize, median_cap: usize| {
         let mut options = settings[i];
         if !options.median {
             options.max_added = options.max_added.min(cap);
+        } else if !first(i) {
+            options.max_added = options.max_added.min(median_cap);
         }
         options
     };
@@ -1586,33 +1600,51 @@ fn smallest(
         label: "--smallest, refining",
         total: settings.len(),
     });
-    for phase in [0..n_median, n_median..settings.len()] {
-        let median = phase.start == 0;
-        let indices: Vec<usize> = phase.collect();
-        run_each(threads, &indices, &|i| match refine_once(
-            surface.clone(),
-            first_pass,
-            input_path,
-            &options_of(i, cap),
-            None,
-        ) {
-            Ok(out) => {
-                let n = out.surface.positions.len() - out.surface.n_input_vertices;
-                added[i].set(n).expect("each setting runs once");
-                let size = out.surface.positions.len();
-                let fits = kept_vertices.fetch_update(
-                    std::sync::atomic::Ordering::Relaxed,
-                    std::sync::atomic::Ordering::Relaxed,
-                    |k| Some(k + size).filter(|&k| k <= SMALLEST_KEEP_VERTICES),
-                );
-                if fits.is_ok() {
-                    *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
+    let phases: [Vec<usize>; 3] = [
+        (0..settings.len()).filter(|&i| first(i)).collect(),
+        (0..settings.len())
+            .filter(|&i| settings[i].median && !first(i))
+            .collect(),
+        (0..settings.len()).filter(|&i| !settings[i].median).collect(),
+    ];
+    for (phase, indices) in phases.iter().enumerate() {
+        run_each(threads, indices, &|i| {
+            let options = options_of(i, cap, median_cap);
+            let mut result = refine_once(surface.clone(), first_pass, input_path, &options, None);
+            // The median runs' limit is on splits only: one stopped by the
+            // flips it brings along (three per split) is run again without
+            // it, as it would have been.
+            if let Err(e) = &result {
+                if let Some(&delmesh::Error::WorkLimit { splits, limit, .. }) = e.downcast_ref::<delmesh::Error>() {
+                    if options.median && limit < settings[i].max_added && splits < limit {
+                        result = refine_once(surface.clone(), first_pass, input_path, &settings[i], None);
+                    }
                 }
             }
-            Err(e) => fail(i, e),
+            match result {
+                Ok(out) => {
+                    let n = out.surface.positions.len() - out.surface.n_input_vertices;
+                    added[i].set(n).expect("each setting runs once");
+                    let size = out.surface.positions.len();
+                    let fits = kept_vertices.fetch_update(
+                        std::sync::atomic::Ordering::Relaxed,
+                        std::sync::atomic::Ordering::Relaxed,
+                        |k| Some(k + size).filter(|&k| k <= SMALLEST_KEEP_VERTICES),
+                    );
+                    if fits.is_ok() {
+                        *kept[i].lock().unwrap_or_else(|p| p.into_inner()) = Some(out);
+                    }
+                }
+                Err(e) => fail(i, e),
+            }
         });
-        if median {
-            cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000;
+        // A limit of SMALLEST_PRUNE_RATIO times the fewest vertices so far
+        // plus 10,000 is above what `worth_pruning` allows of the fewest at
+        // the end, so the result is that of the runs without limits.
+        match phase {
+            0 => median_cap = fewest().map_or(usize::MAX, |f| SMALLEST_PRUNE_RATIO * f + 10_000),
+            1 => cap = SMALLEST_PRUNE_RATIO * fewest().unwrap_or(0) + 10_000,
+            _ => {}
         }
     }
     // Then those worth pruning are pruned (refined again if not kept: the
@@ -1639,7 +1671,9 @@ fn smallest(
         total: chosen.len(),
     });
     run_each(threads, &chosen, &|i| {
-        let options = options_of(i, cap);
+        // (A median run chosen here finished, within its limit or run
+        // again without it: without the limit it gives the same result.)
+        let options = options_of(i, cap, usize::MAX);
         let unpruned = match kept[i].lock().unwrap_or_else(|p| p.into_inner()).take() {
             Some(out) => Ok(out),
             None => refine_once(surface.clone(), first_pass, input_path, &options, None),
