@@ -4,12 +4,17 @@
 //!
 //! Attributes are stored per triangle corner ([`Channel`]): a vertex on a
 //! seam has a different value in each face around it. The construction does
-//! not look at them except in one place: two exactly coplanar input faces
-//! join one planar region only if the attributes allow a flip across their
-//! edge ([`Attributes::keep_apart`]). Then every region carries one affine
-//! field per attribute, so whatever refinement does inside it, interpolating
-//! the corner values of [`Transfer::apply`] reproduces the input's
-//! piecewise-linear mapping:
+//! not look at them except in one place: exactly coplanar input faces join
+//! one planar region (whose inner edges may be flipped) only if the
+//! attributes allow it ([`AttributeCuts`]): never across a seam or between
+//! groups; as a whole where each attribute is one affine field over the
+//! faces within a [`Tolerances`] (file formats round values, so exactly
+//! affine values are rare); else only two by two, where the values are
+//! affine on the two faces exactly ([`Attributes::keep_apart`]). Then every
+//! region carries one affine field per attribute (within the tolerance),
+//! so whatever refinement does inside it, interpolating the corner values
+//! of [`Transfer::apply`] reproduces the input's piecewise-linear mapping
+//! (within twice the tolerance):
 //! - an input vertex takes, bit for bit, its own value in the region of the
 //!   output face;
 //! - a vertex added on input edge (a, b) at parameter t takes
@@ -19,10 +24,12 @@
 //! Normals are interpolated linearly, not renormalized: the field a renderer
 //! interpolates stays the same.
 
-use glam::DVec3;
+use std::cell::Cell;
+
+use glam::{DVec2, DVec3};
 
 use crate::hash::FastMap;
-use crate::mesh::{Carrier, FaceId, Surface};
+use crate::mesh::{Carrier, FaceId, RegionCuts, Surface};
 
 /// "No value": a corner that the file gave none (only in a
 /// [`crate::io::RawMesh`], before [`crate::io::finish`] checks them).
@@ -48,6 +55,59 @@ pub const AFFINE_TOLERANCE: f64 = 1e-12;
 
 /// The largest number of values in one attribute (RGBA colour).
 pub const MAX_DIM: usize = 4;
+
+/// How far, relative to the largest magnitude of an attribute's values in
+/// the mesh, the values of a flat region may lie from one affine field for
+/// the region to be flipped as a whole (`--attribute-tolerance`). Where it
+/// is, any triangulation of the region interpolates a field within that
+/// distance of the affine one, as the input's does: the output's field
+/// differs from the input's by at most twice the tolerance there.
+///
+/// Exporters round what they write (Blender: texture coordinates to six
+/// decimals, normals to four), and compute it from positions before
+/// rounding those: the values of a textured flat polygon are then affine
+/// only to about 1e-7 to 1e-4, and with [`AFFINE_TOLERANCE`] alone its
+/// thin fan triangles could not be flipped (a fanned 64-gon cap: 6,291
+/// added vertices instead of none). 0 keeps every field exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    /// Texture coordinates: 1e-5 (a 25th of a texel of a 4096 texture).
+    pub texcoords: f64,
+    /// Normals: 1e-3 (0.06° on a unit normal).
+    pub normals: f64,
+    /// Colours: 1e-3 (a quarter of an 8-bit step).
+    pub colors: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances {
+            texcoords: 1e-5,
+            normals: 1e-3,
+            colors: 1e-3,
+        }
+    }
+}
+
+impl Tolerances {
+    /// The same tolerance for every attribute.
+    pub fn all(tolerance: f64) -> Self {
+        Tolerances {
+            texcoords: tolerance,
+            normals: tolerance,
+            colors: tolerance,
+        }
+    }
+
+    /// The tolerance of `kind`.
+    pub fn of(&self, kind: Kind) -> f64 {
+        match kind {
+            Kind::TexCoord => self.texcoords,
+            Kind::Normal => self.normals,
+            Kind::Color => self.colors,
+        }
+    }
+}
 
 /// Which attribute a [`Channel`] holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,36 +236,48 @@ impl Attributes {
     }
 
     /// Whether two input triangles `f1` and `f2` of `triangles`, which share
+    /// an edge, can never share a planar region, whatever their values: they
+    /// are in different groups, or on a seam (the two faces give a shared
+    /// vertex different values, or values of different sizes).
+    pub fn apart(&self, triangles: &[[u32; 3]], f1: u32, f2: u32) -> bool {
+        let Some(e) = SharedEdge::of(triangles, f1, f2) else {
+            return true;
+        };
+        self.apart_along(&e, f1, f2)
+    }
+
+    /// [`Attributes::apart`], given the faces' shared edge.
+    fn apart_along(&self, e: &SharedEdge, f1: u32, f2: u32) -> bool {
+        self.face_group.get(f1 as usize) != self.face_group.get(f2 as usize)
+            || self.channels().any(|(_, ch)| {
+                let (va, vb) = (ch.corner(e.a1), ch.corner(e.b1));
+                let (vc, vd) = (ch.corner(e.c1), ch.corner(e.d2));
+                va != ch.corner(e.a2) || vb != ch.corner(e.b2) || [vb, vc, vd].iter().any(|v| v.len() != va.len())
+            })
+    }
+
+    /// Whether two input triangles `f1` and `f2` of `triangles`, which share
     /// an edge and lie exactly in one plane, must stay in different planar
     /// regions because a flip across their edge could not keep the
-    /// attributes. They must be: in different groups; or on a seam (the two
-    /// faces give a shared vertex different values); or carrying a field
-    /// that is not one affine function on the two faces (the fourth corner's
-    /// value is off the affine extension of the other face's by more than
-    /// [`AFFINE_TOLERANCE`]).
+    /// attributes exactly. They must be: [`Attributes::apart`]; or carrying
+    /// a field that is not one affine function on the two faces (the fourth
+    /// corner's value is off the affine extension of the other face's by
+    /// more than [`AFFINE_TOLERANCE`]).
     pub fn keep_apart(&self, positions: &[DVec3], triangles: &[[u32; 3]], f1: u32, f2: u32) -> bool {
-        let (f1, f2) = (f1 as usize, f2 as usize);
-        if self.face_group.get(f1) != self.face_group.get(f2) {
+        let Some(e) = SharedEdge::of(triangles, f1, f2) else {
+            return true;
+        };
+        if self.apart_along(&e, f1, f2) {
             return true;
         }
-        let (Some(t1), Some(t2)) = (triangles.get(f1), triangles.get(f2)) else {
-            return true;
+        let p = |c: usize| {
+            triangles
+                .get(c / 3)
+                .and_then(|t| positions.get(t[c % 3] as usize))
+                .copied()
+                .unwrap_or(DVec3::NAN)
         };
-        // The shared edge: corners k1 (a) and k1 + 1 (b) of t1, c opposite.
-        let Some(k1) = (0..3).find(|&k| t2.contains(&t1[k]) && t2.contains(&t1[(k + 1) % 3])) else {
-            return true;
-        };
-        let corner1 = |k: usize| 3 * f1 + (k1 + k) % 3;
-        let at2 = |v: u32| t2.iter().position(|&w| w == v).map(|k| 3 * f2 + k);
-        let (Some(a2), Some(b2)) = (at2(t1[k1]), at2(t1[(k1 + 1) % 3])) else {
-            return true;
-        };
-        let Some(d2) = (0..3).map(|k| 3 * f2 + k).find(|&c| c != a2 && c != b2) else {
-            return true;
-        };
-        let p = |v: u32| positions.get(v as usize).copied().unwrap_or(DVec3::NAN);
-        let [a, b, c] = [0, 1, 2].map(|k| p(t1[(k1 + k) % 3]));
-        let d = p(t2[d2 - 3 * f2]);
+        let [a, b, c, d] = [e.a1, e.b1, e.c1, e.d2].map(p);
         // d = a + s·(b − a) + r·(c − a), exactly in the common plane.
         let (e1, e2, w) = (b - a, c - a, d - a);
         let n = e1.cross(e2);
@@ -215,11 +287,7 @@ impl Attributes {
             return true;
         }
         self.channels().any(|(_, ch)| {
-            let (va, vb, vc) = (ch.corner(corner1(0)), ch.corner(corner1(1)), ch.corner(corner1(2)));
-            let vd = ch.corner(d2);
-            if va != ch.corner(a2) || vb != ch.corner(b2) || [vb, vc, vd].iter().any(|v| v.len() != va.len()) {
-                return true;
-            }
+            let [va, vb, vc, vd] = [e.a1, e.b1, e.c1, e.d2].map(|c| ch.corner(c));
             let scale = [va, vb, vc, vd]
                 .iter()
                 .flat_map(|v| v.iter())
@@ -230,6 +298,202 @@ impl Attributes {
                 residual.is_nan() || residual > AFFINE_TOLERANCE * scale
             })
         })
+    }
+}
+
+/// The corners (3·triangle + k) of two triangles around their shared edge:
+/// `a1`, `b1`, `c1` of the first (the edge a→b, c opposite), `a2`, `b2`,
+/// `d2` of the second (d opposite).
+struct SharedEdge {
+    a1: usize,
+    b1: usize,
+    c1: usize,
+    a2: usize,
+    b2: usize,
+    d2: usize,
+}
+
+impl SharedEdge {
+    /// The shared edge of triangles `f1` and `f2`, if they have one.
+    fn of(triangles: &[[u32; 3]], f1: u32, f2: u32) -> Option<SharedEdge> {
+        let (f1, f2) = (f1 as usize, f2 as usize);
+        let (t1, t2) = (triangles.get(f1)?, triangles.get(f2)?);
+        let k1 = (0..3).find(|&k| t2.contains(&t1[k]) && t2.contains(&t1[(k + 1) % 3]))?;
+        let corner1 = |k: usize| 3 * f1 + (k1 + k) % 3;
+        let at2 = |v: u32| t2.iter().position(|&w| w == v).map(|k| 3 * f2 + k);
+        let (a2, b2) = (at2(t1[k1])?, at2(t1[(k1 + 1) % 3])?);
+        let d2 = (0..3).map(|k| 3 * f2 + k).find(|&c| c != a2 && c != b2)?;
+        Some(SharedEdge {
+            a1: corner1(0),
+            b1: corner1(1),
+            c1: corner1(2),
+            a2,
+            b2,
+            d2,
+        })
+    }
+}
+
+/// The [`RegionCuts`] of a mesh's attributes, with [`Tolerances`]: what
+/// [`crate::io::build_surface_with`] builds planar regions with. It also
+/// records the flat regions it let be flipped as a whole though their
+/// values are not exactly affine ([`AttributeCuts::note`]).
+pub struct AttributeCuts<'a> {
+    attributes: &'a Attributes,
+    positions: &'a [DVec3],
+    triangles: &'a [[u32; 3]],
+    tolerances: Tolerances,
+    /// The largest magnitude of each channel's values (in the order of
+    /// [`Attributes::channels`]).
+    scales: Vec<f64>,
+    /// Regions found whole with values off one affine field by more than
+    /// [`AFFINE_TOLERANCE`] (relative), and their faces.
+    inexact: Cell<(usize, usize)>,
+    /// The largest distance of such a region's values from its field, per
+    /// channel.
+    deviation: Vec<Cell<f64>>,
+}
+
+impl<'a> AttributeCuts<'a> {
+    /// The cuts that `attributes` of the triangles (`positions`,
+    /// `triangles`) make, with `tolerances`.
+    pub fn new(
+        attributes: &'a Attributes,
+        positions: &'a [DVec3],
+        triangles: &'a [[u32; 3]],
+        tolerances: Tolerances,
+    ) -> AttributeCuts<'a> {
+        let scales: Vec<f64> = attributes
+            .channels()
+            .map(|(_, ch)| {
+                (0..ch.corners.len())
+                    .flat_map(|c| ch.corner(c).iter())
+                    .fold(0.0f64, |m, x| m.max(x.abs()))
+            })
+            .collect();
+        AttributeCuts {
+            attributes,
+            positions,
+            triangles,
+            tolerances,
+            deviation: scales.iter().map(|_| Cell::new(0.0)).collect(),
+            scales,
+            inexact: Cell::new((0, 0)),
+        }
+    }
+
+    /// A line for the printout when some flat regions were let be flipped as
+    /// a whole though their values are affine only within the tolerance:
+    /// how many, how far each attribute was from affine, and so how far
+    /// it may move there.
+    pub fn note(&self) -> Option<String> {
+        let (regions, faces) = self.inexact.get();
+        if regions == 0 {
+            return None;
+        }
+        let off: Vec<(&str, f64)> = self
+            .attributes
+            .channels()
+            .zip(&self.deviation)
+            .filter(|(_, d)| d.get() > 0.0)
+            .map(|((kind, _), d)| (kind.name(), d.get()))
+            .collect();
+        let list = |f: &dyn Fn(&(&str, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
+        Some(format!(
+            "{regions} flat region{} ({faces} faces) flipped as a whole: their {} are affine there only within {} \
+             (rounded values), so the output's move by up to {} (--attribute-tolerance 0 keeps them exact)",
+            if regions == 1 { "" } else { "s" },
+            list(&|(name, _)| name.to_string()),
+            list(&|(_, d)| format!("{d:.1e}")),
+            list(&|(_, d)| format!("{:.1e}", 2.0 * d)),
+        ))
+    }
+}
+
+impl RegionCuts for AttributeCuts<'_> {
+    fn apart(&self, f1: u32, f2: u32) -> bool {
+        self.attributes.apart(self.triangles, f1, f2)
+    }
+
+    /// Fits each component of each attribute over the faces' corners by
+    /// least squares, as an affine function of the position in the
+    /// faces' plane, and requires every corner within the tolerance of it.
+    fn whole(&self, faces: &[u32]) -> bool {
+        let corner_position = |c: usize| self.positions[self.triangles[c / 3][c % 3] as usize];
+        let corners = || faces.iter().flat_map(|&f| (0..3).map(move |k| 3 * f as usize + k));
+        // The plane's frame: its normal from the faces' area vectors (all
+        // facing one way), the origin at the corners' mean.
+        let (mut normal, mut origin) = (DVec3::ZERO, DVec3::ZERO);
+        for &f in faces {
+            let [a, b, c] = self.triangles[f as usize].map(|v| self.positions[v as usize]);
+            normal += (b - a).cross(c - a);
+            origin += a + b + c;
+        }
+        origin /= (3 * faces.len()) as f64;
+        let Some(normal) = normal.try_normalize() else {
+            return false;
+        };
+        let u = normal.any_orthonormal_vector();
+        let v = normal.cross(u);
+        let xy: Vec<DVec2> = corners()
+            .map(|c| {
+                let d = corner_position(c) - origin;
+                DVec2::new(d.dot(u), d.dot(v))
+            })
+            .collect();
+        let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+        for p in &xy {
+            sxx += p.x * p.x;
+            sxy += p.x * p.y;
+            syy += p.y * p.y;
+        }
+        let det = sxx * syy - sxy * sxy;
+        if !(det > 0.0 && det.is_finite()) {
+            return false;
+        }
+        let mut deviations = [0.0f64; 3];
+        for (i, ((kind, ch), &scale)) in self.attributes.channels().zip(&self.scales).enumerate() {
+            let tolerance = self.tolerances.of(kind) * scale;
+            if tolerance.is_nan() || tolerance <= 0.0 || corners().any(|c| ch.corner(c).len() != ch.dim) {
+                return false;
+            }
+            for k in 0..ch.dim {
+                let value = |c: usize| ch.corner(c)[k];
+                let mean = corners().map(value).sum::<f64>() / xy.len() as f64;
+                let (mut sxz, mut syz) = (0.0, 0.0);
+                for (p, c) in xy.iter().zip(corners()) {
+                    let z = value(c) - mean;
+                    sxz += p.x * z;
+                    syz += p.y * z;
+                }
+                let gx = (sxz * syy - syz * sxy) / det;
+                let gy = (syz * sxx - sxz * sxy) / det;
+                for (p, c) in xy.iter().zip(corners()) {
+                    let off = (value(c) - (mean + gx * p.x + gy * p.y)).abs();
+                    if off.is_nan() || off > tolerance {
+                        return false;
+                    }
+                    deviations[i] = deviations[i].max(off);
+                }
+            }
+        }
+        let scales = self.scales.iter();
+        if deviations
+            .iter()
+            .zip(scales)
+            .any(|(&d, &scale)| d > AFFINE_TOLERANCE * scale)
+        {
+            let (regions, n) = self.inexact.get();
+            self.inexact.set((regions + 1, n + faces.len()));
+            for (cell, &d) in self.deviation.iter().zip(&deviations) {
+                cell.set(cell.get().max(d));
+            }
+        }
+        true
+    }
+
+    fn apart_within(&self, f1: u32, f2: u32) -> bool {
+        self.attributes.keep_apart(self.positions, self.triangles, f1, f2)
     }
 }
 
@@ -466,6 +730,76 @@ mod tests {
             vec![0, 1, 2, 0, 4, 3],
         ));
         assert!(a.keep_apart(&p, &t, 0, 1));
+    }
+
+    #[test]
+    fn nearly_affine_regions_are_whole_within_the_tolerance() {
+        let (p, t) = square();
+        let corners = vec![0, 1, 2, 0, 2, 3];
+        let off = |dv: f64| Attributes {
+            texcoords: Some(uv(
+                &[[0.0, 0.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5 + dv]],
+                corners.clone(),
+            )),
+            ..Attributes::default()
+        };
+        // Off by 1e-7 (six printed decimals): not exactly affine, but
+        // within the default tolerance, which the note reports.
+        let a = off(1e-7);
+        assert!(a.keep_apart(&p, &t, 0, 1));
+        let cuts = AttributeCuts::new(&a, &p, &t, Tolerances::default());
+        assert!(!cuts.apart(0, 1) && cuts.apart_within(0, 1));
+        assert!(cuts.whole(&[0, 1]));
+        let note = cuts.note().expect("a note");
+        assert!(note.starts_with("1 flat region (2 faces) flipped as a whole"), "{note}");
+        let surface = Surface::with_region_cuts(p.clone(), &t, &cuts).unwrap();
+        assert_eq!((surface.n_regions, surface.flat_edges_apart), (1, 0));
+        // Tolerance 0: exact, so apart, and no note.
+        let exact = AttributeCuts::new(&a, &p, &t, Tolerances::all(0.0));
+        assert!(!exact.whole(&[0, 1]) && exact.note().is_none());
+        let surface = Surface::with_region_cuts(p.clone(), &t, &exact).unwrap();
+        assert_eq!((surface.n_regions, surface.flat_edges_apart), (2, 1));
+        // Off by 0.1: beyond the tolerance.
+        let b = off(0.1);
+        assert!(!AttributeCuts::new(&b, &p, &t, Tolerances::default()).whole(&[0, 1]));
+        // Exactly affine: whole, and nothing to note.
+        let c = off(0.0);
+        let cuts = AttributeCuts::new(&c, &p, &t, Tolerances::default());
+        assert!(cuts.whole(&[0, 1]) && cuts.note().is_none());
+    }
+
+    #[test]
+    fn a_seam_keeps_a_region_from_being_whole() {
+        // Four triangles around the centre 4 of a square: a seam along 0-4
+        // (the last face gives 0 and 4 other values), so the faces join
+        // around the seam but the seam edge stays between two regions.
+        let p = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.5, 0.5, 0.0),
+        ];
+        let t = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+        let values = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.5, 0.5],
+            [0.0, 0.0 + 1e-8],
+            [0.5, 0.5 + 1e-8],
+        ];
+        let a = Attributes {
+            texcoords: Some(uv(&values, vec![0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 5, 6])),
+            ..Attributes::default()
+        };
+        let cuts = AttributeCuts::new(&a, &p, &t, Tolerances::default());
+        assert!(cuts.apart(3, 0));
+        let surface = Surface::with_region_cuts(p.clone(), &t, &cuts).unwrap();
+        assert!(surface.flat_edges_apart >= 1, "{}", surface.flat_edges_apart);
+        let (f0, f3) = (surface.face_region[0], surface.face_region[3]);
+        assert_ne!(f0, f3, "the seam's two faces share a region");
     }
 
     #[test]

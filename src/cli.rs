@@ -63,7 +63,7 @@ macro_rules! complain {
 }
 mod batch;
 
-use delmesh::attributes::{Attributes, Transfer};
+use delmesh::attributes::{Attributes, Tolerances, Transfer};
 use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
@@ -289,6 +289,17 @@ struct Settings {
     /// distort them).
     #[arg(long = "drop-attributes")]
     drop_attributes: bool,
+
+    /// How far a flat region's texture coordinates, normals and colours may
+    /// lie from one affine field (relative to each attribute's largest
+    /// magnitude) for the region to be flipped as a whole, as without
+    /// them: their fields then move by at most twice this there, and a
+    /// note says how far. Rounded values, as exporters write them, are
+    /// rarely affine exactly; with 0 (exact) the thin fan triangles of a
+    /// textured flat polygon get split instead of flipped. Default: 1e-5
+    /// for texture coordinates, 1e-3 for normals and colours
+    #[arg(long = "attribute-tolerance", value_name = "REL", value_parser = relative_tolerance)]
+    attribute_tolerance: Option<f64>,
 }
 
 impl Settings {
@@ -307,6 +318,18 @@ impl Settings {
         options.max_added = self.max_added;
         options.keep_order = self.keep_order;
         options
+    }
+
+    /// How closely attributes must be affine for a flat region to be
+    /// flipped as a whole (`--attribute-tolerance`).
+    fn tolerances(&self) -> Tolerances {
+        self.attribute_tolerance
+            .map_or_else(Tolerances::default, Tolerances::all)
+    }
+
+    /// Builds the refinable mesh of `input`, read from `path`.
+    fn build(&self, input: &mut io::InputMesh, path: &Path) -> delmesh::Result<Surface> {
+        io::build_surface_with(input, path, self.tolerances())
     }
 
     /// Reads `path`, with or without repair, and without its attributes
@@ -618,9 +641,19 @@ pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smalles
             },
             _ => String::new(),
         };
+        // Flat edges that the attributes keep from flipping (their thin
+        // triangles are split instead), a cause too if any.
+        let attributes = match surface.flat_edges_apart {
+            0 => String::new(),
+            edges => format!(
+                "; {edges} flat input edge(s) are never flipped, as the attributes differ across them (a seam, a \
+                 group boundary, or values not one affine field there): --drop-attributes lets them flip"
+            ),
+        };
         format!(
             "{:.0} added vertices per input vertex: the smallest input angle ({} rad) calls for vertices at its \
-             scale{nearly_flat}{helps}; marching cubes output loses the cause to a weld (README: Real-world meshes)",
+             scale{nearly_flat}{attributes}{helps}; marching cubes output loses the cause to a weld (README: \
+             Real-world meshes)",
             added as f64 / n as f64,
             sig(surface.input_figures.min_angle),
         )
@@ -726,6 +759,14 @@ fn weld_distance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
         _ => Err(format!("{s:?} is not a distance (a finite number, 0 or more)")),
+    }
+}
+
+/// A relative tolerance (`--attribute-tolerance`): from 0 to 1.
+fn relative_tolerance(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        _ => Err(format!("{s:?} is not a relative tolerance (a number from 0 to 1)")),
     }
 }
 
@@ -1153,7 +1194,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Build {
         faces: input.triangles.len(),
     });
-    let surface = io::build_surface(&mut input, input_path)?;
+    let surface = args.settings.build(&mut input, input_path)?;
     let transfer =
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let build_s = t_build.elapsed().as_secs_f64();

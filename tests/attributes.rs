@@ -552,3 +552,139 @@ fn texture_kept_through_prune() {
         assert!(worst.iter().all(|&w| w <= 1e-9), "{extra:?}: {worst:?}\n{printout}");
     }
 }
+
+/// A flat oval polygon fanned from one corner (thin, non-Delaunay
+/// triangles) on a box, with texture coordinates projected from the
+/// positions and written with six decimals, as Blender writes them: affine
+/// only to about 1e-7. Within the default `--attribute-tolerance` the
+/// polygon is flipped as a whole, as without attributes (no vertex added),
+/// and the mapping moves by no more than the note says; with 0 it stays
+/// exact and the fan is split instead.
+#[test]
+fn rounded_texture_on_a_fanned_polygon_is_flipped_within_the_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 40;
+    let mut obj = String::from("# oval prism, caps fanned from one corner\n");
+    for z in [0.0, 1.0] {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            writeln!(obj, "v {} {} {z}", 3.0 * a.cos(), a.sin()).unwrap();
+        }
+    }
+    // Caps: planar projection (u, v) = (x/6 + 0.5, y/2 + 0.5), rounded.
+    for z in 0..2 {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            writeln!(
+                obj,
+                "vt {:.6} {:.6}",
+                a.cos() / 2.0 + 0.5,
+                a.sin() / 2.0 + 0.5 + z as f64
+            )
+            .unwrap();
+        }
+    }
+    let (v, cap) = (
+        |i: usize, z: usize| z * n + i % n + 1,
+        |i: usize, z: usize| z * n + i % n + 1,
+    );
+    for i in 1..n - 1 {
+        writeln!(
+            obj,
+            "f {}/{} {}/{} {}/{}",
+            v(0, 0),
+            cap(0, 0),
+            v(i + 1, 0),
+            cap(i + 1, 0),
+            v(i, 0),
+            cap(i, 0)
+        )
+        .unwrap();
+        writeln!(
+            obj,
+            "f {}/{} {}/{} {}/{}",
+            v(0, 1),
+            cap(0, 1),
+            v(i, 1),
+            cap(i, 1),
+            v(i + 1, 1),
+            cap(i + 1, 1)
+        )
+        .unwrap();
+    }
+    // The sides: texture coordinates of their own (a seam along the rim).
+    for i in 0..=n {
+        writeln!(
+            obj,
+            "vt {:.6} 2.5\nvt {:.6} 3",
+            i as f64 / n as f64,
+            i as f64 / n as f64
+        )
+        .unwrap();
+    }
+    let side = |i: usize, top: usize| 2 * n + 2 * i + top + 1;
+    for i in 0..n {
+        let (a, b, c, d) = (v(i, 0), v(i + 1, 0), v(i + 1, 1), v(i, 1));
+        let (ta, tb, tc, td) = (side(i, 0), side(i + 1, 0), side(i + 1, 1), side(i, 1));
+        writeln!(obj, "f {a}/{ta} {b}/{tb} {c}/{tc}\nf {a}/{ta} {c}/{tc} {d}/{td}").unwrap();
+    }
+    let input = write(dir.path(), "oval.obj", &obj);
+    let a = read(&input);
+
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    let plain = run(&input, &dir.path().join("plain.obj"), &["--drop-attributes"]);
+    assert_eq!(work(&printout), work(&plain), "{printout}\n{plain}");
+    assert!(work(&printout).0 == 0 && work(&printout).2 > 0, "{printout}");
+    let note = printout
+        .lines()
+        .find(|l| l.contains("flipped as a whole"))
+        .unwrap_or_else(|| panic!("no note: {printout}"));
+    assert!(note.contains("2 flat regions (76 faces)"), "{note}");
+    let bound: f64 = note
+        .split("move by up to ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("{note}"));
+    assert!(bound > 1e-9 && bound < 1e-5, "{note}");
+    check(&input, &out);
+    let worst = compare(&a, &read(&out), 1000, 11);
+    assert!(worst[0] > 1e-9 && worst[0] <= bound, "{worst:?} against {note}");
+
+    let exact = dir.path().join("exact.obj");
+    let printout = run(&input, &exact, &["--attribute-tolerance", "0"]);
+    // Every inner edge of the two fans (2 × 37) kept from flipping, and the
+    // growth note says so.
+    assert!(
+        work(&printout).1 > 1000 && !printout.contains("flipped as a whole"),
+        "{printout}"
+    );
+    assert!(
+        printout.contains("74 flat input edge(s) are never flipped"),
+        "{printout}"
+    );
+    check(&input, &exact);
+    let worst = compare(&a, &read(&exact), 1000, 12);
+    assert!(worst[0] <= 1e-9, "{worst:?}");
+}
+
+/// `--attribute-tolerance` takes a number from 0 to 1, and refuses others
+/// before reading anything.
+#[test]
+fn attribute_tolerance_is_a_relative_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    for bad in ["-1", "2", "nan", "x"] {
+        let out = delmesh()
+            .arg("-i")
+            .arg(&input)
+            .args(["-o", "-", &format!("--attribute-tolerance={bad}")])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {stderr}");
+        assert!(stderr.contains("is not a relative tolerance"), "{bad}: {stderr}");
+    }
+    run(&input, &dir.path().join("o.obj"), &["--attribute-tolerance", "1e-3"]);
+}

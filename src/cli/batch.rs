@@ -293,7 +293,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         let mut mesh = args.settings.read(input)?;
         let read_s = t0.elapsed().as_secs_f64();
         let t_build = Instant::now();
-        let surface = io::build_surface(&mut mesh, input)?;
+        let surface = args.settings.build(&mut mesh, input)?;
         Ok((mesh, surface, read_s, t_build.elapsed().as_secs_f64()))
     };
     let (mut mesh, surface, read_s, build_s) = read().map_err(|error| Failed {

@@ -27,10 +27,10 @@ use glam::DVec3;
 
 pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};
 
-use crate::attributes::{Attributes, Kind, PerVertex, NO_VALUE};
+use crate::attributes::{AttributeCuts, Attributes, Kind, PerVertex, Tolerances, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
-use crate::mesh::{room_for_splits, Surface, Topology, TopologyError};
+use crate::mesh::{room_for_splits, NoCuts, RegionCuts, Surface, Topology, TopologyError};
 use crate::repair::{self, RepairOptions, RepairReport};
 
 /// The largest decompressed size accepted from a `.gz` input (16 GiB).
@@ -520,11 +520,19 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
 
 /// Builds the refinable mesh of an input, turning topology errors into
 /// messages that name the file, line and vertices. Planar regions are cut
-/// where the input's attributes could not survive a flip
-/// ([`Attributes::keep_apart`]).
+/// where the input's attributes could not survive a flip, with the default
+/// [`Tolerances`] ([`build_surface_with`]).
 ///
 /// Takes the connectivity the reader built ([`InputMesh::topology`]), if any.
 pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
+    build_surface_with(input, path, Tolerances::default())
+}
+
+/// [`build_surface`], with planar regions cut where the input's attributes
+/// could not survive a flip within `tolerances` ([`AttributeCuts`]). Adds
+/// to `input.notes` a line when some flat regions are flipped as a whole
+/// though their attributes are affine only within the tolerances.
+pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolerances) -> Result<Surface> {
     // The readers refuse such coordinates; an input edited since is refused
     // here (one pass, without a branch per value).
     if !input.positions.iter().fold(true, |ok, &p| ok & in_supported_range(p)) {
@@ -542,21 +550,23 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
         });
     }
     let topology = input.topology.take();
-    let input = &*input;
-    let attributes = &input.attributes;
-    let keep_apart = |f1, f2| attributes.keep_apart(&input.positions, &input.triangles, f1, f2);
-    let cut: &dyn Fn(u32, u32) -> bool = if attributes.is_empty() {
-        &|_, _| false
+    let attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances);
+    let cuts: &dyn RegionCuts = if input.attributes.is_empty() {
+        &NoCuts
     } else {
-        &keep_apart
+        &attribute_cuts
     };
     // With room for the splits to come (no copy when the surface reserves it).
     let mut positions = Vec::with_capacity(input.positions.len() + room_for_splits(input.triangles.len()));
     positions.extend_from_slice(&input.positions);
-    if let Some(topology) = topology {
-        return Ok(Surface::with_topology(positions, topology, cut));
-    }
-    Surface::with_region_cuts(positions, &input.triangles, cut).map_err(|e| {
+    let surface = match topology {
+        Some(topology) => Ok(Surface::with_topology(positions, topology, cuts)),
+        None => Surface::with_region_cuts(positions, &input.triangles, cuts),
+    };
+    let note = attribute_cuts.note();
+    input.notes.extend(note);
+    let input = &*input;
+    surface.map_err(|e| {
         let at = |face: usize| {
             let origin = input.triangle_origin.get(face).copied().unwrap_or(0);
             match input.origin_kind {

@@ -35,6 +35,55 @@ pub enum Carrier {
 /// "No input edge": the edge was made by a split or a flip, inside a region.
 pub const NO_INPUT_EDGE: u32 = u32::MAX;
 
+/// Which exactly coplanar input faces may share a planar region (and so
+/// have the edges between them flipped), beyond their geometry: what the
+/// input's attributes allow ([`crate::attributes::AttributeCuts`]). Faces
+/// are numbered as the input's triangles.
+pub trait RegionCuts {
+    /// Whether nothing is ever kept apart ([`NoCuts`]): the regions are then
+    /// found in one pass, without the other questions.
+    fn is_none(&self) -> bool {
+        false
+    }
+
+    /// Whether `f1` and `f2`, which share an edge, never share a region (a
+    /// texture seam or a group boundary between them).
+    fn apart(&self, f1: u32, f2: u32) -> bool;
+
+    /// Whether `faces`, joined across flat edges not kept [`apart`], with
+    /// no such edge inside them, form one region as they are (their
+    /// attributes one affine field, within tolerance).
+    ///
+    /// [`apart`]: RegionCuts::apart
+    fn whole(&self, faces: &[u32]) -> bool;
+
+    /// Inside faces that are not [`whole`], whether `f1` and `f2`, which
+    /// share an edge, stay in different regions (their attributes are not
+    /// one affine field on the two, exactly).
+    ///
+    /// [`whole`]: RegionCuts::whole
+    fn apart_within(&self, f1: u32, f2: u32) -> bool;
+}
+
+/// The [`RegionCuts`] of a mesh without attributes: every flat edge joins.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoCuts;
+
+impl RegionCuts for NoCuts {
+    fn is_none(&self) -> bool {
+        true
+    }
+    fn apart(&self, _: u32, _: u32) -> bool {
+        false
+    }
+    fn whole(&self, _: &[u32]) -> bool {
+        true
+    }
+    fn apart_within(&self, _: u32, _: u32) -> bool {
+        false
+    }
+}
+
 /// A triangle mesh with the bookkeeping of its input. Sizes: 12 bytes per
 /// half-edge (topology) + 4 per edge (input edge) + 8 per face (topology and
 /// region) + 44 per vertex (position 24, carrier 16, topology 4).
@@ -56,6 +105,9 @@ pub struct Surface {
     pub n_input_vertices: usize,
     /// How many planar regions the input has.
     pub n_regions: usize,
+    /// Exactly flat input edges between two planar regions: kept apart by
+    /// the input's attributes ([`RegionCuts`]), they are never flipped.
+    pub flat_edges_apart: usize,
     /// Smallest angle and extreme edge lengths of the input.
     pub input_figures: InputFigures,
     /// How each planar region's faces must look along a coordinate axis
@@ -168,25 +220,25 @@ impl Surface {
         if let Some(face) = triangles.iter().map(corners).position(|[a, b, c]| collinear(a, b, c)) {
             return Err(InputError::ZeroArea { face });
         }
-        Ok(Surface::with_topology(positions, topo, &|_, _| false))
+        Ok(Surface::with_topology(positions, topo, &NoCuts))
     }
 
-    /// As [`Surface::new`], but two exactly coplanar input faces `f1`, `f2`
-    /// (triangle numbers) sharing an edge stay in different planar regions
-    /// when `cut(f1, f2)` says so: their edge is then never flipped. Used to
-    /// keep texture seams and groups ([`crate::attributes`]).
+    /// As [`Surface::new`], but exactly coplanar input faces share a planar
+    /// region only as `cuts` allow (an edge between two regions is never
+    /// flipped). Used to keep texture seams, groups and the attributes'
+    /// fields ([`crate::attributes`]).
     pub fn with_region_cuts(
         positions: Vec<DVec3>,
         triangles: &[[u32; 3]],
-        cut: &dyn Fn(u32, u32) -> bool,
+        cuts: &dyn RegionCuts,
     ) -> Result<Surface, TopologyError> {
         let topo = Topology::from_triangles(positions.len(), triangles)?;
-        Ok(Surface::with_topology(positions, topo, cut))
+        Ok(Surface::with_topology(positions, topo, cuts))
     }
 
     /// As [`Surface::with_region_cuts`], with the connectivity already built
     /// ([`Topology::from_triangles`] of the same positions and triangles).
-    pub fn with_topology(positions: Vec<DVec3>, topo: Topology, cut: &dyn Fn(u32, u32) -> bool) -> Surface {
+    pub fn with_topology(positions: Vec<DVec3>, topo: Topology, cuts: &dyn RegionCuts) -> Surface {
         let n = positions.len();
         let spare = room_for_splits(topo.n_faces());
         let mut positions = positions;
@@ -212,6 +264,7 @@ impl Surface {
             face_region: Vec::new(),
             n_input_vertices: n,
             n_regions: 0,
+            flat_edges_apart: 0,
             input_figures: InputFigures {
                 min_angle: 0.0,
                 min_edge: 0.0,
@@ -224,22 +277,30 @@ impl Surface {
             positions,
             topo,
         };
-        s.find_regions(cut);
+        s.find_regions(cuts);
         s.input_figures = s.figures();
         s
     }
 
-    /// Joins faces across exactly flat edges into planar regions, except
-    /// where `cut` keeps them apart.
-    fn find_regions(&mut self, cut: &dyn Fn(u32, u32) -> bool) {
+    /// Joins faces across exactly flat edges into planar regions, as `cuts`
+    /// allow: first into candidates, across the edges that `cuts` does not
+    /// keep [`RegionCuts::apart`]; a candidate with no such edge inside it
+    /// that `cuts` finds [`RegionCuts::whole`] is one region; the others
+    /// are joined only across the edges [`RegionCuts::apart_within`] allows.
+    fn find_regions(&mut self, cuts: &dyn RegionCuts) {
         let n_faces = self.topo.n_faces();
-        let mut parent: Vec<u32> = (0..n_faces as u32).collect();
         fn root(parent: &mut [u32], mut x: u32) -> u32 {
             while parent[x as usize] != x {
                 parent[x as usize] = parent[parent[x as usize] as usize];
                 x = parent[x as usize];
             }
             x
+        }
+        fn join(parent: &mut [u32], f1: u32, f2: u32) {
+            let (r1, r2) = (root(parent, f1), root(parent, f2));
+            if r1 != r2 {
+                parent[r1.max(r2) as usize] = r1.min(r2);
+            }
         }
         // The exact test on every interior edge (read-only: on every core),
         // then the joins (sequential, cheap).
@@ -252,15 +313,67 @@ impl Surface {
                 flat_pair(a, b, c, d)
             }
         });
-        for e in flat {
+        let faces_of = |e: u32| {
             let h = EdgeId(e).halfedge();
-            let (f1, f2) = (self.topo.face(h).0, self.topo.face(h.twin()).0);
-            if cut(f1, f2) {
-                continue;
+            (self.topo.face(h).0, self.topo.face(h.twin()).0)
+        };
+        let mut parent: Vec<u32> = (0..n_faces as u32).collect();
+        if cuts.is_none() {
+            for &e in &flat {
+                let (f1, f2) = faces_of(e);
+                join(&mut parent, f1, f2);
             }
-            let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
-            if r1 != r2 {
-                parent[r1.max(r2) as usize] = r1.min(r2);
+        } else {
+            let apart: Vec<bool> = flat
+                .iter()
+                .map(|&e| {
+                    let (f1, f2) = faces_of(e);
+                    cuts.apart(f1, f2)
+                })
+                .collect();
+            for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| !apart) {
+                let (f1, f2) = faces_of(e);
+                join(&mut parent, f1, f2);
+            }
+            // Candidates with an edge kept apart inside them (joined around
+            // it) are never whole.
+            let mut whole = vec![true; n_faces];
+            for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| apart) {
+                let (f1, f2) = faces_of(e);
+                let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
+                if r1 == r2 {
+                    whole[r1 as usize] = false;
+                }
+            }
+            // Each candidate's faces, in order (a counting sort by root).
+            let roots: Vec<u32> = (0..n_faces as u32).map(|f| root(&mut parent, f)).collect();
+            let mut start = vec![0u32; n_faces + 1];
+            for &r in &roots {
+                start[r as usize + 1] += 1;
+            }
+            for r in 0..n_faces {
+                start[r + 1] += start[r];
+            }
+            let mut members = vec![0u32; n_faces];
+            let mut next = start.clone();
+            for (f, &r) in roots.iter().enumerate() {
+                members[next[r as usize] as usize] = f as u32;
+                next[r as usize] += 1;
+            }
+            for r in 0..n_faces {
+                let faces = &members[start[r] as usize..start[r + 1] as usize];
+                if faces.len() > 1 && whole[r] {
+                    whole[r] = cuts.whole(faces);
+                }
+            }
+            // The regions: whole candidates, and the others joined edge by
+            // edge.
+            parent = (0..n_faces as u32).collect();
+            for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| !apart) {
+                let (f1, f2) = faces_of(e);
+                if whole[roots[f1 as usize] as usize] || !cuts.apart_within(f1, f2) {
+                    join(&mut parent, f1, f2);
+                }
             }
         }
         let mut id = vec![u32::MAX; n_faces];
@@ -275,6 +388,13 @@ impl Surface {
             id[r]
         }));
         self.n_regions = next as usize;
+        self.flat_edges_apart = flat
+            .iter()
+            .filter(|&&e| {
+                let (f1, f2) = faces_of(e);
+                self.face_region[f1 as usize] != self.face_region[f2 as usize]
+            })
+            .count();
         // Each region's plane, from its first face (any face gives the same:
         // see `RegionPlane::of_face`).
         let mut first = vec![FaceId::NONE; self.n_regions];
