@@ -590,19 +590,20 @@ pub(crate) fn stuck_elsewhere(e: &anyhow::Error) -> bool {
 
 /// The note on an input with near-coincident vertices
 /// ([`delmesh::mesh::InputFigures::near_coincident_edges`]) when some are
-/// so close (below [`CERTAIN_TROUBLE`] of the mesh's size) that refining
+/// so close (below [`CERTAIN_TROUBLE`] of their part's size) that refining
 /// will take long or fail: printed before refining, so that the remedy is
 /// known at once. Fewer, less close ones (the Stanford dragon scan has 4
 /// edges 1e-8 m long, 3.7e-8 of its size, and refines as well welded or
 /// not) are named only if a run fails.
 pub(crate) fn near_coincident_note(figures: &delmesh::mesh::InputFigures) -> Option<String> {
     let near = delmesh::error::NearCoincident::of(figures);
-    (near.edges > 0 && figures.min_edge < CERTAIN_TROUBLE * figures.diagonal).then(|| {
+    (near.edges > 0 && figures.near_coincident_ratio < CERTAIN_TROUBLE).then(|| {
         format!(
-            "{} edge(s) shorter than {:.1e} (1e-7 of the mesh's size): near-coincident vertices, as marching cubes \
-             leaves; refining around them can stall or add millions of vertices; --repair --weld-tolerance {:.1e} \
-             merges them",
-            near.edges, near.shorter_than, near.shorter_than
+            "{} edge(s) shorter than {:.1e} (1e-7 of their part's size): near-coincident vertices, as marching cubes \
+             leaves; refining around them can stall or add millions of vertices; {}",
+            near.edges,
+            near.shorter_than,
+            near.remedy()
         )
     })
 }
@@ -1445,6 +1446,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let (written, mut staged) = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
+    let t_check = Instant::now();
     if args.check {
         staged = match check_output(input_path, &input, staged, &output) {
             Ok(staged) => staged,
@@ -1454,6 +1456,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             }
         };
     }
+    let check_s = t_check.elapsed().as_secs_f64();
     // The mesh is complete (and checked) under a temporary name: the side
     // files are written before it is put in place, so that a side file
     // that cannot be written leaves no output, and the input of a run in
@@ -1533,12 +1536,17 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             );
         }
         say!(
-            "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4})",
+            "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4}{})",
             total,
             read_s,
             build_s,
             out.seconds,
-            write_s
+            write_s,
+            if args.check {
+                format!(", check {check_s:.4}")
+            } else {
+                String::new()
+            }
         );
     }
     commit_all(staged, &output, side, in_place.is_some())?;
@@ -1771,6 +1779,7 @@ fn all_settings_failed(e: anyhow::Error, input_path: &Path) -> anyhow::Error {
             flips,
             limit,
             median_score_2: true,
+            shells: true,
             longest_first: true,
             near_coincident,
             nearly_flat_edges,

@@ -55,7 +55,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *longest_first, near_coincident, *nearly_flat_edges))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *shells, *longest_first, near_coincident, *nearly_flat_edges))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -66,6 +66,9 @@ pub enum Error {
         /// Whether the run used the median rule with score 2 (the
         /// defaults), which usually needs the fewest splits.
         median_score_2: bool,
+        /// Whether the run used concentric shells (`--shells`), which
+        /// usually needs the fewest splits around fans and cone tips.
+        shells: bool,
         /// Whether the run took the longest edge first when it stopped
         /// (`-ds pqueue`, or a stack or queue run past
         /// [`crate::refine::FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST`]), which
@@ -95,11 +98,18 @@ pub enum Error {
 /// input's vertices, and welding them is the remedy.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NearCoincident {
-    /// How many edges are shorter than [`NearCoincident::shorter_than`].
+    /// How many edges are shorter than [`NEAR_COINCIDENT`] times their
+    /// part's size ([`InputFigures::near_coincident_edges`]), all shorter
+    /// than [`NearCoincident::shorter_than`].
     pub edges: usize,
-    /// [`NEAR_COINCIDENT`] times the mesh's bounding-box diagonal, rounded up
-    /// to two significant digits: a `--weld-tolerance` that merges them.
+    /// [`NEAR_COINCIDENT`] times the size of the largest part holding one,
+    /// rounded up to two significant digits: a `--weld-tolerance` that
+    /// merges them.
     pub shorter_than: f64,
+    /// The shortest edge that is not near-coincident: when it is shorter
+    /// than [`NearCoincident::shorter_than`] (a small part beside a large
+    /// one), that weld would merge it too, and is not suggested.
+    pub others_from: f64,
 }
 
 impl NearCoincident {
@@ -107,16 +117,38 @@ impl NearCoincident {
     pub fn of(figures: &InputFigures) -> NearCoincident {
         NearCoincident {
             edges: figures.near_coincident_edges,
-            shorter_than: round_up_two_digits(NEAR_COINCIDENT * figures.diagonal),
+            shorter_than: round_up_two_digits(NEAR_COINCIDENT * figures.near_coincident_part),
+            others_from: figures.shortest_other_edge,
+        }
+    }
+
+    /// Whether welding at [`NearCoincident::shorter_than`] merges no edge
+    /// but the near-coincident ones.
+    pub fn weld_is_safe(&self) -> bool {
+        self.others_from >= self.shorter_than || self.others_from.is_nan()
+    }
+
+    /// What to do about them: the weld, or why no single weld distance
+    /// merges them alone.
+    pub fn remedy(&self) -> String {
+        if self.weld_is_safe() {
+            format!("--repair --weld-tolerance {:.1e} merges them", self.shorter_than)
+        } else {
+            format!(
+                "a --repair --weld-tolerance that merges them ({:.1e}) would merge edges of smaller parts too (from \
+                 {:.1e})",
+                self.shorter_than, self.others_from
+            )
         }
     }
 
     /// What they are and what to do about them, for an error's line.
     pub fn hint(&self) -> String {
         format!(
-            "the input has {} edge(s) shorter than {:.1e} (near-coincident vertices, as marching cubes leaves): \
-             --repair --weld-tolerance {:.1e} merges them",
-            self.edges, self.shorter_than, self.shorter_than
+            "the input has {} edge(s) shorter than {:.1e} (near-coincident vertices, as marching cubes leaves): {}",
+            self.edges,
+            self.shorter_than,
+            self.remedy()
         )
     }
 
@@ -261,6 +293,7 @@ fn work_limit_hint(
     splits: usize,
     limit: usize,
     median_score_2: bool,
+    shells: bool,
     longest_first: bool,
     near_coincident: &NearCoincident,
     nearly_flat_edges: usize,
@@ -278,7 +311,7 @@ fn work_limit_hint(
         if !longest_first {
             "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes \
              the stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
-        } else if !median_score_2 {
+        } else if !median_score_2 && !shells {
             // Longest first already: what is left to change is the sample rule.
             "the median rule (the default) with -s 2 usually needs far less"
         } else {
@@ -288,11 +321,15 @@ fn work_limit_hint(
     } else if near_coincident.edges > 0 {
         // The cause, and what to do about it, are known.
         return near_coincident.hint();
+    } else if shells {
+        "inputs with nearly degenerate triangles (see the smallest angle) need vertices at their own tiny scale; \
+         raise --max-added if that many is expected (about 170 bytes of memory each)"
     } else if !median_score_2 {
         "the median rule (the default) with -s 2 usually needs far less"
     } else {
         "inputs with nearly degenerate triangles (see the smallest angle) need vertices at their own tiny scale; \
-         raise --max-added if that many is expected (about 170 bytes of memory each)"
+         --shells -s 4 (concentric shells) often needs far fewer around fans, cone tips and thin cells; raise \
+         --max-added if that many is expected (about 170 bytes of memory each)"
     };
     format!("{general}{}{nearly_flat}", near_coincident.after_semicolon())
 }
@@ -348,6 +385,7 @@ mod tests {
                 flips: 30_000_000,
                 limit: 10_000_000,
                 median_score_2,
+                shells: false,
                 longest_first,
                 near_coincident: NearCoincident::default(),
                 nearly_flat_edges: 0,
@@ -380,10 +418,12 @@ mod tests {
                 flips: 5,
                 limit: 10_000,
                 median_score_2,
+                shells: false,
                 longest_first: false,
                 near_coincident: NearCoincident {
                     edges,
                     shorter_than: 2.5e-9,
+                    others_from: 1e-3,
                 },
                 nearly_flat_edges: 0,
             }
@@ -391,11 +431,27 @@ mod tests {
         };
         // Other settings than the defaults: the defaults.
         assert!(stop(false, 0).ends_with("the median rule (the default) with -s 2 usually needs far less"));
-        // The defaults already: not themselves again.
+        // The defaults already: not themselves again, but shells.
         let defaults = stop(true, 0);
         assert!(
-            !defaults.contains("-s 2") && defaults.contains("raise --max-added"),
+            !defaults.contains("-s 2") && defaults.contains("raise --max-added") && defaults.contains("--shells -s 4"),
             "{defaults}"
+        );
+        // Shells already: neither the defaults nor shells again.
+        let shells = Error::WorkLimit {
+            splits: 10_000,
+            flips: 5,
+            limit: 10_000,
+            median_score_2: false,
+            shells: true,
+            longest_first: false,
+            near_coincident: NearCoincident::default(),
+            nearly_flat_edges: 0,
+        }
+        .to_string();
+        assert!(
+            !shells.contains("-s 2") && !shells.contains("--shells") && shells.contains("raise --max-added"),
+            "{shells}"
         );
         // Near-coincident vertices: the weld, whatever the settings.
         for median_score_2 in [false, true] {

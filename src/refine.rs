@@ -359,6 +359,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
                     flips,
                     limit: options.max_added,
                     median_score_2: options.median && options.score == Score::AlwaysCenter,
+                    shells: options.shells,
                     longest_first: ds.kind == Worklist::PriorityQueue,
                     near_coincident: NearCoincident::of(&run.s.input_figures),
                     nearly_flat_edges: run.s.nearly_flat_input_edges(),

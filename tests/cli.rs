@@ -1174,6 +1174,12 @@ fn check_flag_verifies_the_output() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
     assert!(stdout.contains("check   PASS: "), "{stdout}");
+    // The check's time has its place among the phases.
+    let seconds = stdout.lines().find(|l| l.starts_with("seconds")).unwrap();
+    assert!(
+        seconds.contains(", write ") && seconds.contains(", check "),
+        "{seconds}"
+    );
     // STL cannot pass: refused before any work, nothing written.
     let stl = dir.path().join("bunny.stl");
     let run = refine(&bunny, &stl).arg("--check").output().unwrap();
@@ -1335,7 +1341,7 @@ fn near_coincident_vertices_are_named_with_the_weld_that_merges_them() {
         String::from_utf8_lossy(&run.stderr),
     );
     assert_eq!(run.status.code(), Some(1), "{stdout}{stderr}");
-    let note = "note    84 edge(s) shorter than 2.5e-7 (1e-7 of the mesh's size): near-coincident vertices";
+    let note = "note    84 edge(s) shorter than 2.5e-7 (1e-7 of their part's size): near-coincident vertices";
     assert!(stdout.contains(note), "{stdout}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
@@ -1410,6 +1416,70 @@ fn a_failed_run_names_the_weld_for_less_close_vertices() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("466 added vertices"), "{stdout}");
     check_passes(&repaired, &out);
+}
+
+/// A small part beside a large one is measured against its own size: its
+/// short edges are not near-coincident vertices, and no weld that would
+/// merge them is suggested (following such a note deleted the part).
+#[test]
+fn a_small_part_is_not_taken_for_near_coincident_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    // An octahedron of radius r about c, as OBJ lines after `offset` vertices.
+    let octahedron = |c: f64, r: f64, offset: usize| {
+        let mut s = String::new();
+        for p in [
+            [r, 0.0, 0.0],
+            [-r, 0.0, 0.0],
+            [0.0, r, 0.0],
+            [0.0, -r, 0.0],
+            [0.0, 0.0, r],
+            [0.0, 0.0, -r],
+        ] {
+            s += &format!("v {} {} {}\n", c + p[0], p[1], p[2]);
+        }
+        for f in [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ] {
+            s += &format!("f {} {} {}\n", f[0] + 1 + offset, f[1] + 1 + offset, f[2] + 1 + offset);
+        }
+        s
+    };
+    // 1e-9 the size of the other: every edge of the small one is shorter
+    // than 1e-7 of the whole mesh's size.
+    let parts = dir.path().join("parts.obj");
+    std::fs::write(&parts, octahedron(0.0, 1000.0, 0) + &octahedron(5000.0, 1e-6, 6)).unwrap();
+    let (out, json) = (dir.path().join("out.obj"), dir.path().join("stats.json"));
+    let run = refine(&parts, &out).arg("--stats-json").arg(&json).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success() && !stdout.contains("near-coincident"), "{stdout}");
+    let record = std::fs::read_to_string(&json).unwrap();
+    assert!(record.contains("\"near_coincident_edges\": 0"), "{record}");
+    check_passes(&parts, &out);
+    // Beside a marching-cubes sphere with near-coincident vertices, the
+    // weld that merges those would merge the small part's edges too: the
+    // note says so instead of suggesting it.
+    let sphere = common::marching_sphere_obj(dir.path(), 8, 1e-10);
+    let text = std::fs::read_to_string(&sphere).unwrap();
+    let n = text.lines().filter(|l| l.starts_with("v ")).count();
+    let both = dir.path().join("both.obj");
+    std::fs::write(&both, text + &octahedron(5.0, 1e-8, n)).unwrap();
+    let run = refine(&both, &out).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        stdout.contains("note    84 edge(s) shorter than 2.5e-7 (1e-7 of their part's size)")
+            && stdout.contains(
+                "a --repair --weld-tolerance that merges them (2.5e-7) would merge edges of smaller parts too (from \
+                 1.4e-8)"
+            ),
+        "{stdout}"
+    );
 }
 
 /// `--prune-passes N` prunes (without --prune too) in at most N passes:

@@ -126,13 +126,27 @@ pub struct InputFigures {
     pub max_edge: f64,
     /// The diagonal of the axis-aligned bounding box: the mesh's size.
     pub diagonal: f64,
-    /// Edges shorter than [`NEAR_COINCIDENT`] times [`InputFigures::diagonal`]:
+    /// Edges shorter than [`NEAR_COINCIDENT`] times the bounding-box
+    /// diagonal of their part (their connected component: a small part
+    /// beside a large one has short edges of its own):
     /// near-coincident vertices, as marching cubes leaves where the field
     /// is almost zero at a grid point. Around crowds of them refining can
     /// stall or add very many vertices (the samples near the shortest can be
     /// finer than the coordinates can express); welding them (`--repair
     /// --weld-tolerance`) is the remedy.
     pub near_coincident_edges: usize,
+    /// The diagonal of the largest part holding such an edge (0 if none):
+    /// [`NEAR_COINCIDENT`] times it is a weld distance that merges them.
+    pub near_coincident_part: f64,
+    /// The shortest such edge, as a fraction of its part's diagonal
+    /// (infinite if none).
+    pub near_coincident_ratio: f64,
+    /// The shortest edge that is not near-coincident (infinite if none): a
+    /// weld distance beyond it would merge it too.
+    pub shortest_other_edge: f64,
+    /// Whether every coordinate is a single-precision number (as in STL
+    /// and float PLY files): planes tilted in them are far from exact.
+    pub single_precision: bool,
 }
 
 /// An edge shorter than this fraction of the mesh's size joins
@@ -145,11 +159,29 @@ pub struct InputFigures {
 /// welded it takes 2,130), or computes them exactly (1e-17 apart).
 pub const NEAR_COINCIDENT: f64 = 1e-7;
 
+/// What [`Surface::figures`] finds of near-coincident edges.
+struct NearCoincidentFigures {
+    /// [`InputFigures::near_coincident_edges`].
+    edges: usize,
+    /// [`InputFigures::near_coincident_part`].
+    part: f64,
+    /// [`InputFigures::near_coincident_ratio`].
+    ratio: f64,
+    /// [`InputFigures::shortest_other_edge`].
+    shortest_other: f64,
+}
+
 /// Two faces whose planes meet at less than this angle (radians) are meant
 /// to be one plane ([`Surface::nearly_flat_input_edges`]): far below what a
 /// modeller or scanner resolves, far above what rounding a rotated plane's
 /// vertices leaves (about 1e-16).
 pub const NEARLY_FLAT: f64 = 1e-9;
+
+/// [`NEARLY_FLAT`] for an input whose coordinates are all single-precision
+/// numbers (STL, float PLY): rounding a tilted plane's vertices to 24 bits
+/// leaves creases of about 1e-7 rad, far below this still, and far below
+/// the angle between neighbouring faces of any tessellated curve.
+pub const NEARLY_FLAT_SINGLE: f64 = 1e-5;
 
 /// The least extent of a near-plane that [`Surface::nearly_flat_input_edges`]
 /// counts, as a fraction of the mesh's size.
@@ -271,6 +303,10 @@ impl Surface {
                 max_edge: 0.0,
                 diagonal: 0.0,
                 near_coincident_edges: 0,
+                near_coincident_part: 0.0,
+                near_coincident_ratio: f64::INFINITY,
+                shortest_other_edge: f64::INFINITY,
+                single_precision: false,
             },
             region_plane: Vec::new(),
             input_edges,
@@ -541,7 +577,8 @@ impl Surface {
     }
 
     /// How many input edges join two faces that are coplanar to within
-    /// [`NEARLY_FLAT`] radians but not exactly (nor kept apart on purpose,
+    /// [`NEARLY_FLAT`] radians ([`NEARLY_FLAT_SINGLE`] for single-precision
+    /// coordinates) but not exactly (nor kept apart on purpose,
     /// as by a texture seam), where such edges join three or more planar
     /// regions into one near-plane: a flat part rotated or tilted in
     /// floating point, whose vertices can no longer lie exactly in one
@@ -554,6 +591,11 @@ impl Surface {
     /// Read from the mesh as it is (its pieces of input edges keep their
     /// input faces' planes); for messages, not for the algorithm.
     pub fn nearly_flat_input_edges(&self) -> usize {
+        let nearly = if self.input_figures.single_precision {
+            NEARLY_FLAT_SINGLE
+        } else {
+            NEARLY_FLAT
+        };
         let mut nearly_flat = Vec::new();
         let mut seen = vec![false; self.input_edges.len()];
         for e in (0..self.topo.n_edges() as u32).map(EdgeId) {
@@ -571,7 +613,7 @@ impl Surface {
             // The faces (a, b, c) and (b, a, d), their normals alike oriented.
             let (n1, n2) = ((b - a).cross(c - a), (a - b).cross(d - b));
             let sine = n1.cross(n2).length() / (n1.length() * n2.length());
-            if n1.dot(n2) > 0.0 && sine < NEARLY_FLAT && !geometry::flat_pair(a, b, c, d) {
+            if n1.dot(n2) > 0.0 && sine < nearly && !geometry::flat_pair(a, b, c, d) {
                 seen[input as usize] = true;
                 nearly_flat.push((r1, r2, [a, b, c, d]));
             }
@@ -823,18 +865,91 @@ impl Surface {
                     (lo.min(l), hi.max(l), n + (l < near) as usize)
                 })
         });
-        let (min_edge, max_edge, near_coincident_edges) = lengths
+        let (min_edge, max_edge, near_globally) = lengths
             .into_iter()
             .fold((f64::INFINITY, 0.0f64, 0), |(lo, hi, n), (a, b, m)| {
                 (lo.min(a), hi.max(b), n + m)
             });
+        // An edge near-coincident in its part is so in the whole mesh too
+        // (a part is no larger): the parts are looked at only if some are.
+        let near = if near_globally == 0 {
+            NearCoincidentFigures {
+                edges: 0,
+                part: 0.0,
+                ratio: f64::INFINITY,
+                shortest_other: min_edge,
+            }
+        } else {
+            self.near_coincident_by_part()
+        };
         InputFigures {
             min_angle,
             min_edge,
             max_edge,
             diagonal,
-            near_coincident_edges,
+            near_coincident_edges: near.edges,
+            near_coincident_part: near.part,
+            near_coincident_ratio: near.ratio,
+            shortest_other_edge: near.shortest_other,
+            single_precision: crate::parallel::map_ranges(self.positions.len(), |r| {
+                self.positions[r]
+                    .iter()
+                    .all(|p| p.to_array().iter().all(|&x| x as f32 as f64 == x))
+            })
+            .into_iter()
+            .all(|single| single),
         }
+    }
+
+    /// The near-coincident edges, each measured against the diagonal of
+    /// its part (connected component): see
+    /// [`InputFigures::near_coincident_edges`].
+    fn near_coincident_by_part(&self) -> NearCoincidentFigures {
+        let n = self.positions.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                parent[x as usize] = parent[parent[x as usize] as usize];
+                x = parent[x as usize];
+            }
+            x
+        }
+        for e in 0..self.topo.n_edges() {
+            let h = EdgeId(e as u32).halfedge();
+            let (a, b) = (
+                root(&mut parent, self.topo.origin(h).0),
+                root(&mut parent, self.topo.dest(h).0),
+            );
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+        let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); n];
+        for v in 0..n as u32 {
+            let r = root(&mut parent, v) as usize;
+            let p = self.positions[v as usize];
+            boxes[r] = (boxes[r].0.min(p), boxes[r].1.max(p));
+        }
+        let mut near = NearCoincidentFigures {
+            edges: 0,
+            part: 0.0,
+            ratio: f64::INFINITY,
+            shortest_other: f64::INFINITY,
+        };
+        for e in 0..self.topo.n_edges() {
+            let e = EdgeId(e as u32);
+            let r = root(&mut parent, self.topo.origin(e.halfedge()).0) as usize;
+            let size = (boxes[r].1 - boxes[r].0).length();
+            let length = self.edge_length(e);
+            if length < NEAR_COINCIDENT * size {
+                near.edges += 1;
+                near.part = near.part.max(size);
+                near.ratio = near.ratio.min(length / size);
+            } else {
+                near.shortest_other = near.shortest_other.min(length);
+            }
+        }
+        near
     }
 
     /// Number of interior edges whose opposite angles exceed π by more than
@@ -993,6 +1108,20 @@ mod tests {
         let mut triangles: Vec<[u32; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
         triangles.extend((0..n).map(|i| [(i + 1) % n, i, apex]));
         (positions, triangles)
+    }
+
+    #[test]
+    fn single_precision_planes_are_nearly_flat_within_their_rounding() {
+        // The turned oval rounded to f32, as an STL stores it: its cap is
+        // off its plane by far more than 1e-9 rad, and counted all the same.
+        let (turned, triangles) = fanned_oval(40, true);
+        let single: Vec<DVec3> = turned.iter().map(|p| p.as_vec3().as_dvec3()).collect();
+        let s = Surface::new(single, &triangles).unwrap();
+        assert!(s.input_figures.single_precision);
+        let nearly_flat = s.nearly_flat_input_edges();
+        assert!((20..=37).contains(&nearly_flat), "{nearly_flat}");
+        let s = Surface::new(turned, &triangles).unwrap();
+        assert!(!s.input_figures.single_precision);
     }
 
     #[test]
