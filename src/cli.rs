@@ -829,15 +829,31 @@ fn file_key(p: &Path) -> Option<PathBuf> {
 /// Refuses two of the files a run writes (`written`: what, path) that are
 /// one file, which the second written would replace, and any that is the
 /// input, except `written[i]` for `in_place` = `Some(i)` (the output of a
-/// run without -o). Devices and pipes (`/dev/null`, `/dev/stdout`) may be
+/// run without -o). The input is also the file standard input is
+/// redirected from, for `-`, and a file is also itself under another name
+/// (`/dev/stdin`, `/dev/fd/3`, a hard link: the same device and inode), so
+/// `delmesh -i - -o /dev/stdin < m.obj` and `-o - >> m.obj` are refused.
+/// Devices and pipes (`/dev/null`, `/dev/stdout` on a terminal) may be
 /// named more than once.
 fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, PathBuf)]) -> anyhow::Result<()> {
-    let input_key = file_key(input);
+    let input_key = if io::is_standard_input(input) {
+        None
+    } else {
+        file_key(input)
+    };
+    let input_id = io::FileId::of_input(input);
     for (i, (what, path)) in written.iter().enumerate() {
         let Some(fd) = io::standard_stream(path) else { continue };
         if let Some((other, _)) = written[..i].iter().find(|(_, p)| io::standard_stream(p) == Some(fd)) {
             let stream = if fd == 1 { "standard output" } else { "standard error" };
             bail!("{}: {what} and {other} would both go to {stream}", path.display());
+        }
+        if input_id.is_some() && io::FileId::of_standard(fd) == input_id {
+            let stream = if fd == 1 { "standard output" } else { "standard error" };
+            bail!(
+                "{}: input file is output file: {what} would go to {stream}, which is the input",
+                input.display()
+            );
         }
     }
     let keys: Vec<Option<PathBuf>> = written
@@ -845,20 +861,44 @@ fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, 
         .map(|(_, p)| if io::is_stream(p) { None } else { file_key(p) })
         .collect();
     for (i, (what, path)) in written.iter().enumerate() {
-        let Some(key) = &keys[i] else { continue };
-        if in_place != Some(i) && Some(key) == input_key.as_ref() {
+        let is_input = || {
+            (keys[i].is_some() && keys[i] == input_key)
+                || (input_id.is_some() && io::standard_stream(path).is_none() && io::FileId::of_path(path) == input_id)
+        };
+        if in_place != Some(i) && is_input() {
             // (Rewriting the input is what a run without -o does, after
             // the checks that make it safe: say so.)
-            let hint = if what == "the output" {
+            let hint = if what == "the output" && !io::is_standard_input(input) {
                 ": leave out -o to rewrite the input in place"
             } else {
                 ""
             };
             bail!("{}: {what} would overwrite the input{hint}", path.display());
         }
+        let Some(key) = &keys[i] else { continue };
         if let Some(j) = keys[..i].iter().position(|k| k.as_ref() == Some(key)) {
             bail!("{}: {what} and {} name the same file", path.display(), written[j].0);
         }
+    }
+    Ok(())
+}
+
+/// Refuses a run whose printout would go into one of its `inputs` (a
+/// regular file standard output is appended to: `delmesh -i m.obj -o
+/// out.obj >> m.obj`), as `cat` refuses; `quiet` prints nothing. (An
+/// output file on standard output is refused by [`refuse_same_files`].)
+fn refuse_printout_into_inputs(inputs: &[&Path], quiet: bool) -> anyhow::Result<()> {
+    if quiet || PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    let Some(stdout) = io::FileId::of_standard(1) else {
+        return Ok(());
+    };
+    if let Some(input) = inputs.iter().find(|p| io::FileId::of_input(p) == Some(stdout)) {
+        bail!(
+            "{}: input file is output file: the printout would go to standard output, which is this input",
+            input.display()
+        );
     }
     Ok(())
 }
@@ -1152,6 +1192,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)) {
         PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
     }
+    refuse_printout_into_inputs(&[input_path], args.quiet)?;
     if in_place.is_some() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
         bail!(
             "{}: not a regular file, so it cannot be rewritten in place; give an output with -o",
@@ -2350,6 +2391,11 @@ fn run_render(
     for read in std::iter::once(mesh).chain(input) {
         refuse_same_files(read, None, &picture)?;
     }
+    // A picture on standard output is alone there.
+    if io::standard_stream(output) == Some(1) {
+        PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+    refuse_printout_into_inputs(&[mesh, input.unwrap_or(mesh)], false)?;
     let name = output
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -2407,6 +2453,7 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     if io::is_standard_input(input) && io::is_standard_input(output) {
         bail!("INPUT and OUTPUT are both standard input: at most one of them can be `-`");
     }
+    refuse_printout_into_inputs(&[input, output], false)?;
     let report = delmesh::check::check_files(input, output)?;
     say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",

@@ -2682,3 +2682,82 @@ fn side_files_stay_out_when_the_output_cannot_be_put_in_place() {
         .collect();
     assert_eq!(names, ["bunny.obj"], "{names:?}");
 }
+
+/// `sh -c SCRIPT` in `dir`, with `$D` the delmesh binary: for redirections
+/// and limits (`>> m.obj`, `>&-`, `ulimit`) that a test sets as a user does.
+fn sh(dir: &Path, script: &str) -> std::process::Output {
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .current_dir(dir)
+        .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+        .output()
+        .unwrap()
+}
+
+/// An output that is the input's file under another name is refused before
+/// any work, also when the input is standard input redirected from the
+/// file (`/dev/stdin`, `/dev/fd/N`), and a hard link is the same file.
+#[cfg(unix)]
+#[test]
+fn an_output_that_is_the_input_file_under_another_name_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let original = std::fs::read(&input).unwrap();
+    for args in [
+        &["-i", "-", "--stats-json", "/dev/stdin"][..],
+        &["-i", "-", "-o", "/dev/stdin"][..],
+        &["-i", "-", "-o", "/proc/self/fd/0"][..],
+        &["-i", "-", "-o", "out.obj", "--vertex-map", "/dev/fd/0"][..],
+        &["render", "-", "-o", "/dev/stdin"][..],
+    ] {
+        let run = with_stdin(args, &input);
+        let error = one_line_error(&run);
+        assert!(error.contains("would overwrite the input"), "{args:?}: {error}");
+        assert!(run.stdout.is_empty(), "{args:?}: work was done");
+        assert_eq!(std::fs::read(&input).unwrap(), original, "{args:?}");
+    }
+    let run = sh(dir.path(), r#""$D" -i - -o /dev/fd/3 -q < m.obj 3>> m.obj"#);
+    let error = one_line_error(&run);
+    assert!(error.contains("would overwrite the input"), "{error}");
+    std::fs::hard_link(&input, dir.path().join("h.obj")).unwrap();
+    let run = refine(&input, dir.path().join("h.obj")).output().unwrap();
+    let error = one_line_error(&run);
+    assert!(error.contains("would overwrite the input"), "{error}");
+    assert_eq!(std::fs::read(&input).unwrap(), original);
+    assert!(!dir.path().join("out.obj").exists());
+}
+
+/// Standard output (or error) redirected into the input file is refused
+/// before any work, as `cat` refuses it: a mesh, a side file or the
+/// printout would be appended to the input.
+#[cfg(unix)]
+#[test]
+fn standard_output_into_the_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let original = std::fs::read(&input).unwrap();
+    for script in [
+        r#""$D" -i m.obj -o - -q >> m.obj"#,
+        r#""$D" -i m.obj -o /dev/stdout -q >> m.obj"#,
+        r#""$D" -i - -q < m.obj >> m.obj"#,
+        r#""$D" -i m.obj -o out.obj >> m.obj"#,
+        r#""$D" -i m.obj >> m.obj"#,
+        r#""$D" -i m.obj -o out.obj --stats-json /dev/stdout -q >> m.obj"#,
+        r#""$D" batch -d o m.obj >> m.obj"#,
+        r#""$D" check m.obj m.obj >> m.obj"#,
+        r#""$D" render m.obj -o p.svg >> m.obj"#,
+    ] {
+        let run = sh(dir.path(), script);
+        let error = one_line_error(&run);
+        assert!(error.contains("input file is output file"), "{script}: {error}");
+        assert_eq!(std::fs::read(&input).unwrap(), original, "{script}");
+        assert!(!dir.path().join("out.obj").exists() && !dir.path().join("p.svg").exists());
+    }
+    // Quiet, nothing goes there: fine.
+    let run = sh(dir.path(), r#""$D" -i m.obj -o out.obj -q >> m.obj"#);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(std::fs::read(&input).unwrap(), original);
+}

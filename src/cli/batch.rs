@@ -199,6 +199,7 @@ fn plan(
     sides: impl Fn(&Path) -> Vec<PathBuf>,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
+    let ids = input_ids(inputs);
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
     for input in inputs {
@@ -220,13 +221,21 @@ fn plan(
             // The file the output names, symbolic links followed (the
             // writer follows them too): none if its folder does not exist
             // yet, and then no input is in it.
-            if super::file_key(written).is_some_and(|key| canonical.contains(&key)) {
+            if super::file_key(written).is_some_and(|key| canonical.contains(&key))
+                || io::FileId::of_output(written).is_some_and(|id| ids.contains(&id))
+            {
                 bail!("{}: would overwrite an input", written.display());
             }
         }
         outputs.push(output);
     }
     Ok(outputs)
+}
+
+/// The regular files `inputs` are (device and inode: an output reaching
+/// one by another name, such as a hard link, would replace it too).
+fn input_ids(inputs: &[PathBuf]) -> HashSet<io::FileId> {
+    inputs.iter().filter_map(|p| io::FileId::of_path(p)).collect()
 }
 
 /// One file's result, as the summary line and the CSV row need it.
@@ -459,10 +468,12 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 .map_or(String::new(), |p| p.display().to_string())
         );
     }
+    let ids = input_ids(&inputs);
     for report in [&args.stats_csv, &args.stats_json].into_iter().flatten() {
         check_output_dir(report)?;
         let target = file_key(report);
-        let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
+        let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target)
+            || io::FileId::of_output(report).is_some_and(|id| ids.contains(&id));
         let side = |p: &PathBuf| target.is_some() && side_paths(p, args).iter().any(|s| file_key(s) == target);
         if is_input || outputs.iter().any(|p| file_key(p) == target || side(p)) {
             bail!(
@@ -471,6 +482,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    let paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    super::refuse_printout_into_inputs(&paths, args.quiet)?;
     let n = inputs.len();
     let workers = if args.smallest {
         1

@@ -673,6 +673,79 @@ pub fn is_standard_input(path: &Path) -> bool {
     )
 }
 
+/// A regular file, as the system knows it: its device and inode numbers,
+/// the same whatever name (a hard or symbolic link, `/dev/fd/3`) or open
+/// descriptor (standard input redirected from it) reaches it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct FileId {
+    device: u64,
+    inode: u64,
+}
+
+impl FileId {
+    /// The identity of what `metadata` describes, if a regular file.
+    fn of(metadata: &std::fs::Metadata) -> Option<FileId> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            metadata.is_file().then(|| FileId {
+                device: metadata.dev(),
+                inode: metadata.ino(),
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = metadata;
+            None
+        }
+    }
+
+    /// The regular file `path` names (symbolic links followed); `None` for
+    /// a file that does not exist, a folder, a device or a pipe.
+    pub fn of_path(path: &Path) -> Option<FileId> {
+        FileId::of(&std::fs::metadata(path).ok()?)
+    }
+
+    /// The regular file open as standard input (0), output (1) or error
+    /// (2), if one is (`< m.obj`, `>> log`).
+    pub fn of_standard(fd: u8) -> Option<FileId> {
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsFd;
+            let fd = match fd {
+                0 => std::io::stdin().as_fd().try_clone_to_owned(),
+                1 => std::io::stdout().as_fd().try_clone_to_owned(),
+                _ => std::io::stderr().as_fd().try_clone_to_owned(),
+            };
+            FileId::of(&std::fs::File::from(fd.ok()?).metadata().ok()?)
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = fd;
+            None
+        }
+    }
+
+    /// The regular file an input `path` reads: standard input's for `-`
+    /// and its names ([`is_standard_input`]).
+    pub fn of_input(path: &Path) -> Option<FileId> {
+        if is_standard_input(path) {
+            FileId::of_standard(0)
+        } else {
+            FileId::of_path(path)
+        }
+    }
+
+    /// The regular file an output `path` writes, if it exists: standard
+    /// output's or error's for their names ([`standard_stream`]).
+    pub fn of_output(path: &Path) -> Option<FileId> {
+        match standard_stream(path) {
+            Some(fd) => FileId::of_standard(fd),
+            None => FileId::of_path(path),
+        }
+    }
+}
+
 /// The file a write to `path` replaces, and the folder its temporary file
 /// goes in: a symbolic link is followed (the file it points to is
 /// replaced, or created if the link dangles; the link kept), anything else
