@@ -13,13 +13,22 @@ fn main() -> std::process::ExitCode {
 /// Ctrl-C (SIGINT), `kill` (SIGTERM), a closed terminal (SIGHUP), and the
 /// other signals whose default is to end the process and that a run may
 /// get (Ctrl-\ SIGQUIT, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, a CPU
-/// limit's SIGXCPU, a file size limit's SIGXFSZ) end it as before, but
-/// first remove the temporary file of any output being written
+/// limit's SIGXCPU, `abort`'s SIGABRT, SIGTRAP, SIGSYS) end it as before,
+/// but first remove the temporary file of any output being written
 /// ([`delmesh::io::temporary`]): an interrupted run leaves nothing behind
 /// (its outputs are either complete or absent anyway). A signal the parent
 /// set to be ignored (`nohup`) stays ignored.
+///
+/// A file size limit's SIGXFSZ (`ulimit -f`) is ignored instead: a write
+/// past the limit then fails with "File too large", which ends the run
+/// like a full disk, with one line and exit status 1.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn remove_temporary_files_on_signals() {
+    // SAFETY: sets a signal's disposition; called before any other thread
+    // exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     extern "C" fn on_signal(signal: libc::c_int) {
         delmesh::io::temporary::remove_all();
         // SAFETY: signal and raise are async-signal-safe. The signal is
@@ -41,7 +50,9 @@ fn remove_temporary_files_on_signals() {
         libc::SIGVTALRM,
         libc::SIGPROF,
         libc::SIGXCPU,
-        libc::SIGXFSZ,
+        libc::SIGABRT,
+        libc::SIGTRAP,
+        libc::SIGSYS,
     ] {
         // SAFETY: installs a handler that only does async-signal-safe work;
         // called before any other thread exists.

@@ -2695,6 +2695,15 @@ fn sh(dir: &Path, script: &str) -> std::process::Output {
         .unwrap()
 }
 
+/// The names in `dir` starting with `.delmesh-`: temporary files left.
+fn temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".delmesh-"))
+        .collect()
+}
+
 /// An output that is the input's file under another name is refused before
 /// any work, also when the input is standard input redirected from the
 /// file (`/dev/stdin`, `/dev/fd/N`), and a hard link is the same file.
@@ -2760,4 +2769,72 @@ fn standard_output_into_the_input_is_refused() {
     let run = sh(dir.path(), r#""$D" -i m.obj -o out.obj -q >> m.obj"#);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     assert_eq!(std::fs::read(&input).unwrap(), original);
+}
+
+/// A signal that ends the process while an output is written (here: the
+/// mesh is complete under its temporary name, and the run waits to open
+/// the FIFO named by --stats-json) removes the temporary file first: also
+/// SIGABRT (what `abort` raises), SIGTRAP and SIGSYS.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn signals_that_end_the_run_remove_its_temporary_files() {
+    use std::os::unix::process::ExitStatusExt;
+    for (name, number) in [("TERM", 15), ("ABRT", 6), ("TRAP", 5), ("SYS", 31)] {
+        let dir = tempfile::tempdir().unwrap();
+        copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+        let made = std::process::Command::new("mkfifo")
+            .arg(dir.path().join("fifo"))
+            .status();
+        if !made.is_ok_and(|s| s.success()) {
+            return;
+        }
+        // (No core file: the signals that make one.)
+        let mut child = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(r#"ulimit -c 0; exec "$D" -i m.obj -o out.obj --stats-json fifo -q"#)
+            .current_dir(dir.path())
+            .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The mesh's temporary file (not the probe of the folder, `.tmp`);
+        // then time to finish it and block on the FIFO, where it waits.
+        let mesh_file = || {
+            temporary_files(dir.path())
+                .into_iter()
+                .filter(|n| n.ends_with(".tmp.obj"))
+        };
+        let start = std::time::Instant::now();
+        while mesh_file().next().is_none() && start.elapsed().as_secs() < 60 {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        let seen: Vec<String> = mesh_file().collect();
+        let signal = if seen.is_empty() { "KILL" } else { name };
+        std::process::Command::new("kill")
+            .arg(format!("-{signal}"))
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(!seen.is_empty(), "SIG{name}: no temporary file was made");
+        assert_eq!(status.signal(), Some(number), "SIG{name}: {status:?}");
+        assert_eq!(temporary_files(dir.path()), Vec::<String>::new(), "SIG{name}");
+        assert!(!dir.path().join("out.obj").exists(), "SIG{name}");
+    }
+}
+
+/// An output past the file size limit (`ulimit -f`) fails like a full
+/// disk, with one line and exit status 1, instead of SIGXFSZ killing the
+/// run; nothing is left behind.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn the_file_size_limit_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    let run = sh(dir.path(), r#"ulimit -f 16; exec "$D" -i m.obj -o out.obj -q"#);
+    let error = one_line_error(&run);
+    assert!(error.contains("out.obj: cannot write: File too large"), "{error}");
+    assert!(!dir.path().join("out.obj").exists());
+    assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
 }
