@@ -38,13 +38,31 @@ macro_rules! say {
 static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
 
 /// Remembers `result` of a write to standard output (see [`STDOUT_ERROR`]).
+/// A standard output closed at start ([`crate::stdout_closed`]) takes any
+/// write: it is `/dev/null`.
 pub(crate) fn note_stdout_result(result: std::io::Result<()>) {
-    if let Err(e) = result {
-        if e.kind() != std::io::ErrorKind::BrokenPipe {
-            let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
-            first.get_or_insert_with(|| e.to_string());
-        }
+    let error = match result {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Some(e.to_string()),
+        _ if crate::stdout_closed() => Some(STDOUT_IS_CLOSED.to_string()),
+        _ => None,
+    };
+    if let Some(e) = error {
+        let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+        first.get_or_insert(e);
     }
+}
+
+/// Why nothing can be written to a standard output closed at start.
+const STDOUT_IS_CLOSED: &str = "Bad file descriptor (it is closed)";
+
+/// Refuses, before any work, a command that `writes` to standard output
+/// (a file, or its printout) when standard output is closed (`>&-`): what
+/// it wrote would vanish.
+fn refuse_closed_stdout(writes: bool) -> anyhow::Result<()> {
+    if writes && crate::stdout_closed() {
+        bail!("standard output: cannot write: {STDOUT_IS_CLOSED}");
+    }
+    Ok(())
 }
 
 /// Set when a run writes a file to standard output (`-o -`, `--stats-json
@@ -1193,6 +1211,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
     }
     refuse_printout_into_inputs(&[input_path], args.quiet)?;
+    let printout_to_stdout = !args.quiet && !PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed);
+    refuse_closed_stdout(printout_to_stdout || written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)))?;
     if in_place.is_some() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
         bail!(
             "{}: not a regular file, so it cannot be rewritten in place; give an output with -o",
@@ -2396,6 +2416,7 @@ fn run_render(
         PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
     }
     refuse_printout_into_inputs(&[mesh, input.unwrap_or(mesh)], false)?;
+    refuse_closed_stdout(true)?;
     let name = output
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -2454,6 +2475,7 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         bail!("INPUT and OUTPUT are both standard input: at most one of them can be `-`");
     }
     refuse_printout_into_inputs(&[input, output], false)?;
+    refuse_closed_stdout(true)?;
     let report = delmesh::check::check_files(input, output)?;
     say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",

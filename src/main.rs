@@ -4,11 +4,40 @@ mod cli;
 mod progress;
 mod stats_json;
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 fn main() -> std::process::ExitCode {
     keep_freed_memory();
     remove_temporary_files_on_signals();
     cli::main()
 }
+
+/// Whether standard output was closed when the process started (`>&-`).
+/// Rust's runtime then opens `/dev/null` in its place before `main`, where
+/// whatever is written vanishes without an error; `cat` fails instead
+/// ("Bad file descriptor"), and so does delmesh when it has anything to
+/// write there.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// See [`STDOUT_CLOSED`].
+pub(crate) fn stdout_closed() -> bool {
+    STDOUT_CLOSED.load(Ordering::Relaxed)
+}
+
+/// Notes [`STDOUT_CLOSED`]: run by the C library before `main`, hence
+/// before Rust's runtime fills the gap.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[used]
+#[link_section = ".init_array"]
+static NOTE_CLOSED_STDOUT: extern "C" fn() = {
+    extern "C" fn note() {
+        // SAFETY: F_GETFD only reads the descriptor's flags.
+        if unsafe { libc::fcntl(1, libc::F_GETFD) } == -1 {
+            STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        }
+    }
+    note
+};
 
 /// Ctrl-C (SIGINT), `kill` (SIGTERM), a closed terminal (SIGHUP), and the
 /// other signals whose default is to end the process and that a run may

@@ -2771,6 +2771,36 @@ fn standard_output_into_the_input_is_refused() {
     assert_eq!(std::fs::read(&input).unwrap(), original);
 }
 
+/// An output to a closed standard output (`>&-`) fails before any work,
+/// with one line, as `cat` does; so does a printout that would vanish
+/// there. With -q and a file output nothing goes there.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn a_closed_standard_output_is_an_error_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    for script in [
+        r#""$D" -i m.obj -o - -q >&-"#,
+        r#""$D" -i m.obj -o out.obj >&-"#,
+        r#""$D" batch -d o m.obj >&-"#,
+        r#""$D" render m.obj -o p.svg >&-"#,
+        r#""$D" check m.obj m.obj >&-"#,
+        r#""$D" man >&-"#,
+    ] {
+        let run = sh(dir.path(), script);
+        let error = one_line_error(&run);
+        assert!(
+            error.contains("standard output: cannot write: Bad file descriptor"),
+            "{script}: {error}"
+        );
+        assert!(!dir.path().join("out.obj").exists() && !dir.path().join("p.svg").exists());
+        assert!(!dir.path().join("o").exists(), "{script}");
+    }
+    let run = sh(dir.path(), r#""$D" -i m.obj -o out.obj -q >&-"#);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(dir.path().join("out.obj").exists());
+}
+
 /// A signal that ends the process while an output is written (here: the
 /// mesh is complete under its temporary name, and the run waits to open
 /// the FIFO named by --stats-json) removes the temporary file first: also

@@ -484,6 +484,11 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     }
     let paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     super::refuse_printout_into_inputs(&paths, args.quiet)?;
+    let report_to_stdout = [&args.stats_csv, &args.stats_json]
+        .into_iter()
+        .flatten()
+        .any(|p| io::standard_stream(p) == Some(1));
+    super::refuse_closed_stdout(!args.quiet || report_to_stdout)?;
     let n = inputs.len();
     let workers = if args.smallest {
         1
