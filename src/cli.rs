@@ -1243,6 +1243,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             input_path.display()
         );
     }
+    crate::working_on(input_path);
     let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
     let t0 = Instant::now();
     progress::phase(Phase::Read {
@@ -2417,6 +2418,7 @@ fn run_render(
     }
     refuse_printout_into_inputs(&[mesh, input.unwrap_or(mesh)], false)?;
     refuse_closed_stdout(true)?;
+    crate::working_on(mesh);
     let name = output
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -2476,6 +2478,7 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     }
     refuse_printout_into_inputs(&[input, output], false)?;
     refuse_closed_stdout(true)?;
+    crate::working_on(output);
     let report = delmesh::check::check_files(input, output)?;
     say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",

@@ -1,15 +1,32 @@
 //! The `delmesh` command line; see `delmesh --help` and README.md.
 
 mod cli;
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+mod memory;
 mod progress;
 mod stats_json;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// Lack of memory ends a run with one line and exit status 1, its
+/// temporary files removed ([`memory`]).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[global_allocator]
+static ALLOCATOR: memory::Allocator = memory::Allocator;
+
 fn main() -> std::process::ExitCode {
     keep_freed_memory();
     remove_temporary_files_on_signals();
     cli::main()
+}
+
+/// Names `path` as the file being worked on, for the line an exit for lack
+/// of memory prints ([`memory::set_subject`]).
+pub(crate) fn working_on(path: &std::path::Path) {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    memory::set_subject(path);
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    let _ = path;
 }
 
 /// Whether standard output was closed when the process started (`>&-`).

@@ -2868,3 +2868,31 @@ fn the_file_size_limit_is_a_clean_error() {
     assert!(!dir.path().join("out.obj").exists());
     assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
 }
+
+/// Running out of memory is one line and exit status 1 (no abort, no
+/// backtrace), with nothing left behind.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn out_of_memory_is_one_line_and_exit_status_1() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("elephant.obj", &dir.path().join("m.obj"));
+    let mut failed = 0;
+    for limit in [20_000, 40_000, 60_000] {
+        let run = sh(
+            dir.path(),
+            &format!(r#"ulimit -v {limit}; RUST_BACKTRACE=1 exec "$D" -i m.obj -o out.obj -q -j 1"#),
+        );
+        if run.status.success() {
+            continue; // enough memory after all
+        }
+        failed += 1;
+        let error = one_line_error(&run);
+        assert!(
+            error.starts_with("delmesh: m.obj: out of memory (could not allocate "),
+            "{error}"
+        );
+        assert!(!dir.path().join("out.obj").exists());
+        assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
+    }
+    assert!(failed > 0, "no limit was low enough");
+}

@@ -530,6 +530,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             let done = if args.skip_existing && finished(&outputs[i]) {
                 Ok(None)
             } else {
+                crate::working_on(&inputs[i]);
                 refine_file(&inputs[i], &outputs[i], args, &options).map(Some)
             };
             if tx.send((i, done)).is_err() {
