@@ -812,7 +812,16 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
     if io::is_stream(path) {
         return Ok(());
     }
-    let (_, dir) = io::write_target(path);
+    if names_folder(path) && !path.is_dir() {
+        bail!(
+            "{}: output names a folder (its name ends in /), not a file",
+            path.display()
+        );
+    }
+    let (_, dir) = io::write_target(path).map_err(|source| delmesh::Error::Write {
+        path: path.to_owned(),
+        source,
+    })?;
     let dir = dir.as_path();
     if !dir.is_dir() {
         bail!("{}: output folder {} does not exist", path.display(), dir.display());
@@ -829,6 +838,14 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
         bail!("{}: cannot write in folder {}: {e}", path.display(), dir.display());
     }
     Ok(())
+}
+
+/// Whether `path` can only name a folder: its last part is empty (it ends
+/// in `/`), `.` or `..`.
+fn names_folder(path: &Path) -> bool {
+    let bytes = path.as_os_str().as_encoded_bytes();
+    let last = bytes.rsplit(|&b| b == b'/').next().unwrap_or_default();
+    matches!(last, b"" | b"." | b"..")
 }
 
 /// The file `p` names, comparable between paths: symbolic links and `..`
@@ -1171,9 +1188,19 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sweep_combinations(args.extended).len()
         );
     }
-    if args.output.is_none() && input_path.is_dir() {
-        // The output would be the input: the input is what is wrong.
-        bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
+    if args.output.is_none() && !from_stdin {
+        // The output would be the input: the input is what is wrong (a
+        // missing one is said as with -o, not as a missing output).
+        if let Err(source) = std::fs::metadata(input_path) {
+            return Err(delmesh::Error::Read {
+                path: input_path.to_owned(),
+                source,
+            }
+            .into());
+        }
+        if input_path.is_dir() {
+            bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
+        }
     }
     check_output_dir(&output)?;
     io::set_sync_writes(args.settings.sync);
@@ -1185,6 +1212,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if args.all {
         for o in sweep_combinations(args.extended) {
             let path = combination_path(&output, &o);
+            // (Each name: one may be a folder, or a link that leads nowhere.)
+            check_output_dir(&path)?;
             written.push(("an -all output".into(), path));
         }
     } else {

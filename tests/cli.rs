@@ -2896,3 +2896,62 @@ fn out_of_memory_is_one_line_and_exit_status_1() {
     }
     assert!(failed > 0, "no limit was low enough");
 }
+
+/// Without -o a missing input is said to be missing (as with -o), not to be
+/// something that cannot be rewritten, nor a missing output folder.
+#[cfg(unix)]
+#[test]
+fn a_missing_input_to_rewrite_is_said_to_be_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink("nothere.obj", dir.path().join("dangling.obj")).unwrap();
+    for input in ["nope.obj", "nodir/nope.obj", "dangling.obj"] {
+        let run = delmesh().arg("-i").arg(input).current_dir(dir.path()).output().unwrap();
+        let error = one_line_error(&run);
+        assert_eq!(
+            error.trim(),
+            format!("delmesh: {input}: cannot read: No such file or directory (os error 2)"),
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+/// Output names that cannot be written are refused before any work: one
+/// ending in `/` (a folder), an -all name that is a folder, a loop of
+/// symbolic links (never replaced by a file).
+#[cfg(unix)]
+#[test]
+fn unwritable_output_names_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let refused = |args: &[&str]| {
+        let run = delmesh().args(args).current_dir(dir.path()).output().unwrap();
+        assert!(run.stdout.is_empty(), "{args:?}: work was done");
+        one_line_error(&run)
+    };
+    let error = refused(&["-i", "m.obj", "-o", "new/"]);
+    assert!(error.contains("new/: output names a folder"), "{error}");
+    let error = refused(&["-i", "m.obj", "-o", "out.obj", "--stats-json", "new/."]);
+    assert!(error.contains("output names a folder"), "{error}");
+    assert!(!dir.path().join("new").exists());
+    std::fs::create_dir(dir.path().join("x-s-0-m.obj")).unwrap();
+    let error = refused(&["-i", "m.obj", "-o", "x.obj", "-all"]);
+    assert!(error.contains("x-s-0-m.obj: output is a folder"), "{error}");
+    std::os::unix::fs::symlink("l2.obj", dir.path().join("l.obj")).unwrap();
+    std::os::unix::fs::symlink("l.obj", dir.path().join("l2.obj")).unwrap();
+    let error = refused(&["-i", "m.obj", "-o", "l.obj"]);
+    assert!(
+        error.contains("l.obj: cannot write: Too many levels of symbolic links"),
+        "{error}"
+    );
+    assert!(std::fs::symlink_metadata(dir.path().join("l.obj"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["l.obj", "l2.obj", "m.obj", "x-s-0-m.obj"]);
+}

@@ -749,11 +749,15 @@ impl FileId {
 /// The file a write to `path` replaces, and the folder its temporary file
 /// goes in: a symbolic link is followed (the file it points to is
 /// replaced, or created if the link dangles; the link kept), anything else
-/// is `path` itself.
-pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
+/// is `path` itself. A link that leads nowhere (a loop of links: `Too many
+/// levels of symbolic links`) is an error, never replaced by a file.
+pub fn write_target(path: &Path) -> std::io::Result<(PathBuf, PathBuf)> {
     let is_link = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink());
     let target = if is_link(path) {
-        std::fs::canonicalize(path).unwrap_or_else(|_| dangling_link_target(path).unwrap_or_else(|| path.to_owned()))
+        match std::fs::canonicalize(path) {
+            Ok(target) => target,
+            Err(e) => dangling_link_target(path).ok_or(e)?,
+        }
     } else {
         path.to_owned()
     };
@@ -761,7 +765,7 @@ pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
         Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
         _ => PathBuf::from("."),
     };
-    (target, dir)
+    Ok((target, dir))
 }
 
 /// Where the chain of symbolic links from `path` ends, when it ends at a
@@ -828,7 +832,7 @@ pub fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<(
         w.flush().map_err(err)?;
         return Ok(streamed());
     }
-    let (target, dir) = write_target(path);
+    let (target, dir) = write_target(path).map_err(err)?;
     let path = target.as_path();
     let mut tmp = tempfile::Builder::new()
         .prefix(".delmesh-")
