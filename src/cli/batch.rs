@@ -445,6 +445,13 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     if args.format == Some(FormatArg::Stl) {
         bail!("--format stl: {}", super::STL_REFUSED);
     }
+    // A file's output is named after it, and standard input has no name.
+    if let Some(stdin) = args.inputs.iter().find(|p| io::is_standard_input(p)) {
+        bail!(
+            "{}: batch reads mesh files, not standard input (delmesh -i - -o OUTPUT refines a mesh from it)",
+            stdin.display()
+        );
+    }
     let inputs = expand(&args.inputs)?;
     let outputs = plan(&inputs, &args.out_dir, args.format, |out| side_paths(out, args))?;
     if args.out_dir.exists() && !args.out_dir.is_dir() {
