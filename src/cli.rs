@@ -720,7 +720,35 @@ fn one_line(e: &anyhow::Error) -> String {
     // One line, and nothing that drives a terminal: a path or a header
     // name may hold control characters too (file tokens are escaped where
     // they are quoted, `io::formats::show`).
-    escaped(&s, true)
+    elide_long_words(&escaped(&s, true))
+}
+
+/// The most characters without a space that a message keeps in a row.
+const LONG_WORD: usize = 300;
+
+/// `line` with each run of more than [`LONG_WORD`] characters without a
+/// space (a path into a folder deeper than the system allows a path to
+/// be, 4 KiB and more) cut to its first and last 140 around `...`: an
+/// error stays a line that can be read.
+fn elide_long_words(line: &str) -> String {
+    if line.len() <= LONG_WORD {
+        return line.to_string();
+    }
+    let mut out = String::with_capacity(line.len().min(4 * LONG_WORD));
+    for (i, word) in line.split(' ').enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        let chars = word.chars().count();
+        if chars <= LONG_WORD {
+            out.push_str(word);
+        } else {
+            out.extend(word.chars().take(140));
+            out.push_str("...");
+            out.extend(word.chars().skip(chars - 140));
+        }
+    }
+    out
 }
 
 /// `s` with its control characters escaped (`\n`, `\u{1b}`), or with line
@@ -830,11 +858,7 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
         bail!("{}: output is a folder, not a file", path.display());
     }
     // Writable? Probe with the same kind of temporary file the atomic write uses.
-    if let Err(e) = tempfile::Builder::new()
-        .prefix(".delmesh-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-    {
+    if let Err(e) = io::temporary::TempFile::create_in(dir, ".delmesh-", ".tmp") {
         bail!("{}: cannot write in folder {}: {e}", path.display(), dir.display());
     }
     Ok(())
@@ -2075,7 +2099,7 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
 /// mesh of an input that cannot be read twice (standard input, a pipe).
 struct CheckReference<'a> {
     input: &'a Path,
-    written: Option<(io::temporary::Registration, tempfile::NamedTempFile)>,
+    written: Option<(io::temporary::Registration, io::temporary::TempFile)>,
 }
 
 impl<'a> CheckReference<'a> {
@@ -2093,10 +2117,7 @@ impl<'a> CheckReference<'a> {
                     .parent()
                     .filter(|d| !d.as_os_str().is_empty())
                     .unwrap_or(Path::new("."));
-                let file = tempfile::Builder::new()
-                    .prefix(".delmesh-reference-")
-                    .suffix(".obj")
-                    .tempfile_in(dir)
+                let file = io::temporary::TempFile::create_in(dir, ".delmesh-reference-", ".obj")
                     .with_context(|| dir.display().to_string())?;
                 io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
                 Some((io::temporary::register(file.path()), file))
@@ -2587,6 +2608,20 @@ mod tests {
         for bad in ["nan", "inf", "-inf", "1e999", "ten"] {
             assert!(finite_degrees(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn long_words_are_elided_in_messages() {
+        let long = format!("/{}/m.obj", "e".repeat(5000));
+        let line = one_line(&anyhow::anyhow!("{long}: cannot read: File name too long"));
+        assert!(line.len() < 320, "{}", line.len());
+        assert!(
+            line.starts_with("/eee")
+                && line.contains("eee...eee")
+                && line.ends_with("/m.obj: cannot read: File name too long")
+        );
+        let short = "a.obj: cannot read: No such file or directory";
+        assert_eq!(one_line(&anyhow::anyhow!("{short}")), short);
     }
 
     #[test]

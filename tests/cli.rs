@@ -2955,3 +2955,49 @@ fn unwritable_output_names_are_refused_before_any_work() {
     names.sort();
     assert_eq!(names, ["l.obj", "l2.obj", "m.obj", "x-s-0-m.obj"]);
 }
+
+/// In a folder whose absolute path is longer than the system allows a path
+/// to be (4 KiB), delmesh writes as `cp` does (its temporary files are
+/// made through the relative name), and a message naming such a path
+/// elides its middle.
+#[cfg(unix)]
+#[test]
+fn a_folder_deeper_than_the_path_limit_is_written_in() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    let deep = "e".repeat(250);
+    let script = format!(
+        r#"set -e; m="$PWD/m.obj"; for i in $(seq 20); do mkdir {deep}; cd -P {deep}; done; cp "$m" m.obj
+"$D" -i m.obj -o out.obj -q; "$D" -i m.obj -q; "$D" batch -d b -q m.obj; "$D" check m.obj out.obj > /dev/null; ls -a"#
+    );
+    let run = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(&script)
+        .current_dir(dir.path())
+        .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{}", &stderr[..stderr.len().min(2000)]);
+    let listing = String::from_utf8_lossy(&run.stdout);
+    let names: Vec<&str> = listing.lines().collect();
+    assert_eq!(names, [".", "..", "b", "m.obj", "out.obj"], "{listing}");
+    // A message with a path of 5 KB: its middle elided.
+    let long: PathBuf = std::iter::repeat_n(deep.as_str(), 20)
+        .collect::<PathBuf>()
+        .join("m.obj");
+    let run = delmesh()
+        .arg("-i")
+        .arg(&long)
+        .arg("-o")
+        .arg("out.obj")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let error = one_line_error(&run);
+    assert!(
+        error.len() < 400 && error.contains("eee...eee"),
+        "{} characters: {error}",
+        error.len()
+    );
+}

@@ -834,11 +834,8 @@ pub fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<(
     }
     let (target, dir) = write_target(path).map_err(err)?;
     let path = target.as_path();
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".delmesh-")
-        .suffix(&format!(".tmp{}", extensions(path)))
-        .tempfile_in(&dir)
-        .map_err(err)?;
+    let mut tmp =
+        temporary::TempFile::create_in(&dir, ".delmesh-", &format!(".tmp{}", extensions(path))).map_err(err)?;
     // Removed by the signal handler if the run is interrupted; unregistered
     // when renamed into place, or removed (the `Staged` dropped).
     let registered = temporary::register(tmp.path());
@@ -883,7 +880,7 @@ pub struct Staged {
     /// The file the write is for (a symbolic link followed).
     path: PathBuf,
     /// The complete temporary file; `None` for a stream, written already.
-    file: Option<(tempfile::NamedTempFile, temporary::Registration)>,
+    file: Option<(temporary::TempFile, temporary::Registration)>,
 }
 
 impl Staged {
@@ -913,9 +910,9 @@ impl Staged {
             return Ok(());
         };
         let to = other.unwrap_or(&self.path);
-        tmp.persist(to).map_err(|e| Error::Write {
+        tmp.persist(to).map_err(|source| Error::Write {
             path: to.to_owned(),
-            source: e.error,
+            source,
         })?;
         Ok(())
     }
