@@ -3001,3 +3001,15 @@ fn a_folder_deeper_than_the_path_limit_is_written_in() {
         error.len()
     );
 }
+
+/// A number in a message is written shortly: a weight of 1e-320, not 320
+/// zeros.
+#[test]
+fn numbers_in_messages_are_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("w.obj");
+    std::fs::write(&input, "v 1 1 1 1e-320\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let run = refine(&input, dir.path().join("out.obj")).output().unwrap();
+    let error = one_line_error(&run);
+    assert!(error.contains("its weight 1e-320") && error.len() < 200, "{error}");
+}
