@@ -38,13 +38,31 @@ macro_rules! say {
 static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
 
 /// Remembers `result` of a write to standard output (see [`STDOUT_ERROR`]).
+/// A standard output closed at start ([`crate::stdout_closed`]) takes any
+/// write: it is `/dev/null`.
 pub(crate) fn note_stdout_result(result: std::io::Result<()>) {
-    if let Err(e) = result {
-        if e.kind() != std::io::ErrorKind::BrokenPipe {
-            let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
-            first.get_or_insert_with(|| e.to_string());
-        }
+    let error = match result {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Some(e.to_string()),
+        _ if crate::stdout_closed() => Some(STDOUT_IS_CLOSED.to_string()),
+        _ => None,
+    };
+    if let Some(e) = error {
+        let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+        first.get_or_insert(e);
     }
+}
+
+/// Why nothing can be written to a standard output closed at start.
+const STDOUT_IS_CLOSED: &str = "Bad file descriptor (it is closed)";
+
+/// Refuses, before any work, a command that `writes` to standard output
+/// (a file, or its printout) when standard output is closed (`>&-`): what
+/// it wrote would vanish.
+fn refuse_closed_stdout(writes: bool) -> anyhow::Result<()> {
+    if writes && crate::stdout_closed() {
+        bail!("standard output: cannot write: {STDOUT_IS_CLOSED}");
+    }
+    Ok(())
 }
 
 /// Set when a run writes a file to standard output (`-o -`, `--stats-json
@@ -703,7 +721,35 @@ fn one_line(e: &anyhow::Error) -> String {
     // One line, and nothing that drives a terminal: a path or a header
     // name may hold control characters too (file tokens are escaped where
     // they are quoted, `io::formats::show`).
-    escaped(&s, true)
+    elide_long_words(&escaped(&s, true))
+}
+
+/// The most characters without a space that a message keeps in a row.
+const LONG_WORD: usize = 300;
+
+/// `line` with each run of more than [`LONG_WORD`] characters without a
+/// space (a path into a folder deeper than the system allows a path to
+/// be, 4 KiB and more) cut to its first and last 140 around `...`: an
+/// error stays a line that can be read.
+fn elide_long_words(line: &str) -> String {
+    if line.len() <= LONG_WORD {
+        return line.to_string();
+    }
+    let mut out = String::with_capacity(line.len().min(4 * LONG_WORD));
+    for (i, word) in line.split(' ').enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        let chars = word.chars().count();
+        if chars <= LONG_WORD {
+            out.push_str(word);
+        } else {
+            out.extend(word.chars().take(140));
+            out.push_str("...");
+            out.extend(word.chars().skip(chars - 140));
+        }
+    }
+    out
 }
 
 /// `s` with its control characters escaped (`\n`, `\u{1b}`), or with line
@@ -795,7 +841,16 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
     if io::is_stream(path) {
         return Ok(());
     }
-    let (_, dir) = io::write_target(path);
+    if names_folder(path) && !path.is_dir() {
+        bail!(
+            "{}: output names a folder (its name ends in /), not a file",
+            path.display()
+        );
+    }
+    let (_, dir) = io::write_target(path).map_err(|source| delmesh::Error::Write {
+        path: path.to_owned(),
+        source,
+    })?;
     let dir = dir.as_path();
     if !dir.is_dir() {
         bail!("{}: output folder {} does not exist", path.display(), dir.display());
@@ -804,14 +859,18 @@ fn check_output_dir(path: &Path) -> anyhow::Result<()> {
         bail!("{}: output is a folder, not a file", path.display());
     }
     // Writable? Probe with the same kind of temporary file the atomic write uses.
-    if let Err(e) = tempfile::Builder::new()
-        .prefix(".delmesh-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-    {
+    if let Err(e) = io::temporary::TempFile::create_in(dir, ".delmesh-", ".tmp") {
         bail!("{}: cannot write in folder {}: {e}", path.display(), dir.display());
     }
     Ok(())
+}
+
+/// Whether `path` can only name a folder: its last part is empty (it ends
+/// in `/`), `.` or `..`.
+fn names_folder(path: &Path) -> bool {
+    let bytes = path.as_os_str().as_encoded_bytes();
+    let last = bytes.rsplit(|&b| b == b'/').next().unwrap_or_default();
+    matches!(last, b"" | b"." | b"..")
 }
 
 /// The file `p` names, comparable between paths: symbolic links and `..`
@@ -830,15 +889,31 @@ fn file_key(p: &Path) -> Option<PathBuf> {
 /// Refuses two of the files a run writes (`written`: what, path) that are
 /// one file, which the second written would replace, and any that is the
 /// input, except `written[i]` for `in_place` = `Some(i)` (the output of a
-/// run without -o). Devices and pipes (`/dev/null`, `/dev/stdout`) may be
+/// run without -o). The input is also the file standard input is
+/// redirected from, for `-`, and a file is also itself under another name
+/// (`/dev/stdin`, `/dev/fd/3`, a hard link: the same device and inode), so
+/// `delmesh -i - -o /dev/stdin < m.obj` and `-o - >> m.obj` are refused.
+/// Devices and pipes (`/dev/null`, `/dev/stdout` on a terminal) may be
 /// named more than once.
 fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, PathBuf)]) -> anyhow::Result<()> {
-    let input_key = file_key(input);
+    let input_key = if io::is_standard_input(input) {
+        None
+    } else {
+        file_key(input)
+    };
+    let input_id = io::FileId::of_input(input);
     for (i, (what, path)) in written.iter().enumerate() {
         let Some(fd) = io::standard_stream(path) else { continue };
         if let Some((other, _)) = written[..i].iter().find(|(_, p)| io::standard_stream(p) == Some(fd)) {
             let stream = if fd == 1 { "standard output" } else { "standard error" };
             bail!("{}: {what} and {other} would both go to {stream}", path.display());
+        }
+        if input_id.is_some() && io::FileId::of_standard(fd) == input_id {
+            let stream = if fd == 1 { "standard output" } else { "standard error" };
+            bail!(
+                "{}: input file is output file: {what} would go to {stream}, which is the input",
+                input.display()
+            );
         }
     }
     let keys: Vec<Option<PathBuf>> = written
@@ -846,20 +921,44 @@ fn refuse_same_files(input: &Path, in_place: Option<usize>, written: &[(String, 
         .map(|(_, p)| if io::is_stream(p) { None } else { file_key(p) })
         .collect();
     for (i, (what, path)) in written.iter().enumerate() {
-        let Some(key) = &keys[i] else { continue };
-        if in_place != Some(i) && Some(key) == input_key.as_ref() {
+        let is_input = || {
+            (keys[i].is_some() && keys[i] == input_key)
+                || (input_id.is_some() && io::standard_stream(path).is_none() && io::FileId::of_path(path) == input_id)
+        };
+        if in_place != Some(i) && is_input() {
             // (Rewriting the input is what a run without -o does, after
             // the checks that make it safe: say so.)
-            let hint = if what == "the output" {
+            let hint = if what == "the output" && !io::is_standard_input(input) {
                 ": leave out -o to rewrite the input in place"
             } else {
                 ""
             };
             bail!("{}: {what} would overwrite the input{hint}", path.display());
         }
+        let Some(key) = &keys[i] else { continue };
         if let Some(j) = keys[..i].iter().position(|k| k.as_ref() == Some(key)) {
             bail!("{}: {what} and {} name the same file", path.display(), written[j].0);
         }
+    }
+    Ok(())
+}
+
+/// Refuses a run whose printout would go into one of its `inputs` (a
+/// regular file standard output is appended to: `delmesh -i m.obj -o
+/// out.obj >> m.obj`), as `cat` refuses; `quiet` prints nothing. (An
+/// output file on standard output is refused by [`refuse_same_files`].)
+fn refuse_printout_into_inputs(inputs: &[&Path], quiet: bool) -> anyhow::Result<()> {
+    if quiet || PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    let Some(stdout) = io::FileId::of_standard(1) else {
+        return Ok(());
+    };
+    if let Some(input) = inputs.iter().find(|p| io::FileId::of_input(p) == Some(stdout)) {
+        bail!(
+            "{}: input file is output file: the printout would go to standard output, which is this input",
+            input.display()
+        );
     }
     Ok(())
 }
@@ -1114,9 +1213,19 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sweep_combinations(args.extended).len()
         );
     }
-    if args.output.is_none() && input_path.is_dir() {
-        // The output would be the input: the input is what is wrong.
-        bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
+    if args.output.is_none() && !from_stdin {
+        // The output would be the input: the input is what is wrong (a
+        // missing one is said as with -o, not as a missing output).
+        if let Err(source) = std::fs::metadata(input_path) {
+            return Err(delmesh::Error::Read {
+                path: input_path.to_owned(),
+                source,
+            }
+            .into());
+        }
+        if input_path.is_dir() {
+            bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
+        }
     }
     check_output_dir(&output)?;
     io::set_sync_writes(args.settings.sync);
@@ -1128,6 +1237,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if args.all {
         for o in sweep_combinations(args.extended) {
             let path = combination_path(&output, &o);
+            // (Each name: one may be a folder, or a link that leads nowhere.)
+            check_output_dir(&path)?;
             written.push(("an -all output".into(), path));
         }
     } else {
@@ -1153,6 +1264,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)) {
         PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
     }
+    refuse_printout_into_inputs(&[input_path], args.quiet)?;
+    let printout_to_stdout = !args.quiet && !PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed);
+    refuse_closed_stdout(printout_to_stdout || written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)))?;
     if in_place.is_some() && !std::fs::metadata(input_path).is_ok_and(|m| m.is_file()) {
         bail!(
             "{}: not a regular file, so it cannot be rewritten in place; give an output with -o",
@@ -1183,6 +1297,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             input_path.display()
         );
     }
+    crate::working_on(input_path);
     let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
     let t0 = Instant::now();
     progress::phase(Phase::Read {
@@ -1993,7 +2108,7 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
 /// mesh of an input that cannot be read twice (standard input, a pipe).
 struct CheckReference<'a> {
     input: &'a Path,
-    written: Option<(io::temporary::Registration, tempfile::NamedTempFile)>,
+    written: Option<(io::temporary::Registration, io::temporary::TempFile)>,
 }
 
 impl<'a> CheckReference<'a> {
@@ -2011,10 +2126,7 @@ impl<'a> CheckReference<'a> {
                     .parent()
                     .filter(|d| !d.as_os_str().is_empty())
                     .unwrap_or(Path::new("."));
-                let file = tempfile::Builder::new()
-                    .prefix(".delmesh-reference-")
-                    .suffix(".obj")
-                    .tempfile_in(dir)
+                let file = io::temporary::TempFile::create_in(dir, ".delmesh-reference-", ".obj")
                     .with_context(|| dir.display().to_string())?;
                 io::write_mesh(file.path(), &mesh.positions, &mesh.triangles)?;
                 Some((io::temporary::register(file.path()), file))
@@ -2359,6 +2471,13 @@ fn run_render(
     for read in std::iter::once(mesh).chain(input) {
         refuse_same_files(read, None, &picture)?;
     }
+    // A picture on standard output is alone there.
+    if io::standard_stream(output) == Some(1) {
+        PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+    refuse_printout_into_inputs(&[mesh, input.unwrap_or(mesh)], false)?;
+    refuse_closed_stdout(true)?;
+    crate::working_on(mesh);
     let name = output
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -2416,6 +2535,9 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     if io::is_standard_input(input) && io::is_standard_input(output) {
         bail!("INPUT and OUTPUT are both standard input: at most one of them can be `-`");
     }
+    refuse_printout_into_inputs(&[input, output], false)?;
+    refuse_closed_stdout(true)?;
+    crate::working_on(output);
     let report = delmesh::check::check_files(input, output)?;
     say!(
         "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",
@@ -2495,6 +2617,20 @@ mod tests {
         for bad in ["nan", "inf", "-inf", "1e999", "ten"] {
             assert!(finite_degrees(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn long_words_are_elided_in_messages() {
+        let long = format!("/{}/m.obj", "e".repeat(5000));
+        let line = one_line(&anyhow::anyhow!("{long}: cannot read: File name too long"));
+        assert!(line.len() < 320, "{}", line.len());
+        assert!(
+            line.starts_with("/eee")
+                && line.contains("eee...eee")
+                && line.ends_with("/m.obj: cannot read: File name too long")
+        );
+        let short = "a.obj: cannot read: No such file or directory";
+        assert_eq!(one_line(&anyhow::anyhow!("{short}")), short);
     }
 
     #[test]

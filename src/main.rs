@@ -1,8 +1,18 @@
 //! The `delmesh` command line; see `delmesh --help` and README.md.
 
 mod cli;
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+mod memory;
 mod progress;
 mod stats_json;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Lack of memory ends a run with one line and exit status 1, its
+/// temporary files removed ([`memory`]).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[global_allocator]
+static ALLOCATOR: memory::Allocator = memory::Allocator;
 
 fn main() -> std::process::ExitCode {
     keep_freed_memory();
@@ -10,16 +20,61 @@ fn main() -> std::process::ExitCode {
     cli::main()
 }
 
+/// Names `path` as the file being worked on, for the line an exit for lack
+/// of memory prints ([`memory::set_subject`]).
+pub(crate) fn working_on(path: &std::path::Path) {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    memory::set_subject(path);
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    let _ = path;
+}
+
+/// Whether standard output was closed when the process started (`>&-`).
+/// Rust's runtime then opens `/dev/null` in its place before `main`, where
+/// whatever is written vanishes without an error; `cat` fails instead
+/// ("Bad file descriptor"), and so does delmesh when it has anything to
+/// write there.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// See [`STDOUT_CLOSED`].
+pub(crate) fn stdout_closed() -> bool {
+    STDOUT_CLOSED.load(Ordering::Relaxed)
+}
+
+/// Notes [`STDOUT_CLOSED`]: run by the C library before `main`, hence
+/// before Rust's runtime fills the gap.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[used]
+#[link_section = ".init_array"]
+static NOTE_CLOSED_STDOUT: extern "C" fn() = {
+    extern "C" fn note() {
+        // SAFETY: F_GETFD only reads the descriptor's flags.
+        if unsafe { libc::fcntl(1, libc::F_GETFD) } == -1 {
+            STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        }
+    }
+    note
+};
+
 /// Ctrl-C (SIGINT), `kill` (SIGTERM), a closed terminal (SIGHUP), and the
 /// other signals whose default is to end the process and that a run may
 /// get (Ctrl-\ SIGQUIT, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, a CPU
-/// limit's SIGXCPU, a file size limit's SIGXFSZ) end it as before, but
-/// first remove the temporary file of any output being written
+/// limit's SIGXCPU, `abort`'s SIGABRT, SIGTRAP, SIGSYS) end it as before,
+/// but first remove the temporary file of any output being written
 /// ([`delmesh::io::temporary`]): an interrupted run leaves nothing behind
 /// (its outputs are either complete or absent anyway). A signal the parent
 /// set to be ignored (`nohup`) stays ignored.
+///
+/// A file size limit's SIGXFSZ (`ulimit -f`) is ignored instead: a write
+/// past the limit then fails with "File too large", which ends the run
+/// like a full disk, with one line and exit status 1.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn remove_temporary_files_on_signals() {
+    // SAFETY: sets a signal's disposition; called before any other thread
+    // exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     extern "C" fn on_signal(signal: libc::c_int) {
         delmesh::io::temporary::remove_all();
         // SAFETY: signal and raise are async-signal-safe. The signal is
@@ -41,7 +96,9 @@ fn remove_temporary_files_on_signals() {
         libc::SIGVTALRM,
         libc::SIGPROF,
         libc::SIGXCPU,
-        libc::SIGXFSZ,
+        libc::SIGABRT,
+        libc::SIGTRAP,
+        libc::SIGSYS,
     ] {
         // SAFETY: installs a handler that only does async-signal-safe work;
         // called before any other thread exists.

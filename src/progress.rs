@@ -265,6 +265,12 @@ pub fn phase(p: Phase) {
     tick();
 }
 
+/// Whether a progress line may be on the screen (drawn, at most 79
+/// characters): read without a lock, by the out-of-memory exit.
+pub fn drawing() -> bool {
+    ENABLED.load(Relaxed)
+}
+
 /// Runs `f` (which prints to stdout or stderr) with the progress line
 /// cleared, so the two never mix on one terminal line.
 pub fn suspend<T>(f: impl FnOnce() -> T) -> T {

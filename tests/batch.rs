@@ -626,3 +626,29 @@ fn file_names_with_line_feeds_keep_to_one_line() {
     assert!(line.contains("a\\nb.obj -> ") && line.ends_with(" s)"), "{stdout}");
     assert!(out.join("a\nb.obj").exists());
 }
+
+/// Standard input has no name to name an output after: `-` is refused
+/// before any work, not written to `OUT/-.obj`.
+#[test]
+fn standard_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for dash in ["-", "/dev/stdin"] {
+        let run = Command::cargo_bin("delmesh")
+            .unwrap()
+            .args(["batch", "-d"])
+            .arg(&out)
+            .arg(dash)
+            .write_stdin(std::fs::read(common::data_dir().join("bunny.obj")).unwrap())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("batch reads mesh files, not standard input"),
+            "{stderr}"
+        );
+        assert!(!out.exists());
+    }
+}

@@ -2752,3 +2752,334 @@ fn side_files_stay_out_when_the_output_cannot_be_put_in_place() {
         .collect();
     assert_eq!(names, ["bunny.obj"], "{names:?}");
 }
+
+/// `sh -c SCRIPT` in `dir`, with `$D` the delmesh binary: for redirections
+/// and limits (`>> m.obj`, `>&-`, `ulimit`) that a test sets as a user does.
+fn sh(dir: &Path, script: &str) -> std::process::Output {
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .current_dir(dir)
+        .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+        .output()
+        .unwrap()
+}
+
+/// The names in `dir` starting with `.delmesh-`: temporary files left.
+fn temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".delmesh-"))
+        .collect()
+}
+
+/// An output that is the input's file under another name is refused before
+/// any work, also when the input is standard input redirected from the
+/// file (`/dev/stdin`, `/dev/fd/N`), and a hard link is the same file.
+#[cfg(unix)]
+#[test]
+fn an_output_that_is_the_input_file_under_another_name_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let original = std::fs::read(&input).unwrap();
+    for args in [
+        &["-i", "-", "--stats-json", "/dev/stdin"][..],
+        &["-i", "-", "-o", "/dev/stdin"][..],
+        &["-i", "-", "-o", "/proc/self/fd/0"][..],
+        &["-i", "-", "-o", "out.obj", "--vertex-map", "/dev/fd/0"][..],
+        &["render", "-", "-o", "/dev/stdin"][..],
+    ] {
+        let run = with_stdin(args, &input);
+        let error = one_line_error(&run);
+        assert!(error.contains("would overwrite the input"), "{args:?}: {error}");
+        assert!(run.stdout.is_empty(), "{args:?}: work was done");
+        assert_eq!(std::fs::read(&input).unwrap(), original, "{args:?}");
+    }
+    let run = sh(dir.path(), r#""$D" -i - -o /dev/fd/3 -q < m.obj 3>> m.obj"#);
+    let error = one_line_error(&run);
+    assert!(error.contains("would overwrite the input"), "{error}");
+    std::fs::hard_link(&input, dir.path().join("h.obj")).unwrap();
+    let run = refine(&input, dir.path().join("h.obj")).output().unwrap();
+    let error = one_line_error(&run);
+    assert!(error.contains("would overwrite the input"), "{error}");
+    assert_eq!(std::fs::read(&input).unwrap(), original);
+    assert!(!dir.path().join("out.obj").exists());
+}
+
+/// Standard output (or error) redirected into the input file is refused
+/// before any work, as `cat` refuses it: a mesh, a side file or the
+/// printout would be appended to the input.
+#[cfg(unix)]
+#[test]
+fn standard_output_into_the_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let original = std::fs::read(&input).unwrap();
+    for script in [
+        r#""$D" -i m.obj -o - -q >> m.obj"#,
+        r#""$D" -i m.obj -o /dev/stdout -q >> m.obj"#,
+        r#""$D" -i - -q < m.obj >> m.obj"#,
+        r#""$D" -i m.obj -o out.obj >> m.obj"#,
+        r#""$D" -i m.obj >> m.obj"#,
+        r#""$D" -i m.obj -o out.obj --stats-json /dev/stdout -q >> m.obj"#,
+        r#""$D" batch -d o m.obj >> m.obj"#,
+        r#""$D" check m.obj m.obj >> m.obj"#,
+        r#""$D" render m.obj -o p.svg >> m.obj"#,
+    ] {
+        let run = sh(dir.path(), script);
+        let error = one_line_error(&run);
+        assert!(error.contains("input file is output file"), "{script}: {error}");
+        assert_eq!(std::fs::read(&input).unwrap(), original, "{script}");
+        assert!(!dir.path().join("out.obj").exists() && !dir.path().join("p.svg").exists());
+    }
+    // Quiet, nothing goes there: fine.
+    let run = sh(dir.path(), r#""$D" -i m.obj -o out.obj -q >> m.obj"#);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(std::fs::read(&input).unwrap(), original);
+}
+
+/// An output to a closed standard output (`>&-`) fails before any work,
+/// with one line, as `cat` does; so does a printout that would vanish
+/// there. With -q and a file output nothing goes there.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn a_closed_standard_output_is_an_error_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    for script in [
+        r#""$D" -i m.obj -o - -q >&-"#,
+        r#""$D" -i m.obj -o out.obj >&-"#,
+        r#""$D" batch -d o m.obj >&-"#,
+        r#""$D" render m.obj -o p.svg >&-"#,
+        r#""$D" check m.obj m.obj >&-"#,
+        r#""$D" man >&-"#,
+    ] {
+        let run = sh(dir.path(), script);
+        let error = one_line_error(&run);
+        assert!(
+            error.contains("standard output: cannot write: Bad file descriptor"),
+            "{script}: {error}"
+        );
+        assert!(!dir.path().join("out.obj").exists() && !dir.path().join("p.svg").exists());
+        assert!(!dir.path().join("o").exists(), "{script}");
+    }
+    let run = sh(dir.path(), r#""$D" -i m.obj -o out.obj -q >&-"#);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(dir.path().join("out.obj").exists());
+}
+
+/// A signal that ends the process while an output is written (here: the
+/// mesh is complete under its temporary name, and the run waits to open
+/// the FIFO named by --stats-json) removes the temporary file first: also
+/// SIGABRT (what `abort` raises), SIGTRAP and SIGSYS.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn signals_that_end_the_run_remove_its_temporary_files() {
+    use std::os::unix::process::ExitStatusExt;
+    for (name, number) in [("TERM", 15), ("ABRT", 6), ("TRAP", 5), ("SYS", 31)] {
+        let dir = tempfile::tempdir().unwrap();
+        copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+        let made = std::process::Command::new("mkfifo")
+            .arg(dir.path().join("fifo"))
+            .status();
+        if !made.is_ok_and(|s| s.success()) {
+            return;
+        }
+        // (No core file: the signals that make one.)
+        let mut child = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(r#"ulimit -c 0; exec "$D" -i m.obj -o out.obj --stats-json fifo -q"#)
+            .current_dir(dir.path())
+            .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The mesh's temporary file (not the probe of the folder, `.tmp`);
+        // then time to finish it and block on the FIFO, where it waits.
+        let mesh_file = || {
+            temporary_files(dir.path())
+                .into_iter()
+                .filter(|n| n.ends_with(".tmp.obj"))
+        };
+        let start = std::time::Instant::now();
+        while mesh_file().next().is_none() && start.elapsed().as_secs() < 60 {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        let seen: Vec<String> = mesh_file().collect();
+        let signal = if seen.is_empty() { "KILL" } else { name };
+        std::process::Command::new("kill")
+            .arg(format!("-{signal}"))
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(!seen.is_empty(), "SIG{name}: no temporary file was made");
+        assert_eq!(status.signal(), Some(number), "SIG{name}: {status:?}");
+        assert_eq!(temporary_files(dir.path()), Vec::<String>::new(), "SIG{name}");
+        assert!(!dir.path().join("out.obj").exists(), "SIG{name}");
+    }
+}
+
+/// An output past the file size limit (`ulimit -f`) fails like a full
+/// disk, with one line and exit status 1, instead of SIGXFSZ killing the
+/// run; nothing is left behind.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn the_file_size_limit_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    let run = sh(dir.path(), r#"ulimit -f 16; exec "$D" -i m.obj -o out.obj -q"#);
+    let error = one_line_error(&run);
+    assert!(error.contains("out.obj: cannot write: File too large"), "{error}");
+    assert!(!dir.path().join("out.obj").exists());
+    assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
+}
+
+/// Running out of memory is one line and exit status 1 (no abort, no
+/// backtrace), with nothing left behind.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn out_of_memory_is_one_line_and_exit_status_1() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("elephant.obj", &dir.path().join("m.obj"));
+    let mut failed = 0;
+    for limit in [20_000, 40_000, 60_000] {
+        let run = sh(
+            dir.path(),
+            &format!(r#"ulimit -v {limit}; RUST_BACKTRACE=1 exec "$D" -i m.obj -o out.obj -q -j 1"#),
+        );
+        if run.status.success() {
+            continue; // enough memory after all
+        }
+        failed += 1;
+        let error = one_line_error(&run);
+        assert!(
+            error.starts_with("delmesh: m.obj: out of memory (could not allocate "),
+            "{error}"
+        );
+        assert!(!dir.path().join("out.obj").exists());
+        assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
+    }
+    assert!(failed > 0, "no limit was low enough");
+}
+
+/// Without -o a missing input is said to be missing (as with -o), not to be
+/// something that cannot be rewritten, nor a missing output folder.
+#[cfg(unix)]
+#[test]
+fn a_missing_input_to_rewrite_is_said_to_be_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink("nothere.obj", dir.path().join("dangling.obj")).unwrap();
+    for input in ["nope.obj", "nodir/nope.obj", "dangling.obj"] {
+        let run = delmesh().arg("-i").arg(input).current_dir(dir.path()).output().unwrap();
+        let error = one_line_error(&run);
+        assert_eq!(
+            error.trim(),
+            format!("delmesh: {input}: cannot read: No such file or directory (os error 2)"),
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+/// Output names that cannot be written are refused before any work: one
+/// ending in `/` (a folder), an -all name that is a folder, a loop of
+/// symbolic links (never replaced by a file).
+#[cfg(unix)]
+#[test]
+fn unwritable_output_names_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj");
+    copy_fixture("bunny.obj", &input);
+    let refused = |args: &[&str]| {
+        let run = delmesh().args(args).current_dir(dir.path()).output().unwrap();
+        assert!(run.stdout.is_empty(), "{args:?}: work was done");
+        one_line_error(&run)
+    };
+    let error = refused(&["-i", "m.obj", "-o", "new/"]);
+    assert!(error.contains("new/: output names a folder"), "{error}");
+    let error = refused(&["-i", "m.obj", "-o", "out.obj", "--stats-json", "new/."]);
+    assert!(error.contains("output names a folder"), "{error}");
+    assert!(!dir.path().join("new").exists());
+    std::fs::create_dir(dir.path().join("x-s-0-m.obj")).unwrap();
+    let error = refused(&["-i", "m.obj", "-o", "x.obj", "-all"]);
+    assert!(error.contains("x-s-0-m.obj: output is a folder"), "{error}");
+    std::os::unix::fs::symlink("l2.obj", dir.path().join("l.obj")).unwrap();
+    std::os::unix::fs::symlink("l.obj", dir.path().join("l2.obj")).unwrap();
+    let error = refused(&["-i", "m.obj", "-o", "l.obj"]);
+    assert!(
+        error.contains("l.obj: cannot write: Too many levels of symbolic links"),
+        "{error}"
+    );
+    assert!(std::fs::symlink_metadata(dir.path().join("l.obj"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["l.obj", "l2.obj", "m.obj", "x-s-0-m.obj"]);
+}
+
+/// In a folder whose absolute path is longer than the system allows a path
+/// to be (4 KiB), delmesh writes as `cp` does (its temporary files are
+/// made through the relative name), and a message naming such a path
+/// elides its middle.
+#[cfg(unix)]
+#[test]
+fn a_folder_deeper_than_the_path_limit_is_written_in() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_fixture("bunny.obj", &dir.path().join("m.obj"));
+    let deep = "e".repeat(250);
+    let script = format!(
+        r#"set -e; m="$PWD/m.obj"; for i in $(seq 20); do mkdir {deep}; cd -P {deep}; done; cp "$m" m.obj
+"$D" -i m.obj -o out.obj -q; "$D" -i m.obj -q; "$D" batch -d b -q m.obj; "$D" check m.obj out.obj > /dev/null; ls -a"#
+    );
+    let run = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(&script)
+        .current_dir(dir.path())
+        .env("D", assert_cmd::cargo::cargo_bin("delmesh"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{}", &stderr[..stderr.len().min(2000)]);
+    let listing = String::from_utf8_lossy(&run.stdout);
+    let names: Vec<&str> = listing.lines().collect();
+    assert_eq!(names, [".", "..", "b", "m.obj", "out.obj"], "{listing}");
+    // A message with a path of 5 KB: its middle elided.
+    let long: PathBuf = std::iter::repeat_n(deep.as_str(), 20)
+        .collect::<PathBuf>()
+        .join("m.obj");
+    let run = delmesh()
+        .arg("-i")
+        .arg(&long)
+        .arg("-o")
+        .arg("out.obj")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let error = one_line_error(&run);
+    assert!(
+        error.len() < 400 && error.contains("eee...eee"),
+        "{} characters: {error}",
+        error.len()
+    );
+}
+
+/// A number in a message is written shortly: a weight of 1e-320, not 320
+/// zeros.
+#[test]
+fn numbers_in_messages_are_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("w.obj");
+    std::fs::write(&input, "v 1 1 1 1e-320\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let run = refine(&input, dir.path().join("out.obj")).output().unwrap();
+    let error = one_line_error(&run);
+    assert!(error.contains("its weight 1e-320") && error.len() < 200, "{error}");
+}

@@ -199,6 +199,7 @@ fn plan(
     sides: impl Fn(&Path) -> Vec<PathBuf>,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
+    let ids = input_ids(inputs);
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
     for input in inputs {
@@ -220,13 +221,21 @@ fn plan(
             // The file the output names, symbolic links followed (the
             // writer follows them too): none if its folder does not exist
             // yet, and then no input is in it.
-            if super::file_key(written).is_some_and(|key| canonical.contains(&key)) {
+            if super::file_key(written).is_some_and(|key| canonical.contains(&key))
+                || io::FileId::of_output(written).is_some_and(|id| ids.contains(&id))
+            {
                 bail!("{}: would overwrite an input", written.display());
             }
         }
         outputs.push(output);
     }
     Ok(outputs)
+}
+
+/// The regular files `inputs` are (device and inode: an output reaching
+/// one by another name, such as a hard link, would replace it too).
+fn input_ids(inputs: &[PathBuf]) -> HashSet<io::FileId> {
+    inputs.iter().filter_map(|p| io::FileId::of_path(p)).collect()
 }
 
 /// One file's result, as the summary line and the CSV row need it.
@@ -436,6 +445,13 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     if args.format == Some(FormatArg::Stl) {
         bail!("--format stl: {}", super::STL_REFUSED);
     }
+    // A file's output is named after it, and standard input has no name.
+    if let Some(stdin) = args.inputs.iter().find(|p| io::is_standard_input(p)) {
+        bail!(
+            "{}: batch reads mesh files, not standard input (delmesh -i - -o OUTPUT refines a mesh from it)",
+            stdin.display()
+        );
+    }
     let inputs = expand(&args.inputs)?;
     let outputs = plan(&inputs, &args.out_dir, args.format, |out| side_paths(out, args))?;
     if args.out_dir.exists() && !args.out_dir.is_dir() {
@@ -459,10 +475,12 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 .map_or(String::new(), |p| p.display().to_string())
         );
     }
+    let ids = input_ids(&inputs);
     for report in [&args.stats_csv, &args.stats_json].into_iter().flatten() {
         check_output_dir(report)?;
         let target = file_key(report);
-        let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target);
+        let is_input = inputs.iter().any(|p| std::fs::canonicalize(p).ok() == target)
+            || io::FileId::of_output(report).is_some_and(|id| ids.contains(&id));
         let side = |p: &PathBuf| target.is_some() && side_paths(p, args).iter().any(|s| file_key(s) == target);
         if is_input || outputs.iter().any(|p| file_key(p) == target || side(p)) {
             bail!(
@@ -471,6 +489,13 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    let paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    super::refuse_printout_into_inputs(&paths, args.quiet)?;
+    let report_to_stdout = [&args.stats_csv, &args.stats_json]
+        .into_iter()
+        .flatten()
+        .any(|p| io::standard_stream(p) == Some(1));
+    super::refuse_closed_stdout(!args.quiet || report_to_stdout)?;
     let n = inputs.len();
     let workers = if args.smallest {
         1
@@ -512,6 +537,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             let done = if args.skip_existing && finished(&outputs[i]) {
                 Ok(None)
             } else {
+                crate::working_on(&inputs[i]);
                 refine_file(&inputs[i], &outputs[i], args, &options).map(Some)
             };
             if tx.send((i, done)).is_err() {

@@ -673,14 +673,91 @@ pub fn is_standard_input(path: &Path) -> bool {
     )
 }
 
+/// A regular file, as the system knows it: its device and inode numbers,
+/// the same whatever name (a hard or symbolic link, `/dev/fd/3`) or open
+/// descriptor (standard input redirected from it) reaches it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct FileId {
+    device: u64,
+    inode: u64,
+}
+
+impl FileId {
+    /// The identity of what `metadata` describes, if a regular file.
+    fn of(metadata: &std::fs::Metadata) -> Option<FileId> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            metadata.is_file().then(|| FileId {
+                device: metadata.dev(),
+                inode: metadata.ino(),
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = metadata;
+            None
+        }
+    }
+
+    /// The regular file `path` names (symbolic links followed); `None` for
+    /// a file that does not exist, a folder, a device or a pipe.
+    pub fn of_path(path: &Path) -> Option<FileId> {
+        FileId::of(&std::fs::metadata(path).ok()?)
+    }
+
+    /// The regular file open as standard input (0), output (1) or error
+    /// (2), if one is (`< m.obj`, `>> log`).
+    pub fn of_standard(fd: u8) -> Option<FileId> {
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsFd;
+            let fd = match fd {
+                0 => std::io::stdin().as_fd().try_clone_to_owned(),
+                1 => std::io::stdout().as_fd().try_clone_to_owned(),
+                _ => std::io::stderr().as_fd().try_clone_to_owned(),
+            };
+            FileId::of(&std::fs::File::from(fd.ok()?).metadata().ok()?)
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = fd;
+            None
+        }
+    }
+
+    /// The regular file an input `path` reads: standard input's for `-`
+    /// and its names ([`is_standard_input`]).
+    pub fn of_input(path: &Path) -> Option<FileId> {
+        if is_standard_input(path) {
+            FileId::of_standard(0)
+        } else {
+            FileId::of_path(path)
+        }
+    }
+
+    /// The regular file an output `path` writes, if it exists: standard
+    /// output's or error's for their names ([`standard_stream`]).
+    pub fn of_output(path: &Path) -> Option<FileId> {
+        match standard_stream(path) {
+            Some(fd) => FileId::of_standard(fd),
+            None => FileId::of_path(path),
+        }
+    }
+}
+
 /// The file a write to `path` replaces, and the folder its temporary file
 /// goes in: a symbolic link is followed (the file it points to is
 /// replaced, or created if the link dangles; the link kept), anything else
-/// is `path` itself.
-pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
+/// is `path` itself. A link that leads nowhere (a loop of links: `Too many
+/// levels of symbolic links`) is an error, never replaced by a file.
+pub fn write_target(path: &Path) -> std::io::Result<(PathBuf, PathBuf)> {
     let is_link = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink());
     let target = if is_link(path) {
-        std::fs::canonicalize(path).unwrap_or_else(|_| dangling_link_target(path).unwrap_or_else(|| path.to_owned()))
+        match std::fs::canonicalize(path) {
+            Ok(target) => target,
+            Err(e) => dangling_link_target(path).ok_or(e)?,
+        }
     } else {
         path.to_owned()
     };
@@ -688,7 +765,7 @@ pub fn write_target(path: &Path) -> (PathBuf, PathBuf) {
         Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
         _ => PathBuf::from("."),
     };
-    (target, dir)
+    Ok((target, dir))
 }
 
 /// Where the chain of symbolic links from `path` ends, when it ends at a
@@ -755,13 +832,10 @@ pub fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<(
         w.flush().map_err(err)?;
         return Ok(streamed());
     }
-    let (target, dir) = write_target(path);
+    let (target, dir) = write_target(path).map_err(err)?;
     let path = target.as_path();
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".delmesh-")
-        .suffix(&format!(".tmp{}", extensions(path)))
-        .tempfile_in(&dir)
-        .map_err(err)?;
+    let mut tmp =
+        temporary::TempFile::create_in(&dir, ".delmesh-", &format!(".tmp{}", extensions(path))).map_err(err)?;
     // Removed by the signal handler if the run is interrupted; unregistered
     // when renamed into place, or removed (the `Staged` dropped).
     let registered = temporary::register(tmp.path());
@@ -806,7 +880,7 @@ pub struct Staged {
     /// The file the write is for (a symbolic link followed).
     path: PathBuf,
     /// The complete temporary file; `None` for a stream, written already.
-    file: Option<(tempfile::NamedTempFile, temporary::Registration)>,
+    file: Option<(temporary::TempFile, temporary::Registration)>,
 }
 
 impl Staged {
@@ -836,9 +910,9 @@ impl Staged {
             return Ok(());
         };
         let to = other.unwrap_or(&self.path);
-        tmp.persist(to).map_err(|e| Error::Write {
+        tmp.persist(to).map_err(|source| Error::Write {
             path: to.to_owned(),
-            source: e.error,
+            source,
         })?;
         Ok(())
     }

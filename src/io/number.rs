@@ -6,15 +6,19 @@
 /// the plain one runs long (1e300 has 301 digits, 1e-300 as many): a point
 /// as a message names it.
 pub fn point_text(p: impl Into<[f64; 3]>) -> String {
-    let c = |x: f64| {
-        if x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-15) {
-            format!("{x:e}")
-        } else {
-            format!("{x}")
-        }
-    };
     let [x, y, z] = p.into();
-    format!("({}, {}, {})", c(x), c(y), c(z))
+    format!("({}, {}, {})", number_text(x), number_text(y), number_text(z))
+}
+
+/// `x` exactly (shortest round trip), in scientific notation where the
+/// plain one runs long: `1e-320`, not 320 zeros; as a message names a
+/// number read from a file.
+pub fn number_text(x: f64) -> String {
+    if x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-15) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Exact powers of ten: every 10^k with k ≤ 22 is an `f64`.

@@ -10,7 +10,7 @@
 use std::io::Write;
 
 use super::formats::{show, FormatError, OriginKind, RawMesh};
-use super::number::parse_f64;
+use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
 
@@ -294,14 +294,17 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                         if w == 0.0 || !w.is_finite() {
                             return Err(error(
                                 line_no,
-                                format!("vertex {v} has weight {w} (x y z are divided by it)"),
+                                format!("vertex {v} has weight {} (x y z are divided by it)", number_text(w)),
                             ));
                         }
                         xyz = xyz.map(|c| c / w);
                         if let Some(c) = xyz.iter().find(|c| !c.is_finite()) {
                             return Err(error(
                                 line_no,
-                                format!("vertex {v} has a non-finite coordinate {c} once divided by its weight {w}"),
+                                format!(
+                                    "vertex {v} has a non-finite coordinate {c} once divided by its weight {}",
+                                    number_text(w)
+                                ),
                             ));
                         }
                     }

@@ -12,7 +12,7 @@
 
 #[cfg(unix)]
 use std::cell::UnsafeCell;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 #[cfg(unix)]
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -122,6 +122,88 @@ extern "C" {
     fn unlink(path: *const std::ffi::c_char) -> std::ffi::c_int;
 }
 
+/// A file created under a new name, removed when dropped unless
+/// [`persist`](TempFile::persist)ed. Its path is the folder as given
+/// joined with the name: a relative folder stays relative, so that the
+/// file can be made where `cp` can (in a folder whose absolute path is
+/// longer than the system allows a path to be), and the signal handler
+/// can remove it there (delmesh never changes its current folder).
+#[derive(Debug)]
+pub struct TempFile {
+    file: std::fs::File,
+    path: PathBuf,
+    /// Renamed into place: nothing to remove.
+    persisted: bool,
+}
+
+impl TempFile {
+    /// Creates `PREFIX` + 12 random hex digits + `SUFFIX` in `dir`, new
+    /// (never an existing file or link), readable and writable by its
+    /// owner only.
+    pub fn create_in(dir: &Path, prefix: &str, suffix: &str) -> std::io::Result<TempFile> {
+        use std::hash::{BuildHasher, Hasher};
+        use std::sync::atomic::{AtomicU64, Ordering};
+        /// Names tried so far by this process: each name is new.
+        static TRIED: AtomicU64 = AtomicU64::new(0);
+        let random = std::collections::hash_map::RandomState::new();
+        let mut options = std::fs::OpenOptions::new();
+        options.read(true).write(true).create_new(true);
+        #[cfg(unix)]
+        std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+        let mut last = None;
+        for _ in 0..64 {
+            let mut h = random.build_hasher();
+            h.write_u64(TRIED.fetch_add(1, Ordering::Relaxed));
+            h.write_u32(std::process::id());
+            let name = format!("{prefix}{:012x}{suffix}", h.finish() >> 16);
+            let path = dir.join(name);
+            match options.open(&path) {
+                Ok(file) => {
+                    return Ok(TempFile {
+                        file,
+                        path,
+                        persisted: false,
+                    })
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        Err(last.unwrap_or_else(|| std::io::ErrorKind::AlreadyExists.into()))
+    }
+
+    /// Where the file is.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The open file.
+    pub fn as_file(&self) -> &std::fs::File {
+        &self.file
+    }
+
+    /// The open file, to write.
+    pub fn as_file_mut(&mut self) -> &mut std::fs::File {
+        &mut self.file
+    }
+
+    /// Renames the file to `to` (replacing what is there); on an error it
+    /// is still removed when dropped.
+    pub fn persist(mut self, to: &Path) -> std::io::Result<()> {
+        std::fs::rename(&self.path, to)?;
+        self.persisted = true;
+        Ok(())
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.persisted {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -144,5 +226,25 @@ mod tests {
             assert!(r.slot.is_some());
         }
         assert!(b.exists());
+    }
+
+    #[test]
+    fn temporary_files_are_new_relative_and_removed_unless_persisted() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = TempFile::create_in(dir.path(), ".delmesh-", ".tmp").unwrap();
+        let b = TempFile::create_in(dir.path(), ".delmesh-", ".tmp").unwrap();
+        assert_ne!(a.path(), b.path());
+        let name = a.path().file_name().unwrap().to_str().unwrap().to_owned();
+        assert!(
+            name.starts_with(".delmesh-") && name.ends_with(".tmp") && name.len() == 25,
+            "{name}"
+        );
+        let kept = dir.path().join("kept");
+        a.persist(&kept).unwrap();
+        let b_path = b.path().to_owned();
+        drop(b);
+        assert!(kept.exists() && !b_path.exists());
+        let relative = TempFile::create_in(Path::new("."), ".delmesh-test-", ".tmp").unwrap();
+        assert!(relative.path().is_relative() && relative.path().exists());
     }
 }
