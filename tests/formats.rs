@@ -1403,3 +1403,64 @@ fn data_after_the_declared_faces_gets_a_note() {
     stl.truncate(84 + 3 * 50 + 2);
     assert!(read_stl(&stl).unwrap().notes.is_empty());
 }
+
+/// A carriage return that ends a line by itself (classic Mac OS text, or
+/// one such line end among line feeds, also inside a comment, where read as
+/// a blank it would swallow the next statement) is refused in every text
+/// format with one message naming its line; CRLF line ends, blanks or more
+/// carriage returns before a line feed, and one at the end are fine.
+#[test]
+fn lone_carriage_returns_are_refused_naming_their_line() {
+    use delmesh::io::obj::parse_obj;
+    const MESSAGE: &str = "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds";
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    let obj = |text: &str| parse_obj(text.as_bytes());
+    for (text, line) in [
+        (tetra.replace('\n', "\r"), 1),
+        (tetra.replace("4\nf 3", "4 # c\rf 3"), 7),
+        (tetra.replace("4\nf 3", "4\r f 3"), 7),
+        (format!("# header\rv 9 9 9\n{tetra}"), 1),
+        ("v 0 0 0\r\nv 1 0 0\nv 0 1 0\rf 1 2 3\n".into(), 3),
+    ] {
+        let e = err_of(obj(&text));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), MESSAGE), "{text:?}");
+    }
+    for text in [
+        tetra.replace('\n', "\r\n"),
+        tetra.replace('\n', "\r\r\n"),
+        tetra.replace('\n', " \r \t\n"),
+        format!("{tetra}\r"),
+    ] {
+        assert_eq!(obj(&text).unwrap().face_start.len(), 5, "{text:?}");
+    }
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+               element face 4\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    let stl = "solid x\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n\
+               endsolid x\nsolid y\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\n\
+               endloop\nendfacet\nendsolid y\n";
+    type Reader = fn(&[u8]) -> Result<RawMesh, FormatError>;
+    let readers: [(&str, Reader, &str); 3] = [
+        (off, read_off, "0 1 0"),
+        (ply, read_ply, "0 1 0"),
+        (stl, read_stl, "endsolid x"),
+    ];
+    for (text, read, at) in readers {
+        // Every line end a carriage return; one, on line 5 or 10; a CRLF file.
+        let e = err_of(read(text.replace('\n', "\r").as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(1), MESSAGE), "{text:?}");
+        let mixed = text.replacen(&format!("{at}\n"), &format!("{at}\r"), 1);
+        let line = 1 + text[..text.find(&format!("{at}\n")).unwrap()].matches('\n').count() as u64;
+        let e = err_of(read(mixed.as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), MESSAGE), "{mixed:?}");
+        let crlf = read(text.replace('\n', "\r\n").as_bytes()).unwrap();
+        assert_eq!(
+            crlf.face_start.len() - 1,
+            read(text.as_bytes()).unwrap().face_start.len() - 1
+        );
+    }
+    // In a PLY header too.
+    let e = err_of(read_ply(ply.replacen("float y\n", "float y\r", 1).as_bytes()));
+    assert_eq!((e.line, e.what.as_str()), (Some(5), MESSAGE));
+}

@@ -422,6 +422,38 @@ pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
+/// Why text is refused whose lines end in a carriage return alone
+/// ([`lone_cr_line`]).
+pub(crate) const LONE_CR: &str =
+    "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds";
+
+/// The 1-based line (counted by line feeds) of the first carriage return
+/// in `text` that ends a line by itself, as classic Mac OS text does: one
+/// followed by something other than blanks before the next line feed. The
+/// text readers take a carriage return for a blank, so such a line would
+/// be read joined to the next (in a comment, the next statement lost); a
+/// carriage return before a line feed, or before blanks and then one (or
+/// the end), is the usual CRLF line end. One scan for the byte in text
+/// without any (most files).
+pub(crate) fn lone_cr_line(text: &[u8]) -> Option<u64> {
+    if !text.contains(&b'\r') {
+        return None;
+    }
+    let mut i = 0;
+    while let Some(cr) = text[i..].iter().position(|&b| b == b'\r').map(|k| i + k) {
+        let after = &text[cr + 1..];
+        let blanks = after
+            .iter()
+            .position(|&b| !matches!(b, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
+            .unwrap_or(after.len());
+        if after.get(blanks).is_some_and(|&b| b != b'\n') {
+            return Some(1 + text[..cr].iter().filter(|&&b| b == b'\n').count() as u64);
+        }
+        i = cr + 1 + blanks;
+    }
+    None
+}
+
 /// Whether the complete lines of the first [`SNIFF_WINDOW`] bytes are OBJ statements, at least one a
 /// `v` or `f` line.
 fn looks_like_obj(text: &[u8]) -> bool {
@@ -757,7 +789,11 @@ fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
 /// lines give x y z first; whatever follows (normals, colour, texture coordinates) is skipped. Face
 /// lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
-    let mut lines = Lines::new(strip_bom(bytes));
+    let text = strip_bom(bytes);
+    if let Some(line) = lone_cr_line(text) {
+        return Err(FormatError::at(line, LONE_CR));
+    }
+    let mut lines = Lines::new(text);
     let Some((first_line, first)) = lines.next_meaningful() else {
         return Err(FormatError::new("the file is empty (no OFF header)"));
     };
@@ -1087,6 +1123,9 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
         let raw = &rest[..end];
         pos += (end + 1).min(rest.len());
         line += 1;
+        if lone_cr_line(raw).is_some() {
+            return Err(FormatError::at(line, LONE_CR));
+        }
         if line == 1 {
             if raw.strip_suffix(b"\r").unwrap_or(raw) != b"ply" {
                 return Err(FormatError::at(1, "not a PLY file: the first line is not `ply`"));
@@ -1362,6 +1401,9 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     b.channels = channels;
     match header.encoding {
         PlyEncoding::Ascii => {
+            if let Some(line) = lone_cr_line(&bytes[header.data_start..]) {
+                return Err(FormatError::at(header.data_line - 1 + line, LONE_CR));
+            }
             let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
             for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
                 read_ascii_element(&mut tokens, el, roles, *kind, &mut b)?;
@@ -1866,6 +1908,9 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
 
 /// Reads ASCII STL; returns the mesh and the offset just after the last `endsolid` line.
 fn read_stl_ascii(bytes: &[u8]) -> Result<(RawMesh, usize), FormatError> {
+    if let Some(line) = lone_cr_line(bytes) {
+        return Err(FormatError::at(line, LONE_CR));
+    }
     let mut t = Tokens::new(bytes, 0, 1);
     let mut b = Builder::new(OriginKind::Line, Numbering::Stl);
     let mut end = 0;
