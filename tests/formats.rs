@@ -1464,3 +1464,52 @@ fn lone_carriage_returns_are_refused_naming_their_line() {
     let e = err_of(read_ply(ply.replacen("float y\n", "float y\r", 1).as_bytes()));
     assert_eq!((e.line, e.what.as_str()), (Some(5), MESSAGE));
 }
+
+/// An ASCII PLY line with too few values for its record is named, and
+/// called short: the record reads on into the next line, which then has
+/// values left over, and that next line was blamed for holding more values
+/// than declared. A line with too many is still named so; a record that
+/// goes on over two lines and ends at the end of one is read, as before.
+#[test]
+fn ply_ascii_short_line_is_named_as_short() {
+    let ply = |rows: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+             element face 4\nproperty list uchar int vertex_indices\nend_header\n{rows}"
+        )
+    };
+    let faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    for (rows, line, what) in [
+        (
+            format!("0 0\n1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "vertex 0 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0\n0 1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "vertex 0 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0\n1 0 0\n0 1 0\n0 0\n{faces}"),
+            13,
+            "vertex 3 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2\n{}", &faces[8..]),
+            14,
+            "face 0 has 3 values on its line, fewer than the 4 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0 0\n1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "more values on the line of vertex 0 than the PLY header declares (3 properties)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&rows).as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), what), "{rows}");
+    }
+    let wrapped = read_ply(ply(&format!("0 0\n0\n1 0 0\n0 1 0\n0 0 1\n{faces}")).as_bytes()).unwrap();
+    assert_eq!(wrapped.positions[0], [0.0; 3]);
+    assert_eq!(wrapped.face_start.len(), 5);
+}

@@ -1584,6 +1584,7 @@ fn read_ascii_element(
     for i in 0..count {
         let mut v = VertexValues::default();
         let mut origin = t.line;
+        let start = (t.pos, t.line);
         for (k, (p, role)) in el.props.iter().zip(roles).enumerate() {
             let truncated =
                 |line| FormatError::at(line, format!("the PLY data ends inside {name} {i} (truncated file?)"));
@@ -1663,8 +1664,12 @@ fn read_ascii_element(
         }
         // One record per line: values left on it mean the header declares
         // fewer properties than the lines hold (read on, every later value
-        // would be taken for the wrong property).
+        // would be taken for the wrong property). A record that went on
+        // past its first line took them from the next: its line is short.
         if !t.line_is_done() {
+            if t.line != origin {
+                return Err(short_record(t.data, start, origin, t.pos, name, i));
+            }
             return Err(FormatError::at(
                 t.line,
                 format!(
@@ -1677,6 +1682,24 @@ fn read_ascii_element(
         finish_record(b, kind, &v, i, origin)?;
     }
     Ok(())
+}
+
+/// The error for record `i` of element `name`, read from `start` (a
+/// position and its line) to `end`, which ran past its first line `origin`
+/// and left values on its last: the first line is short of values (rather
+/// than the last holding too many).
+fn short_record(data: &[u8], start: (usize, u64), origin: u64, end: usize, name: &str, i: usize) -> FormatError {
+    let mut again = Tokens::new(data, start.0, start.1);
+    let (mut on_line, mut needed) = (0, 0);
+    while again.pos < end {
+        let Some((_, line)) = again.next() else { break };
+        on_line += usize::from(line == origin);
+        needed += 1;
+    }
+    FormatError::at(
+        origin,
+        format!("{name} {i} has {on_line} values on its line, fewer than the {needed} its record needs (a short line)"),
+    )
 }
 
 /// A cursor over binary PLY data.
