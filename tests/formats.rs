@@ -1513,3 +1513,100 @@ fn ply_ascii_short_line_is_named_as_short() {
     assert_eq!(wrapped.positions[0], [0.0; 3]);
     assert_eq!(wrapped.face_start.len(), 5);
 }
+
+/// ASCII PLY values are held to their declared types: a coordinate, face
+/// index or list length that the type cannot hold (`300` as `uchar`, `1.5`
+/// as `int`, `1e39` as `float`, infinite there) is refused naming its line;
+/// in a colour, texture coordinate or normal such a value, or one that is
+/// no number, drops that attribute with a note (a `uchar` colour of 999
+/// was read as 3.92). Values within range are read exactly as written.
+#[test]
+fn ply_ascii_values_must_fit_their_declared_types() {
+    let ply = |props: &str, list: &str, rows: &str, faces: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\n{props}element face 4\n\
+             property list {list} vertex_indices\nend_header\n{rows}{faces}3 0 1 3\n3 1 2 3\n3 2 0 3\n"
+        )
+    };
+    let xyz = |ty: &str| format!("property {ty} x\nproperty {ty} y\nproperty {ty} z\n");
+    let rows = |x: &str| format!("0 0 0\n{x} 0 0\n0 1 0\n0 0 1\n");
+    let face = "3 0 2 1\n";
+    for (ty, x, why) in [
+        (
+            "uint8",
+            "300",
+            "does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "uchar",
+            "-1",
+            "does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "int",
+            "1.5",
+            "does not fit its declared type int (an integer from -2147483648 to 2147483647)",
+        ),
+        (
+            "float",
+            "1e39",
+            "does not fit its declared type float (beyond ±3.4028235e38)",
+        ),
+        (
+            "float32",
+            "-4e38",
+            "does not fit its declared type float (beyond ±3.4028235e38)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&xyz(ty), "uchar int", &rows(x), face).as_bytes()));
+        let expected = format!("vertex 1 property x: `{x}` {why}");
+        assert_eq!((e.line, e.what), (Some(11), expected), "{ty} {x}");
+    }
+    for (ty, x, value) in [
+        ("uchar", "255", 255.0),
+        ("int", "7.0", 7.0),
+        ("float", "3.4e38", 3.4e38),
+        ("float", "0.1", 0.1),
+        ("float", "1e-50", 1e-50),
+        ("double", "1e300", 1e300),
+    ] {
+        let m = read_ply(ply(&xyz(ty), "uchar int", &rows(x), face).as_bytes()).unwrap();
+        assert_eq!(m.positions[1][0], value, "{ty} {x}");
+    }
+    let xyz = xyz("float");
+    for (list, face, what) in [
+        (
+            "uchar uchar",
+            "3 0 2 300\n",
+            "face 0 index `300` does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "uchar int",
+            "300 0 2 1\n",
+            "face 0 list vertex_indices length `300` does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&xyz, list, &rows("1"), face).as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(14), what), "{list}");
+    }
+    // Attributes: dropped with a note, the mesh read.
+    let colours = format!("{xyz}property uchar red\nproperty uchar green\nproperty uchar blue\n");
+    let rows = "0 0 0 255 0 0\n1 0 0 999 0 0\n0 1 0 0 0 0\n0 0 1 0 9 0\n";
+    let m = read_ply(ply(&colours, "uchar int", rows, face).as_bytes()).unwrap();
+    assert_eq!(
+        m.notes,
+        ["colours dropped: line 14: vertex 1 property red: `999` does not fit its declared type uchar (an integer from 0 to 255)"]
+    );
+    assert!(m.attributes.colors.is_none() && m.colors.is_none());
+    assert_eq!(m.positions.len(), 4);
+    let m = read_ply(ply(&colours, "uchar int", &rows.replace("999", "99"), face).as_bytes()).unwrap();
+    assert!(m.notes.is_empty() && m.attributes.colors.is_some(), "{:?}", m.notes);
+    let uv = format!("{xyz}property float u\nproperty float v\n");
+    let rows = "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 one\n0 0 1 1e39 1\n";
+    let m = read_ply(ply(&uv, "uchar int", rows, face).as_bytes()).unwrap();
+    assert_eq!(
+        m.notes,
+        ["texture coordinates dropped: line 14: vertex 2 property v: `one` is not a number"]
+    );
+    assert!(m.attributes.texcoords.is_none());
+}

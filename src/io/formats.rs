@@ -27,7 +27,11 @@
 //! # Numbers in messages
 //! Vertices, faces and facets are numbered from 0, as PLY and OFF indices are;
 //! lines are numbered from 1. Text coordinates are parsed as `f64` exactly as
-//! written, even when a PLY header types them `float`.
+//! written, even when a PLY header types them `float`; but an ASCII PLY
+//! value that its declared type cannot hold (`300` as `uchar`, `1.5` as
+//! `int`, `1e39` as `float`) is refused in a coordinate, face index or list
+//! length, and drops its attribute with a note in a colour, texture
+//! coordinate or normal.
 
 use std::borrow::Cow;
 use std::fmt;
@@ -1000,6 +1004,72 @@ impl Scalar {
     fn is_float(self) -> bool {
         matches!(self, Scalar::F32 | Scalar::F64)
     }
+
+    /// The type's name in messages (PLY's own; a header may use the sized
+    /// alias, `uint8` for `uchar`, which the range in the message shows).
+    fn name(self) -> &'static str {
+        match self {
+            Scalar::I8 => "char",
+            Scalar::U8 => "uchar",
+            Scalar::I16 => "short",
+            Scalar::U16 => "ushort",
+            Scalar::I32 => "int",
+            Scalar::U32 => "uint",
+            Scalar::F32 => "float",
+            Scalar::F64 => "double",
+        }
+    }
+
+    /// The least and greatest values of an integer type; `None` for floats.
+    fn int_range(self) -> Option<(i64, i64)> {
+        Some(match self {
+            Scalar::I8 => (i8::MIN.into(), i8::MAX.into()),
+            Scalar::U8 => (0, u8::MAX.into()),
+            Scalar::I16 => (i16::MIN.into(), i16::MAX.into()),
+            Scalar::U16 => (0, u16::MAX.into()),
+            Scalar::I32 => (i32::MIN.into(), i32::MAX.into()),
+            Scalar::U32 => (0, u32::MAX.into()),
+            Scalar::F32 | Scalar::F64 => return None,
+        })
+    }
+
+    /// Why the integer `n`, read from text, does not fit this integer type,
+    /// if it does not.
+    fn int_misfit(self, n: i64) -> Option<String> {
+        let (lo, hi) = self.int_range()?;
+        (n < lo || n > hi).then(|| self.misfit_text())
+    }
+
+    /// Why `x`, read from text, does not fit this type, if it does not: an
+    /// integer type holds only integers within its range, and `float` only
+    /// values within its range (beyond it, one stored as `float` would be
+    /// infinite; below, it is kept as written, as every value is). A value
+    /// that is not finite is left to the caller, which refuses it as such.
+    fn misfit(self, x: f64) -> Option<String> {
+        if !x.is_finite() {
+            return None;
+        }
+        let fits = match self.int_range() {
+            Some((lo, hi)) => x.fract() == 0.0 && x >= lo as f64 && x <= hi as f64,
+            None => self == Scalar::F64 || (x as f32).is_finite(),
+        };
+        (!fits).then(|| self.misfit_text())
+    }
+
+    /// The end of a message about a value that does not fit this type.
+    fn misfit_text(self) -> String {
+        match self.int_range() {
+            Some((lo, hi)) => format!(
+                "does not fit its declared type {} (an integer from {lo} to {hi})",
+                self.name()
+            ),
+            None => format!(
+                "does not fit its declared type {} (beyond ±{:e})",
+                self.name(),
+                f32::MAX
+            ),
+        }
+    }
 }
 
 /// Reads `N` bytes (`s.len()` must be `N`, which the callers guarantee) in the given byte order.
@@ -1453,6 +1523,9 @@ struct VertexChannels {
     colors: Option<Vec<f64>>,
     /// Colours have an alpha.
     alpha: bool,
+    /// The first defect of texture coordinates, normals and colours (in
+    /// ASCII data: a value that is no number, or does not fit its type).
+    defects: [Option<String>; 3],
 }
 
 impl VertexChannels {
@@ -1463,6 +1536,16 @@ impl VertexChannels {
             normals: has(|r| matches!(r, Role::Normal(_))),
             colors: has(|r| matches!(r, Role::Color(_))),
             alpha: roles.contains(&Role::Color(3)),
+            defects: Default::default(),
+        }
+    }
+
+    /// Notes the first defect of attribute `kind`, on `line`: the
+    /// attribute is dropped, with a note ([`VertexChannels::finish`]).
+    fn defect(&mut self, kind: Kind, line: u64, what: impl FnOnce() -> String) {
+        let slot = &mut self.defects[kind as usize];
+        if slot.is_none() {
+            *slot = Some(format!("{} dropped: line {line}: {}", kind.name(), what()));
         }
     }
 
@@ -1480,8 +1563,8 @@ impl VertexChannels {
     }
 
     /// Moves the attributes into `m` (per vertex: each corner takes its
-    /// vertex's value); a channel with a non-finite value is dropped with a
-    /// note.
+    /// vertex's value); a channel with a defect or a non-finite value is
+    /// dropped with a note.
     fn finish(self, m: &mut RawMesh) {
         let color_dim = if self.alpha { 4 } else { 3 };
         let channels = [
@@ -1489,8 +1572,16 @@ impl VertexChannels {
             (Kind::Normal, self.normals, 3),
             (Kind::Color, self.colors, color_dim),
         ];
+        let mut defects = self.defects;
         for (kind, values, dim) in channels {
             let Some(values) = values else { continue };
+            if let Some(note) = defects[kind as usize].take() {
+                m.notes.push(note);
+                if kind == Kind::Color {
+                    m.colors = None;
+                }
+                continue;
+            }
             if values.iter().any(|x| !x.is_finite()) {
                 m.notes
                     .push(format!("{} dropped: a vertex has a non-finite one", kind.name()));
@@ -1596,23 +1687,29 @@ fn read_ascii_element(
             }
             match p.ty {
                 PropType::Scalar(ty) => {
-                    let value = |tok: &[u8]| {
-                        parse_f64(tok).ok_or_else(|| {
-                            FormatError::at(
-                                line,
-                                format!("{name} {i} property {}: `{}` is not a number", p.name, show(tok)),
-                            )
-                        })
+                    if *role == Role::Skip {
+                        continue;
+                    }
+                    // A number that the declared type holds; else why not.
+                    let value = match parse_f64(tok) {
+                        Some(x) => ty.misfit(x).map_or(Ok(x), Err),
+                        None => Err("is not a number".to_owned()),
                     };
-                    match *role {
-                        Role::Coord(axis) => v.p[axis] = value(tok)?,
-                        Role::Color(c) => v.set_color(c, value(tok)?, ty),
-                        Role::TexCoord(k) => v.texcoord[k] = value(tok)?,
-                        Role::Normal(k) => v.normal[k] = value(tok)?,
+                    let what = |why: String| format!("{name} {i} property {}: `{}` {why}", p.name, show(tok));
+                    match (*role, value) {
+                        (Role::Coord(axis), Ok(x)) => v.p[axis] = x,
+                        (Role::Color(c), Ok(x)) => v.set_color(c, x, ty),
+                        (Role::TexCoord(k), Ok(x)) => v.texcoord[k] = x,
+                        (Role::Normal(k), Ok(x)) => v.normal[k] = x,
+                        (Role::Coord(_), Err(why)) => return Err(FormatError::at(line, what(why))),
+                        // A defect in an attribute drops it, with a note.
+                        (Role::Color(_), Err(why)) => b.channels.defect(Kind::Color, line, || what(why)),
+                        (Role::TexCoord(_), Err(why)) => b.channels.defect(Kind::TexCoord, line, || what(why)),
+                        (Role::Normal(_), Err(why)) => b.channels.defect(Kind::Normal, line, || what(why)),
                         _ => {}
                     }
                 }
-                PropType::List { .. } => {
+                PropType::List { count: count_ty, item } => {
                     let n = parse_int(tok).ok_or_else(|| {
                         FormatError::at(
                             line,
@@ -1623,6 +1720,12 @@ fn read_ascii_element(
                         return Err(FormatError::at(
                             line,
                             format!("{name} {i} list {} has a negative length ({n})", p.name),
+                        ));
+                    }
+                    if let Some(why) = count_ty.int_misfit(n) {
+                        return Err(FormatError::at(
+                            line,
+                            format!("{name} {i} list {} length `{}` {why}", p.name, show(tok)),
                         ));
                     }
                     if n as u64 > (t.remaining() as u64).div_ceil(2) {
@@ -1650,7 +1753,11 @@ fn read_ascii_element(
                             let index = parse_int(tok).ok_or_else(|| {
                                 FormatError::at(line, format!("face {i} index `{}` is not an integer", show(tok)))
                             })?;
-                            b.index(checked_index(index, i, Some(line), b.m.positions.len())?);
+                            let index = checked_index(index, i, Some(line), b.m.positions.len())?;
+                            if let Some(why) = item.int_misfit(index.into()) {
+                                return Err(FormatError::at(line, format!("face {i} index `{}` {why}", show(tok))));
+                            }
+                            b.index(index);
                         }
                     } else {
                         for _ in 0..n {
