@@ -835,6 +835,39 @@ fn gzip_input() {
     }
 }
 
+/// Bytes after the last gzip member that start no other member are called
+/// what they are (they were "corrupt or truncated (unexpected end of
+/// file)"); more members are read, as `gzip -d` reads them. A file cut
+/// after the first byte of the magic is truncated gzip data (it was read as
+/// text, and refused as an unknown statement '\u{1f}').
+#[test]
+fn gzip_followed_by_other_bytes_or_cut_after_one_byte_says_so() {
+    let off = gzip(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    for (members, extra) in [(1, &b"garbage"[..]), (2, b"\0"), (1, b"\x1f")] {
+        let mut bytes = off.repeat(members);
+        bytes.extend_from_slice(extra);
+        let e = maybe_gunzip(&bytes, 1 << 20).unwrap_err();
+        let expected = format!(
+            "the gzip data is followed by {} bytes that are not gzip data (appended to the file?)",
+            extra.len()
+        );
+        assert_eq!(e.what, expected);
+    }
+    let mut two = off.clone();
+    two.extend_from_slice(&gzip(b"# more\n"));
+    assert!(maybe_gunzip(&two, 1 << 20).unwrap().ends_with(b"3 0 1 2\n# more\n"));
+    // A second member cut short is truncated, not trailing bytes.
+    two.truncate(two.len() - 3);
+    assert!(maybe_gunzip(&two, 1 << 20)
+        .unwrap_err()
+        .what
+        .contains("corrupt or truncated"));
+    assert_eq!(
+        maybe_gunzip(&off[..1], 1 << 20).unwrap_err().what,
+        "the gzip data is truncated (the file has 1 byte, the first of the gzip magic)"
+    );
+}
+
 #[test]
 fn gzip_bomb_is_limited() {
     let gz = gzip(&vec![b'0'; 50 << 20]);

@@ -175,8 +175,10 @@ impl std::error::Error for FormatError {}
 // ---------------------------------------------------------------------------
 
 /// Decompresses if the bytes start with the gzip magic (1f 8b); limit the decompressed size to `max_bytes`
-/// (error if larger). Concatenated gzip members are decompressed one after the other. Other bytes are
-/// returned as they are.
+/// (error if larger). Concatenated gzip members are decompressed one after the other, as `gzip -d` does;
+/// bytes after the last that are no gzip member are an error that says so. Other bytes are returned as
+/// they are, but the first byte of the magic alone (a `.gz` file cut after one byte), which is truncated
+/// gzip data.
 pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, FormatError> {
     gunzip_judged(bytes, max_bytes, None)
 }
@@ -192,6 +194,11 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
     // its bytes 80..84 so has a chance of 2^-32).
     let exact_stl =
         || named == Some(Format::Stl) && binary_stl_size(bytes).is_some_and(|(_, size)| size == bytes.len() as u64);
+    if bytes == [0x1f] {
+        return Err(FormatError::new(
+            "the gzip data is truncated (the file has 1 byte, the first of the gzip magic)",
+        ));
+    }
     if !bytes.starts_with(&[0x1f, 0x8b]) || exact_stl() {
         return Ok(Cow::Borrowed(bytes));
     }
@@ -209,8 +216,13 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
         .min(max_bytes.saturating_add(1))
         .min(1 << 30);
     let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
-    let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
-    let corrupt = |e: io::Error| FormatError::new(format!("the gzip data is corrupt or truncated ({e})"));
+    let mut decoder = GzMembers(flate2::bufread::GzDecoder::new(bytes)).take(max_bytes.saturating_add(1));
+    let corrupt = |e: io::Error| match e.get_ref().and_then(|e| e.downcast_ref::<TrailingBytes>()) {
+        Some(TrailingBytes(n)) => FormatError::new(format!(
+            "the gzip data is followed by {n} bytes that are not gzip data (appended to the file?)"
+        )),
+        None => FormatError::new(format!("the gzip data is corrupt or truncated ({e})")),
+    };
     if let Some(why) = read_judged(&mut decoder, named, &mut out).map_err(corrupt)? {
         return Err(FormatError::new(format!(
             "the gzip data is {why} (decompressing stopped there)"
@@ -222,6 +234,40 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
         )));
     }
     Ok(Cow::Owned(out))
+}
+
+/// The gzip members of some bytes, decompressed one after the other (as
+/// `gzip -d` reads concatenated files); after the last, bytes that do not
+/// start another member are an error holding [`TrailingBytes`].
+struct GzMembers<'a>(flate2::bufread::GzDecoder<&'a [u8]>);
+
+/// How many bytes after the last gzip member are not gzip data.
+#[derive(Debug)]
+struct TrailingBytes(usize);
+
+impl fmt::Display for TrailingBytes {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} bytes after the gzip data are not gzip data", self.0)
+    }
+}
+
+impl std::error::Error for TrailingBytes {}
+
+impl Read for GzMembers<'_> {
+    fn read(&mut self, into: &mut [u8]) -> io::Result<usize> {
+        loop {
+            let n = self.0.read(into)?;
+            // A member ended (its check passed): its bytes are consumed.
+            let rest: &[u8] = self.0.get_ref();
+            if n > 0 || into.is_empty() || rest.is_empty() {
+                return Ok(n);
+            }
+            if !rest.starts_with(&[0x1f, 0x8b]) {
+                return Err(io::Error::new(io::ErrorKind::InvalidData, TrailingBytes(rest.len())));
+            }
+            self.0 = flate2::bufread::GzDecoder::new(rest);
+        }
+    }
 }
 
 /// The format from a file name: .obj .off .ply .stl (case-insensitive), looking through a trailing .gz;
