@@ -736,8 +736,12 @@ fn binary_stl_whose_header_starts_with_solid() {
         assert_eq!(m.positions.len(), 6);
         assert_eq!(m.positions[4], [1.0, 0.0, 1.5]);
         // Cut short, it is called a truncated binary STL (not text that
-        // fails to parse, quoting binary bytes).
-        for cut in [1, 30, 50, 99] {
+        // fails to parse, quoting binary bytes); cut after a whole facet,
+        // that facet is read, with a note.
+        let m = read_stl(&bytes[..bytes.len() - 50]).unwrap();
+        assert_eq!((m.origin_kind, m.positions.len()), (OriginKind::Record, 3));
+        assert!(m.notes[0].ends_with("(the header's count is wrong, or the file cut short)"));
+        for cut in [1, 30, 99] {
             let e = read_stl(&bytes[..bytes.len() - cut]).unwrap_err().to_string();
             assert!(
                 e.starts_with("the binary STL header declares 2 facets (184 bytes) but the file has only")
@@ -767,7 +771,10 @@ fn binary_stl_whose_header_starts_with_the_gzip_magic() {
 fn stl_errors() {
     let bytes = binary_stl(b"x", &two_facets());
     for len in 0..bytes.len() {
-        fails_fast(|| read_stl(&bytes[..len]));
+        // (Cut after its first facet, that is read, with a note.)
+        if len != 84 + 50 {
+            fails_fast(|| read_stl(&bytes[..len]));
+        }
     }
     let mut nan = two_facets();
     nan[1][2][1] = f32::NAN;
@@ -1427,14 +1434,63 @@ fn data_after_the_declared_faces_gets_a_note() {
         [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
     ];
+    // (A whole number of facets after them is read: see the next test.)
     let mut stl = binary_stl(b"x", &tetra);
     stl[80..84].copy_from_slice(&3u32.to_le_bytes());
+    stl.extend_from_slice(b"\n\n");
     let m = read_stl(&stl).unwrap();
     assert_eq!(m.face_start.len() - 1, 3);
     assert_eq!(m.notes.len(), 1, "{:?}", m.notes);
-    assert!(m.notes[0].starts_with("50 bytes after the 3 facets"), "{:?}", m.notes);
+    assert!(m.notes[0].starts_with("52 bytes after the 3 facets"), "{:?}", m.notes);
     stl.truncate(84 + 3 * 50 + 2);
     assert!(read_stl(&stl).unwrap().notes.is_empty());
+}
+
+/// A binary STL whose header's facet count disagrees with its size, when
+/// that size is the header and a whole number of facets, is read by its
+/// size, with a note: many exporters write a wrong count, or 0 (a count of
+/// 10 before 320 facets was read as 10 facets and refused as non-manifold;
+/// a count of 0, as having no faces). A size that is not a whole number of
+/// facets is still read by the count (or refused as truncated), and a text
+/// file of such a size is no binary STL.
+#[test]
+fn binary_stl_whose_count_disagrees_with_its_size_is_read_by_its_size() {
+    let tetra = [
+        [[0.0f32, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    ];
+    let good = binary_stl(b"x", &tetra);
+    for (count, why) in [
+        (0u32, "wrong"),
+        (1, "wrong"),
+        (3, "wrong"),
+        (5, "wrong, or the file cut short"),
+        (u32::MAX, "wrong, or the file cut short"),
+    ] {
+        let mut stl = good.clone();
+        stl[80..84].copy_from_slice(&count.to_le_bytes());
+        let m = read_stl(&stl).unwrap();
+        assert_eq!(m.positions, read_stl(&good).unwrap().positions, "{count}");
+        assert_eq!(m.face_start.len() - 1, 4);
+        let note = format!(
+            "the binary STL header declares {count} facets, but the file's size holds 4: all 4 read (the header's count is {why})"
+        );
+        assert_eq!(m.notes, [note]);
+        // Not a whole number of facets: read by the count if it fits.
+        stl.push(0);
+        match count {
+            0 => assert!(read_stl(&stl).unwrap().face_start.is_empty()),
+            1 | 3 => assert_eq!(read_stl(&stl).unwrap().face_start.len() - 1, count as usize),
+            _ => assert!(err_of(read_stl(&stl)).what.ends_with("(truncated file?)")),
+        }
+    }
+    assert!(read_stl(&good).unwrap().notes.is_empty());
+    // Text of that size (84 + 50 bytes), named STL, is not read as facets.
+    let text = format!("{}\n", "v 0 0 0".repeat(19));
+    assert_eq!(text.len(), 134);
+    assert!(err_of(read_stl(text.as_bytes())).what.ends_with("(truncated file?)"));
 }
 
 /// A carriage return that ends a line by itself (classic Mac OS text, or

@@ -451,8 +451,8 @@ fn off_refused(prefix: &[u8]) -> bool {
 }
 
 /// Whether a binary STL starting with `prefix` (more to follow) is sure
-/// to be refused: it declares no facets, or one of its first facets has a
-/// coordinate that is not finite; or, if `exact` (read as STL only when
+/// to be refused: it declares no facets and holds only zeros, or one of
+/// its first facets has a coordinate that is not finite; or, if `exact` (read as STL only when
 /// its size is what the header declares), it declares fewer bytes than
 /// `prefix` has, so the whole input cannot be that size.
 fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
@@ -464,7 +464,12 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
             .chunks_exact(4)
             .all(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite())
     };
-    n == 0 || (exact && need < prefix.len() as u64) || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
+    // Declaring no facets, a file is read by its size if that is a whole
+    // number of them: zeros (`/dev/zero`) are still refused at once.
+    let zeros = || prefix[84..].iter().all(|&b| b == 0);
+    (n == 0 && zeros())
+        || (exact && need < prefix.len() as u64)
+        || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
 }
 
 /// `bytes` without a leading UTF-8 byte order mark.
@@ -1995,8 +2000,10 @@ fn min_record_size(el: &PlyElement) -> u64 {
 
 /// Reads an STL file, ASCII or binary, decided by content: a file that starts with `solid` is read as
 /// ASCII, unless that fails (or leaves non-whitespace behind) and its size fits a binary STL with the
-/// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". Bytes after the
-/// last facet are ignored (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
+/// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". A binary file
+/// whose size after the header is a whole number of facets other than its count says is read by its
+/// size, with a note (exporters write wrong counts, and 0). Bytes after the last facet are ignored
+/// (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
 /// `outer loop` with more vertices). Binary origins are facet record numbers.
 pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     if bytes.is_empty() {
@@ -2040,21 +2047,38 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             bytes.len()
         )));
     };
-    if need > bytes.len() as u64 {
-        return Err(FormatError::new(format!(
-            "the binary STL header declares {n} facets ({need} bytes) but the file has only {} bytes (truncated file?)",
-            bytes.len()
-        )));
-    }
-    // Bytes after the declared facets are ignored, as other readers do; but
-    // room for whole facets there may mean a wrong count, and holes: said.
-    let extra = bytes.len() as u64 - need;
-    let trailing = (extra >= 50).then(|| {
-        format!(
-            "{extra} bytes after the {n} facets the binary STL header declares ignored (room for {} more: if its count is wrong, facets are missing)",
-            extra / 50
-        )
-    });
+    // Many exporters write a wrong count, or 0: where the file's size is
+    // the header and a whole number of facets (one at least), those are
+    // read, with a note (if its bytes are binary: text never holds a NUL,
+    // and a file of text is no binary STL whatever its size).
+    let len = bytes.len() as u64;
+    let by_size = (len - 84) / 50;
+    let whole = by_size > 0 && (len - 84) % 50 == 0;
+    let (n, trailing) = if u64::from(n) != by_size && whole && looks_binary(bytes) {
+        let read = u32::try_from(by_size).unwrap_or(u32::MAX);
+        let note = format!(
+            "the binary STL header declares {n} facets, but the file's size holds {by_size}: all {by_size} read (the header's count is wrong{})",
+            if u64::from(n) > by_size { ", or the file cut short" } else { "" }
+        );
+        (read, Some(note))
+    } else {
+        if need > len {
+            return Err(FormatError::new(format!(
+                "the binary STL header declares {n} facets ({need} bytes) but the file has only {len} bytes (truncated file?)"
+            )));
+        }
+        // Bytes after the declared facets are ignored, as other readers do;
+        // but room for whole facets there may mean a wrong count, and
+        // holes: said.
+        let extra = len - need;
+        let trailing = (extra >= 50).then(|| {
+            format!(
+                "{extra} bytes after the {n} facets the binary STL header declares ignored (room for {} more: if its count is wrong, facets are missing)",
+                extra / 50
+            )
+        });
+        (n, trailing)
+    };
     let n = n as usize;
     if n > u32::MAX as usize / 3 {
         return Err(FormatError::new(format!(
