@@ -626,3 +626,35 @@ fn file_names_with_line_feeds_keep_to_one_line() {
     assert!(line.contains("a\\nb.obj -> ") && line.ends_with(" s)"), "{stdout}");
     assert!(out.join("a\nb.obj").exists());
 }
+
+/// The reader's notes (data after the faces a header declares, so faces
+/// may be missing) are printed with `--repair` too, by `batch` and by the
+/// main command: the repair path started a fresh list and dropped them.
+#[test]
+fn the_readers_notes_are_kept_with_repair() {
+    let dir = tempfile::tempdir().unwrap();
+    let off = dir.path().join("tetra.off");
+    std::fs::write(
+        &off,
+        "OFF\n4 3 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
+    )
+    .unwrap();
+    let note = "line 10: data after the 3 faces the OFF header declares ignored";
+    let out_dir = dir.path().join("out");
+    for repair in [&[][..], &["--repair"]] {
+        let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], repair].concat(), &[&off]);
+        assert!(ok, "{stdout}{stderr}");
+        assert!(stdout.contains(&format!("note: {note}")), "{repair:?}: {stdout}");
+        let run = delmesh()
+            .args(repair)
+            .arg("-i")
+            .arg(&off)
+            .arg("-o")
+            .arg(dir.path().join("tetra.obj"))
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(run.status.success(), "{stdout}");
+        assert!(stdout.contains(&format!("note    {note}")), "{repair:?}: {stdout}");
+    }
+}

@@ -503,7 +503,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         repair: Some(fixed.report),
         attributes: Attributes::default(),
         notes: {
-            let mut notes = Vec::new();
+            // The reader's notes (data it ignored) first, as without repair.
+            let mut notes = raw.notes.clone();
             if !raw.attributes.is_empty() {
                 notes.push(
                     "texture coordinates, normals, colours and groups dropped: --repair does not carry them".into(),
@@ -1178,6 +1179,20 @@ mod tests {
         let s = build_surface(&mut m, Path::new("t.obj")).unwrap();
         s.validate().unwrap();
         assert_eq!(s.topo.n_faces(), 2);
+    }
+
+    /// The reader's notes (data after what a header declares: faces may
+    /// be missing) are kept with `--repair` too; they were dropped there.
+    #[test]
+    fn repair_keeps_the_readers_notes() {
+        let off = "OFF\n4 3 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+        let raw = formats::read_off(off.as_bytes()).unwrap();
+        let note = "line 10: data after the 3 faces the OFF header declares ignored (if its counts are wrong, faces are missing)";
+        assert_eq!(raw.notes, [note]);
+        for repair in [None, Some(RepairOptions::default())] {
+            let m = finish(raw.clone(), Path::new("t.off"), &ReadOptions { repair }).unwrap();
+            assert_eq!(m.notes, [note], "{repair:?}");
+        }
     }
 
     #[test]
