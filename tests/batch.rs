@@ -628,10 +628,11 @@ fn file_names_with_line_feeds_keep_to_one_line() {
 }
 
 /// The reader's notes (data after the faces a header declares, so faces
-/// may be missing) are printed with `--repair` too, by `batch` and by the
-/// main command: the repair path started a fresh list and dropped them.
+/// may be missing) are printed with `--repair` and `--drop-attributes` too,
+/// by `batch` and by the main command: the repair path started a fresh list
+/// and dropped them, and `--drop-attributes` cleared all notes.
 #[test]
-fn the_readers_notes_are_kept_with_repair() {
+fn the_readers_notes_are_kept_with_repair_and_without_attributes() {
     let dir = tempfile::tempdir().unwrap();
     let off = dir.path().join("tetra.off");
     std::fs::write(
@@ -641,12 +642,12 @@ fn the_readers_notes_are_kept_with_repair() {
     .unwrap();
     let note = "line 10: data after the 3 faces the OFF header declares ignored";
     let out_dir = dir.path().join("out");
-    for repair in [&[][..], &["--repair"]] {
-        let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], repair].concat(), &[&off]);
+    for flags in [&[][..], &["--repair"], &["--drop-attributes"]] {
+        let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], flags].concat(), &[&off]);
         assert!(ok, "{stdout}{stderr}");
-        assert!(stdout.contains(&format!("note: {note}")), "{repair:?}: {stdout}");
+        assert!(stdout.contains(&format!("note: {note}")), "{flags:?}: {stdout}");
         let run = delmesh()
-            .args(repair)
+            .args(flags)
             .arg("-i")
             .arg(&off)
             .arg("-o")
@@ -655,6 +656,6 @@ fn the_readers_notes_are_kept_with_repair() {
             .unwrap();
         let stdout = String::from_utf8_lossy(&run.stdout);
         assert!(run.status.success(), "{stdout}");
-        assert!(stdout.contains(&format!("note    {note}")), "{repair:?}: {stdout}");
+        assert!(stdout.contains(&format!("note    {note}")), "{flags:?}: {stdout}");
     }
 }

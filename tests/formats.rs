@@ -1401,11 +1401,11 @@ fn latin1_names_are_read_with_a_note() {
     let raw = parse_obj(obj).unwrap();
     assert_eq!(raw.positions.len(), 3);
     assert!(
-        raw.notes
+        raw.attribute_notes
             .iter()
             .any(|n| n.contains("line 2: names") && n.contains("U+FFFD")),
         "{:?}",
-        raw.notes
+        raw.attribute_notes
     );
     let e = err_of(parse_obj(b"v 0 0 0\nv 1 0 \xe9\nv 0 1 0\nf 1 2 3\n"));
     assert_eq!(e.line, Some(2));
@@ -1683,18 +1683,22 @@ fn ply_ascii_values_must_fit_their_declared_types() {
     let rows = "0 0 0 255 0 0\n1 0 0 999 0 0\n0 1 0 0 0 0\n0 0 1 0 9 0\n";
     let m = read_ply(ply(&colours, "uchar int", rows, face).as_bytes()).unwrap();
     assert_eq!(
-        m.notes,
+        m.attribute_notes,
         ["colours dropped: line 14: vertex 1 property red: `999` does not fit its declared type uchar (an integer from 0 to 255)"]
     );
     assert!(m.attributes.colors.is_none() && m.colors.is_none());
     assert_eq!(m.positions.len(), 4);
     let m = read_ply(ply(&colours, "uchar int", &rows.replace("999", "99"), face).as_bytes()).unwrap();
-    assert!(m.notes.is_empty() && m.attributes.colors.is_some(), "{:?}", m.notes);
+    assert!(
+        m.attribute_notes.is_empty() && m.attributes.colors.is_some(),
+        "{:?}",
+        m.attribute_notes
+    );
     let uv = format!("{xyz}property float u\nproperty float v\n");
     let rows = "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 one\n0 0 1 1e39 1\n";
     let m = read_ply(ply(&uv, "uchar int", rows, face).as_bytes()).unwrap();
     assert_eq!(
-        m.notes,
+        m.attribute_notes,
         ["texture coordinates dropped: line 14: vertex 2 property v: `one` is not a number"]
     );
     assert!(m.attributes.texcoords.is_none());

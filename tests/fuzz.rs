@@ -1414,6 +1414,7 @@ fn input_invariants(m: &InputMesh, repaired: bool) -> Result<(), String> {
 fn repair_options() -> ReadOptions {
     ReadOptions {
         repair: Some(RepairOptions::default()),
+        ..Default::default()
     }
 }
 

@@ -64,8 +64,12 @@ pub struct RawMesh {
     /// `indices`, [`crate::attributes::NO_VALUE`] where the file gives none),
     /// groups (one per face) and material libraries.
     pub attributes: Attributes,
-    /// Why attributes of the file were left out (one line each).
+    /// What the reader ignored or read otherwise than the file says (data
+    /// after what a header declares, a wrong count), one line each.
     pub notes: Vec<String>,
+    /// Why attributes of the file were left out, or read with a change
+    /// (one line each): not said when attributes are not wanted.
+    pub attribute_notes: Vec<String>,
 }
 
 /// What the origins of a [`RawMesh`] count.
@@ -1627,14 +1631,14 @@ impl VertexChannels {
         for (kind, values, dim) in channels {
             let Some(values) = values else { continue };
             if let Some(note) = defects[kind as usize].take() {
-                m.notes.push(note);
+                m.attribute_notes.push(note);
                 if kind == Kind::Color {
                     m.colors = None;
                 }
                 continue;
             }
             if values.iter().any(|x| !x.is_finite()) {
-                m.notes
+                m.attribute_notes
                     .push(format!("{} dropped: a vertex has a non-finite one", kind.name()));
                 continue;
             }

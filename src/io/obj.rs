@@ -398,9 +398,9 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
             return Err(error(raw.face_origin[f] as usize, what));
         }
     }
-    (raw.attributes, raw.notes) = extra.finish(raw.positions.len(), &raw.indices);
+    (raw.attributes, raw.attribute_notes) = extra.finish(raw.positions.len(), &raw.indices);
     if let Some(line) = renamed {
-        raw.notes.push(format!(
+        raw.attribute_notes.push(format!(
             "line {line}: names (groups, objects, materials) that are not UTF-8 were read with U+FFFD in place of their bad bytes"
         ));
     }
@@ -1247,13 +1247,14 @@ mod tests {
         match r {
             Err(e) => format!("error {e:?}"),
             Ok(m) => format!(
-                "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+                "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
                 m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>(),
                 m.face_start,
                 m.indices,
                 m.face_origin,
                 m.vertex_origin,
                 m.notes,
+                m.attribute_notes,
                 m.attributes,
             ),
         }
