@@ -502,11 +502,12 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     // statement, as for the construction's readers: tobj would read
     // `\u{feff}v` as an unknown statement and lose the first vertex.
     let bytes = crate::io::formats::strip_bom(bytes);
-    // Lines ended by a carriage return alone: refused as the construction's
-    // reader refuses them (tobj would read one long line, and say why not
-    // in terms that mislead).
-    if let Some(reason) = crate::io::obj::cr_only_lines(bytes) {
-        return Err(parse_error(reason.into()));
+    // Lines ended by a carriage return alone (all of them, or one among line
+    // feeds): refused as the construction's reader refuses them (tobj would
+    // read one long line, and say why not in terms that mislead, or lose
+    // the statement after a comment).
+    if let Some((line, reason)) = crate::io::obj::lone_cr(bytes) {
+        return Err(parse_error(format!("line {line}: {reason}")));
     }
     // OBJ's line continuations joined as the construction's reader joins
     // them (a shared piece of reading, like the polygon rule).

@@ -357,13 +357,9 @@ impl Settings {
             repair: self.repair.then_some(delmesh::repair::RepairOptions {
                 weld_tolerance: self.weld_tolerance,
             }),
+            drop_attributes: self.drop_attributes,
         };
-        let mut input = io::read_mesh(path, &options)?;
-        if self.drop_attributes {
-            input.attributes = Default::default();
-            input.notes.clear();
-        }
-        Ok(input)
+        Ok(io::read_mesh(path, &options)?)
     }
 }
 

@@ -652,3 +652,36 @@ fn standard_input_is_refused() {
         assert!(!out.exists());
     }
 }
+
+/// The reader's notes (data after the faces a header declares, so faces
+/// may be missing) are printed with `--repair` and `--drop-attributes` too,
+/// by `batch` and by the main command: the repair path started a fresh list
+/// and dropped them, and `--drop-attributes` cleared all notes.
+#[test]
+fn the_readers_notes_are_kept_with_repair_and_without_attributes() {
+    let dir = tempfile::tempdir().unwrap();
+    let off = dir.path().join("tetra.off");
+    std::fs::write(
+        &off,
+        "OFF\n4 3 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
+    )
+    .unwrap();
+    let note = "line 10: data after the 3 faces the OFF header declares ignored";
+    let out_dir = dir.path().join("out");
+    for flags in [&[][..], &["--repair"], &["--drop-attributes"]] {
+        let (ok, stdout, stderr) = batch(&[&["-d", out_dir.to_str().unwrap()][..], flags].concat(), &[&off]);
+        assert!(ok, "{stdout}{stderr}");
+        assert!(stdout.contains(&format!("note: {note}")), "{flags:?}: {stdout}");
+        let run = delmesh()
+            .args(flags)
+            .arg("-i")
+            .arg(&off)
+            .arg("-o")
+            .arg(dir.path().join("tetra.obj"))
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(run.status.success(), "{stdout}");
+        assert!(stdout.contains(&format!("note    {note}")), "{flags:?}: {stdout}");
+    }
+}

@@ -628,7 +628,7 @@ fn unreadable_files_are_errors() {
         (
             "mac.obj",
             "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r",
-            "mac.obj: not a valid OBJ mesh: lines end in a carriage return alone",
+            "mac.obj: not a valid OBJ mesh: line 1: lines end in a carriage return alone",
         ),
     ];
     for (name, text, expected) in cases {

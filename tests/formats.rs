@@ -736,8 +736,12 @@ fn binary_stl_whose_header_starts_with_solid() {
         assert_eq!(m.positions.len(), 6);
         assert_eq!(m.positions[4], [1.0, 0.0, 1.5]);
         // Cut short, it is called a truncated binary STL (not text that
-        // fails to parse, quoting binary bytes).
-        for cut in [1, 30, 50, 99] {
+        // fails to parse, quoting binary bytes); cut after a whole facet,
+        // that facet is read, with a note.
+        let m = read_stl(&bytes[..bytes.len() - 50]).unwrap();
+        assert_eq!((m.origin_kind, m.positions.len()), (OriginKind::Record, 3));
+        assert!(m.notes[0].ends_with("(the header's count is wrong, or the file cut short)"));
+        for cut in [1, 30, 99] {
             let e = read_stl(&bytes[..bytes.len() - cut]).unwrap_err().to_string();
             assert!(
                 e.starts_with("the binary STL header declares 2 facets (184 bytes) but the file has only")
@@ -767,7 +771,10 @@ fn binary_stl_whose_header_starts_with_the_gzip_magic() {
 fn stl_errors() {
     let bytes = binary_stl(b"x", &two_facets());
     for len in 0..bytes.len() {
-        fails_fast(|| read_stl(&bytes[..len]));
+        // (Cut after its first facet, that is read, with a note.)
+        if len != 84 + 50 {
+            fails_fast(|| read_stl(&bytes[..len]));
+        }
     }
     let mut nan = two_facets();
     nan[1][2][1] = f32::NAN;
@@ -833,6 +840,39 @@ fn gzip_input() {
         lying[at..].copy_from_slice(&size.to_le_bytes());
         assert!(maybe_gunzip(&lying, 1 << 20).is_err(), "footer size {size}");
     }
+}
+
+/// Bytes after the last gzip member that start no other member are called
+/// what they are (they were "corrupt or truncated (unexpected end of
+/// file)"); more members are read, as `gzip -d` reads them. A file cut
+/// after the first byte of the magic is truncated gzip data (it was read as
+/// text, and refused as an unknown statement '\u{1f}').
+#[test]
+fn gzip_followed_by_other_bytes_or_cut_after_one_byte_says_so() {
+    let off = gzip(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    for (members, extra) in [(1, &b"garbage"[..]), (2, b"\0"), (1, b"\x1f")] {
+        let mut bytes = off.repeat(members);
+        bytes.extend_from_slice(extra);
+        let e = maybe_gunzip(&bytes, 1 << 20).unwrap_err();
+        let expected = format!(
+            "the gzip data is followed by {} bytes that are not gzip data (appended to the file?)",
+            extra.len()
+        );
+        assert_eq!(e.what, expected);
+    }
+    let mut two = off.clone();
+    two.extend_from_slice(&gzip(b"# more\n"));
+    assert!(maybe_gunzip(&two, 1 << 20).unwrap().ends_with(b"3 0 1 2\n# more\n"));
+    // A second member cut short is truncated, not trailing bytes.
+    two.truncate(two.len() - 3);
+    assert!(maybe_gunzip(&two, 1 << 20)
+        .unwrap_err()
+        .what
+        .contains("corrupt or truncated"));
+    assert_eq!(
+        maybe_gunzip(&off[..1], 1 << 20).unwrap_err().what,
+        "the gzip data is truncated (the file has 1 byte, the first of the gzip magic)"
+    );
 }
 
 #[test]
@@ -1361,11 +1401,11 @@ fn latin1_names_are_read_with_a_note() {
     let raw = parse_obj(obj).unwrap();
     assert_eq!(raw.positions.len(), 3);
     assert!(
-        raw.notes
+        raw.attribute_notes
             .iter()
             .any(|n| n.contains("line 2: names") && n.contains("U+FFFD")),
         "{:?}",
-        raw.notes
+        raw.attribute_notes
     );
     let e = err_of(parse_obj(b"v 0 0 0\nv 1 0 \xe9\nv 0 1 0\nf 1 2 3\n"));
     assert_eq!(e.line, Some(2));
@@ -1394,12 +1434,272 @@ fn data_after_the_declared_faces_gets_a_note() {
         [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
     ];
+    // (A whole number of facets after them is read: see the next test.)
     let mut stl = binary_stl(b"x", &tetra);
     stl[80..84].copy_from_slice(&3u32.to_le_bytes());
+    stl.extend_from_slice(b"\n\n");
     let m = read_stl(&stl).unwrap();
     assert_eq!(m.face_start.len() - 1, 3);
     assert_eq!(m.notes.len(), 1, "{:?}", m.notes);
-    assert!(m.notes[0].starts_with("50 bytes after the 3 facets"), "{:?}", m.notes);
+    assert!(m.notes[0].starts_with("52 bytes after the 3 facets"), "{:?}", m.notes);
     stl.truncate(84 + 3 * 50 + 2);
     assert!(read_stl(&stl).unwrap().notes.is_empty());
+}
+
+/// A binary STL whose header's facet count disagrees with its size, when
+/// that size is the header and a whole number of facets, is read by its
+/// size, with a note: many exporters write a wrong count, or 0 (a count of
+/// 10 before 320 facets was read as 10 facets and refused as non-manifold;
+/// a count of 0, as having no faces). A size that is not a whole number of
+/// facets is still read by the count (or refused as truncated), and a text
+/// file of such a size is no binary STL.
+#[test]
+fn binary_stl_whose_count_disagrees_with_its_size_is_read_by_its_size() {
+    let tetra = [
+        [[0.0f32, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    ];
+    let good = binary_stl(b"x", &tetra);
+    for (count, why) in [
+        (0u32, "wrong"),
+        (1, "wrong"),
+        (3, "wrong"),
+        (5, "wrong, or the file cut short"),
+        (u32::MAX, "wrong, or the file cut short"),
+    ] {
+        let mut stl = good.clone();
+        stl[80..84].copy_from_slice(&count.to_le_bytes());
+        let m = read_stl(&stl).unwrap();
+        assert_eq!(m.positions, read_stl(&good).unwrap().positions, "{count}");
+        assert_eq!(m.face_start.len() - 1, 4);
+        let note = format!(
+            "the binary STL header declares {count} facets, but the file's size holds 4: all 4 read (the header's count is {why})"
+        );
+        assert_eq!(m.notes, [note]);
+        // Not a whole number of facets: read by the count if it fits.
+        stl.push(0);
+        match count {
+            0 => assert!(read_stl(&stl).unwrap().face_start.is_empty()),
+            1 | 3 => assert_eq!(read_stl(&stl).unwrap().face_start.len() - 1, count as usize),
+            _ => assert!(err_of(read_stl(&stl)).what.ends_with("(truncated file?)")),
+        }
+    }
+    assert!(read_stl(&good).unwrap().notes.is_empty());
+    // Text of that size (84 + 50 bytes), named STL, is not read as facets.
+    let text = format!("{}\n", "v 0 0 0".repeat(19));
+    assert_eq!(text.len(), 134);
+    assert!(err_of(read_stl(text.as_bytes())).what.ends_with("(truncated file?)"));
+}
+
+/// A carriage return that ends a line by itself (classic Mac OS text, or
+/// one such line end among line feeds, also inside a comment, where read as
+/// a blank it would swallow the next statement) is refused in every text
+/// format with one message naming its line; CRLF line ends, blanks or more
+/// carriage returns before a line feed, and one at the end are fine.
+#[test]
+fn lone_carriage_returns_are_refused_naming_their_line() {
+    use delmesh::io::obj::parse_obj;
+    const MESSAGE: &str = "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds";
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    let obj = |text: &str| parse_obj(text.as_bytes());
+    for (text, line) in [
+        (tetra.replace('\n', "\r"), 1),
+        (tetra.replace("4\nf 3", "4 # c\rf 3"), 7),
+        (tetra.replace("4\nf 3", "4\r f 3"), 7),
+        (format!("# header\rv 9 9 9\n{tetra}"), 1),
+        ("v 0 0 0\r\nv 1 0 0\nv 0 1 0\rf 1 2 3\n".into(), 3),
+    ] {
+        let e = err_of(obj(&text));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), MESSAGE), "{text:?}");
+    }
+    for text in [
+        tetra.replace('\n', "\r\n"),
+        tetra.replace('\n', "\r\r\n"),
+        tetra.replace('\n', " \r \t\n"),
+        format!("{tetra}\r"),
+    ] {
+        assert_eq!(obj(&text).unwrap().face_start.len(), 5, "{text:?}");
+    }
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+               element face 4\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    let stl = "solid x\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n\
+               endsolid x\nsolid y\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\n\
+               endloop\nendfacet\nendsolid y\n";
+    type Reader = fn(&[u8]) -> Result<RawMesh, FormatError>;
+    let readers: [(&str, Reader, &str); 3] = [
+        (off, read_off, "0 1 0"),
+        (ply, read_ply, "0 1 0"),
+        (stl, read_stl, "endsolid x"),
+    ];
+    for (text, read, at) in readers {
+        // Every line end a carriage return; one, on line 5 or 10; a CRLF file.
+        let e = err_of(read(text.replace('\n', "\r").as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(1), MESSAGE), "{text:?}");
+        let mixed = text.replacen(&format!("{at}\n"), &format!("{at}\r"), 1);
+        let line = 1 + text[..text.find(&format!("{at}\n")).unwrap()].matches('\n').count() as u64;
+        let e = err_of(read(mixed.as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), MESSAGE), "{mixed:?}");
+        let crlf = read(text.replace('\n', "\r\n").as_bytes()).unwrap();
+        assert_eq!(
+            crlf.face_start.len() - 1,
+            read(text.as_bytes()).unwrap().face_start.len() - 1
+        );
+    }
+    // In a PLY header too.
+    let e = err_of(read_ply(ply.replacen("float y\n", "float y\r", 1).as_bytes()));
+    assert_eq!((e.line, e.what.as_str()), (Some(5), MESSAGE));
+}
+
+/// An ASCII PLY line with too few values for its record is named, and
+/// called short: the record reads on into the next line, which then has
+/// values left over, and that next line was blamed for holding more values
+/// than declared. A line with too many is still named so; a record that
+/// goes on over two lines and ends at the end of one is read, as before.
+#[test]
+fn ply_ascii_short_line_is_named_as_short() {
+    let ply = |rows: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+             element face 4\nproperty list uchar int vertex_indices\nend_header\n{rows}"
+        )
+    };
+    let faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    for (rows, line, what) in [
+        (
+            format!("0 0\n1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "vertex 0 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0\n0 1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "vertex 0 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0\n1 0 0\n0 1 0\n0 0\n{faces}"),
+            13,
+            "vertex 3 has 2 values on its line, fewer than the 3 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2\n{}", &faces[8..]),
+            14,
+            "face 0 has 3 values on its line, fewer than the 4 its record needs (a short line)",
+        ),
+        (
+            format!("0 0 0 0\n1 0 0\n0 1 0\n0 0 1\n{faces}"),
+            10,
+            "more values on the line of vertex 0 than the PLY header declares (3 properties)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&rows).as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(line), what), "{rows}");
+    }
+    let wrapped = read_ply(ply(&format!("0 0\n0\n1 0 0\n0 1 0\n0 0 1\n{faces}")).as_bytes()).unwrap();
+    assert_eq!(wrapped.positions[0], [0.0; 3]);
+    assert_eq!(wrapped.face_start.len(), 5);
+}
+
+/// ASCII PLY values are held to their declared types: a coordinate, face
+/// index or list length that the type cannot hold (`300` as `uchar`, `1.5`
+/// as `int`, `1e39` as `float`, infinite there) is refused naming its line;
+/// in a colour, texture coordinate or normal such a value, or one that is
+/// no number, drops that attribute with a note (a `uchar` colour of 999
+/// was read as 3.92). Values within range are read exactly as written.
+#[test]
+fn ply_ascii_values_must_fit_their_declared_types() {
+    let ply = |props: &str, list: &str, rows: &str, faces: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\n{props}element face 4\n\
+             property list {list} vertex_indices\nend_header\n{rows}{faces}3 0 1 3\n3 1 2 3\n3 2 0 3\n"
+        )
+    };
+    let xyz = |ty: &str| format!("property {ty} x\nproperty {ty} y\nproperty {ty} z\n");
+    let rows = |x: &str| format!("0 0 0\n{x} 0 0\n0 1 0\n0 0 1\n");
+    let face = "3 0 2 1\n";
+    for (ty, x, why) in [
+        (
+            "uint8",
+            "300",
+            "does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "uchar",
+            "-1",
+            "does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "int",
+            "1.5",
+            "does not fit its declared type int (an integer from -2147483648 to 2147483647)",
+        ),
+        (
+            "float",
+            "1e39",
+            "does not fit its declared type float (beyond ±3.4028235e38)",
+        ),
+        (
+            "float32",
+            "-4e38",
+            "does not fit its declared type float (beyond ±3.4028235e38)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&xyz(ty), "uchar int", &rows(x), face).as_bytes()));
+        let expected = format!("vertex 1 property x: `{x}` {why}");
+        assert_eq!((e.line, e.what), (Some(11), expected), "{ty} {x}");
+    }
+    for (ty, x, value) in [
+        ("uchar", "255", 255.0),
+        ("int", "7.0", 7.0),
+        ("float", "3.4e38", 3.4e38),
+        ("float", "0.1", 0.1),
+        ("float", "1e-50", 1e-50),
+        ("double", "1e300", 1e300),
+    ] {
+        let m = read_ply(ply(&xyz(ty), "uchar int", &rows(x), face).as_bytes()).unwrap();
+        assert_eq!(m.positions[1][0], value, "{ty} {x}");
+    }
+    let xyz = xyz("float");
+    for (list, face, what) in [
+        (
+            "uchar uchar",
+            "3 0 2 300\n",
+            "face 0 index `300` does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+        (
+            "uchar int",
+            "300 0 2 1\n",
+            "face 0 list vertex_indices length `300` does not fit its declared type uchar (an integer from 0 to 255)",
+        ),
+    ] {
+        let e = err_of(read_ply(ply(&xyz, list, &rows("1"), face).as_bytes()));
+        assert_eq!((e.line, e.what.as_str()), (Some(14), what), "{list}");
+    }
+    // Attributes: dropped with a note, the mesh read.
+    let colours = format!("{xyz}property uchar red\nproperty uchar green\nproperty uchar blue\n");
+    let rows = "0 0 0 255 0 0\n1 0 0 999 0 0\n0 1 0 0 0 0\n0 0 1 0 9 0\n";
+    let m = read_ply(ply(&colours, "uchar int", rows, face).as_bytes()).unwrap();
+    assert_eq!(
+        m.attribute_notes,
+        ["colours dropped: line 14: vertex 1 property red: `999` does not fit its declared type uchar (an integer from 0 to 255)"]
+    );
+    assert!(m.attributes.colors.is_none() && m.colors.is_none());
+    assert_eq!(m.positions.len(), 4);
+    let m = read_ply(ply(&colours, "uchar int", &rows.replace("999", "99"), face).as_bytes()).unwrap();
+    assert!(
+        m.attribute_notes.is_empty() && m.attributes.colors.is_some(),
+        "{:?}",
+        m.attribute_notes
+    );
+    let uv = format!("{xyz}property float u\nproperty float v\n");
+    let rows = "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 one\n0 0 1 1e39 1\n";
+    let m = read_ply(ply(&uv, "uchar int", rows, face).as_bytes()).unwrap();
+    assert_eq!(
+        m.attribute_notes,
+        ["texture coordinates dropped: line 14: vertex 2 property v: `one` is not a number"]
+    );
+    assert!(m.attributes.texcoords.is_none());
 }

@@ -27,7 +27,11 @@
 //! # Numbers in messages
 //! Vertices, faces and facets are numbered from 0, as PLY and OFF indices are;
 //! lines are numbered from 1. Text coordinates are parsed as `f64` exactly as
-//! written, even when a PLY header types them `float`.
+//! written, even when a PLY header types them `float`; but an ASCII PLY
+//! value that its declared type cannot hold (`300` as `uchar`, `1.5` as
+//! `int`, `1e39` as `float`) is refused in a coordinate, face index or list
+//! length, and drops its attribute with a note in a colour, texture
+//! coordinate or normal.
 
 use std::borrow::Cow;
 use std::fmt;
@@ -60,8 +64,12 @@ pub struct RawMesh {
     /// `indices`, [`crate::attributes::NO_VALUE`] where the file gives none),
     /// groups (one per face) and material libraries.
     pub attributes: Attributes,
-    /// Why attributes of the file were left out (one line each).
+    /// What the reader ignored or read otherwise than the file says (data
+    /// after what a header declares, a wrong count), one line each.
     pub notes: Vec<String>,
+    /// Why attributes of the file were left out, or read with a change
+    /// (one line each): not said when attributes are not wanted.
+    pub attribute_notes: Vec<String>,
 }
 
 /// What the origins of a [`RawMesh`] count.
@@ -171,8 +179,10 @@ impl std::error::Error for FormatError {}
 // ---------------------------------------------------------------------------
 
 /// Decompresses if the bytes start with the gzip magic (1f 8b); limit the decompressed size to `max_bytes`
-/// (error if larger). Concatenated gzip members are decompressed one after the other. Other bytes are
-/// returned as they are.
+/// (error if larger). Concatenated gzip members are decompressed one after the other, as `gzip -d` does;
+/// bytes after the last that are no gzip member are an error that says so. Other bytes are returned as
+/// they are, but the first byte of the magic alone (a `.gz` file cut after one byte), which is truncated
+/// gzip data.
 pub fn maybe_gunzip(bytes: &[u8], max_bytes: u64) -> Result<Cow<'_, [u8]>, FormatError> {
     gunzip_judged(bytes, max_bytes, None)
 }
@@ -188,6 +198,11 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
     // its bytes 80..84 so has a chance of 2^-32).
     let exact_stl =
         || named == Some(Format::Stl) && binary_stl_size(bytes).is_some_and(|(_, size)| size == bytes.len() as u64);
+    if bytes == [0x1f] {
+        return Err(FormatError::new(
+            "the gzip data is truncated (the file has 1 byte, the first of the gzip magic)",
+        ));
+    }
     if !bytes.starts_with(&[0x1f, 0x8b]) || exact_stl() {
         return Ok(Cow::Borrowed(bytes));
     }
@@ -205,8 +220,13 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
         .min(max_bytes.saturating_add(1))
         .min(1 << 30);
     let mut out = Vec::with_capacity(usize::try_from(guess).unwrap_or(0));
-    let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(max_bytes.saturating_add(1));
-    let corrupt = |e: io::Error| FormatError::new(format!("the gzip data is corrupt or truncated ({e})"));
+    let mut decoder = GzMembers(flate2::bufread::GzDecoder::new(bytes)).take(max_bytes.saturating_add(1));
+    let corrupt = |e: io::Error| match e.get_ref().and_then(|e| e.downcast_ref::<TrailingBytes>()) {
+        Some(TrailingBytes(n)) => FormatError::new(format!(
+            "the gzip data is followed by {n} bytes that are not gzip data (appended to the file?)"
+        )),
+        None => FormatError::new(format!("the gzip data is corrupt or truncated ({e})")),
+    };
     if let Some(why) = read_judged(&mut decoder, named, &mut out).map_err(corrupt)? {
         return Err(FormatError::new(format!(
             "the gzip data is {why} (decompressing stopped there)"
@@ -218,6 +238,40 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
         )));
     }
     Ok(Cow::Owned(out))
+}
+
+/// The gzip members of some bytes, decompressed one after the other (as
+/// `gzip -d` reads concatenated files); after the last, bytes that do not
+/// start another member are an error holding [`TrailingBytes`].
+struct GzMembers<'a>(flate2::bufread::GzDecoder<&'a [u8]>);
+
+/// How many bytes after the last gzip member are not gzip data.
+#[derive(Debug)]
+struct TrailingBytes(usize);
+
+impl fmt::Display for TrailingBytes {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} bytes after the gzip data are not gzip data", self.0)
+    }
+}
+
+impl std::error::Error for TrailingBytes {}
+
+impl Read for GzMembers<'_> {
+    fn read(&mut self, into: &mut [u8]) -> io::Result<usize> {
+        loop {
+            let n = self.0.read(into)?;
+            // A member ended (its check passed): its bytes are consumed.
+            let rest: &[u8] = self.0.get_ref();
+            if n > 0 || into.is_empty() || rest.is_empty() {
+                return Ok(n);
+            }
+            if !rest.starts_with(&[0x1f, 0x8b]) {
+                return Err(io::Error::new(io::ErrorKind::InvalidData, TrailingBytes(rest.len())));
+            }
+            self.0 = flate2::bufread::GzDecoder::new(rest);
+        }
+    }
 }
 
 /// The format from a file name: .obj .off .ply .stl (case-insensitive), looking through a trailing .gz;
@@ -401,8 +455,8 @@ fn off_refused(prefix: &[u8]) -> bool {
 }
 
 /// Whether a binary STL starting with `prefix` (more to follow) is sure
-/// to be refused: it declares no facets, or one of its first facets has a
-/// coordinate that is not finite; or, if `exact` (read as STL only when
+/// to be refused: it declares no facets and holds only zeros, or one of
+/// its first facets has a coordinate that is not finite; or, if `exact` (read as STL only when
 /// its size is what the header declares), it declares fewer bytes than
 /// `prefix` has, so the whole input cannot be that size.
 fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
@@ -414,12 +468,49 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
             .chunks_exact(4)
             .all(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite())
     };
-    n == 0 || (exact && need < prefix.len() as u64) || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
+    // Declaring no facets, a file is read by its size if that is a whole
+    // number of them: zeros (`/dev/zero`) are still refused at once.
+    let zeros = || prefix[84..].iter().all(|&b| b == 0);
+    (n == 0 && zeros())
+        || (exact && need < prefix.len() as u64)
+        || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
 }
 
 /// `bytes` without a leading UTF-8 byte order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
+/// Why text is refused whose lines end in a carriage return alone
+/// ([`lone_cr_line`]).
+pub(crate) const LONE_CR: &str =
+    "lines end in a carriage return alone (classic Mac OS text): convert them to line feeds";
+
+/// The 1-based line (counted by line feeds) of the first carriage return
+/// in `text` that ends a line by itself, as classic Mac OS text does: one
+/// followed by something other than blanks before the next line feed. The
+/// text readers take a carriage return for a blank, so such a line would
+/// be read joined to the next (in a comment, the next statement lost); a
+/// carriage return before a line feed, or before blanks and then one (or
+/// the end), is the usual CRLF line end. One scan for the byte in text
+/// without any (most files).
+pub(crate) fn lone_cr_line(text: &[u8]) -> Option<u64> {
+    if !text.contains(&b'\r') {
+        return None;
+    }
+    let mut i = 0;
+    while let Some(cr) = text[i..].iter().position(|&b| b == b'\r').map(|k| i + k) {
+        let after = &text[cr + 1..];
+        let blanks = after
+            .iter()
+            .position(|&b| !matches!(b, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
+            .unwrap_or(after.len());
+        if after.get(blanks).is_some_and(|&b| b != b'\n') {
+            return Some(1 + text[..cr].iter().filter(|&&b| b == b'\n').count() as u64);
+        }
+        i = cr + 1 + blanks;
+    }
+    None
 }
 
 /// Whether the complete lines of the first [`SNIFF_WINDOW`] bytes are OBJ statements, at least one a
@@ -757,7 +848,11 @@ fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
 /// lines give x y z first; whatever follows (normals, colour, texture coordinates) is skipped. Face
 /// lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
-    let mut lines = Lines::new(strip_bom(bytes));
+    let text = strip_bom(bytes);
+    if let Some(line) = lone_cr_line(text) {
+        return Err(FormatError::at(line, LONE_CR));
+    }
+    let mut lines = Lines::new(text);
     let Some((first_line, first)) = lines.next_meaningful() else {
         return Err(FormatError::new("the file is empty (no OFF header)"));
     };
@@ -964,6 +1059,72 @@ impl Scalar {
     fn is_float(self) -> bool {
         matches!(self, Scalar::F32 | Scalar::F64)
     }
+
+    /// The type's name in messages (PLY's own; a header may use the sized
+    /// alias, `uint8` for `uchar`, which the range in the message shows).
+    fn name(self) -> &'static str {
+        match self {
+            Scalar::I8 => "char",
+            Scalar::U8 => "uchar",
+            Scalar::I16 => "short",
+            Scalar::U16 => "ushort",
+            Scalar::I32 => "int",
+            Scalar::U32 => "uint",
+            Scalar::F32 => "float",
+            Scalar::F64 => "double",
+        }
+    }
+
+    /// The least and greatest values of an integer type; `None` for floats.
+    fn int_range(self) -> Option<(i64, i64)> {
+        Some(match self {
+            Scalar::I8 => (i8::MIN.into(), i8::MAX.into()),
+            Scalar::U8 => (0, u8::MAX.into()),
+            Scalar::I16 => (i16::MIN.into(), i16::MAX.into()),
+            Scalar::U16 => (0, u16::MAX.into()),
+            Scalar::I32 => (i32::MIN.into(), i32::MAX.into()),
+            Scalar::U32 => (0, u32::MAX.into()),
+            Scalar::F32 | Scalar::F64 => return None,
+        })
+    }
+
+    /// Why the integer `n`, read from text, does not fit this integer type,
+    /// if it does not.
+    fn int_misfit(self, n: i64) -> Option<String> {
+        let (lo, hi) = self.int_range()?;
+        (n < lo || n > hi).then(|| self.misfit_text())
+    }
+
+    /// Why `x`, read from text, does not fit this type, if it does not: an
+    /// integer type holds only integers within its range, and `float` only
+    /// values within its range (beyond it, one stored as `float` would be
+    /// infinite; below, it is kept as written, as every value is). A value
+    /// that is not finite is left to the caller, which refuses it as such.
+    fn misfit(self, x: f64) -> Option<String> {
+        if !x.is_finite() {
+            return None;
+        }
+        let fits = match self.int_range() {
+            Some((lo, hi)) => x.fract() == 0.0 && x >= lo as f64 && x <= hi as f64,
+            None => self == Scalar::F64 || (x as f32).is_finite(),
+        };
+        (!fits).then(|| self.misfit_text())
+    }
+
+    /// The end of a message about a value that does not fit this type.
+    fn misfit_text(self) -> String {
+        match self.int_range() {
+            Some((lo, hi)) => format!(
+                "does not fit its declared type {} (an integer from {lo} to {hi})",
+                self.name()
+            ),
+            None => format!(
+                "does not fit its declared type {} (beyond ±{:e})",
+                self.name(),
+                f32::MAX
+            ),
+        }
+    }
 }
 
 /// Reads `N` bytes (`s.len()` must be `N`, which the callers guarantee) in the given byte order.
@@ -1087,6 +1248,9 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
         let raw = &rest[..end];
         pos += (end + 1).min(rest.len());
         line += 1;
+        if lone_cr_line(raw).is_some() {
+            return Err(FormatError::at(line, LONE_CR));
+        }
         if line == 1 {
             if raw.strip_suffix(b"\r").unwrap_or(raw) != b"ply" {
                 return Err(FormatError::at(1, "not a PLY file: the first line is not `ply`"));
@@ -1362,6 +1526,9 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     b.channels = channels;
     match header.encoding {
         PlyEncoding::Ascii => {
+            if let Some(line) = lone_cr_line(&bytes[header.data_start..]) {
+                return Err(FormatError::at(header.data_line - 1 + line, LONE_CR));
+            }
             let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
             for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
                 read_ascii_element(&mut tokens, el, roles, *kind, &mut b)?;
@@ -1411,6 +1578,9 @@ struct VertexChannels {
     colors: Option<Vec<f64>>,
     /// Colours have an alpha.
     alpha: bool,
+    /// The first defect of texture coordinates, normals and colours (in
+    /// ASCII data: a value that is no number, or does not fit its type).
+    defects: [Option<String>; 3],
 }
 
 impl VertexChannels {
@@ -1421,6 +1591,16 @@ impl VertexChannels {
             normals: has(|r| matches!(r, Role::Normal(_))),
             colors: has(|r| matches!(r, Role::Color(_))),
             alpha: roles.contains(&Role::Color(3)),
+            defects: Default::default(),
+        }
+    }
+
+    /// Notes the first defect of attribute `kind`, on `line`: the
+    /// attribute is dropped, with a note ([`VertexChannels::finish`]).
+    fn defect(&mut self, kind: Kind, line: u64, what: impl FnOnce() -> String) {
+        let slot = &mut self.defects[kind as usize];
+        if slot.is_none() {
+            *slot = Some(format!("{} dropped: line {line}: {}", kind.name(), what()));
         }
     }
 
@@ -1438,8 +1618,8 @@ impl VertexChannels {
     }
 
     /// Moves the attributes into `m` (per vertex: each corner takes its
-    /// vertex's value); a channel with a non-finite value is dropped with a
-    /// note.
+    /// vertex's value); a channel with a defect or a non-finite value is
+    /// dropped with a note.
     fn finish(self, m: &mut RawMesh) {
         let color_dim = if self.alpha { 4 } else { 3 };
         let channels = [
@@ -1447,10 +1627,18 @@ impl VertexChannels {
             (Kind::Normal, self.normals, 3),
             (Kind::Color, self.colors, color_dim),
         ];
+        let mut defects = self.defects;
         for (kind, values, dim) in channels {
             let Some(values) = values else { continue };
+            if let Some(note) = defects[kind as usize].take() {
+                m.attribute_notes.push(note);
+                if kind == Kind::Color {
+                    m.colors = None;
+                }
+                continue;
+            }
             if values.iter().any(|x| !x.is_finite()) {
-                m.notes
+                m.attribute_notes
                     .push(format!("{} dropped: a vertex has a non-finite one", kind.name()));
                 continue;
             }
@@ -1542,6 +1730,7 @@ fn read_ascii_element(
     for i in 0..count {
         let mut v = VertexValues::default();
         let mut origin = t.line;
+        let start = (t.pos, t.line);
         for (k, (p, role)) in el.props.iter().zip(roles).enumerate() {
             let truncated =
                 |line| FormatError::at(line, format!("the PLY data ends inside {name} {i} (truncated file?)"));
@@ -1553,23 +1742,29 @@ fn read_ascii_element(
             }
             match p.ty {
                 PropType::Scalar(ty) => {
-                    let value = |tok: &[u8]| {
-                        parse_f64(tok).ok_or_else(|| {
-                            FormatError::at(
-                                line,
-                                format!("{name} {i} property {}: `{}` is not a number", p.name, show(tok)),
-                            )
-                        })
+                    if *role == Role::Skip {
+                        continue;
+                    }
+                    // A number that the declared type holds; else why not.
+                    let value = match parse_f64(tok) {
+                        Some(x) => ty.misfit(x).map_or(Ok(x), Err),
+                        None => Err("is not a number".to_owned()),
                     };
-                    match *role {
-                        Role::Coord(axis) => v.p[axis] = value(tok)?,
-                        Role::Color(c) => v.set_color(c, value(tok)?, ty),
-                        Role::TexCoord(k) => v.texcoord[k] = value(tok)?,
-                        Role::Normal(k) => v.normal[k] = value(tok)?,
+                    let what = |why: String| format!("{name} {i} property {}: `{}` {why}", p.name, show(tok));
+                    match (*role, value) {
+                        (Role::Coord(axis), Ok(x)) => v.p[axis] = x,
+                        (Role::Color(c), Ok(x)) => v.set_color(c, x, ty),
+                        (Role::TexCoord(k), Ok(x)) => v.texcoord[k] = x,
+                        (Role::Normal(k), Ok(x)) => v.normal[k] = x,
+                        (Role::Coord(_), Err(why)) => return Err(FormatError::at(line, what(why))),
+                        // A defect in an attribute drops it, with a note.
+                        (Role::Color(_), Err(why)) => b.channels.defect(Kind::Color, line, || what(why)),
+                        (Role::TexCoord(_), Err(why)) => b.channels.defect(Kind::TexCoord, line, || what(why)),
+                        (Role::Normal(_), Err(why)) => b.channels.defect(Kind::Normal, line, || what(why)),
                         _ => {}
                     }
                 }
-                PropType::List { .. } => {
+                PropType::List { count: count_ty, item } => {
                     let n = parse_int(tok).ok_or_else(|| {
                         FormatError::at(
                             line,
@@ -1580,6 +1775,12 @@ fn read_ascii_element(
                         return Err(FormatError::at(
                             line,
                             format!("{name} {i} list {} has a negative length ({n})", p.name),
+                        ));
+                    }
+                    if let Some(why) = count_ty.int_misfit(n) {
+                        return Err(FormatError::at(
+                            line,
+                            format!("{name} {i} list {} length `{}` {why}", p.name, show(tok)),
                         ));
                     }
                     if n as u64 > (t.remaining() as u64).div_ceil(2) {
@@ -1607,7 +1808,11 @@ fn read_ascii_element(
                             let index = parse_int(tok).ok_or_else(|| {
                                 FormatError::at(line, format!("face {i} index `{}` is not an integer", show(tok)))
                             })?;
-                            b.index(checked_index(index, i, Some(line), b.m.positions.len())?);
+                            let index = checked_index(index, i, Some(line), b.m.positions.len())?;
+                            if let Some(why) = item.int_misfit(index.into()) {
+                                return Err(FormatError::at(line, format!("face {i} index `{}` {why}", show(tok))));
+                            }
+                            b.index(index);
                         }
                     } else {
                         for _ in 0..n {
@@ -1621,8 +1826,12 @@ fn read_ascii_element(
         }
         // One record per line: values left on it mean the header declares
         // fewer properties than the lines hold (read on, every later value
-        // would be taken for the wrong property).
+        // would be taken for the wrong property). A record that went on
+        // past its first line took them from the next: its line is short.
         if !t.line_is_done() {
+            if t.line != origin {
+                return Err(short_record(t.data, start, origin, t.pos, name, i));
+            }
             return Err(FormatError::at(
                 t.line,
                 format!(
@@ -1635,6 +1844,24 @@ fn read_ascii_element(
         finish_record(b, kind, &v, i, origin)?;
     }
     Ok(())
+}
+
+/// The error for record `i` of element `name`, read from `start` (a
+/// position and its line) to `end`, which ran past its first line `origin`
+/// and left values on its last: the first line is short of values (rather
+/// than the last holding too many).
+fn short_record(data: &[u8], start: (usize, u64), origin: u64, end: usize, name: &str, i: usize) -> FormatError {
+    let mut again = Tokens::new(data, start.0, start.1);
+    let (mut on_line, mut needed) = (0, 0);
+    while again.pos < end {
+        let Some((_, line)) = again.next() else { break };
+        on_line += usize::from(line == origin);
+        needed += 1;
+    }
+    FormatError::at(
+        origin,
+        format!("{name} {i} has {on_line} values on its line, fewer than the {needed} its record needs (a short line)"),
+    )
 }
 
 /// A cursor over binary PLY data.
@@ -1777,8 +2004,10 @@ fn min_record_size(el: &PlyElement) -> u64 {
 
 /// Reads an STL file, ASCII or binary, decided by content: a file that starts with `solid` is read as
 /// ASCII, unless that fails (or leaves non-whitespace behind) and its size fits a binary STL with the
-/// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". Bytes after the
-/// last facet are ignored (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
+/// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". A binary file
+/// whose size after the header is a whole number of facets other than its count says is read by its
+/// size, with a note (exporters write wrong counts, and 0). Bytes after the last facet are ignored
+/// (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
 /// `outer loop` with more vertices). Binary origins are facet record numbers.
 pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     if bytes.is_empty() {
@@ -1822,21 +2051,38 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             bytes.len()
         )));
     };
-    if need > bytes.len() as u64 {
-        return Err(FormatError::new(format!(
-            "the binary STL header declares {n} facets ({need} bytes) but the file has only {} bytes (truncated file?)",
-            bytes.len()
-        )));
-    }
-    // Bytes after the declared facets are ignored, as other readers do; but
-    // room for whole facets there may mean a wrong count, and holes: said.
-    let extra = bytes.len() as u64 - need;
-    let trailing = (extra >= 50).then(|| {
-        format!(
-            "{extra} bytes after the {n} facets the binary STL header declares ignored (room for {} more: if its count is wrong, facets are missing)",
-            extra / 50
-        )
-    });
+    // Many exporters write a wrong count, or 0: where the file's size is
+    // the header and a whole number of facets (one at least), those are
+    // read, with a note (if its bytes are binary: text never holds a NUL,
+    // and a file of text is no binary STL whatever its size).
+    let len = bytes.len() as u64;
+    let by_size = (len - 84) / 50;
+    let whole = by_size > 0 && (len - 84) % 50 == 0;
+    let (n, trailing) = if u64::from(n) != by_size && whole && looks_binary(bytes) {
+        let read = u32::try_from(by_size).unwrap_or(u32::MAX);
+        let note = format!(
+            "the binary STL header declares {n} facets, but the file's size holds {by_size}: all {by_size} read (the header's count is wrong{})",
+            if u64::from(n) > by_size { ", or the file cut short" } else { "" }
+        );
+        (read, Some(note))
+    } else {
+        if need > len {
+            return Err(FormatError::new(format!(
+                "the binary STL header declares {n} facets ({need} bytes) but the file has only {len} bytes (truncated file?)"
+            )));
+        }
+        // Bytes after the declared facets are ignored, as other readers do;
+        // but room for whole facets there may mean a wrong count, and
+        // holes: said.
+        let extra = len - need;
+        let trailing = (extra >= 50).then(|| {
+            format!(
+                "{extra} bytes after the {n} facets the binary STL header declares ignored (room for {} more: if its count is wrong, facets are missing)",
+                extra / 50
+            )
+        });
+        (n, trailing)
+    };
     let n = n as usize;
     if n > u32::MAX as usize / 3 {
         return Err(FormatError::new(format!(
@@ -1866,6 +2112,9 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
 
 /// Reads ASCII STL; returns the mesh and the offset just after the last `endsolid` line.
 fn read_stl_ascii(bytes: &[u8]) -> Result<(RawMesh, usize), FormatError> {
+    if let Some(line) = lone_cr_line(bytes) {
+        return Err(FormatError::at(line, LONE_CR));
+    }
     let mut t = Tokens::new(bytes, 0, 1);
     let mut b = Builder::new(OriginKind::Line, Numbering::Stl);
     let mut end = 0;

@@ -80,7 +80,8 @@ pub struct InputMesh {
     /// Texture coordinates, normals, colours per corner of `triangles`;
     /// groups per triangle; material libraries.
     pub attributes: Attributes,
-    /// Why attributes of the file were left out (one line each).
+    /// What the reader ignored or read otherwise than the file says, and
+    /// why attributes of the file were left out (one line each).
     pub notes: Vec<String>,
     /// The connectivity of `triangles`, when reading built it on the way
     /// (`--repair` builds it to learn that a mesh needs no more than welding
@@ -105,6 +106,9 @@ impl InputMesh {
 pub struct ReadOptions {
     /// Repair instead of refusing defects (`--repair`).
     pub repair: Option<RepairOptions>,
+    /// Leave texture coordinates, normals, colours and groups out, and
+    /// their notes (`--drop-attributes`); the reader's other notes stay.
+    pub drop_attributes: bool,
 }
 
 type FxMap<K, V> = crate::hash::FastMap<K, V>;
@@ -126,6 +130,16 @@ pub fn read_obj(path: &Path) -> Result<InputMesh> {
 pub fn read_mesh(path: &Path, options: &ReadOptions) -> Result<InputMesh> {
     let raw = read_raw(path)?;
     finish(raw, path, options)
+}
+
+/// `raw` without its attributes and their notes if `options` drop them.
+fn without_attributes_if_dropped(mut raw: RawMesh, options: &ReadOptions) -> RawMesh {
+    if options.drop_attributes {
+        raw.attributes = Attributes::default();
+        raw.colors = None;
+        raw.attribute_notes.clear();
+    }
+    raw
 }
 
 /// Reads a mesh file into polygons, without welding or validation.
@@ -244,6 +258,7 @@ fn repeated_vertex(mut ids: impl ExactSizeIterator<Item = u32>, scratch: &mut Ve
 
 /// Turns polygons into the algorithm's input: see the module documentation.
 pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputMesh> {
+    let raw = without_attributes_if_dropped(raw, options);
     let n_faces = raw.face_start.len().saturating_sub(1);
     if n_faces == 0 {
         return Err(Error::Mesh {
@@ -382,9 +397,11 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
 
 /// The attributes of `raw` on its triangles, given the raw corners and the
 /// face of each triangle; a channel that leaves some corner without a value
-/// is dropped with a note.
+/// is dropped with a note. The notes: the reader's, then those on
+/// attributes.
 fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &[u32]) -> (Attributes, Vec<String>) {
     let mut notes = raw.notes.clone();
+    notes.extend_from_slice(&raw.attribute_notes);
     let mut a = Attributes {
         mtllib: raw.attributes.mtllib.clone(),
         ..Attributes::default()
@@ -503,7 +520,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         repair: Some(fixed.report),
         attributes: Attributes::default(),
         notes: {
-            let mut notes = Vec::new();
+            // The reader's notes (data it ignored) first, as without repair.
+            let mut notes = raw.notes.clone();
             if !raw.attributes.is_empty() {
                 notes.push(
                     "texture coordinates, normals, colours and groups dropped: --repair does not carry them".into(),
@@ -1242,6 +1260,7 @@ mod tests {
         let raw = obj::parse_obj(bowtie.as_bytes()).unwrap();
         let opts = ReadOptions {
             repair: Some(RepairOptions::default()),
+            ..Default::default()
         };
         let mut m = finish(raw, Path::new("t.obj"), &opts).unwrap();
         let report = m.repair.clone().unwrap();
@@ -1254,6 +1273,58 @@ mod tests {
         assert_eq!(s.topo.n_faces(), 2);
     }
 
+    /// The reader's notes (data after what a header declares: faces may
+    /// be missing) are kept with `--repair` too; they were dropped there.
+    #[test]
+    fn repair_keeps_the_readers_notes() {
+        let off = "OFF\n4 3 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+        let raw = formats::read_off(off.as_bytes()).unwrap();
+        let note = "line 10: data after the 3 faces the OFF header declares ignored (if its counts are wrong, faces are missing)";
+        assert_eq!(raw.notes, [note]);
+        for repair in [None, Some(RepairOptions::default())] {
+            let m = finish(
+                raw.clone(),
+                Path::new("t.off"),
+                &ReadOptions {
+                    repair,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(m.notes, [note], "{repair:?}");
+        }
+    }
+
+    /// `--drop-attributes` leaves out the attributes and the notes on them,
+    /// not the other notes (it cleared them all: data ignored after a
+    /// header's counts, polygons read as a fan).
+    #[test]
+    fn dropping_attributes_keeps_the_other_notes() {
+        // A bad texture coordinate and a polygon that crosses itself.
+        let obj = "vt 0 x\nv 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1 4/1\n";
+        let raw = obj::parse_obj(obj.as_bytes()).unwrap();
+        let read = |drop_attributes| {
+            let options = ReadOptions {
+                drop_attributes,
+                ..Default::default()
+            };
+            finish(raw.clone(), Path::new("t.obj"), &options).unwrap().notes
+        };
+        let unseen = unseen_note(1);
+        let bad = "texture coordinates dropped: line 1: 'x' is not a finite number";
+        assert_eq!(read(false), [bad, &unseen]);
+        assert_eq!(read(true), [unseen]);
+        let off = "OFF\n4 1 0\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n4 0 1 2 3\n3 0 1 2\n";
+        let raw = formats::read_off(off.as_bytes()).unwrap();
+        let options = ReadOptions {
+            drop_attributes: true,
+            ..Default::default()
+        };
+        let notes = finish(raw, Path::new("t.off"), &options).unwrap().notes;
+        assert_eq!(notes.len(), 2, "{notes:?}");
+        assert!(notes[0].starts_with("line 8: data after the 1 faces"), "{notes:?}");
+    }
+
     #[test]
     fn a_keyhole_polygon_is_refused_and_read_with_repair_as_its_outline() {
         // A 4 × 4 square with a 2 × 2 hole, one face joined by a bridge from
@@ -1264,7 +1335,10 @@ mod tests {
             finish(
                 obj::parse_obj(keyhole.as_bytes()).unwrap(),
                 Path::new("k.obj"),
-                &ReadOptions { repair },
+                &ReadOptions {
+                    repair,
+                    ..Default::default()
+                },
             )
         };
         let refused = read(None).unwrap_err().to_string();
@@ -1295,6 +1369,7 @@ mod tests {
         let soup = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\nf 1 1 2\n";
         let opts = ReadOptions {
             repair: Some(RepairOptions::default()),
+            ..Default::default()
         };
         let mut m = finish(obj::parse_obj(soup.as_bytes()).unwrap(), Path::new("t.obj"), &opts).unwrap();
         assert_eq!(m.welded, 2);

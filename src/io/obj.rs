@@ -9,7 +9,7 @@
 
 use std::io::Write;
 
-use super::formats::{show, FormatError, OriginKind, RawMesh};
+use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -146,12 +146,13 @@ pub fn parse_obj(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     parse_obj_with(bytes, true, true)
 }
 
-/// Why `bytes` are refused if their lines end in a carriage return alone
-/// (classic Mac OS text): read as one long line, the file would be refused
-/// for a reason that misleads.
-pub(crate) fn cr_only_lines(bytes: &[u8]) -> Option<&'static str> {
-    (bytes.contains(&b'\r') && !bytes.contains(&b'\n'))
-        .then_some("lines end in a carriage return alone (classic Mac OS text): convert them to line feeds")
+/// The line and the reason if a line of `bytes` ends in a carriage return
+/// alone (classic Mac OS text, or one such line end among line feeds:
+/// [`lone_cr_line`]). Read as a blank, as elsewhere, it would join two
+/// lines: a file of such lines would be refused for a reason that
+/// misleads, and a comment would swallow the statement after it.
+pub(crate) fn lone_cr(bytes: &[u8]) -> Option<(u64, &'static str)> {
+    lone_cr_line(bytes).map(|line| (line, LONE_CR))
 }
 
 /// [`parse_obj`], with the one-scan reading of plain `v` and `f` lines
@@ -162,8 +163,8 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
     // A UTF-8 byte order mark (some Windows exporters write one) is no
     // statement.
     let bytes = crate::io::formats::strip_bom(bytes);
-    if let Some(reason) = cr_only_lines(bytes) {
-        return Err(error(1, reason.into()));
+    if let Some((line, reason)) = lone_cr(bytes) {
+        return Err(error(line as usize, reason.into()));
     }
     let joined = join_continued_lines(bytes);
     let bytes = &joined[..];
@@ -400,9 +401,9 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
             return Err(error(raw.face_origin[f] as usize, what));
         }
     }
-    (raw.attributes, raw.notes) = extra.finish(raw.positions.len(), &raw.indices);
+    (raw.attributes, raw.attribute_notes) = extra.finish(raw.positions.len(), &raw.indices);
     if let Some(line) = renamed {
-        raw.notes.push(format!(
+        raw.attribute_notes.push(format!(
             "line {line}: names (groups, objects, materials) that are not UTF-8 were read with U+FFFD in place of their bad bytes"
         ));
     }
@@ -1249,13 +1250,14 @@ mod tests {
         match r {
             Err(e) => format!("error {e:?}"),
             Ok(m) => format!(
-                "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+                "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
                 m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>(),
                 m.face_start,
                 m.indices,
                 m.face_origin,
                 m.vertex_origin,
                 m.notes,
+                m.attribute_notes,
                 m.attributes,
             ),
         }
