@@ -2005,8 +2005,8 @@ fn min_record_size(el: &PlyElement) -> u64 {
 /// Reads an STL file, ASCII or binary, decided by content: a file that starts with `solid` is read as
 /// ASCII, unless that fails (or leaves non-whitespace behind) and its size fits a binary STL with the
 /// facet count at byte 80, as for binary files whose 80-byte header starts with "solid". A binary file
-/// whose size after the header is a whole number of facets other than its count says is read by its
-/// size, with a note (exporters write wrong counts, and 0). Bytes after the last facet are ignored
+/// whose size after the header is a whole number of facets more than its count says is read by its
+/// size, with a note (exporters write wrong counts, and 0); fewer is a file cut short, refused. Bytes after the last facet are ignored
 /// (with a note when whole facets would fit there). STL has no shared vertices: each facet gives 3 positions (more for an ASCII
 /// `outer loop` with more vertices). Binary origins are facet record numbers.
 pub fn read_stl(bytes: &[u8]) -> Result<RawMesh, FormatError> {
@@ -2058,11 +2058,11 @@ fn read_stl_binary(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let len = bytes.len() as u64;
     let by_size = (len - 84) / 50;
     let whole = by_size > 0 && (len - 84) % 50 == 0;
-    let (n, trailing) = if u64::from(n) != by_size && whole && looks_binary(bytes) {
+    // (A count above what the size holds is a file cut short: refused.)
+    let (n, trailing) = if u64::from(n) < by_size && whole && looks_binary(bytes) {
         let read = u32::try_from(by_size).unwrap_or(u32::MAX);
         let note = format!(
-            "the binary STL header declares {n} facets, but the file's size holds {by_size}: all {by_size} read (the header's count is wrong{})",
-            if u64::from(n) > by_size { ", or the file cut short" } else { "" }
+            "the binary STL header declares {n} facets, but the file's size holds {by_size}: all {by_size} read (the header's count is wrong)"
         );
         (read, Some(note))
     } else {
