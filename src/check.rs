@@ -514,7 +514,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     if let Some(line) = first_binary_line(&joined) {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
-    let bytes = &geometry_lines(&joined);
+    let bytes = &geometry_lines(&joined).map_err(parse_error)?;
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
@@ -612,9 +612,12 @@ fn comment_start(line: &[u8]) -> usize {
 /// every other statement removed. The judge compares geometry only: texture coordinates,
 /// normals, groups and materials, and their defects, are not its business (the construction
 /// drops a defective attribute with a note, and must not be failed by a reader that refuses it).
-fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
+///
+/// Errors (`line N: ...`) on an `f` line of fewer than 3 corners: tobj would read it as a
+/// point or a line and drop it unseen, where the construction refuses the file.
+fn geometry_lines(bytes: &[u8]) -> Result<Vec<u8>, String> {
     let mut out = Vec::with_capacity(bytes.len());
-    for line in bytes.split(|&c| c == b'\n') {
+    for (i, line) in bytes.split(|&c| c == b'\n').enumerate() {
         let code = &line[..comment_start(line)];
         let mut words = code
             .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
@@ -640,9 +643,14 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
             }
             Some(b"f") => {
                 out.push(b'f');
+                let mut count = 0;
                 for corner in words {
+                    count += 1;
                     out.push(b' ');
                     out.extend_from_slice(corner.split(|&c| c == b'/').next().unwrap_or(&[]));
+                }
+                if count < 3 {
+                    return Err(format!("line {}: face has {count} vertices, needs at least 3", i + 1));
                 }
             }
             _ => {}
@@ -650,7 +658,7 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
         // Every line stays (empty if dropped), so that line numbers keep their meaning.
         out.push(b'\n');
     }
-    out
+    Ok(out)
 }
 
 /// The first line (from 1) whose statement, before any comment, holds

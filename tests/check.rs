@@ -951,3 +951,23 @@ fn coordinates_beyond_the_supported_range_are_named() {
         "{err}"
     );
 }
+
+/// A face of one or two vertices (`f 5`, `f 1 2`) is refused with its line, as the
+/// construction's reader refuses it: tobj reads it as a point or a line, which the judge
+/// dropped unseen, so an output with such a line (or one as the input) passed.
+#[test]
+fn faces_of_fewer_than_three_vertices_are_refused_with_their_line() {
+    let dir = TempDir::new().expect("tempdir");
+    let good = write(&dir, "good.obj", &octahedron());
+    for (name, face, vertices) in [("two.obj", "f 1 2", 2), ("one.obj", "f 5", 1), ("none.obj", "f", 0)] {
+        let text = format!("{}{face}\n", octahedron());
+        let bad = write(&dir, name, &text);
+        let line = text.lines().count();
+        let expected =
+            format!("{name}: not a valid OBJ mesh: line {line}: face has {vertices} vertices, needs at least 3");
+        for (input, output) in [(&good, &bad), (&bad, &good)] {
+            let err = check_files(input, output).expect_err(name);
+            assert!(err.to_string().contains(&expected), "{name}: {err}");
+        }
+    }
+}
