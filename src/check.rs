@@ -58,6 +58,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
+use crate::io::formats::show;
 use crate::io::number::point_text;
 use crate::io::polygon::triangulate;
 use glam::DVec3;
@@ -522,7 +523,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         ignore_lines: true,
     };
     let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| parse_error(e.to_string()))?;
+        .map_err(|e| parse_error(obj_syntax_error(bytes, &joined).unwrap_or_else(|| e.to_string())))?;
 
     let mut welder = Welder::default();
     let mut triangles = Vec::new();
@@ -647,7 +648,9 @@ fn geometry_lines(bytes: &[u8]) -> Result<Vec<u8>, String> {
                 for corner in words {
                     count += 1;
                     out.push(b' ');
-                    out.extend_from_slice(corner.split(|&c| c == b'/').next().unwrap_or(&[]));
+                    // (A corner without a vertex index, `/3`, is kept whole: tobj refuses it.)
+                    let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
+                    out.extend_from_slice(if vertex.is_empty() { corner } else { vertex });
                 }
                 if count < 3 {
                     return Err(format!("line {}: face has {count} vertices, needs at least 3", i + 1));
@@ -659,6 +662,81 @@ fn geometry_lines(bytes: &[u8]) -> Result<Vec<u8>, String> {
         out.push(b'\n');
     }
     Ok(out)
+}
+
+/// Why tobj refuses an OBJ file, with the line: tobj names no line, so once it has failed
+/// the `geometry` lines ([`geometry_lines`] of `original`, line for line) are read again one by
+/// one, as tobj reads them, for the first it cannot read (`line N: ...`). `None` if none is
+/// found (then tobj's own words are all there is).
+fn obj_syntax_error(geometry: &[u8], original: &[u8]) -> Option<String> {
+    let mut vertices = 0i64;
+    // Lines with an index past the vertices read so far, which only the whole file can
+    // decide (forward references): (line, index).
+    let mut forward: Vec<(usize, i64)> = Vec::new();
+    let pairs = geometry.split(|&c| c == b'\n').zip(original.split(|&c| c == b'\n'));
+    for (i, (line, raw)) in pairs.enumerate() {
+        let words: Vec<&[u8]> = line.split(|&c| c == b' ').filter(|w| !w.is_empty()).collect();
+        let why = match words.split_first() {
+            Some((&b"v", values)) => {
+                vertices += 1;
+                vertex_syntax_error(values, vertices)
+            }
+            Some((&b"f", corners)) => corners.iter().find_map(|&corner| {
+                let value = std::str::from_utf8(corner).ok().and_then(|t| t.parse::<isize>().ok());
+                match value.map(|v| v as i64) {
+                    None => Some(format!("face index '{}' is not an integer", show(corner))),
+                    Some(0) => Some("face index 0 (OBJ indices start at 1)".to_string()),
+                    Some(v) if v < 0 && vertices + v < 0 => Some(format!(
+                        "face index {v} is out of range (counted back from the {vertices} vertices before it)"
+                    )),
+                    Some(v) => {
+                        if v > vertices {
+                            forward.push((i + 1, v));
+                        }
+                        None
+                    }
+                }
+            }),
+            _ => None,
+        };
+        if let Some(why) = why {
+            // A carriage return inside the line (a line end of classic Mac OS among others)
+            // joins two statements into one that cannot be read.
+            let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+            let hint = if raw.contains(&b'\r') {
+                " (a carriage return inside this line ends no line: convert the file's line ends to line feeds)"
+            } else {
+                ""
+            };
+            return Some(format!("line {}: {why}{hint}", i + 1));
+        }
+    }
+    let (line, v) = forward.into_iter().find(|&(_, v)| v > vertices)?;
+    Some(format!(
+        "line {line}: face index {v} is out of range (the file has {vertices} vertices)"
+    ))
+}
+
+/// Why tobj cannot read the values of a `v` line (vertex `number` of the file), if it cannot.
+fn vertex_syntax_error(values: &[&[u8]], number: i64) -> Option<String> {
+    let number_of = |w: &[u8]| std::str::from_utf8(w).ok().and_then(|t| t.parse::<f64>().ok());
+    if values.len() < 3 {
+        return Some(format!("vertex has {} coordinates, needs 3", values.len()));
+    }
+    if let Some(w) = values[..3].iter().find(|w| number_of(w).is_none()) {
+        return Some(format!("vertex coordinate '{}' is not a number", show(w)));
+    }
+    match values.len() {
+        3 | 6 => None,
+        4 => match number_of(values[3]) {
+            None => Some(format!("vertex weight '{}' is not a number", show(values[3]))),
+            Some(0.0) => Some(format!("vertex {number} has weight 0 (x y z are divided by it)")),
+            Some(_) => None,
+        },
+        n => Some(format!(
+            "vertex line has {n} values: expected x y z, x y z w or x y z r g b"
+        )),
+    }
 }
 
 /// The first line (from 1) whose statement, before any comment, holds

@@ -971,3 +971,74 @@ fn faces_of_fewer_than_three_vertices_are_refused_with_their_line() {
         }
     }
 }
+
+/// What tobj cannot read is named with its line (tobj's own errors name none: "position parse
+/// error", "face vertex index out of bounds"), in the words of the construction's reader.
+#[test]
+fn obj_syntax_errors_name_their_line() {
+    let dir = TempDir::new().expect("tempdir");
+    let good = write(&dir, "good.obj", &octahedron());
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let cases = [
+        (
+            "v 0 0 0\nv 1,5 0 0\nv 0 1 0\nf 1 2 3\n",
+            "line 2: vertex coordinate '1,5' is not a number",
+        ),
+        (&format!("{tri}f 1 2 a\n"), "line 4: face index 'a' is not an integer"),
+        (
+            &format!("{tri}f 1 2 4\n"),
+            "line 4: face index 4 is out of range (the file has 3 vertices)",
+        ),
+        (
+            &format!("{tri}f 0 1 2\n"),
+            "line 4: face index 0 (OBJ indices start at 1)",
+        ),
+        (&format!("{tri}f -4 -3 -2\n"), "line 4: face index -4 is out of range"),
+        (
+            &format!("{tri}f 1/1 2/2 /3\n"),
+            "line 4: face index '/3' is not an integer",
+        ),
+        (
+            "v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            "line 1: vertex 1 has weight 0",
+        ),
+        (
+            "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            "line 1: vertex has 2 coordinates, needs 3",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0 1 1\nv 0 1 0\nf 1 2 3\n",
+            "line 2: vertex line has 5 values",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0 x\nv 0 1 0\nf 1 2 3\n",
+            "line 2: vertex weight 'x' is not a number",
+        ),
+        (
+            // A carriage return alone among line feeds joins lines 3 and 4.
+            "v 0 0 0\r\nv 1 0 0\nv 0 1 0\rf 1 2 3\n",
+            "line 3: vertex line has 7 values: expected x y z, x y z w or x y z r g b (a carriage return inside",
+        ),
+        // Later lines keep their numbers after a continued line.
+        (
+            &format!("v 0 \\\n0 0\n{}f 1 2 3 4\n", &tri[8..]),
+            "line 5: face index 4 is out of range",
+        ),
+        (
+            &format!("{tri}f 1 2 3\nf 1 2 9\nf 3 2 4\nv 1 1 1\n"),
+            "line 5: face index 9 is out of range (the file has 4 vertices)",
+        ),
+    ];
+    for (k, (text, expected)) in cases.iter().enumerate() {
+        let name = format!("bad{k}.obj");
+        let bad = write(&dir, &name, text);
+        for (input, output) in [(&bad, &good), (&good, &bad)] {
+            let err = check_files(input, output).expect_err(&name);
+            let expected = format!("{name}: not a valid OBJ mesh: {expected}");
+            assert!(err.to_string().contains(&expected), "{text:?}: {err}");
+        }
+    }
+    // A face may name a vertex of a later line.
+    let forward = write(&dir, "forward.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n");
+    assert_passes(&check_files(&forward, &forward).expect("a forward reference is fine"));
+}
