@@ -1042,3 +1042,154 @@ fn obj_syntax_errors_name_their_line() {
     let forward = write(&dir, "forward.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n");
     assert_passes(&check_files(&forward, &forward).expect("a forward reference is fine"));
 }
+
+/// OFF text of a mesh with 0-based faces.
+fn off(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> String {
+    let mut text = format!("OFF\n{} {} 0\n", vertices.len(), faces.len());
+    vertices
+        .iter()
+        .for_each(|v| text.push_str(&format!("{:?} {:?} {:?}\n", v[0], v[1], v[2])));
+    faces
+        .iter()
+        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
+    text
+}
+
+/// ASCII PLY text of a mesh with 0-based faces: a header of 9 lines, then a line per vertex
+/// and a line per face.
+fn ply(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> String {
+    let mut text = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\
+         property double z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        vertices.len(),
+        faces.len()
+    );
+    vertices
+        .iter()
+        .for_each(|v| text.push_str(&format!("{:?} {:?} {:?}\n", v[0], v[1], v[2])));
+    faces
+        .iter()
+        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
+    text
+}
+
+/// Binary STL bytes of triangles.
+fn binary_stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+    let mut bytes = vec![0u8; 80];
+    bytes.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        bytes.extend([0u8; 12]);
+        t.iter().flatten().for_each(|c| bytes.extend(c.to_le_bytes()));
+        bytes.extend([0u8; 2]);
+    }
+    bytes
+}
+
+/// Failure lines and refusals name vertices and faces as the file's format numbers them, as
+/// the construction's messages do: OBJ from 1 (by its `v` and `f` lines, also where a vertex is
+/// unused or a face a polygon), OFF and PLY from 0, STL's vertices by position and its facets
+/// from 0; a refused input names the line (or binary record) of the face or vertex at fault.
+#[test]
+fn failures_number_as_each_format_numbers() {
+    let dir = TempDir::new().expect("tempdir");
+    let flat = write(&dir, "flat.obj", &obj(&kite(false), &KITE_F));
+    // The flat kite's long edge is not Delaunay: vertices 1 and 2 in OBJ, 0 and 1 in OFF, PLY.
+    for (name, text, expected) in [
+        ("kite.obj", obj(&kite(false), &KITE_F), "non-Delaunay edge (v1, v2)"),
+        ("kite.off", off(&kite(false), &KITE_F), "non-Delaunay edge (v0, v1)"),
+        ("kite.ply", ply(&kite(false), &KITE_F), "non-Delaunay edge (v0, v1)"),
+        // An unused first vertex: the file's numbers, not the used vertices' ranks.
+        (
+            "unused.obj",
+            format!("v 9 9 9\n{}", obj(&kite(false), &[[1, 2, 3], [2, 1, 4]])),
+            "non-Delaunay edge (v2, v3)",
+        ),
+    ] {
+        let report = check_files(&flat, &write(&dir, name, &text)).expect("readable");
+        assert_failure(&report, expected);
+    }
+    // The vertex where the output stops following the input, as each file names it.
+    let mut swapped = kite(false).to_vec();
+    swapped.swap(0, 1);
+    let swapped = write(&dir, "swapped.ply", &ply(&swapped, &[[1, 0, 2], [0, 1, 3]]));
+    let report = check_files(&flat, &swapped).expect("readable");
+    assert_eq!(
+        report.first_reordered_vertex_names,
+        Some(("vertex 0".to_string(), "vertex 1".to_string()))
+    );
+    assert!(report.to_string().contains("output vertex 0 differs"), "{report}");
+    // A polygon is one face: the reversed triangle after a quad is face 2, not triangle 3.
+    let house = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.5, 0.0],
+    ];
+    let points: String = house
+        .iter()
+        .map(|p| format!("v {} {} {}\n", p[0], p[1], p[2]))
+        .collect();
+    let input = write(&dir, "house.obj", &format!("{points}f 1 2 3 4\nf 2 5 3\n"));
+    let output = write(&dir, "reversed.obj", &format!("{points}f 1 2 3 4\nf 2 3 5\n"));
+    let report = check_files(&input, &output).expect("readable");
+    assert_failure(
+        &report,
+        "line 7: output face 1 and face 2 use edge (v2, v3) in the same direction",
+    );
+    assert_failure(&report, "output face 2 (v2, v3, v5) is reversed relative to region 1");
+    // Refused inputs: the line or record, and the format's numbers.
+    let fin_v = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let fin_f = [[0, 1, 2], [1, 0, 3], [0, 1, 4]];
+    let triangle = write(&dir, "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let stl_ascii = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+                     endloop\nendfacet\nfacet normal 0 0 0\nouter loop\nvertex 0 1 0\nvertex 0 1 0\n\
+                     vertex 1 0 0\nendloop\nendfacet\nendsolid t\n";
+    let cases: [(&str, Vec<u8>, &str); 6] = [
+        (
+            "fin.obj",
+            obj(&fin_v, &fin_f).into_bytes(),
+            "line 8: input edge (v1, v2) is shared by 3 faces (face 1, face 2, face 3)",
+        ),
+        (
+            "fin.ply",
+            ply(&fin_v, &fin_f).into_bytes(),
+            "line 17: input edge (v0, v1) is shared by 3 faces (face 0, face 1, face 2)",
+        ),
+        (
+            "repeat.off",
+            off(&kite(false), &[[0, 2, 0], [1, 0, 3]]).into_bytes(),
+            "line 7: input face 0 (v0, v2, v0) repeats a vertex",
+        ),
+        (
+            "repeat.stl",
+            stl_ascii.as_bytes().to_vec(),
+            "line 9: input facet 1 ((0, 1, 0), (0, 1, 0), (1, 0, 0)) repeats a vertex",
+        ),
+        (
+            "binary.stl",
+            binary_stl(&[
+                [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                [[0.0, 1.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+            ]),
+            "face record 1: input facet 1 ((0, 1, 0), (0, 1, 0), (1, 0, 0)) repeats a vertex",
+        ),
+        (
+            "nan.obj",
+            b"v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n".to_vec(),
+            "line 3: vertex 3 (NaN, 1, 0) has a non-finite coordinate",
+        ),
+    ];
+    for (name, bytes, expected) in cases {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let err = check_files(&path, &triangle).expect_err(name);
+        assert!(err.to_string().contains(expected), "{name}: {err}");
+    }
+}
