@@ -29,7 +29,10 @@
 //!    are computed at the corner opposite the longest edge from exact edge vectors, and summed
 //!    with compensation, so that they stay accurate far from the origin and for needle faces.
 //!    Regions that an output face fits equally (coplanar regions overlapping in a
-//!    self-intersecting input) are checked together, on their total area.
+//!    self-intersecting input) are checked together, on their total area. A face with a vertex
+//!    off the input's edges (a failure of rule 2) counts in a region whose plane holds it, and
+//!    proves no overlap; in the plane of no region at its other vertices, it lies on no input
+//!    face, a failure of its own, and counts in no region.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
@@ -1831,6 +1834,8 @@ struct Regions {
     area: Vec<f64>,
     /// Unit normal of every region (of its largest face; zero if all its faces have zero area).
     normal: Vec<DVec3>,
+    /// A point of every region's plane (a corner of its largest face).
+    anchor: Vec<DVec3>,
     /// The region's plane seen along one coordinate axis: every output face of the region must
     /// have, exactly, the orientation `plane.sign` in the projection along `plane.axis`.
     plane: Vec<Projection>,
@@ -1888,6 +1893,10 @@ impl Regions {
             }
         }
         let normal = largest.iter().map(|&(_, _, n)| n.normalize_or_zero()).collect();
+        let anchor = largest
+            .iter()
+            .map(|&(_, f, _)| mesh.positions[mesh.triangles[f as usize][0] as usize])
+            .collect();
         let plane = largest
             .iter()
             .map(|&(_, f, _)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize])))
@@ -1896,6 +1905,7 @@ impl Regions {
             of_face,
             area: area.iter().map(CompensatedSum::value).collect(),
             normal,
+            anchor,
             plane,
             first_face,
             total_area: total_area.value(),
@@ -1909,6 +1919,15 @@ impl Regions {
             r + 1,
             input.face_noun(self.first_face[r] as usize)
         )
+    }
+
+    /// Whether point `p` is in the plane of region `r`: within [`ON_EDGE_TOLERANCE`] of it,
+    /// relative to the largest coordinate (of `p` and of the plane's point), as a point on an
+    /// input edge is on it.
+    fn holds(&self, r: usize, p: DVec3) -> bool {
+        let anchor = self.anchor[r];
+        let scale = p.abs().max_element().max(anchor.abs().max_element()).max(1e-300);
+        self.normal[r].dot(p - anchor).abs() <= ON_EDGE_TOLERANCE * scale
     }
 
     /// The exact orientation of a triangle relative to region `r`: 1 when its projection along
@@ -3071,6 +3090,12 @@ struct Assignment {
 /// the shared regions (coplanar regions that overlap, possible in a self-intersecting input), it
 /// cannot be told from geometry which one it belongs to: those regions form one group, whose
 /// total area is checked ([`check_areas`]).
+///
+/// A face with a vertex that is neither an input vertex nor on an input edge (reported by
+/// [`classify_output_vertices`]) goes to the regions of its other vertices whose planes hold that
+/// vertex too, and proves no overlap (it joins no group). In the plane of none of them, it lies on
+/// no input face: a failure, its area in no region. A face with no such other vertex is left to
+/// its vertices' failures.
 fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidates, fail: &mut Failures) -> Assignment {
     let (regions, output) = (&model.regions, output_names.mesh);
     let mut assigned = vec![CompensatedSum::default(); regions.area.len()];
@@ -3082,6 +3107,7 @@ fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidate
             continue;
         }
         let mut known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
+        let all_known = known.len() == 3;
         // The common regions are found by walking the shortest list (sorted: the same result
         // from any of them): a vertex of high valence can have thousands.
         known.sort_by_key(|&v| candidates.regions.row(v as usize).len());
@@ -3095,6 +3121,27 @@ fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidate
         }));
         let triangle = corners(output, t);
         let normal = triangle_normal(triangle);
+        if !all_known {
+            // Only the regions whose planes hold the face's vertices off the input's edges.
+            let off = || t.iter().filter(|&&v| !candidates.known[v as usize]);
+            common.retain(|&r| off().all(|&v| regions.holds(r as usize, output.positions[v as usize])));
+            if common.is_empty() {
+                fail.push(KIND_FACE, || {
+                    known.sort_unstable();
+                    let at: Vec<String> = known.iter().map(|&v| output_names.label(v)).collect();
+                    let off: Vec<String> = off().map(|&v| output_names.label(v)).collect();
+                    let verb = if off.len() == 1 { "is" } else { "are" };
+                    format!(
+                        "output {} lies on no input face: {}, off the input's edges, {verb} in the plane \
+                         of none of the input faces at {}",
+                        output_names.face(f),
+                        off.join(" and "),
+                        at.join(" and ")
+                    )
+                });
+                continue;
+            }
+        }
         scored.clear();
         scored.extend(common.iter().map(|&r| {
             let r = r as usize;
@@ -3117,7 +3164,8 @@ fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidate
         assigned[r].add(0.5 * normal.length());
         if side > 0 {
             for &(other_side, _, other) in &scored {
-                if other_side > 0 && other != r {
+                // (A face with a vertex off the input's edges proves no overlap.)
+                if other_side > 0 && other != r && all_known {
                     groups.union(r as u32, other as u32);
                 }
             }

@@ -1193,3 +1193,80 @@ fn failures_number_as_each_format_numbers() {
         assert!(err.to_string().contains(expected), "{name}: {err}");
     }
 }
+
+/// An icosahedron against its subdivision pushed out onto the sphere (the surfaces differ:
+/// every added vertex is off the input's edges, every output face off the input's planes) is
+/// failed for what is wrong: output faces on no input face, input faces left uncovered. Faces
+/// with a vertex off the input's edges used to join the regions they touched into "the 20
+/// overlapping coplanar regions (whose faces cannot be told apart)", which they are not.
+#[test]
+fn a_different_surface_is_not_called_overlapping_coplanar_regions() {
+    // The icosahedron's faces (not subdivided, so the points do not matter)...
+    let (_, f) = perturbed_icosphere(0, &mut Rng(1));
+    // ...on its corners, unperturbed, and its subdivision onto the unit sphere.
+    let g = (1.0 + 5f64.sqrt()) / 2.0;
+    let corners = [
+        [-1.0, g, 0.0],
+        [1.0, g, 0.0],
+        [-1.0, -g, 0.0],
+        [1.0, -g, 0.0],
+        [0.0, -1.0, g],
+        [0.0, 1.0, g],
+        [0.0, -1.0, -g],
+        [0.0, 1.0, -g],
+        [g, 0.0, -1.0],
+        [g, 0.0, 1.0],
+        [-g, 0.0, -1.0],
+        [-g, 0.0, 1.0],
+    ];
+    let mut v: Vec<DVec3> = corners.iter().map(|p| DVec3::from_array(*p).normalize()).collect();
+    let input = obj(&v.iter().map(|p| p.to_array()).collect::<Vec<_>>(), &f);
+    let mut middle: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut fine = Vec::new();
+    for &[a, b, c] in &f {
+        let mut m = |x: u32, y: u32| {
+            *middle.entry((x.min(y), x.max(y))).or_insert_with(|| {
+                v.push(((v[x as usize] + v[y as usize]) / 2.0).normalize());
+                v.len() as u32 - 1
+            })
+        };
+        let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+        fine.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    let output = obj(&v.iter().map(|p| p.to_array()).collect::<Vec<_>>(), &fine);
+    let report = check_texts(&input, &output);
+    assert!(!has(&report, "overlapping"), "{report}");
+    let [a, ab, ca] = fine[0];
+    assert_failure(
+        &report,
+        &format!(
+            "output face 1 (v{}, v{}, v{}) lies on no input face: v{} and v{}, off the input's edges, \
+             are in the plane of none of the input faces at v{}",
+            a + 1,
+            ab + 1,
+            ca + 1,
+            ab + 1,
+            ca + 1,
+            a + 1
+        ),
+    );
+    assert_failure(&report, "region 1 (containing input face 1) area ");
+    assert_failure(&report, "became 0");
+    // A vertex moved off its edge within the flat kite's plane leaves its faces on the input
+    // (its own failure is enough), and one moved off the plane does not.
+    let split = |m: [f64; 3]| {
+        let mut v = kite(false).to_vec();
+        v.push(m);
+        let faces = [[0, 4, 2], [4, 1, 2], [1, 4, 3], [4, 0, 3]];
+        check_texts(&obj(&kite(false), &KITE_F), &obj(&v, &faces))
+    };
+    let within = split([2.0, 1e-7, 0.0]);
+    assert_failure(&within, "output vertex 5 (2, 0.0000001, 0) is neither");
+    assert!(!has(&within, "lies on no input face"), "{within}");
+    let off = split([2.0, 0.0, 1e-7]);
+    assert_failure(
+        &off,
+        "output face 1 (v1, v5, v3) lies on no input face: v5, off the input's edges, is in the plane of \
+         none of the input faces at v1 and v3",
+    );
+}
