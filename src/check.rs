@@ -29,7 +29,10 @@
 //!    are computed at the corner opposite the longest edge from exact edge vectors, and summed
 //!    with compensation, so that they stay accurate far from the origin and for needle faces.
 //!    Regions that an output face fits equally (coplanar regions overlapping in a
-//!    self-intersecting input) are checked together, on their total area.
+//!    self-intersecting input) are checked together, on their total area. A face with a vertex
+//!    off the input's edges (a failure of rule 2) counts in a region whose plane holds it, and
+//!    proves no overlap; in the plane of no region at its other vertices, it lies on no input
+//!    face, a failure of its own, and counts in no region.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
@@ -45,12 +48,15 @@
 //! vertices at one position than the INPUT ([`Mesh3::read_like`]). A mesh the construction accepts
 //! without `--repair` is read welded, nothing kept apart.
 //!
-//! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind) with
-//! 1-based vertex and face numbers. [`Mesh3::read_obj`] numbers vertices in the order of their
-//! first `v` line, so the numbers are the OBJ numbers whenever the file has neither duplicated
-//! nor unused vertices. Nothing here panics on bad input: an unreadable or invalid INPUT gives a
-//! [`CheckError`] (or a failure line from [`check_meshes`]), anything wrong with OUTPUT gives
-//! failure lines.
+//! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind).
+//! [`check_files`] names vertices and faces as each file's format numbers them, as the
+//! construction's messages do: OBJ from 1 (a vertex by its first `v` line at that position, a
+//! triangle by the `f` line it comes from), OFF and PLY from 0, STL's vertices by position and
+//! its facets from 0; a face or vertex that makes a file unreadable or an input invalid is named
+//! with its line (or, in a binary file, its face record). [`check_meshes`] numbers the
+//! [`Mesh3`]'s own vertices and triangles from 1. Nothing here panics on bad input: an
+//! unreadable or invalid INPUT gives a [`CheckError`] (or a failure line from
+//! [`check_meshes`]), anything wrong with OUTPUT gives failure lines.
 
 use std::collections::HashSet;
 use std::f64::consts::PI;
@@ -58,6 +64,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
+use crate::io::formats::{show, Numbering, OriginKind};
 use crate::io::number::point_text;
 use crate::io::polygon::triangulate;
 use glam::DVec3;
@@ -183,6 +190,10 @@ pub struct CheckReport {
     /// input's per-vertex data does not carry over by number. From files, vertices are
     /// numbered as [`Mesh3::read_obj`] says: bit-identical positions welded, unused ones left out.
     pub first_reordered_vertex: Option<usize>,
+    /// That vertex as the output's file and the input's file name it (`vertex 7` in OBJ, from
+    /// 1; `vertex 6` in OFF and PLY, from 0; `vertex at (x, y, z)` in STL): the output's name,
+    /// then the input's.
+    pub first_reordered_vertex_names: Option<(String, String)>,
     /// Interior edges of the output (two faces, opposite directions).
     pub interior_edges: usize,
     /// Interior output edges with `alpha + beta > pi + DELAUNAY_TOLERANCE`.
@@ -221,6 +232,7 @@ impl CheckReport {
             added_vertices: 0,
             unused_vertices: 0,
             first_reordered_vertex: None,
+            first_reordered_vertex_names: None,
             interior_edges: 0,
             non_delaunay_edges: 0,
             max_excess: f64::NEG_INFINITY,
@@ -245,12 +257,8 @@ impl fmt::Display for CheckReport {
         if self.unused_vertices > 0 {
             writeln!(f, "unused output vertices (in no face): {}", self.unused_vertices)?;
         }
-        if let Some(k) = self.first_reordered_vertex {
-            writeln!(
-                f,
-                "input vertices not first in input order: output vertex {} differs",
-                k + 1
-            )?;
+        if let Some((output, _)) = &self.first_reordered_vertex_names {
+            writeln!(f, "input vertices not first in input order: output {output} differs")?;
         }
         writeln!(
             f,
@@ -283,27 +291,38 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let size = |path: &Path| std::fs::metadata(path).map_or(0, |m| m.len());
     let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
     let read_input = || {
-        read_welded(input).map(|(welded, file_corners, strays)| {
-            let in_file = welded.positions.len();
-            (settle(welded, &file_corners), strays, in_file)
+        read_welded(input).map(|mut welded| {
+            let in_file = welded.mesh.positions.len();
+            let mesh = settle(welded.mesh, &welded.file_corners);
+            welded.naming.name_copies(&mesh.positions, in_file);
+            (mesh, welded.strays, welded.naming, in_file)
         })
     };
     let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
-    let (mut input_mesh, input_strays, input_in_file) = input_read?;
-    let (welded, file_corners, output_strays) = output_read?;
-    let mut output_mesh = settle_like(welded, &file_corners, &input_mesh);
+    let (mut input_mesh, input_strays, input_naming, input_in_file) = input_read?;
+    let mut welded = output_read?;
+    let output_in_file = welded.mesh.positions.len();
+    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, &input_mesh);
+    welded.naming.name_copies(&output_mesh.positions, output_in_file);
+    let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
     // the files' own, in file order.
     let reordered = first_reordered_vertex(&input_mesh.positions[..input_in_file], &output_mesh.positions);
     // The vertices no face uses, after all the others (their own numbers are not the file's):
     // an output one must still be an input vertex or lie on an input edge.
     input_mesh.positions.extend(input_strays);
-    output_mesh.positions.extend(output_strays);
-    let mut report = check_core(&input_mesh, &output_mesh).map_err(|reason| CheckError::InvalidInput {
-        path: input.to_path_buf(),
-        reason,
+    output_mesh.positions.extend(welded.strays);
+    let mut report = check_core(&input_mesh, &output_mesh, &input_naming, &output_naming).map_err(|reason| {
+        CheckError::InvalidInput {
+            path: input.to_path_buf(),
+            reason,
+        }
     })?;
     report.first_reordered_vertex = reordered;
+    report.first_reordered_vertex_names = reordered.map(|k| {
+        let name = |mesh: &Mesh3, naming: &Naming| Names::new("", mesh, naming).vertex_noun(k as u32);
+        (name(&output_mesh, &output_naming), name(&input_mesh, &input_naming))
+    });
     Ok(report)
 }
 
@@ -319,12 +338,16 @@ fn first_reordered_vertex(input: &[DVec3], output: &[DVec3]) -> Option<usize> {
 /// position of an input vertex (used by a face or not) or on an input edge, and is counted in
 /// [`CheckReport::unused_vertices`]; unused input vertices are only such positions.
 pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
-    let mut report = check_core(input, output).unwrap_or_else(|reason| {
+    let naming = Naming::default();
+    let mut report = check_core(input, output, &naming, &naming).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
         report.failures.push(format!("input mesh is invalid: {reason}"));
         report
     });
     report.first_reordered_vertex = first_reordered_vertex(&input.positions, &output.positions);
+    report.first_reordered_vertex_names = report
+        .first_reordered_vertex
+        .map(|k| (format!("vertex {}", k + 1), format!("vertex {}", k + 1)));
     report
 }
 
@@ -338,8 +361,8 @@ impl Mesh3 {
     /// code the judge shares with the construction, for formats `tobj` does not read — followed
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners, _) = read_welded(path.as_ref())?;
-        Ok(settle(mesh, &file_corners))
+        let welded = read_welded(path.as_ref())?;
+        Ok(settle(welded.mesh, &welded.file_corners))
     }
 
     /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
@@ -348,8 +371,8 @@ impl Mesh3 {
     /// welding must be undone, see `split_welded_sheets`): there the file's own vertices are
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
-        let (welded, file_corners, _) = read_welded(path.as_ref())?;
-        Ok(settle_like(welded, &file_corners, input))
+        let welded = read_welded(path.as_ref())?;
+        Ok(settle_like(welded.mesh, &welded.file_corners, input))
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -370,8 +393,170 @@ impl Mesh3 {
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
-        let (mesh, file_corners, _) = read_obj_welded(path, bytes)?;
-        Ok(settle(mesh, &file_corners))
+        let welded = read_obj_welded(path, bytes)?;
+        Ok(settle(welded.mesh, &welded.file_corners))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Names of vertices and faces
+// ---------------------------------------------------------------------------------------------
+
+/// How failure lines name the vertices and faces of a mesh: as its file numbers them (OBJ from
+/// 1, OFF and PLY from 0, STL's vertices by their positions and its facets from 0), with the
+/// line (or, in a binary file, the face record) where the file says it. The default, for a
+/// mesh given as a [`Mesh3`], numbers its own vertices and triangles from 1 and knows no lines.
+#[derive(Clone, Debug, Default)]
+struct Naming {
+    /// How the file numbers its vertices and faces.
+    numbering: Numbering,
+    /// The file's vertex (from 0, in its vertex list) of every mesh vertex; where this is
+    /// shorter than the mesh's vertices, a vertex is its own.
+    vertex: Vec<u32>,
+    /// The file's face (from 0) of every triangle (a polygon gives several); where this is
+    /// shorter than the triangles, a triangle is its own.
+    face: Vec<u32>,
+    /// The line (or record) of every vertex of the file; empty: unknown.
+    vertex_origin: Vec<u32>,
+    /// The line (or record) of every face of the file; empty: unknown.
+    face_origin: Vec<u32>,
+    /// Whether the origins are lines or records.
+    origin_kind: OriginKind,
+}
+
+/// `numbers`, or nothing when it is `0, 1, 2, ...` (a [`Naming`]'s map that changes nothing:
+/// every triangle mesh whose file has no duplicated or unused vertex).
+fn identity_or(numbers: Vec<u32>) -> Vec<u32> {
+    if numbers.iter().enumerate().all(|(i, &n)| n as usize == i) {
+        Vec::new()
+    } else {
+        numbers
+    }
+}
+
+impl Naming {
+    /// Names the vertices that reading appended to the first `before` of `positions` (copies
+    /// where welding was undone) as the first vertex at their position.
+    fn name_copies(&mut self, positions: &[DVec3], before: usize) {
+        if positions.len() <= before {
+            return;
+        }
+        if self.vertex.len() < before {
+            let own = self.vertex.len() as u32..before as u32;
+            self.vertex.extend(own);
+        }
+        let mut first: FastMap<[u64; 3], u32> = FastMap::default();
+        for (v, p) in positions[..before].iter().enumerate().rev() {
+            first.insert(bits(*p), self.vertex[v]);
+        }
+        self.vertex.truncate(before);
+        for (v, p) in positions.iter().enumerate().skip(before) {
+            let number = first.get(&bits(*p)).copied().unwrap_or(v as u32);
+            self.vertex.push(number);
+        }
+    }
+}
+
+/// A mesh's [`Naming`] at work: `who` ("input" or "output") and the mesh, for failure lines.
+#[derive(Clone, Copy)]
+struct Names<'a> {
+    who: &'a str,
+    mesh: &'a Mesh3,
+    naming: &'a Naming,
+}
+
+impl<'a> Names<'a> {
+    /// The names of `mesh`'s vertices and faces, the mesh called `who`.
+    fn new(who: &'a str, mesh: &'a Mesh3, naming: &'a Naming) -> Names<'a> {
+        Names { who, mesh, naming }
+    }
+
+    /// The file's number of vertex `v`, as the file counts (from 1 or 0); its own index if the
+    /// file's is unknown.
+    fn vertex_number(&self, v: u32) -> u64 {
+        let file = match self.naming.vertex.get(v as usize) {
+            Some(&n) if n != u32::MAX => n,
+            _ => v,
+        };
+        let file = u64::from(file);
+        match self.naming.numbering {
+            Numbering::FromOne => file + 1,
+            Numbering::FromZero | Numbering::Stl => file,
+        }
+    }
+
+    /// Vertex `v` in a list: `v7`, or in STL its position `(x, y, z)`.
+    fn label(&self, v: u32) -> String {
+        match (self.naming.numbering, self.mesh.positions.get(v as usize)) {
+            (Numbering::Stl, Some(p)) => point_text(*p),
+            _ => format!("v{}", self.vertex_number(v)),
+        }
+    }
+
+    /// Vertex `v` on its own: `vertex 7`, or in STL `vertex at (x, y, z)`.
+    fn vertex_noun(&self, v: u32) -> String {
+        match (self.naming.numbering, self.mesh.positions.get(v as usize)) {
+            (Numbering::Stl, Some(p)) => format!("vertex at {}", point_text(*p)),
+            _ => format!("vertex {}", self.vertex_number(v)),
+        }
+    }
+
+    /// Vertex `v` with its position: `vertex 7 (x, y, z)`, or in STL `vertex at (x, y, z)`.
+    fn vertex(&self, v: u32) -> String {
+        match (self.naming.numbering, self.mesh.positions.get(v as usize)) {
+            (Numbering::Stl, _) | (_, None) => self.vertex_noun(v),
+            (_, Some(p)) => format!("vertex {} {}", self.vertex_number(v), point_text(*p)),
+        }
+    }
+
+    /// The file's face of triangle `f`: `face 4`, or in STL `facet 3`.
+    fn face_noun(&self, f: usize) -> String {
+        let file = self.naming.face.get(f).map_or(f as u64, |&x| u64::from(x));
+        match self.naming.numbering {
+            Numbering::FromOne => format!("face {}", file + 1),
+            Numbering::FromZero => format!("face {file}"),
+            Numbering::Stl => format!("facet {file}"),
+        }
+    }
+
+    /// Triangle `f` with its corners: `face 4 (v1, v2, v3)` (the file's face, of which the
+    /// triangle may be a piece).
+    fn face(&self, f: usize) -> String {
+        match self.mesh.triangles.get(f) {
+            Some(t) => format!("{} {}", self.face_noun(f), self.corners(t)),
+            None => self.face_noun(f),
+        }
+    }
+
+    /// The corners of a triangle: `(v1, v2, v3)`.
+    fn corners(&self, t: &[u32; 3]) -> String {
+        format!("({}, {}, {})", self.label(t[0]), self.label(t[1]), self.label(t[2]))
+    }
+
+    /// Where in the file triangle `f` is, as a failure line begins with it: `line 17: ` or
+    /// `face record 3: ` (empty when unknown).
+    fn face_at(&self, f: usize) -> String {
+        let file = self.naming.face.get(f).map_or(f, |&x| x as usize);
+        self.origin(self.naming.face_origin.get(file), "face record")
+    }
+
+    /// Where in the file vertex `v` is, as [`Names::face_at`]: `line 7: ` (empty when unknown
+    /// or in a binary file, whose vertex records are not faces).
+    fn vertex_at(&self, v: u32) -> String {
+        let file = self.naming.vertex.get(v as usize).copied().unwrap_or(v);
+        match self.naming.origin_kind {
+            OriginKind::Line => self.origin(self.naming.vertex_origin.get(file as usize), ""),
+            OriginKind::Record => String::new(),
+        }
+    }
+
+    /// `line N: ` or `{record} N: ` for an origin, if known.
+    fn origin(&self, origin: Option<&u32>, record: &str) -> String {
+        match (origin, self.naming.origin_kind) {
+            (Some(line), OriginKind::Line) => format!("line {line}: "),
+            (Some(n), OriginKind::Record) => format!("{record} {n}: "),
+            (None, _) => String::new(),
+        }
     }
 }
 
@@ -403,9 +588,17 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3) -> Mesh3
     settle(unweld(welded, file_corners, &short), file_corners)
 }
 
-/// A mesh read with bit-identical positions welded, the file's own vertex of each corner of its
-/// triangles, and the positions of its vertices that no face uses (in file order, each once).
-type Welded = (Mesh3, Vec<[u32; 3]>, Vec<DVec3>);
+/// A mesh read with bit-identical positions welded, before any welding is undone.
+struct Welded {
+    /// The mesh.
+    mesh: Mesh3,
+    /// The file's own vertex of each corner of its triangles.
+    file_corners: Vec<[u32; 3]>,
+    /// The positions of its vertices that no face uses (in file order, each once).
+    strays: Vec<DVec3>,
+    /// How the file numbers the mesh's vertices and faces.
+    naming: Naming,
+}
 
 /// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
 /// gzip-compressed) with the readers of [`crate::io::formats`].
@@ -433,7 +626,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         },
         reason,
     };
-    let raw = match format {
+    let mut raw = match format {
         None | Some(formats::Format::Obj) => return read_obj_welded(path, &bytes),
         Some(formats::Format::Off) => formats::read_off(&bytes),
         Some(formats::Format::Ply) => formats::read_ply(&bytes),
@@ -454,6 +647,8 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         .map(|p| welder.insert(DVec3::from_array(*p)))
         .collect::<Result<_, _>>()
         .map_err(parse_error)?;
+    // The file's face of every triangle (a polygon gives several).
+    let mut face_of = Vec::new();
     for f in 0..raw.face_start.len().saturating_sub(1) {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         triangulate(poly.len(), |i| raw.positions[poly[i] as usize], &mut pieces);
@@ -465,6 +660,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
             } else {
                 corners.map(|v| ids[v as usize])
             });
+            face_of.push(f as u32);
         }
     }
     if triangles.is_empty() {
@@ -475,19 +671,39 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
     // Keep only used vertices, in file order (welded ids are already in first-seen order).
     let mut used = vec![false; welder.positions.len()];
     triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
+    // The file's (first) vertex of every welded one.
+    let mut first_in_file = vec![u32::MAX; welder.positions.len()];
+    for (i, &id) in ids.iter().enumerate().rev() {
+        first_in_file[id as usize] = i as u32;
+    }
     let mut new_id = vec![u32::MAX; used.len()];
     let mut positions = Vec::new();
+    let mut file_vertex = Vec::new();
     let mut strays = Vec::new();
     for (i, p) in welder.positions.iter().enumerate() {
         if used[i] {
             new_id[i] = positions.len() as u32;
             positions.push(*p);
+            file_vertex.push(first_in_file[i]);
         } else {
             strays.push(*p);
         }
     }
     let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
-    Ok((Mesh3 { positions, triangles }, file_corners, strays))
+    let naming = Naming {
+        numbering: raw.numbering,
+        vertex: identity_or(file_vertex),
+        face: identity_or(face_of),
+        vertex_origin: std::mem::take(&mut raw.vertex_origin),
+        face_origin: std::mem::take(&mut raw.face_origin),
+        origin_kind: raw.origin_kind,
+    };
+    Ok(Welded {
+        mesh: Mesh3 { positions, triangles },
+        file_corners,
+        strays,
+        naming,
+    })
 }
 
 /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
@@ -515,7 +731,8 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     if let Some(line) = first_binary_line(&joined) {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
-    let bytes = &geometry_lines(&joined);
+    let geometry = geometry_lines(&joined).map_err(parse_error)?;
+    let bytes = &geometry.text;
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
@@ -523,7 +740,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         ignore_lines: true,
     };
     let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| parse_error(e.to_string()))?;
+        .map_err(|e| parse_error(obj_syntax_error(bytes, &joined).unwrap_or_else(|| e.to_string())))?;
 
     let mut welder = Welder::default();
     let mut triangles = Vec::new();
@@ -532,6 +749,10 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     // is one model, whose indices tell the file's vertices apart.
     let mut file_corners = Vec::new();
     let mut base = 0u32;
+    // The file's face (its `f` line, from 0) of every triangle: tobj makes one face of every
+    // `f` line (`geometry_lines` leaves none of fewer than 3 corners), in order.
+    let mut face_of = Vec::new();
+    let mut faces_before = 0u32;
     for model in &models {
         let slots = fan_corners(&model.mesh).map_err(parse_error)?;
         let corners: Vec<[u32; 3]> = slots.iter().map(|t| t.map(|k| model.mesh.indices[k])).collect();
@@ -540,21 +761,58 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
             .map_err(parse_error)?;
         file_corners.extend(corners.iter().map(|t| t.map(|i| base + i)));
         base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
+        faces_before += faces_of_slots(&model.mesh, &slots, faces_before, &mut face_of);
     }
     if triangles.is_empty() {
         return Err(CheckError::NoFaces {
             path: path.to_path_buf(),
         });
     }
-    let (mesh, strays) = renumber_by_obj_order(welder.positions, triangles, bytes);
+    let (mesh, strays, file_vertex) = renumber_by_obj_order(welder.positions, triangles, bytes);
+    let naming = Naming {
+        numbering: Numbering::FromOne,
+        vertex: identity_or(file_vertex),
+        face: identity_or(face_of),
+        vertex_origin: geometry.vertex_lines,
+        face_origin: geometry.face_lines,
+        origin_kind: OriginKind::Line,
+    };
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        let names = Names::new("", &mesh, &naming);
         return Err(parse_error(format!(
-            "vertex {} {} has a non-finite coordinate",
-            i + 1,
-            point_text(mesh.positions[i])
+            "{}{} has a non-finite coordinate",
+            names.vertex_at(i as u32),
+            names.vertex(i as u32)
         )));
     }
-    Ok((mesh, file_corners, strays))
+    Ok(Welded {
+        mesh,
+        file_corners,
+        strays,
+        naming,
+    })
+}
+
+/// Appends to `face_of` the face of each triangle of `slots` (from [`fan_corners`] on `mesh`),
+/// numbering `mesh`'s faces from `first`; returns how many faces `mesh` has.
+fn faces_of_slots(mesh: &tobj::Mesh, slots: &[[usize; 3]], first: u32, face_of: &mut Vec<u32>) -> u32 {
+    if mesh.face_arities.is_empty() {
+        // Triangles only: slot 3k is the first corner of face k.
+        face_of.extend(slots.iter().map(|t| first + (t[0] / 3) as u32));
+        return (mesh.indices.len() / 3) as u32;
+    }
+    // Each face's corners are the next `arity` slots; its triangles' slots are among them.
+    let mut face = 0;
+    let mut end = mesh.face_arities.first().map_or(0, |&a| a as usize);
+    for t in slots {
+        let slot = t[0].min(t[1]).min(t[2]);
+        while slot >= end && face + 1 < mesh.face_arities.len() {
+            face += 1;
+            end += mesh.face_arities[face] as usize;
+        }
+        face_of.push(first + face as u32);
+    }
+    mesh.face_arities.len() as u32
 }
 
 /// The triangles of a tobj model read without triangulation, as slots of
@@ -613,15 +871,20 @@ fn comment_start(line: &[u8]) -> usize {
 /// every other statement removed. The judge compares geometry only: texture coordinates,
 /// normals, groups and materials, and their defects, are not its business (the construction
 /// drops a defective attribute with a note, and must not be failed by a reader that refuses it).
-fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
+///
+/// Errors (`line N: ...`) on an `f` line of fewer than 3 corners: tobj would read it as a
+/// point or a line and drop it unseen, where the construction refuses the file.
+fn geometry_lines(bytes: &[u8]) -> Result<Geometry, String> {
     let mut out = Vec::with_capacity(bytes.len());
-    for line in bytes.split(|&c| c == b'\n') {
+    let (mut vertex_lines, mut face_lines) = (Vec::new(), Vec::new());
+    for (i, line) in bytes.split(|&c| c == b'\n').enumerate() {
         let code = &line[..comment_start(line)];
         let mut words = code
             .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
             .filter(|w| !w.is_empty());
         match words.next() {
             Some(b"v") => {
+                vertex_lines.push((i + 1) as u32);
                 // A colour (x y z r g b) is dropped; a weight (x y z w) kept.
                 out.push(b'v');
                 let mut cut = out.len();
@@ -640,10 +903,18 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
                 }
             }
             Some(b"f") => {
+                face_lines.push((i + 1) as u32);
                 out.push(b'f');
+                let mut count = 0;
                 for corner in words {
+                    count += 1;
                     out.push(b' ');
-                    out.extend_from_slice(corner.split(|&c| c == b'/').next().unwrap_or(&[]));
+                    // (A corner without a vertex index, `/3`, is kept whole: tobj refuses it.)
+                    let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
+                    out.extend_from_slice(if vertex.is_empty() { corner } else { vertex });
+                }
+                if count < 3 {
+                    return Err(format!("line {}: face has {count} vertices, needs at least 3", i + 1));
                 }
             }
             _ => {}
@@ -651,7 +922,96 @@ fn geometry_lines(bytes: &[u8]) -> Vec<u8> {
         // Every line stays (empty if dropped), so that line numbers keep their meaning.
         out.push(b'\n');
     }
-    out
+    Ok(Geometry {
+        text: out,
+        vertex_lines,
+        face_lines,
+    })
+}
+
+/// What [`geometry_lines`] gives: the text for tobj, and where its vertices and faces are.
+struct Geometry {
+    /// The `v` and `f` lines, every other line left empty.
+    text: Vec<u8>,
+    /// The line (from 1) of every `v` line, in order.
+    vertex_lines: Vec<u32>,
+    /// The line (from 1) of every `f` line, in order.
+    face_lines: Vec<u32>,
+}
+
+/// Why tobj refuses an OBJ file, with the line: tobj names no line, so once it has failed
+/// the `geometry` lines ([`geometry_lines`] of `original`, line for line) are read again one by
+/// one, as tobj reads them, for the first it cannot read (`line N: ...`). `None` if none is
+/// found (then tobj's own words are all there is).
+fn obj_syntax_error(geometry: &[u8], original: &[u8]) -> Option<String> {
+    let mut vertices = 0i64;
+    // Lines with an index past the vertices read so far, which only the whole file can
+    // decide (forward references): (line, index).
+    let mut forward: Vec<(usize, i64)> = Vec::new();
+    let pairs = geometry.split(|&c| c == b'\n').zip(original.split(|&c| c == b'\n'));
+    for (i, (line, raw)) in pairs.enumerate() {
+        let words: Vec<&[u8]> = line.split(|&c| c == b' ').filter(|w| !w.is_empty()).collect();
+        let why = match words.split_first() {
+            Some((&b"v", values)) => {
+                vertices += 1;
+                vertex_syntax_error(values, vertices)
+            }
+            Some((&b"f", corners)) => corners.iter().find_map(|&corner| {
+                let value = std::str::from_utf8(corner).ok().and_then(|t| t.parse::<isize>().ok());
+                match value.map(|v| v as i64) {
+                    None => Some(format!("face index '{}' is not an integer", show(corner))),
+                    Some(0) => Some("face index 0 (OBJ indices start at 1)".to_string()),
+                    Some(v) if v < 0 && vertices + v < 0 => Some(format!(
+                        "face index {v} is out of range (counted back from the {vertices} vertices before it)"
+                    )),
+                    Some(v) => {
+                        if v > vertices {
+                            forward.push((i + 1, v));
+                        }
+                        None
+                    }
+                }
+            }),
+            _ => None,
+        };
+        if let Some(why) = why {
+            // A carriage return inside the line (a line end of classic Mac OS among others)
+            // joins two statements into one that cannot be read.
+            let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+            let hint = if raw.contains(&b'\r') {
+                " (a carriage return inside this line ends no line: convert the file's line ends to line feeds)"
+            } else {
+                ""
+            };
+            return Some(format!("line {}: {why}{hint}", i + 1));
+        }
+    }
+    let (line, v) = forward.into_iter().find(|&(_, v)| v > vertices)?;
+    Some(format!(
+        "line {line}: face index {v} is out of range (the file has {vertices} vertices)"
+    ))
+}
+
+/// Why tobj cannot read the values of a `v` line (vertex `number` of the file), if it cannot.
+fn vertex_syntax_error(values: &[&[u8]], number: i64) -> Option<String> {
+    let number_of = |w: &[u8]| std::str::from_utf8(w).ok().and_then(|t| t.parse::<f64>().ok());
+    if values.len() < 3 {
+        return Some(format!("vertex has {} coordinates, needs 3", values.len()));
+    }
+    if let Some(w) = values[..3].iter().find(|w| number_of(w).is_none()) {
+        return Some(format!("vertex coordinate '{}' is not a number", show(w)));
+    }
+    match values.len() {
+        3 | 6 => None,
+        4 => match number_of(values[3]) {
+            None => Some(format!("vertex weight '{}' is not a number", show(values[3]))),
+            Some(0.0) => Some(format!("vertex {number} has weight 0 (x y z are divided by it)")),
+            Some(_) => None,
+        },
+        n => Some(format!(
+            "vertex line has {n} values: expected x y z, x y z w or x y z r g b"
+        )),
+    }
 }
 
 /// The first line (from 1) whose statement, before any comment, holds
@@ -910,8 +1270,13 @@ impl Welder {
 /// Renumbers the welded vertices in the order of their first `v` line in the file (the welder
 /// numbers them in order of first use). Vertices not found in the scan keep their relative order
 /// after all others. Also returns the positions of the `v` lines that no face uses (tobj keeps
-/// used positions only), in file order.
-fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes: &[u8]) -> (Mesh3, Vec<DVec3>) {
+/// used positions only), in file order, and the file's number (from 0) of every vertex: that
+/// of its first `v` line (`u32::MAX` if not found).
+fn renumber_by_obj_order(
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    bytes: &[u8],
+) -> (Mesh3, Vec<DVec3>, Vec<u32>) {
     let first_line = obj_vertex_numbers(bytes);
     // Every used position has a `v` line: as many positions as lines, and none is a stray.
     let mut strays: Vec<(usize, [u64; 3])> = Vec::new();
@@ -937,6 +1302,10 @@ fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes:
         })
         .collect();
     keyed.sort_unstable();
+    let file_vertex = keyed
+        .iter()
+        .map(|&(line, _)| u32::try_from(line).unwrap_or(u32::MAX))
+        .collect();
     let order: Vec<u32> = keyed.into_iter().map(|(_, i)| i).collect();
     let mut new_id = vec![0u32; positions.len()];
     for (rank, &old) in order.iter().enumerate() {
@@ -946,7 +1315,7 @@ fn renumber_by_obj_order(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>, bytes:
         positions: order.iter().map(|&i| positions[i as usize]).collect(),
         triangles: triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect(),
     };
-    (mesh, strays)
+    (mesh, strays, file_vertex)
 }
 
 /// Maps every position written on a `v` line to the 0-based number of its first `v` line,
@@ -1003,8 +1372,15 @@ fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
 // The check
 // ---------------------------------------------------------------------------------------------
 
-/// Runs every check; `Err` carries why the input is invalid.
-fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
+/// Runs every check, naming the meshes' vertices and faces as their files do (`input_naming`,
+/// `output_naming`); `Err` carries why the input is invalid.
+fn check_core(
+    input: &Mesh3,
+    output: &Mesh3,
+    input_naming: &Naming,
+    output_naming: &Naming,
+) -> Result<CheckReport, String> {
+    let output_names = Names::new("output", output, output_naming);
     // Independent pieces run on two threads for large meshes (see `crate::parallel::join`):
     // the input's model beside the output's edges, then the output's Delaunay test beside the
     // geometry rules. Failures are recorded in the same order either way.
@@ -1012,8 +1388,8 @@ fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
     let mut fail = Failures::default();
     let (model, out) = crate::parallel::join(
         worth_it,
-        || InputModel::new(input),
-        || Prepared::new(output, "output", &mut fail),
+        || InputModel::new(input, input_naming),
+        || Prepared::new(&output_names, &mut fail),
     );
     let model = model?;
     let mut report = CheckReport::empty(input, output);
@@ -1026,16 +1402,16 @@ fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
             worth_it,
             || delaunay_edges(output, &out.edges),
             || {
-                let candidates = classify_output_vertices(&model, output, &out.referenced, &mut fail);
+                let candidates = classify_output_vertices(&model, &output_names, &out.referenced, &mut fail);
                 report.added_vertices = candidates.added;
                 report.unused_vertices = candidates.unused;
-                let mut assignment = assign_faces(&model.regions, output, &candidates, &mut fail);
+                let mut assignment = assign_faces(&model, &output_names, &candidates, &mut fail);
                 let rounding = rounding_allowance(&model, &candidates.edge_has_added);
-                check_areas(&model.regions, &mut assignment, &rounding, &mut fail);
+                check_areas(&model, &mut assignment, &rounding, &mut fail);
                 compare_topology(&model.prepared.stats, &out.stats, &mut fail);
             },
         );
-        delaunay.report(&mut fail);
+        delaunay.report(&output_names, &mut fail);
         report.interior_edges = delaunay.interior;
         report.non_delaunay_edges = delaunay.bad.len();
         report.max_excess = delaunay.max_excess;
@@ -1047,6 +1423,8 @@ fn check_core(input: &Mesh3, output: &Mesh3) -> Result<CheckReport, String> {
 /// The validated input with its planar regions.
 struct InputModel<'a> {
     mesh: &'a Mesh3,
+    /// How failure lines name the input's vertices and faces.
+    names: Names<'a>,
     prepared: Prepared,
     regions: Regions,
     /// Regions of the faces around each input vertex (sorted, unique).
@@ -1056,12 +1434,13 @@ struct InputModel<'a> {
 impl<'a> InputModel<'a> {
     /// Validates the input (indices, finite coordinates, oriented manifold) and computes its
     /// planar regions.
-    fn new(mesh: &'a Mesh3) -> Result<InputModel<'a>, String> {
+    fn new(mesh: &'a Mesh3, naming: &'a Naming) -> Result<InputModel<'a>, String> {
         if mesh.triangles.is_empty() {
             return Err("the mesh has no faces".into());
         }
+        let names = Names::new("input", mesh, naming);
         let mut problems = Failures::default();
-        let prepared = Prepared::new(mesh, "input", &mut problems);
+        let prepared = Prepared::new(&names, &mut problems);
         let prepared = match prepared {
             Some(p) if problems.is_empty() => p,
             _ => return Err(problems.summary(5)),
@@ -1076,6 +1455,7 @@ impl<'a> InputModel<'a> {
         let vertex_regions = Csr::from_pairs(mesh.positions.len(), &corners).sorted_unique();
         Ok(InputModel {
             mesh,
+            names,
             prepared,
             regions,
             vertex_regions,
@@ -1109,7 +1489,8 @@ struct Prepared {
 impl Prepared {
     /// Validates indices and coordinates (failures and `None` when wrong), then builds the edges
     /// and topology, reporting non-manifold features as failures.
-    fn new(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Option<Prepared> {
+    fn new(names: &Names, fail: &mut Failures) -> Option<Prepared> {
+        let (mesh, who) = (names.mesh, names.who);
         let n = mesh.positions.len();
         let failures_before = fail.total();
         let mut referenced = vec![false; n];
@@ -1118,7 +1499,12 @@ impl Prepared {
                 match referenced.get_mut(v as usize) {
                     Some(r) => *r = true,
                     None => fail.push(KIND_INDEX, || {
-                        format!("{who} face {} refers to vertex {} of {n}", f + 1, v as u64 + 1)
+                        format!(
+                            "{}{who} {} refers to vertex {} of {n}",
+                            names.face_at(f),
+                            names.face_noun(f),
+                            names.vertex_number(v)
+                        )
                     }),
                 }
             }
@@ -1129,16 +1515,18 @@ impl Prepared {
         for (v, p) in mesh.positions.iter().enumerate() {
             if referenced[v] && !p.is_finite() {
                 fail.push(KIND_INDEX, || {
-                    format!("{who} vertex {} {} is not finite", v + 1, point_text(*p))
+                    let v = v as u32;
+                    format!("{}{who} {} is not finite", names.vertex_at(v), names.vertex(v))
                 });
             } else if referenced[v] && !crate::io::in_supported_range(*p) {
                 // Products of such coordinates overflow: areas and angles
                 // would read NaN. The construction refuses them too.
                 fail.push(KIND_INDEX, || {
+                    let v = v as u32;
                     format!(
-                        "{who} vertex {} {} has a coordinate beyond ±{:e}, the supported range",
-                        v + 1,
-                        point_text(*p),
+                        "{}{who} {} has a coordinate beyond ±{:e}, the supported range",
+                        names.vertex_at(v),
+                        names.vertex(v),
                         crate::io::MAX_COORDINATE
                     )
                 });
@@ -1147,8 +1535,8 @@ impl Prepared {
         if fail.total() > failures_before {
             return None;
         }
-        let edges = build_edges(mesh, who, fail);
-        let stats = topology_stats(mesh, &referenced, &edges, who, fail);
+        let edges = build_edges(names, fail);
+        let stats = topology_stats(names, &referenced, &edges, fail);
         Some(Prepared {
             referenced,
             edges,
@@ -1202,12 +1590,13 @@ fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
 
 /// Builds the undirected edges of the non-degenerate faces (sorted by vertex pair), reporting
 /// degenerate faces, edges with more than two faces and edges used twice in one direction.
-fn build_edges(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Vec<Edge> {
+fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
+    let (mesh, who) = (names.mesh, names.who);
     let mut halves: Vec<(u32, (u32, u32, bool))> = Vec::with_capacity(mesh.triangles.len() * 3);
     for (f, t) in mesh.triangles.iter().enumerate() {
         if is_degenerate(t) {
             fail.push(KIND_DEGENERATE, || {
-                format!("{who} face {} {} repeats a vertex", f + 1, fmt_face(t))
+                format!("{}{who} {} repeats a vertex", names.face_at(f), names.face(f))
             });
             continue;
         }
@@ -1224,7 +1613,7 @@ fn build_edges(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Vec<Edge> {
         let row = &mut by_lo[starts[lo]..starts[lo + 1]];
         row.sort_unstable();
         for group in row.chunk_by(|x, y| x.0 == y.0) {
-            push_edge(lo as u32, group, &mut edges, who, fail);
+            push_edge(lo as u32, group, &mut edges, names, fail);
         }
     }
     edges
@@ -1232,7 +1621,10 @@ fn build_edges(mesh: &Mesh3, who: &str, fail: &mut Failures) -> Vec<Edge> {
 
 /// Appends the edge `(lo, hi)` made of `group` (all `(hi, face, forward)` entries of one vertex
 /// pair), reporting it when it has more than two faces or is misoriented.
-fn push_edge(lo: u32, group: &[(u32, u32, bool)], edges: &mut Vec<Edge>, who: &str, fail: &mut Failures) {
+/// A failure line names the line of the edge's third face, or its second, as the construction's
+/// reader names the face where it finds the problem.
+fn push_edge(lo: u32, group: &[(u32, u32, bool)], edges: &mut Vec<Edge>, names: &Names, fail: &mut Failures) {
+    let who = names.who;
     let (hi, f0, d0) = group[0];
     let second = group.get(1).copied();
     let edge = Edge {
@@ -1244,22 +1636,29 @@ fn push_edge(lo: u32, group: &[(u32, u32, bool)], edges: &mut Vec<Edge>, who: &s
     };
     if edge.count > 2 {
         fail.push(KIND_MANIFOLD, || {
+            let third = group[2].1 as usize;
+            let faces: Vec<String> = group.iter().take(4).map(|g| names.face_noun(g.1 as usize)).collect();
+            let more = if group.len() > 4 { ", ..." } else { "" };
             format!(
-                "{who} edge (v{}, v{}) is shared by {} faces",
-                lo + 1,
-                hi + 1,
-                edge.count
+                "{}{who} edge ({}, {}) is shared by {} faces ({}{more})",
+                names.face_at(third),
+                names.label(lo),
+                names.label(hi),
+                edge.count,
+                faces.join(", ")
             )
         });
     } else if edge.count == 2 && !edge.is_interior() {
         fail.push(KIND_MANIFOLD, || {
+            let (f, g) = (edge.faces[0] as usize, edge.faces[1] as usize);
             format!(
-                "{who} faces {} and {} use edge (v{}, v{}) in the same direction \
+                "{}{who} {} and {} use edge ({}, {}) in the same direction \
                  (inconsistent orientation)",
-                edge.faces[0] + 1,
-                edge.faces[1] + 1,
-                lo + 1,
-                hi + 1
+                names.face_at(g),
+                names.face_noun(f),
+                names.face_noun(g),
+                names.label(lo),
+                names.label(hi)
             )
         });
     }
@@ -1283,9 +1682,10 @@ struct TopologyStats {
 }
 
 /// Computes the invariants, reporting vertices whose faces do not form a single fan.
-fn topology_stats(mesh: &Mesh3, referenced: &[bool], edges: &[Edge], who: &str, fail: &mut Failures) -> TopologyStats {
+fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut Failures) -> TopologyStats {
+    let mesh = names.mesh;
     let errors_before = fail.total();
-    check_vertex_fans(mesh, who, fail);
+    check_vertex_fans(names, fail);
     let manifold = fail.total() == errors_before && edges.iter().all(|e| e.count == 1 || e.is_interior());
     let vertices = referenced.iter().filter(|&&r| r).count();
     TopologyStats {
@@ -1299,7 +1699,8 @@ fn topology_stats(mesh: &Mesh3, referenced: &[bool], edges: &[Edge], who: &str, 
 }
 
 /// Reports every vertex whose faces do not form a single fan (a disk or half-disk).
-fn check_vertex_fans(mesh: &Mesh3, who: &str, fail: &mut Failures) {
+fn check_vertex_fans(names: &Names, fail: &mut Failures) {
+    let (mesh, who) = (names.mesh, names.who);
     let mut corners: Vec<(u32, (u32, u32))> = Vec::with_capacity(mesh.triangles.len() * 3);
     for t in mesh.triangles.iter().filter(|t| !is_degenerate(t)) {
         for k in 0..3 {
@@ -1312,10 +1713,11 @@ fn check_vertex_fans(mesh: &Mesh3, who: &str, fail: &mut Failures) {
         let link = &mut links[counts[v]..counts[v + 1]];
         if !link.is_empty() && is_single_fan(link) == Some(false) {
             fail.push(KIND_MANIFOLD, || {
+                let v = v as u32;
                 format!(
-                    "{who} vertex {} {}: its faces do not form a single fan (non-manifold vertex)",
-                    v + 1,
-                    point_text(mesh.positions[v])
+                    "{}{who} {}: its faces do not form a single fan (non-manifold vertex)",
+                    names.vertex_at(v),
+                    names.vertex(v)
                 )
             });
         }
@@ -1433,6 +1835,8 @@ struct Regions {
     area: Vec<f64>,
     /// Unit normal of every region (of its largest face; zero if all its faces have zero area).
     normal: Vec<DVec3>,
+    /// A point of every region's plane (a corner of its largest face).
+    anchor: Vec<DVec3>,
     /// The region's plane seen along one coordinate axis: every output face of the region must
     /// have, exactly, the orientation `plane.sign` in the projection along `plane.axis`.
     plane: Vec<Projection>,
@@ -1490,6 +1894,10 @@ impl Regions {
             }
         }
         let normal = largest.iter().map(|&(_, _, n)| n.normalize_or_zero()).collect();
+        let anchor = largest
+            .iter()
+            .map(|&(_, f, _)| mesh.positions[mesh.triangles[f as usize][0] as usize])
+            .collect();
         let plane = largest
             .iter()
             .map(|&(_, f, _)| Projection::of_face(corners(mesh, &mesh.triangles[f as usize])))
@@ -1498,15 +1906,29 @@ impl Regions {
             of_face,
             area: area.iter().map(CompensatedSum::value).collect(),
             normal,
+            anchor,
             plane,
             first_face,
             total_area: total_area.value(),
         }
     }
 
-    /// A name for region `r` in failure lines.
-    fn name(&self, r: usize) -> String {
-        format!("region {} (containing input face {})", r + 1, self.first_face[r] + 1)
+    /// A name for region `r` in failure lines, its face named by `input` (the input's names).
+    fn name(&self, r: usize, input: &Names) -> String {
+        format!(
+            "region {} (containing input {})",
+            r + 1,
+            input.face_noun(self.first_face[r] as usize)
+        )
+    }
+
+    /// Whether point `p` is in the plane of region `r`: within [`ON_EDGE_TOLERANCE`] of it,
+    /// relative to the largest coordinate (of `p` and of the plane's point), as a point on an
+    /// input edge is on it.
+    fn holds(&self, r: usize, p: DVec3) -> bool {
+        let anchor = self.anchor[r];
+        let scale = p.abs().max_element().max(anchor.abs().max_element()).max(1e-300);
+        self.normal[r].dot(p - anchor).abs() <= ON_EDGE_TOLERANCE * scale
     }
 
     /// The exact orientation of a triangle relative to region `r`: 1 when its projection along
@@ -1924,11 +2346,12 @@ struct Candidates {
 /// Checks rules 1 and 2 and returns the candidate regions of every output vertex.
 fn classify_output_vertices(
     model: &InputModel,
-    output: &Mesh3,
+    output_names: &Names,
     out_referenced: &[bool],
     fail: &mut Failures,
 ) -> Candidates {
     let input = model.mesh;
+    let output = output_names.mesh;
     // Input vertices by position; several share one position where a pinch was read as
     // separate fans (see `split_pinched_vertices`): `same_next` chains them.
     const END: u32 = u32::MAX;
@@ -2024,9 +2447,8 @@ fn classify_output_vertices(
             if on_edges.is_empty() {
                 fail.push(KIND_VERTEX, || {
                     format!(
-                        "output vertex {} {} is neither an input vertex nor on an input edge",
-                        v + 1,
-                        point_text(p)
+                        "output {} is neither an input vertex nor on an input edge",
+                        output_names.vertex(v as u32)
                     )
                 });
             } else {
@@ -2038,10 +2460,10 @@ fn classify_output_vertices(
         }
         regions.finish_row();
     }
-    for (v, &p) in input.positions.iter().enumerate() {
-        if model.prepared.referenced[v] && !seen[v] {
+    for (v, &seen) in seen.iter().enumerate() {
+        if model.prepared.referenced[v] && !seen {
             fail.push(KIND_MISSING, || {
-                format!("input vertex {} {} missing from output", v + 1, point_text(p))
+                format!("input {} missing from output", model.names.vertex(v as u32))
             });
         }
     }
@@ -2669,7 +3091,14 @@ struct Assignment {
 /// the shared regions (coplanar regions that overlap, possible in a self-intersecting input), it
 /// cannot be told from geometry which one it belongs to: those regions form one group, whose
 /// total area is checked ([`check_areas`]).
-fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail: &mut Failures) -> Assignment {
+///
+/// A face with a vertex that is neither an input vertex nor on an input edge (reported by
+/// [`classify_output_vertices`]) goes to the regions of its other vertices whose planes hold that
+/// vertex too, and proves no overlap (it joins no group). In the plane of none of them, it lies on
+/// no input face: a failure, its area in no region. A face with no such other vertex is left to
+/// its vertices' failures.
+fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidates, fail: &mut Failures) -> Assignment {
+    let (regions, output) = (&model.regions, output_names.mesh);
     let mut assigned = vec![CompensatedSum::default(); regions.area.len()];
     let mut groups = UnionFind::new(regions.area.len());
     let mut common = Vec::new();
@@ -2679,6 +3108,7 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
             continue;
         }
         let mut known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
+        let all_known = known.len() == 3;
         // The common regions are found by walking the shortest list (sorted: the same result
         // from any of them): a vertex of high valence can have thousands.
         known.sort_by_key(|&v| candidates.regions.row(v as usize).len());
@@ -2692,6 +3122,27 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
         }));
         let triangle = corners(output, t);
         let normal = triangle_normal(triangle);
+        if !all_known {
+            // Only the regions whose planes hold the face's vertices off the input's edges.
+            let off = || t.iter().filter(|&&v| !candidates.known[v as usize]);
+            common.retain(|&r| off().all(|&v| regions.holds(r as usize, output.positions[v as usize])));
+            if common.is_empty() {
+                fail.push(KIND_FACE, || {
+                    known.sort_unstable();
+                    let at: Vec<String> = known.iter().map(|&v| output_names.label(v)).collect();
+                    let off: Vec<String> = off().map(|&v| output_names.label(v)).collect();
+                    let verb = if off.len() == 1 { "is" } else { "are" };
+                    format!(
+                        "output {} lies on no input face: {}, off the input's edges, {verb} in the plane \
+                         of none of the input faces at {}",
+                        output_names.face(f),
+                        off.join(" and "),
+                        at.join(" and ")
+                    )
+                });
+                continue;
+            }
+        }
         scored.clear();
         scored.extend(common.iter().map(|&r| {
             let r = r as usize;
@@ -2704,10 +3155,9 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
         let Some((side, _, r)) = best else {
             fail.push(KIND_FACE, || {
                 format!(
-                    "output face {} {} does not lie inside one planar region of the input \
+                    "output {} does not lie inside one planar region of the input \
                      (its vertices share no region)",
-                    f + 1,
-                    fmt_face(t)
+                    output_names.face(f)
                 )
             });
             continue;
@@ -2715,7 +3165,8 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
         assigned[r].add(0.5 * normal.length());
         if side > 0 {
             for &(other_side, _, other) in &scored {
-                if other_side > 0 && other != r {
+                // (A face with a vertex off the input's edges proves no overlap.)
+                if other_side > 0 && other != r && all_known {
                     groups.union(r as u32, other as u32);
                 }
             }
@@ -2730,10 +3181,9 @@ fn assign_faces(regions: &Regions, output: &Mesh3, candidates: &Candidates, fail
                 };
                 let dot = regions.normal[r].dot(normal.normalize_or_zero());
                 format!(
-                    "output face {} {} {what} {} (unit normal . region normal = {dot:.3e})",
-                    f + 1,
-                    fmt_face(t),
-                    regions.name(r)
+                    "output {} {what} {} (unit normal . region normal = {dot:.3e})",
+                    output_names.face(f),
+                    regions.name(r, &model.names)
                 )
             });
         }
@@ -2773,7 +3223,8 @@ fn rounding_allowance(model: &InputModel, edge_has_added: &[bool]) -> Vec<f64> {
 
 /// Checks rule 4: every region keeps its area; regions grouped by [`assign_faces`] keep their
 /// total area. `rounding_of` is [`rounding_allowance`].
-fn check_areas(regions: &Regions, assignment: &mut Assignment, rounding_of: &[f64], fail: &mut Failures) {
+fn check_areas(model: &InputModel, assignment: &mut Assignment, rounding_of: &[f64], fail: &mut Failures) {
+    let regions = &model.regions;
     let n = regions.area.len();
     let mut before = vec![CompensatedSum::default(); n];
     let mut after = vec![CompensatedSum::default(); n];
@@ -2793,9 +3244,9 @@ fn check_areas(regions: &Regions, assignment: &mut Assignment, rounding_of: &[f6
         let kept = (after - before).abs() <= tolerance; // false for NaN too
         if !kept {
             fail.push(KIND_AREA, || match members[root].as_slice() {
-                [r] => format!("{} area {before} became {after}", regions.name(*r)),
+                [r] => format!("{} area {before} became {after}", regions.name(*r, &model.names)),
                 group => {
-                    let names: Vec<String> = group.iter().take(6).map(|&r| regions.name(r)).collect();
+                    let names: Vec<String> = group.iter().take(6).map(|&r| regions.name(r, &model.names)).collect();
                     let more = if group.len() > 6 { ", ..." } else { "" };
                     format!(
                         "the {} overlapping coplanar regions {}{more} (whose faces cannot be told \
@@ -2822,14 +3273,14 @@ struct DelaunayStats {
 }
 
 impl DelaunayStats {
-    /// Records the non-Delaunay edges as failures, worst first.
-    fn report(&self, fail: &mut Failures) {
+    /// Records the non-Delaunay edges as failures, worst first, named by `output`.
+    fn report(&self, output: &Names, fail: &mut Failures) {
         for &(x, lo, hi) in &self.bad {
             fail.push(KIND_DELAUNAY, || {
                 format!(
-                    "non-Delaunay edge (v{}, v{}): alpha+beta-pi = {x:.3e} rad",
-                    lo + 1,
-                    hi + 1
+                    "non-Delaunay edge ({}, {}): alpha+beta-pi = {x:.3e} rad",
+                    output.label(lo),
+                    output.label(hi)
                 )
             });
         }
@@ -3087,11 +3538,6 @@ impl UnionFind {
 /// The bit patterns of a position (the welding key).
 fn bits(p: DVec3) -> [u64; 3] {
     [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
-}
-
-/// `(vA, vB, vC)` with 1-based vertex numbers.
-fn fmt_face(t: &[u32; 3]) -> String {
-    format!("(v{}, v{}, v{})", t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1)
 }
 
 #[cfg(test)]
@@ -3440,7 +3886,8 @@ mod tests {
     fn points_near_a_vertex_of_high_valence_examine_few_candidates() {
         let n = 2000;
         let mesh = cone_fan(n);
-        let model = InputModel::new(&mesh).expect("a valid fan");
+        let naming = Naming::default();
+        let model = InputModel::new(&mesh, &naming).expect("a valid fan");
         let edges = &model.prepared.edges;
         let spokes = spokes(&mesh, edges);
         assert_eq!(spokes.len(), n);
@@ -3478,7 +3925,8 @@ mod tests {
         let mut mesh = cone_fan(n);
         mesh.positions.push(DVec3::new(1e6, 0.0, 0.0));
         mesh.triangles.push([2, 1, n as u32 + 1]);
-        let model = InputModel::new(&mesh).expect("a valid fan");
+        let naming = Naming::default();
+        let model = InputModel::new(&mesh, &naming).expect("a valid fan");
         let edges = &model.prepared.edges;
         let spokes = spokes(&mesh, edges);
         let on = spoke_points(&spokes, &[1.0 / 1024.0, 1.0 / 32.0, 0.5], &[0.0]);

@@ -2549,11 +2549,9 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
         say!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
     }
-    if let Some(k) = report.first_reordered_vertex {
+    if let Some((output, input)) = &report.first_reordered_vertex_names {
         say!(
-            "note    the output does not begin with the input's vertices in their order (output vertex {} is not input vertex {}): per-vertex data of the input does not carry over by number",
-            k + 1,
-            k + 1
+            "note    the output does not begin with the input's vertices in their order (output {output} is not input {input}): per-vertex data of the input does not carry over by number"
         );
     }
     for f in &report.failures {
