@@ -1015,9 +1015,10 @@ fn obj_syntax_errors_name_their_line() {
             "line 2: vertex weight 'x' is not a number",
         ),
         (
-            // A carriage return alone among line feeds joins lines 3 and 4.
+            // A carriage return alone among line feeds is refused, as the
+            // construction's reader refuses it.
             "v 0 0 0\r\nv 1 0 0\nv 0 1 0\rf 1 2 3\n",
-            "line 3: vertex line has 7 values: expected x y z, x y z w or x y z r g b (a carriage return inside",
+            "line 3: lines end in a carriage return alone (classic Mac OS text): convert them to line feeds",
         ),
         // Later lines keep their numbers after a continued line.
         (

@@ -1458,11 +1458,7 @@ fn binary_stl_whose_count_disagrees_with_its_size_is_read_by_its_size() {
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
     ];
     let good = binary_stl(b"x", &tetra);
-    for (count, why) in [
-        (0u32, "wrong"),
-        (1, "wrong"),
-        (3, "wrong"),
-    ] {
+    for (count, why) in [(0u32, "wrong"), (1, "wrong"), (3, "wrong")] {
         let mut stl = good.clone();
         stl[80..84].copy_from_slice(&count.to_le_bytes());
         let m = read_stl(&stl).unwrap();
