@@ -1240,6 +1240,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     } else {
         written.push(("the output".into(), output.clone()));
     }
+    let meshes = written.len();
     let extras = [
         ("--repaired", &args.repaired),
         ("--stats-json", &args.stats_json),
@@ -1251,6 +1252,15 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         if let Some(path) = path {
             check_output_dir(path)?;
             written.push((flag.into(), path.clone()));
+        }
+    }
+    // With --check, an output that fails goes to OUTPUT.rejected instead:
+    // that name may not be the input or another file of the run either.
+    if args.check {
+        for i in 0..meshes {
+            let mut rejected = written[i].1.as_os_str().to_owned();
+            rejected.push(".rejected");
+            written.push(("the rejected output (--check)".into(), rejected.into()));
         }
     }
     // (Without -o the output is the input, rewritten in place by design.)

@@ -3083,3 +3083,29 @@ fn numbers_in_messages_are_short() {
     let error = one_line_error(&run);
     assert!(error.contains("its weight 1e-320") && error.len() < 200, "{error}");
 }
+
+/// With --check, a failing output would be renamed to OUTPUT.rejected:
+/// that name may not be the input either (`-i m.obj.rejected -o m.obj`),
+/// refused before any work, the input kept.
+#[test]
+fn the_rejected_name_of_a_checked_output_may_not_be_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.obj.rejected");
+    std::fs::copy(common::data_dir().join("bunny.obj"), &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let run = refine(&input, &dir.path().join("m.obj"))
+        .arg("--check")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("the rejected output (--check) would overwrite the input"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("m.obj").exists());
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    // Without --check there is no such name: the run goes ahead.
+    let run = refine(&input, &dir.path().join("m.obj")).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+}
