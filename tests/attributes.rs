@@ -688,3 +688,43 @@ fn attribute_tolerance_is_a_relative_number() {
     }
     run(&input, &dir.path().join("o.obj"), &["--attribute-tolerance", "1e-3"]);
 }
+
+/// OBJ colours written in 0..255 (as some exporters do) are taken as such
+/// when a PLY (bytes) is written, with a note: they were clamped to 255.
+#[test]
+fn obj_colours_in_bytes_are_written_to_ply_as_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(
+        dir.path(),
+        "c.obj",
+        "v 0 0 0 0 128 255\nv 1 0 0 10 20 30\nv 0 1 0 200 100 0\nv 0 0 1 1 2 3\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+    );
+    let out = dir.path().join("c.ply");
+    let printout = run(&input, &out, &[]);
+    assert!(
+        printout.contains("note    colours above 1 taken as 0-255"),
+        "{printout}"
+    );
+    let colors = read(&out).attributes.colors.expect("colours");
+    let first: Vec<f64> = colors
+        .value(colors.corners[0])
+        .iter()
+        .map(|x| (x * 255.0).round())
+        .collect();
+    assert_eq!(first, [0.0, 128.0, 255.0]);
+    // In 0..1 they are scaled, without a note.
+    let unit = write(
+        dir.path(),
+        "u.obj",
+        "v 0 0 0 0 0.5 1\nv 1 0 0 0 0 0\nv 0 1 0 0 0 0\nv 0 0 1 0 0 0\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+    );
+    let printout = run(&unit, &dir.path().join("u.ply"), &[]);
+    assert!(!printout.contains("0-255"), "{printout}");
+    let colors = read(&dir.path().join("u.ply")).attributes.colors.expect("colours");
+    let first: Vec<f64> = colors
+        .value(colors.corners[0])
+        .iter()
+        .map(|x| (x * 255.0).round())
+        .collect();
+    assert_eq!(first, [0.0, 128.0, 255.0]);
+}

@@ -27,7 +27,7 @@ use glam::DVec3;
 
 pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};
 
-use crate::attributes::{AttributeCuts, Attributes, Kind, PerVertex, Tolerances, NO_VALUE};
+use crate::attributes::{AttributeCuts, Attributes, Channel, Kind, PerVertex, Tolerances, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
 use crate::mesh::{room_for_splits, NoCuts, RegionCuts, Surface, Topology, TopologyError};
@@ -1084,13 +1084,21 @@ pub fn stage_mesh_with_attributes(
                     Kind::Normal => &["nx", "ny", "nz"],
                     Kind::Color => &["red", "green", "blue", "alpha"],
                 };
+                // Colours are written as bytes from 0..1; an OBJ that wrote
+                // them in 0..255 (some do) would be clamped to white.
+                let scale = if *kind == Kind::Color && colors_in_bytes(channel) {
+                    notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
+                    1.0 / 255.0
+                } else {
+                    1.0
+                };
                 for (k, &name) in names.iter().enumerate().take(channel.dim.max(2)) {
                     columns.push(PlyColumn {
                         name,
                         uchar: *kind == Kind::Color,
                         values: index
                             .iter()
-                            .map(|&i| channel.value(i).get(k).copied().unwrap_or(0.0))
+                            .map(|&i| scale * channel.value(i).get(k).copied().unwrap_or(0.0))
                             .collect(),
                     });
                 }
@@ -1122,6 +1130,16 @@ pub struct Written {
     /// value; each entry is the mesh vertex the copy repeats. Empty for
     /// other formats and where no vertex has several values.
     pub copies_of: Vec<u32>,
+}
+
+/// Whether a colour channel holds values in 0..255 rather than 0..1: one
+/// above 1 at least, none negative or above 255 (OBJ has no rule, and some
+/// exporters write bytes).
+fn colors_in_bytes(channel: &Channel) -> bool {
+    let (lo, hi) = (channel.values.iter()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+        (lo.min(x), hi.max(x))
+    });
+    hi > 1.0 && hi <= 255.0 && lo >= 0.0
 }
 
 /// Writes a triangle mesh as OBJ, atomically.
