@@ -3093,7 +3093,7 @@ fn the_rejected_name_of_a_checked_output_may_not_be_the_input() {
     let input = dir.path().join("m.obj.rejected");
     std::fs::copy(common::data_dir().join("bunny.obj"), &input).unwrap();
     let before = std::fs::read(&input).unwrap();
-    let run = refine(&input, &dir.path().join("m.obj"))
+    let run = refine(&input, dir.path().join("m.obj"))
         .arg("--check")
         .output()
         .unwrap();
@@ -3106,6 +3106,6 @@ fn the_rejected_name_of_a_checked_output_may_not_be_the_input() {
     assert!(!dir.path().join("m.obj").exists());
     assert_eq!(std::fs::read(&input).unwrap(), before);
     // Without --check there is no such name: the run goes ahead.
-    let run = refine(&input, &dir.path().join("m.obj")).output().unwrap();
+    let run = refine(&input, dir.path().join("m.obj")).output().unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
 }
