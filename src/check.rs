@@ -3,8 +3,9 @@
 //! Given the INPUT mesh and the OUTPUT mesh (Wavefront OBJ files, or meshes already read with
 //! [`Mesh3::read_obj`]), [`check_files`] / [`check_meshes`] decide whether OUTPUT is a valid
 //! Delaunay mesh of INPUT with exactly the same geometry. The module shares no geometry or
-//! topology code with the construction: it has its own reader (on top of `tobj`), its own
-//! topology and its own geometry; it borrows only the crate's hash map ([`crate::hash`]).
+//! topology code with the construction: it has its own OBJ reader (numbers read by Rust's own
+//! parsers, not the construction's), its own topology and its own geometry; it borrows only
+//! the crate's hash map ([`crate::hash`]).
 //!
 //! # What is checked
 //!
@@ -64,7 +65,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::hash::FastMap;
-use crate::io::formats::{show, Numbering, OriginKind};
+use crate::io::formats::{show, Numbering, OriginKind, RawMesh};
 use crate::io::number::point_text;
 use crate::io::polygon::triangulate;
 use glam::DVec3;
@@ -358,7 +359,7 @@ pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
 impl Mesh3 {
     /// Reads a mesh file: OBJ with [`Mesh3::read_obj`]; OFF, PLY and STL (possibly
     /// gzip-compressed) with the readers of [`crate::io::formats`] — the one piece of reading
-    /// code the judge shares with the construction, for formats `tobj` does not read — followed
+    /// code the judge shares with the construction, for formats its own reader does not read — followed
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
@@ -626,29 +627,41 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         },
         reason,
     };
-    let mut raw = match format {
+    let raw = match format {
         None | Some(formats::Format::Obj) => return read_obj_welded(path, &bytes),
         Some(formats::Format::Off) => formats::read_off(&bytes),
         Some(formats::Format::Ply) => formats::read_ply(&bytes),
         Some(formats::Format::Stl) => formats::read_stl(&bytes),
     }
     .map_err(|e| parse_error(e.to_string()))?;
-    let mut welder = Welder::default();
-    let mut triangles = Vec::new();
-    // The file's own vertex of each corner: OFF and PLY share vertices
-    // between faces by index; STL has none to share (every facet lists
-    // its own corners), so there its vertices are only ever welded.
-    let mut file_corners = Vec::new();
-    let mut pieces = Vec::new();
+    // OFF and PLY share vertices between faces by index; STL has none to
+    // share (every facet lists its own corners), so there its vertices are
+    // only ever welded.
     let shares_vertices = format != Some(formats::Format::Stl);
+    weld(raw, shares_vertices)
+        .map_err(parse_error)?
+        .ok_or_else(|| CheckError::NoFaces {
+            path: path.to_path_buf(),
+        })
+}
+
+/// Triangulates the polygons of `raw` and welds its bit-identical positions, keeping the
+/// vertices some face uses in file order; `None` when it has no faces. With
+/// `shares_vertices`, a corner's file vertex is its index in the file's vertex list (OFF,
+/// PLY, OBJ); without (STL), its welded vertex.
+fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, String> {
+    let mut welder = Welder::default();
     let ids: Vec<u32> = raw
         .positions
         .iter()
         .map(|p| welder.insert(DVec3::from_array(*p)))
-        .collect::<Result<_, _>>()
-        .map_err(parse_error)?;
-    // The file's face of every triangle (a polygon gives several).
+        .collect::<Result<_, _>>()?;
+    let mut triangles = Vec::new();
+    // The file's own vertex of each corner, and the file's face of every triangle (a
+    // polygon gives several).
+    let mut file_corners = Vec::new();
     let mut face_of = Vec::new();
+    let mut pieces = Vec::new();
     for f in 0..raw.face_start.len().saturating_sub(1) {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         triangulate(poly.len(), |i| raw.positions[poly[i] as usize], &mut pieces);
@@ -664,9 +677,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         }
     }
     if triangles.is_empty() {
-        return Err(CheckError::NoFaces {
-            path: path.to_path_buf(),
-        });
+        return Ok(None);
     }
     // Keep only used vertices, in file order (welded ids are already in first-seen order).
     let mut used = vec![false; welder.positions.len()];
@@ -698,12 +709,12 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         face_origin: std::mem::take(&mut raw.face_origin),
         origin_kind: raw.origin_kind,
     };
-    Ok(Welded {
+    Ok(Some(Welded {
         mesh: Mesh3 { positions, triangles },
         file_corners,
         strays,
         naming,
-    })
+    }))
 }
 
 /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
@@ -715,13 +726,10 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         reason,
     };
     // A UTF-8 byte order mark (some Windows exporters write one) is no
-    // statement, as for the construction's readers: tobj would read
-    // `\u{feff}v` as an unknown statement and lose the first vertex.
+    // statement, as for the construction's readers.
     let bytes = crate::io::formats::strip_bom(bytes);
     // Lines ended by a carriage return alone (all of them, or one among line
-    // feeds): refused as the construction's reader refuses them (tobj would
-    // read one long line, and say why not in terms that mislead, or lose
-    // the statement after a comment).
+    // feeds): refused as the construction's reader refuses them.
     if let Some((line, reason)) = crate::io::obj::lone_cr(bytes) {
         return Err(parse_error(format!("line {line}: {reason}")));
     }
@@ -731,121 +739,21 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     if let Some(line) = first_binary_line(&joined) {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
-    let geometry = geometry_lines(&joined).map_err(parse_error)?;
-    let bytes = &geometry.text;
-    let options = tobj::LoadOptions {
-        triangulate: false,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| parse_error(obj_syntax_error(bytes, &joined).unwrap_or_else(|| e.to_string())))?;
-
-    let mut welder = Welder::default();
-    let mut triangles = Vec::new();
-    // The file's own vertex of each corner, as (model, tobj index)
-    // numbers: `geometry_lines` leaves tobj no `o` or `g` line, so there
-    // is one model, whose indices tell the file's vertices apart.
-    let mut file_corners = Vec::new();
-    let mut base = 0u32;
-    // The file's face (its `f` line, from 0) of every triangle: tobj makes one face of every
-    // `f` line (`geometry_lines` leaves none of fewer than 3 corners), in order.
-    let mut face_of = Vec::new();
-    let mut faces_before = 0u32;
-    for model in &models {
-        let slots = fan_corners(&model.mesh).map_err(parse_error)?;
-        let corners: Vec<[u32; 3]> = slots.iter().map(|t| t.map(|k| model.mesh.indices[k])).collect();
-        welder
-            .add_model(&model.mesh, &corners, &mut triangles)
-            .map_err(parse_error)?;
-        file_corners.extend(corners.iter().map(|t| t.map(|i| base + i)));
-        base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
-        faces_before += faces_of_slots(&model.mesh, &slots, faces_before, &mut face_of);
-    }
-    if triangles.is_empty() {
-        return Err(CheckError::NoFaces {
+    let raw = obj_surface(&joined).map_err(parse_error)?;
+    let welded = weld(raw, true)
+        .map_err(parse_error)?
+        .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
-        });
-    }
-    let (mesh, strays, file_vertex) = renumber_by_obj_order(welder.positions, triangles, bytes);
-    let naming = Naming {
-        numbering: Numbering::FromOne,
-        vertex: identity_or(file_vertex),
-        face: identity_or(face_of),
-        vertex_origin: geometry.vertex_lines,
-        face_origin: geometry.face_lines,
-        origin_kind: OriginKind::Line,
-    };
-    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        let names = Names::new("", &mesh, &naming);
+        })?;
+    if let Some(i) = welded.mesh.positions.iter().position(|p| !p.is_finite()) {
+        let names = Names::new("", &welded.mesh, &welded.naming);
         return Err(parse_error(format!(
             "{}{} has a non-finite coordinate",
             names.vertex_at(i as u32),
             names.vertex(i as u32)
         )));
     }
-    Ok(Welded {
-        mesh,
-        file_corners,
-        strays,
-        naming,
-    })
-}
-
-/// Appends to `face_of` the face of each triangle of `slots` (from [`fan_corners`] on `mesh`),
-/// numbering `mesh`'s faces from `first`; returns how many faces `mesh` has.
-fn faces_of_slots(mesh: &tobj::Mesh, slots: &[[usize; 3]], first: u32, face_of: &mut Vec<u32>) -> u32 {
-    if mesh.face_arities.is_empty() {
-        // Triangles only: slot 3k is the first corner of face k.
-        face_of.extend(slots.iter().map(|t| first + (t[0] / 3) as u32));
-        return (mesh.indices.len() / 3) as u32;
-    }
-    // Each face's corners are the next `arity` slots; its triangles' slots are among them.
-    let mut face = 0;
-    let mut end = mesh.face_arities.first().map_or(0, |&a| a as usize);
-    for t in slots {
-        let slot = t[0].min(t[1]).min(t[2]);
-        while slot >= end && face + 1 < mesh.face_arities.len() {
-            face += 1;
-            end += mesh.face_arities[face] as usize;
-        }
-        face_of.push(first + face as u32);
-    }
-    mesh.face_arities.len() as u32
-}
-
-/// The triangles of a tobj model read without triangulation, as slots of
-/// its `indices` (so that a corner's texture coordinate and normal can be
-/// found too): each polygon as [`triangulate`] cuts it (as the
-/// construction's readers do; the rule is part of what the file means).
-pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> {
-    let position = |i: u32| -> Result<[f64; 3], String> {
-        let i = i as usize;
-        match mesh.positions.get(3 * i..3 * i + 3) {
-            Some(c) => Ok([c[0], c[1], c[2]]),
-            None => Err(format!("face index {i} out of range")),
-        }
-    };
-    let arities: Vec<usize> = if mesh.face_arities.is_empty() {
-        vec![3; mesh.indices.len() / 3]
-    } else {
-        mesh.face_arities.iter().map(|&a| a as usize).collect()
-    };
-    let mut triangles = Vec::with_capacity(mesh.indices.len());
-    let mut pieces = Vec::new();
-    let mut start = 0;
-    for n in arities {
-        let poly = mesh
-            .indices
-            .get(start..start + n)
-            .ok_or_else(|| "face list shorter than its arities".to_string())?;
-        let corners: Vec<[f64; 3]> = poly.iter().map(|&i| position(i)).collect::<Result<_, _>>()?;
-        triangulate(n, |i| corners[i], &mut pieces);
-        triangles.extend(pieces.iter().map(|t| t.map(|c| start + c)));
-        start += n;
-    }
-    Ok(triangles)
+    Ok(welded)
 }
 
 /// Where the comment of an OBJ line starts (its length if none): at the
@@ -853,6 +761,7 @@ pub(crate) fn fan_corners(mesh: &tobj::Mesh) -> Result<Vec<[usize; 3]>, String> 
 /// infinity (`1.#QNAN`, `-1.#IND`, `1.#INF`), which stays in the number so
 /// that the number is refused rather than read as 1.
 fn comment_start(line: &[u8]) -> usize {
+    // (A `#` is rare: search for it first, and look at its neighbours only when found.)
     let windows_special = |i: usize| {
         let rest = &line[i + 1..];
         i > 0
@@ -866,133 +775,119 @@ fn comment_start(line: &[u8]) -> usize {
         .unwrap_or(line.len())
 }
 
-/// The lines of an OBJ file that say what its surface is: `v` lines without colours, and `f`
-/// lines with each corner cut to its vertex index (`7/3/2` becomes `7`); comments (`#` anywhere on a line) and
-/// every other statement removed. The judge compares geometry only: texture coordinates,
-/// normals, groups and materials, and their defects, are not its business (the construction
-/// drops a defective attribute with a note, and must not be failed by a reader that refuses it).
+/// The surface an OBJ file describes, from its `v` and `f` lines alone: every `v` line's
+/// position (`x y z`; `x y z w` divided by `w`; the colour of `x y z r g b` dropped), and
+/// every `f` line's polygon of vertex indices (`7/3/2` is vertex 7; from 1, or counted back
+/// from the vertices before the line when negative; a later `v` line may be named). Comments
+/// (`#` anywhere on a line) and every other statement are skipped: the judge compares
+/// geometry only, so texture coordinates, normals, groups and materials, and their defects,
+/// are not its business (the construction drops a defective attribute with a note, and must
+/// not be failed by a reader that refuses it). Numbers are read with Rust's own `f64` and
+/// `i64` parsers, not the construction's.
 ///
-/// Errors (`line N: ...`) on an `f` line of fewer than 3 corners: tobj would read it as a
-/// point or a line and drop it unseen, where the construction refuses the file.
-fn geometry_lines(bytes: &[u8]) -> Result<Geometry, String> {
-    let mut out = Vec::with_capacity(bytes.len());
-    let (mut vertex_lines, mut face_lines) = (Vec::new(), Vec::new());
-    for (i, line) in bytes.split(|&c| c == b'\n').enumerate() {
-        let code = &line[..comment_start(line)];
-        let mut words = code
-            .split(|c| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c))
-            .filter(|w| !w.is_empty());
-        match words.next() {
-            Some(b"v") => {
-                vertex_lines.push((i + 1) as u32);
-                // A colour (x y z r g b) is dropped; a weight (x y z w) kept.
-                out.push(b'v');
-                let mut cut = out.len();
-                let mut count = 0;
-                for n in words {
-                    count += 1;
-                    out.push(b' ');
-                    out.extend_from_slice(n);
-                    if count == 3 {
-                        // Where the fourth word would start: cut back here for a colour.
-                        cut = out.len();
-                    }
-                }
-                if count == 6 {
-                    out.truncate(cut);
-                }
-            }
-            Some(b"f") => {
-                face_lines.push((i + 1) as u32);
-                out.push(b'f');
-                let mut count = 0;
-                for corner in words {
-                    count += 1;
-                    out.push(b' ');
-                    // (A corner without a vertex index, `/3`, is kept whole: tobj refuses it.)
-                    let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
-                    out.extend_from_slice(if vertex.is_empty() { corner } else { vertex });
-                }
-                if count < 3 {
-                    return Err(format!("line {}: face has {count} vertices, needs at least 3", i + 1));
-                }
-            }
-            _ => {}
-        }
-        // Every line stays (empty if dropped), so that line numbers keep their meaning.
-        out.push(b'\n');
-    }
-    Ok(Geometry {
-        text: out,
-        vertex_lines,
-        face_lines,
-    })
-}
-
-/// What [`geometry_lines`] gives: the text for tobj, and where its vertices and faces are.
-struct Geometry {
-    /// The `v` and `f` lines, every other line left empty.
-    text: Vec<u8>,
-    /// The line (from 1) of every `v` line, in order.
-    vertex_lines: Vec<u32>,
-    /// The line (from 1) of every `f` line, in order.
-    face_lines: Vec<u32>,
-}
-
-/// Why tobj refuses an OBJ file, with the line: tobj names no line, so once it has failed
-/// the `geometry` lines ([`geometry_lines`] of `original`, line for line) are read again one by
-/// one, as tobj reads them, for the first it cannot read (`line N: ...`). `None` if none is
-/// found (then tobj's own words are all there is).
-fn obj_syntax_error(geometry: &[u8], original: &[u8]) -> Option<String> {
-    let mut vertices = 0i64;
-    // Lines with an index past the vertices read so far, which only the whole file can
-    // decide (forward references): (line, index).
+/// Errors (`line N: ...`) on the first line that cannot be read: a `v` line without 3
+/// numbers, of 5 or more than 6 values, or of weight 0; an `f` line of fewer than 3 corners,
+/// or with an index that is not an integer, is 0, or names no vertex of the file.
+fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
+    let mut raw = RawMesh {
+        numbering: Numbering::FromOne,
+        origin_kind: OriginKind::Line,
+        ..RawMesh::default()
+    };
+    raw.face_start.push(0);
+    // The words of the current line (reused: no allocation per line).
+    let mut words: Vec<&[u8]> = Vec::new();
+    // Indices past the vertices read so far, which only the whole file can decide: (line,
+    // index).
     let mut forward: Vec<(usize, i64)> = Vec::new();
-    let pairs = geometry.split(|&c| c == b'\n').zip(original.split(|&c| c == b'\n'));
-    for (i, (line, raw)) in pairs.enumerate() {
-        let words: Vec<&[u8]> = line.split(|&c| c == b' ').filter(|w| !w.is_empty()).collect();
-        let why = match words.split_first() {
-            Some((&b"v", values)) => {
-                vertices += 1;
-                vertex_syntax_error(values, vertices)
-            }
-            Some((&b"f", corners)) => corners.iter().find_map(|&corner| {
-                let value = std::str::from_utf8(corner).ok().and_then(|t| t.parse::<isize>().ok());
-                match value.map(|v| v as i64) {
-                    None => Some(format!("face index '{}' is not an integer", show(corner))),
-                    Some(0) => Some("face index 0 (OBJ indices start at 1)".to_string()),
-                    Some(v) if v < 0 && vertices + v < 0 => Some(format!(
-                        "face index {v} is out of range (counted back from the {vertices} vertices before it)"
-                    )),
-                    Some(v) => {
-                        if v > vertices {
-                            forward.push((i + 1, v));
-                        }
-                        None
-                    }
-                }
-            }),
-            _ => None,
+    for (i, line) in bytes.split(|&c| c == b'\n').enumerate() {
+        let line_number = i + 1;
+        let separator = |c: &u8| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c);
+        let statement = &line[line.iter().position(|c| !separator(c)).unwrap_or(line.len())..];
+        let kind = match statement.first() {
+            Some(b'v') => b'v',
+            Some(b'f') => b'f',
+            _ => continue,
         };
-        if let Some(why) = why {
-            // A carriage return inside the line (a line end of classic Mac OS among others)
-            // joins two statements into one that cannot be read.
-            let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
-            let hint = if raw.contains(&b'\r') {
-                " (a carriage return inside this line ends no line: convert the file's line ends to line feeds)"
-            } else {
-                ""
-            };
-            return Some(format!("line {}: {why}{hint}", i + 1));
+        words.clear();
+        words.extend(
+            statement[..comment_start(statement)]
+                .split(separator)
+                .filter(|w| !w.is_empty()),
+        );
+        let Some((&keyword, values)) = words.split_first() else {
+            continue;
+        };
+        if keyword != [kind] {
+            continue; // (`vt`, `vn`, `fo`, ...)
         }
+        let error = |why: String| format!("line {line_number}: {why}");
+        let vertices = raw.positions.len() as i64;
+        if kind == b'v' {
+            if let Some(why) = vertex_syntax_error(values, vertices + 1) {
+                return Err(error(why));
+            }
+            let number = |w: &[u8]| std::str::from_utf8(w).ok().and_then(|t| t.parse::<f64>().ok());
+            let mut p = [0.0; 3];
+            for (c, w) in p.iter_mut().zip(values) {
+                *c = number(w).unwrap_or(f64::NAN);
+            }
+            if values.len() == 4 {
+                let w = number(values[3]).unwrap_or(f64::NAN);
+                p = p.map(|c| c / w);
+            }
+            raw.positions.push(p);
+            raw.vertex_origin.push(line_number as u32);
+            continue;
+        }
+        if values.len() < 3 {
+            let n = values.len();
+            let noun = if n == 1 { "vertex" } else { "vertices" };
+            return Err(error(format!("face has {n} {noun}, needs at least 3")));
+        }
+        for &corner in values {
+            // (A corner without a vertex index, `/3`, is refused whole.)
+            let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
+            let text = if vertex.is_empty() { corner } else { vertex };
+            let index = std::str::from_utf8(text).ok().and_then(|t| t.parse::<i64>().ok());
+            let resolved = match index {
+                None => return Err(error(format!("face index '{}' is not an integer", show(text)))),
+                Some(0) => return Err(error("face index 0 (OBJ indices start at 1)".to_string())),
+                Some(v) if v < 0 && vertices + v < 0 => {
+                    return Err(error(format!(
+                        "face index {v} is out of range (counted back from the {vertices} vertices before it)"
+                    )))
+                }
+                Some(v) if v < 0 => vertices + v,
+                Some(v) => {
+                    if v > vertices {
+                        forward.push((line_number, v));
+                    }
+                    v - 1
+                }
+            };
+            // (An index past every vertex is refused once all are read.)
+            raw.indices.push(u32::try_from(resolved).unwrap_or(u32::MAX));
+        }
+        let end =
+            u32::try_from(raw.indices.len()).map_err(|_| error("too many face corners (more than 2^32)".into()))?;
+        raw.face_start.push(end);
+        raw.face_origin.push(line_number as u32);
     }
-    let (line, v) = forward.into_iter().find(|&(_, v)| v > vertices)?;
-    Some(format!(
-        "line {line}: face index {v} is out of range (the file has {vertices} vertices)"
-    ))
+    // Indices that name a later `v` line are allowed; past the last one, not.
+    let vertices = raw.positions.len() as i64;
+    if let Some((line, v)) = forward.into_iter().find(|&(_, v)| v > vertices) {
+        return Err(format!(
+            "line {line}: face index {v} is out of range (the file has {vertices} vertices)"
+        ));
+    }
+    if raw.face_start.len() == 1 {
+        raw.face_start.clear();
+    }
+    Ok(raw)
 }
 
-/// Why tobj cannot read the values of a `v` line (vertex `number` of the file), if it cannot.
+/// Why the values of a `v` line (vertex `number` of the file) cannot be read, if they cannot.
 fn vertex_syntax_error(values: &[&[u8]], number: i64) -> Option<String> {
     let number_of = |w: &[u8]| std::str::from_utf8(w).ok().and_then(|t| t.parse::<f64>().ok());
     if values.len() < 3 {
@@ -1240,132 +1135,6 @@ impl Welder {
         }
         Ok(id)
     }
-
-    /// Appends the triangles of one tobj model (`corners`, in its own
-    /// indices, from [`fan_corners`]), welding its positions.
-    fn add_model(
-        &mut self,
-        mesh: &tobj::Mesh,
-        corners: &[[u32; 3]],
-        triangles: &mut Vec<[u32; 3]>,
-    ) -> Result<(), String> {
-        let local = mesh
-            .positions
-            .chunks_exact(3)
-            .map(|c| self.insert(DVec3::new(c[0], c[1], c[2])))
-            .collect::<Result<Vec<u32>, String>>()?;
-        let get = |i: u32| {
-            local
-                .get(i as usize)
-                .copied()
-                .ok_or_else(|| format!("face index {i} out of range"))
-        };
-        for t in corners {
-            triangles.push([get(t[0])?, get(t[1])?, get(t[2])?]);
-        }
-        Ok(())
-    }
-}
-
-/// Renumbers the welded vertices in the order of their first `v` line in the file (the welder
-/// numbers them in order of first use). Vertices not found in the scan keep their relative order
-/// after all others. Also returns the positions of the `v` lines that no face uses (tobj keeps
-/// used positions only), in file order, and the file's number (from 0) of every vertex: that
-/// of its first `v` line (`u32::MAX` if not found).
-fn renumber_by_obj_order(
-    positions: Vec<DVec3>,
-    triangles: Vec<[u32; 3]>,
-    bytes: &[u8],
-) -> (Mesh3, Vec<DVec3>, Vec<u32>) {
-    let first_line = obj_vertex_numbers(bytes);
-    // Every used position has a `v` line: as many positions as lines, and none is a stray.
-    let mut strays: Vec<(usize, [u64; 3])> = Vec::new();
-    if first_line.len() > positions.len() {
-        let used: HashSet<[u64; 3], crate::hash::FastBuild> = positions.iter().map(|p| bits(*p)).collect();
-        strays.extend(
-            (first_line.iter())
-                .filter(|(p, _)| !used.contains(*p))
-                .map(|(p, &line)| (line, *p)),
-        );
-        strays.sort_unstable();
-    }
-    let strays = strays
-        .into_iter()
-        .map(|(_, p)| DVec3::from_array(p.map(f64::from_bits)))
-        .collect();
-    let mut keyed: Vec<(usize, u32)> = positions
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let line = first_line.get(&bits(*p)).copied().unwrap_or(usize::MAX);
-            (line, i as u32)
-        })
-        .collect();
-    keyed.sort_unstable();
-    let file_vertex = keyed
-        .iter()
-        .map(|&(line, _)| u32::try_from(line).unwrap_or(u32::MAX))
-        .collect();
-    let order: Vec<u32> = keyed.into_iter().map(|(_, i)| i).collect();
-    let mut new_id = vec![0u32; positions.len()];
-    for (rank, &old) in order.iter().enumerate() {
-        new_id[old as usize] = rank as u32;
-    }
-    let mesh = Mesh3 {
-        positions: order.iter().map(|&i| positions[i as usize]).collect(),
-        triangles: triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect(),
-    };
-    (mesh, strays, file_vertex)
-}
-
-/// Maps every position written on a `v` line to the 0-based number of its first `v` line,
-/// parsing coordinates exactly as tobj does (including the optional `w` divisor).
-fn obj_vertex_numbers(bytes: &[u8]) -> FastMap<[u64; 3], usize> {
-    let mut first_line = FastMap::default();
-    let mut count = 0usize;
-    for line in bytes.split(|&c| c == b'\n') {
-        // Only `v` lines count (a quick look at the first byte skips the rest without
-        // decoding them).
-        if line.trim_ascii_start().first() != Some(&b'v') {
-            continue;
-        }
-        let Ok(line) = std::str::from_utf8(line) else {
-            continue;
-        };
-        let mut words = line.split_whitespace();
-        if words.next() != Some("v") {
-            continue;
-        }
-        // The first four words after `v`, and how many there are.
-        let mut rest = [""; 4];
-        let mut n = 0;
-        for word in words {
-            if let Some(slot) = rest.get_mut(n) {
-                *slot = word;
-            }
-            n += 1;
-        }
-        let mut coords = [0.0; 3];
-        let mut parsed = 0;
-        for word in &rest[..n.min(3)] {
-            if let Ok(x) = word.parse() {
-                coords[parsed] = x;
-                parsed += 1;
-            }
-        }
-        if parsed < 3 {
-            continue;
-        }
-        let mut p = DVec3::from_array(coords);
-        if n == 4 {
-            if let Ok(w) = rest[3].parse::<f64>() {
-                p = DVec3::new(p.x / w, p.y / w, p.z / w);
-            }
-        }
-        first_line.entry(bits(p)).or_insert(count);
-        count += 1;
-    }
-    first_line
 }
 
 // ---------------------------------------------------------------------------------------------

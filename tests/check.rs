@@ -953,18 +953,21 @@ fn coordinates_beyond_the_supported_range_are_named() {
 }
 
 /// A face of one or two vertices (`f 5`, `f 1 2`) is refused with its line, as the
-/// construction's reader refuses it: tobj reads it as a point or a line, which the judge
-/// dropped unseen, so an output with such a line (or one as the input) passed.
+/// construction's reader refuses it (when the judge read OBJ with tobj, tobj read it as a point
+/// or a line, dropped unseen, so an output with such a line, or one as the input, passed).
 #[test]
 fn faces_of_fewer_than_three_vertices_are_refused_with_their_line() {
     let dir = TempDir::new().expect("tempdir");
     let good = write(&dir, "good.obj", &octahedron());
-    for (name, face, vertices) in [("two.obj", "f 1 2", 2), ("one.obj", "f 5", 1), ("none.obj", "f", 0)] {
+    for (name, face, vertices) in [
+        ("two.obj", "f 1 2", "2 vertices"),
+        ("one.obj", "f 5", "1 vertex"),
+        ("none.obj", "f", "0 vertices"),
+    ] {
         let text = format!("{}{face}\n", octahedron());
         let bad = write(&dir, name, &text);
         let line = text.lines().count();
-        let expected =
-            format!("{name}: not a valid OBJ mesh: line {line}: face has {vertices} vertices, needs at least 3");
+        let expected = format!("{name}: not a valid OBJ mesh: line {line}: face has {vertices}, needs at least 3");
         for (input, output) in [(&good, &bad), (&bad, &good)] {
             let err = check_files(input, output).expect_err(name);
             assert!(err.to_string().contains(&expected), "{name}: {err}");
@@ -972,8 +975,8 @@ fn faces_of_fewer_than_three_vertices_are_refused_with_their_line() {
     }
 }
 
-/// What tobj cannot read is named with its line (tobj's own errors name none: "position parse
-/// error", "face vertex index out of bounds"), in the words of the construction's reader.
+/// What the judge cannot read is named with its line, in the words of the construction's
+/// reader.
 #[test]
 fn obj_syntax_errors_name_their_line() {
     let dir = TempDir::new().expect("tempdir");

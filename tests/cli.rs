@@ -415,8 +415,8 @@ fn a_turned_flat_part_is_named_as_the_cause_of_growth() {
     assert!(!dir.path().join("p.obj").exists());
 }
 
-/// The construction and the judge (`check`, on top of `tobj`) must read an
-/// OBJ file alike: a weight `w` divides x y z (as tobj does); inline
+/// The construction and the judge (`check`, with its own OBJ reader) must
+/// read an OBJ file alike: a weight `w` divides x y z (as tobj does); inline
 /// comments, a colour on only some vertices and a normal index out of range
 /// are not geometry (the construction drops such an attribute with a note,
 /// the judge ignores it) and must not make `check` refuse the input.

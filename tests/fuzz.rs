@@ -1534,7 +1534,7 @@ fn target_obj(bytes: &[u8]) -> Result<String, String> {
 }
 
 /// An OBJ file the construction accepts (without repair) must be read by the
-/// judge, `delmesh check` (on top of `tobj`), as the same triangles: two
+/// judge, `delmesh check` (its own OBJ reader), as the same triangles: two
 /// readers that disagree on what a file means make a correct output fail its
 /// check, or a wrong one pass.
 fn judge_reads_obj_alike(bytes: &[u8], raw: &RawMesh) -> Result<(), String> {

@@ -370,7 +370,8 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                 }
                 let count = raw.indices.len() - start;
                 if count < 3 {
-                    return Err(error(line_no, format!("face has {count} vertices, needs at least 3")));
+                    let noun = if count == 1 { "vertex" } else { "vertices" };
+                    return Err(error(line_no, format!("face has {count} {noun}, needs at least 3")));
                 }
                 raw.face_start.push(raw.indices.len() as u32);
                 raw.face_origin.push(line_no as u32);
@@ -1743,6 +1744,34 @@ mod tests {
             .collect()
     }
 
+    /// The triangles of a tobj model read without triangulation, as slots
+    /// of its `indices` (so that a corner's texture coordinate and normal
+    /// can be found too), each polygon cut by [`triangulate`] as every
+    /// reader of delmesh cuts it.
+    fn fan_corners(mesh: &tobj::Mesh) -> Vec<[usize; 3]> {
+        let arities: Vec<usize> = if mesh.face_arities.is_empty() {
+            vec![3; mesh.indices.len() / 3]
+        } else {
+            mesh.face_arities.iter().map(|&a| a as usize).collect()
+        };
+        let position = |i: u32| {
+            let i = i as usize;
+            [
+                mesh.positions[3 * i],
+                mesh.positions[3 * i + 1],
+                mesh.positions[3 * i + 2],
+            ]
+        };
+        let (mut triangles, mut pieces, mut start) = (Vec::new(), Vec::new(), 0);
+        for n in arities {
+            let poly = &mesh.indices[start..start + n];
+            crate::io::polygon::triangulate(n, |i| position(poly[i]), &mut pieces);
+            triangles.extend(pieces.iter().map(|t| t.map(|c| start + c)));
+            start += n;
+        }
+        triangles
+    }
+
     /// As tobj reads them, polygons fanned as the judge fans them.
     fn corners_tobj(text: &str) -> Vec<Corner> {
         let options = tobj::LoadOptions {
@@ -1757,7 +1786,7 @@ mod tests {
         for model in &models {
             let m = &model.mesh;
             // Fanned as the judge fans them (slots of `m.indices`).
-            let fanned = crate::check::fan_corners(m).unwrap().into_iter().flatten();
+            let fanned = fan_corners(m).into_iter().flatten();
             for k in fanned {
                 let i = m.indices[k] as usize;
                 let p = [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]];
