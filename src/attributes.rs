@@ -75,7 +75,9 @@ pub struct Tolerances {
     pub texcoords: f64,
     /// Normals: 1e-3 (0.06° on a unit normal).
     pub normals: f64,
-    /// Colours: 1e-3 (a quarter of an 8-bit step).
+    /// Colours: 4e-3, about an 8-bit step (1/255 = 3.9e-3): most files
+    /// store colours as bytes, rounded by up to half a step, so a smooth
+    /// gradient on a flat part is affine only within about 2e-3.
     pub colors: f64,
 }
 
@@ -84,7 +86,7 @@ impl Default for Tolerances {
         Tolerances {
             texcoords: 1e-5,
             normals: 1e-3,
-            colors: 1e-3,
+            colors: 4e-3,
         }
     }
 }

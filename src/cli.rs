@@ -314,10 +314,13 @@ struct Settings {
     /// them: their fields then move by at most twice this there, and a
     /// note says how far. Rounded values, as exporters write them, are
     /// rarely affine exactly; with 0 (exact) the thin fan triangles of a
-    /// textured flat polygon get split instead of flipped. Default: 1e-5
-    /// for texture coordinates, 1e-3 for normals and colours
-    #[arg(long = "attribute-tolerance", value_name = "REL", value_parser = relative_tolerance)]
-    attribute_tolerance: Option<f64>,
+    /// textured flat polygon get split instead of flipped. One number sets
+    /// all three; `texcoords=REL`, `normals=REL`, `colors=REL` (comma
+    /// separated) set some, the others keep their defaults. Default: 1e-5
+    /// for texture coordinates, 1e-3 for normals, 4e-3 for colours (about
+    /// an 8-bit step)
+    #[arg(long = "attribute-tolerance", value_name = "REL", value_parser = attribute_tolerances)]
+    attribute_tolerance: Option<Tolerances>,
 }
 
 impl Settings {
@@ -341,8 +344,7 @@ impl Settings {
     /// How closely attributes must be affine for a flat region to be
     /// flipped as a whole (`--attribute-tolerance`).
     fn tolerances(&self) -> Tolerances {
-        self.attribute_tolerance
-            .map_or_else(Tolerances::default, Tolerances::all)
+        self.attribute_tolerance.unwrap_or_default()
     }
 
     /// Builds the refinable mesh of `input`, read from `path`.
@@ -351,15 +353,20 @@ impl Settings {
     }
 
     /// Reads `path`, with or without repair, and without its attributes
-    /// under --drop-attributes.
-    fn read(&self, path: &Path) -> anyhow::Result<io::InputMesh> {
+    /// under --drop-attributes, or those that `output`'s format cannot hold
+    /// (with a note): they would cost splits and not be written.
+    fn read(&self, path: &Path, output: &Path) -> anyhow::Result<io::InputMesh> {
         let options = io::ReadOptions {
             repair: self.repair.then_some(delmesh::repair::RepairOptions {
                 weld_tolerance: self.weld_tolerance,
             }),
             drop_attributes: self.drop_attributes,
         };
-        Ok(io::read_mesh(path, &options)?)
+        let mut input = io::read_mesh(path, &options)?;
+        if let Some(note) = io::drop_attributes_format_cannot_hold(&mut input, io::output_format(output)) {
+            input.notes.push(note);
+        }
+        Ok(input)
     }
 }
 
@@ -656,22 +663,25 @@ pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smalles
             },
             _ => String::new(),
         };
+        let per_vertex = added as f64 / n as f64;
+        let angle = sig(surface.input_figures.min_angle);
         // Flat edges that the attributes keep from flipping (their thin
-        // triangles are split instead), a cause too if any.
-        let attributes = match surface.flat_edges_apart {
-            0 => String::new(),
-            edges => format!(
-                "; {edges} flat input edge(s) are never flipped, as the attributes differ across them (a seam, a \
-                 group boundary, or values not one affine field there): --drop-attributes lets them flip"
+        // triangles are split instead): the first cause to name if any
+        // (the remedy costs nothing but the attributes), and then not the
+        // weld of marching cubes output, which has none.
+        match surface.flat_edges_apart {
+            0 => format!(
+                "{per_vertex:.0} added vertices per input vertex: the smallest input angle ({angle} rad) calls for \
+                 vertices at its scale{nearly_flat}{helps}; marching cubes output loses the cause to a weld (README: \
+                 Real-world meshes)"
             ),
-        };
-        format!(
-            "{:.0} added vertices per input vertex: the smallest input angle ({} rad) calls for vertices at its \
-             scale{nearly_flat}{attributes}{helps}; marching cubes output loses the cause to a weld (README: \
-             Real-world meshes)",
-            added as f64 / n as f64,
-            sig(surface.input_figures.min_angle),
-        )
+            edges => format!(
+                "{per_vertex:.0} added vertices per input vertex: {edges} flat input edge(s) are never flipped, as the \
+                 attributes differ across them (a seam, a group boundary, or values not one affine field there): \
+                 --drop-attributes lets them flip; the smallest input angle ({angle} rad) calls for vertices at its \
+                 scale{nearly_flat}{helps}"
+            ),
+        }
     })
 }
 
@@ -805,12 +815,32 @@ fn weld_distance(s: &str) -> Result<f64, String> {
     }
 }
 
-/// A relative tolerance (`--attribute-tolerance`): from 0 to 1.
-fn relative_tolerance(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
+/// The tolerances of `--attribute-tolerance`: one relative tolerance (a
+/// number from 0 to 1) for all attributes, or `KIND=REL` pairs separated by
+/// commas (`texcoords`, `normals`, `colors` or `colours`), the kinds not
+/// named keeping their defaults.
+fn attribute_tolerances(s: &str) -> Result<Tolerances, String> {
+    let relative = |text: &str| match text.trim().parse::<f64>() {
         Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        _ => Err(format!("{s:?} is not a relative tolerance (a number from 0 to 1)")),
+        _ => Err(format!("{text:?} is not a relative tolerance (a number from 0 to 1)")),
+    };
+    if !s.contains('=') {
+        return relative(s).map(Tolerances::all);
     }
+    let mut tolerances = Tolerances::default();
+    for pair in s.split(',') {
+        let (kind, value) = pair.split_once('=').unwrap_or((pair, ""));
+        let slot = match kind.trim() {
+            "texcoords" => &mut tolerances.texcoords,
+            "normals" => &mut tolerances.normals,
+            "colors" | "colours" => &mut tolerances.colors,
+            other => return Err(format!(
+                "{other:?} is not an attribute: give texcoords=REL, normals=REL or colors=REL (or one number for all)"
+            )),
+        };
+        *slot = relative(value)?;
+    }
+    Ok(tolerances)
 }
 
 /// An angle in degrees for `render`: any finite number (NaN or an
@@ -1310,7 +1340,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let mut input = args.settings.read(input_path)?;
+    let mut input = args.settings.read(input_path, &output)?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {
@@ -1351,7 +1381,14 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             sig(figures.min_edge),
             sig(figures.max_edge)
         );
-        say!("bound   any Delaunay mesh with this geometry adds at least {lower_bound} vertices");
+        // Flat edges the attributes keep apart count as if they were not
+        // flat: the bound is then for meshes that keep the attributes.
+        let kept = match (surface.flat_edges_apart, lower_bound) {
+            (0, _) => "",
+            (_, 0) => " and these attributes",
+            _ => " and these attributes (--drop-attributes lets every flat edge flip)",
+        };
+        say!("bound   any Delaunay mesh with this geometry{kept} adds at least {lower_bound} vertices");
         if let Some(report) = &input.repair {
             if report.is_clean() {
                 say!("repair  nothing to repair");

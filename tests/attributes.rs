@@ -502,7 +502,8 @@ fn ply_round_trip() {
     assert!(b.welded >= seam.len(), "{} welded", b.welded);
 }
 
-/// `--repair` drops attributes with a note; OFF output says it cannot hold them.
+/// `--repair` drops attributes with a note; OFF output leaves them out, and
+/// says so.
 #[test]
 fn attributes_dropped_with_a_note() {
     let dir = tempfile::tempdir().unwrap();
@@ -518,7 +519,10 @@ fn attributes_dropped_with_a_note() {
         "{printout}"
     );
     let printout = run(&input, &dir.path().join("o.off"), &[]);
-    assert!(printout.contains("not written: OFF cannot hold them"), "{printout}");
+    assert!(
+        printout.contains("note    texture coordinates, groups and materials left out: OFF cannot hold them"),
+        "{printout}"
+    );
     // A bad texture index drops texture coordinates, not the mesh.
     let bad = write(
         dir.path(),
@@ -727,4 +731,85 @@ fn obj_colours_in_bytes_are_written_to_ply_as_bytes() {
         .map(|x| (x * 255.0).round())
         .collect();
     assert_eq!(first, [0.0, 128.0, 255.0]);
+}
+
+/// `--attribute-tolerance` also takes per-kind values (`texcoords=`,
+/// `normals=`, `colors=`/`colours=`), the others keeping their defaults.
+#[test]
+fn attribute_tolerance_takes_values_per_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir()
+        .join("attributes")
+        .join("ply_uchar_colour_flat_grid.ply");
+    let added = |flags: &[&str]| work(&run(&input, &dir.path().join("o.ply"), flags)).0;
+    // Colours as bytes (a sheared flat grid with an 8-bit gradient): affine
+    // within half an 8-bit step, which the default colour tolerance accepts.
+    assert_eq!(added(&[]), 0);
+    check(&input, &dir.path().join("o.ply"));
+    // Exact colours keep the regions apart: the grid's thin faces get split.
+    assert!(added(&["--attribute-tolerance", "colors=0"]) > 0);
+    assert!(added(&["--attribute-tolerance", "colours=1e-3,texcoords=1e-5"]) > 0);
+    // The defaults spelled out; exact texture coordinates (stored as f32,
+    // so affine only within rounding) split too.
+    assert_eq!(
+        added(&["--attribute-tolerance", "texcoords=1e-5,normals=1e-3,colors=4e-3"]),
+        0
+    );
+    assert!(added(&["--attribute-tolerance", "texcoords=0"]) > 0);
+    for bad in ["uv=1e-3", "colors=2", "colors=", "colors=1e-3,"] {
+        let out = delmesh()
+            .arg("-i")
+            .arg(&input)
+            .args(["-o", "-", &format!("--attribute-tolerance={bad}")])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+    }
+}
+
+/// What the output's format cannot hold (OFF and STL: every attribute; PLY:
+/// groups and materials) is left out before the construction, with a note,
+/// and costs no split: a smooth-shaded oval cylinder (normals averaged across
+/// the flat caps' rims, as Blender writes them) adds thousands of vertices
+/// as OBJ, which keeps its normals, and none as OFF.
+#[test]
+fn attributes_the_output_cannot_hold_cost_no_splits() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir()
+        .join("attributes")
+        .join("oval_cylinder_smooth_normals.obj");
+    let obj = run(&input, &dir.path().join("o.obj"), &[]);
+    assert!(work(&obj).0 > 1000, "{obj}");
+    assert!(
+        obj.contains("any Delaunay mesh with this geometry and these attributes"),
+        "{obj}"
+    );
+    assert!(obj.contains("flat input edge(s) are never flipped"), "{obj}");
+    let off = run(&input, &dir.path().join("o.off"), &[]);
+    assert_eq!(work(&off).0, 0, "{off}");
+    assert!(
+        off.contains("note    normals, groups and materials left out: OFF cannot hold them"),
+        "{off}"
+    );
+    assert!(!off.contains("not written"), "{off}");
+    check(&input, &dir.path().join("o.off"));
+    // PLY keeps the normals (so the splits) and leaves out the groups.
+    let ply = run(&input, &dir.path().join("o.ply"), &[]);
+    assert!(
+        ply.contains("note    groups and materials left out: PLY cannot hold them"),
+        "{ply}"
+    );
+    assert_eq!(work(&ply).0, work(&obj).0, "{ply}");
+    check(&input, &dir.path().join("o.ply"));
+    // batch leaves them out the same way.
+    let out_dir = dir.path().join("b");
+    let batch = delmesh()
+        .args(["batch", "--format", "off", "-d"])
+        .arg(&out_dir)
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert!(batch.status.success(), "{}", String::from_utf8_lossy(&batch.stderr));
+    let off_batch = std::fs::read(out_dir.join("oval_cylinder_smooth_normals.off")).unwrap();
+    assert_eq!(off_batch, std::fs::read(dir.path().join("o.off")).unwrap());
 }

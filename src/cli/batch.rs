@@ -299,7 +299,7 @@ struct Failed {
 fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> Result<Done, Failed> {
     let t0 = Instant::now();
     let read = || -> anyhow::Result<_> {
-        let mut mesh = args.settings.read(input)?;
+        let mut mesh = args.settings.read(input, output)?;
         let read_s = t0.elapsed().as_secs_f64();
         let t_build = Instant::now();
         let surface = args.settings.build(&mut mesh, input)?;

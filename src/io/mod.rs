@@ -1000,6 +1000,64 @@ pub fn output_format(path: &Path) -> Format {
         .unwrap_or(Format::Obj)
 }
 
+/// What of `attributes` a file of `format` cannot hold, as a note names it
+/// (`"normals, groups and materials"`); `None` if it holds all.
+/// OBJ holds every attribute; PLY all but groups and materials; OFF and STL
+/// positions only.
+fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<String> {
+    let groups = !attributes.face_group.is_empty() || !attributes.mtllib.is_empty();
+    let mut lost: Vec<&str> = Vec::new();
+    if matches!(format, Format::Off | Format::Stl) {
+        for (kind, _) in attributes.channels() {
+            lost.push(match kind {
+                Kind::TexCoord => "texture coordinates",
+                Kind::Normal => "normals",
+                Kind::Color => "colours",
+            });
+        }
+    }
+    if groups && format != Format::Obj {
+        lost.extend(["groups", "materials"]);
+    }
+    let (last, rest) = lost.split_last()?;
+    Some(if rest.is_empty() {
+        last.to_string()
+    } else {
+        format!("{} and {last}", rest.join(", "))
+    })
+}
+
+/// The name of `format` in messages.
+fn format_name(format: Format) -> &'static str {
+    match format {
+        Format::Obj => "OBJ",
+        Format::Off => "OFF",
+        Format::Ply => "PLY",
+        Format::Stl => "STL",
+    }
+}
+
+/// Leaves out of `input` the attributes that a file of `format` cannot hold
+/// (OFF and STL: all of them; PLY: groups and materials), before its surface
+/// is built: an attribute that will not be written must not keep flat
+/// regions apart or cost splits (a smooth-shaded oval cylinder written as
+/// OFF got 21,256 added vertices for normals it could not keep, and none
+/// without them). Returns the note that says so, if anything was left out.
+pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format) -> Option<String> {
+    let lost = attributes_format_cannot_hold(&input.attributes, format)?;
+    if matches!(format, Format::Off | Format::Stl) {
+        input.attributes = Attributes::default();
+    } else {
+        input.attributes.face_group = Vec::new();
+        input.attributes.groups = Vec::new();
+        input.attributes.mtllib = Vec::new();
+    }
+    Some(format!(
+        "{lost} left out: {} cannot hold them (the mesh is refined as without them)",
+        format_name(format)
+    ))
+}
+
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
 /// (OBJ, OFF, PLY binary, STL binary; OBJ when the extension says nothing).
 pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
@@ -1063,14 +1121,13 @@ pub fn stage_mesh_with_attributes(
     let format = output_format(path);
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
-    let mut lost = |what: &str, format: &str| notes.push(format!("{what} not written: {format} cannot hold them"));
+    if let Some(lost) = attributes_format_cannot_hold(attributes, format) {
+        notes.push(format!("{lost} not written: {} cannot hold them", format_name(format)));
+    }
     let mut copies_of = Vec::new();
     let staged = match format {
         Format::Obj => stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
         Format::Ply => {
-            if !attributes.face_group.is_empty() || !attributes.mtllib.is_empty() {
-                lost("groups and materials", "PLY");
-            }
             let channels: Vec<_> = attributes.channels().collect();
             let split = PerVertex::new(
                 positions.len(),
@@ -1109,13 +1166,7 @@ pub fn stage_mesh_with_attributes(
                 formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
             })?
         }
-        Format::Off | Format::Stl => {
-            let name = if format == Format::Off { "OFF" } else { "STL" };
-            if attributes.channels().next().is_some() || !attributes.face_group.is_empty() {
-                lost("texture coordinates, normals, colours and groups", name);
-            }
-            stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?
-        }
+        Format::Off | Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
     };
     Ok((Written { notes, copies_of }, staged))
 }
