@@ -336,6 +336,11 @@ impl SharedEdge {
     }
 }
 
+/// The largest deviation from an affine field, relative to the attribute's
+/// largest magnitude, that [`AttributeCuts::note`] puts down to rounding:
+/// a little over half an 8-bit step (0.5 / 255 = 2.0e-3).
+const ROUNDING_LIKE: f64 = 2.5e-3;
+
 /// The [`RegionCuts`] of a mesh's attributes, with [`Tolerances`]: what
 /// [`crate::io::build_surface_with`] builds planar regions with. It also
 /// records the flat regions it let be flipped as a whole though their
@@ -393,21 +398,26 @@ impl<'a> AttributeCuts<'a> {
         if regions == 0 {
             return None;
         }
-        let off: Vec<(&str, f64)> = self
+        let off: Vec<(&str, f64, f64)> = self
             .attributes
             .channels()
             .zip(&self.deviation)
-            .filter(|(_, d)| d.get() > 0.0)
-            .map(|((kind, _), d)| (kind.name(), d.get()))
+            .zip(&self.scales)
+            .filter(|((_, d), _)| d.get() > 0.0)
+            .map(|(((kind, _), d), &scale)| (kind.name(), d.get(), scale))
             .collect();
-        let list = |f: &dyn Fn(&(&str, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
+        let list = |f: &dyn Fn(&(&str, f64, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
+        // Rounding explains deviations up to half an 8-bit step (colours
+        // stored as bytes); larger ones are the values' own.
+        let rounded = off.iter().all(|&(_, d, scale)| d <= ROUNDING_LIKE * scale);
         Some(format!(
-            "{regions} flat region{} ({faces} faces) flipped as a whole: their {} are affine there only within {} \
-             (rounded values), so the output's move by up to {} (--attribute-tolerance 0 keeps them exact)",
+            "{regions} flat region{} ({faces} faces) may be flipped as a whole: their {} are affine there only within \
+             {}{}, so the output's may move by up to {} (--attribute-tolerance 0 keeps them exact)",
             if regions == 1 { "" } else { "s" },
-            list(&|(name, _)| name.to_string()),
-            list(&|(_, d)| format!("{d:.1e}")),
-            list(&|(_, d)| format!("{:.1e}", 2.0 * d)),
+            list(&|(name, _, _)| name.to_string()),
+            list(&|(_, d, _)| format!("{d:.1e}")),
+            if rounded { " (rounded values)" } else { "" },
+            list(&|(_, d, _)| format!("{:.1e}", 2.0 * d)),
         ))
     }
 }
@@ -753,7 +763,10 @@ mod tests {
         assert!(!cuts.apart(0, 1) && cuts.apart_within(0, 1));
         assert!(cuts.whole(&[0, 1]));
         let note = cuts.note().expect("a note");
-        assert!(note.starts_with("1 flat region (2 faces) flipped as a whole"), "{note}");
+        assert!(
+            note.starts_with("1 flat region (2 faces) may be flipped as a whole"),
+            "{note}"
+        );
         let surface = Surface::with_region_cuts(p.clone(), &t, &cuts).unwrap();
         assert_eq!((surface.n_regions, surface.flat_edges_apart), (1, 0));
         // Tolerance 0: exact, so apart, and no note.

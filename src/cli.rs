@@ -834,9 +834,11 @@ fn attribute_tolerances(s: &str) -> Result<Tolerances, String> {
             "texcoords" => &mut tolerances.texcoords,
             "normals" => &mut tolerances.normals,
             "colors" | "colours" => &mut tolerances.colors,
-            other => return Err(format!(
+            other => {
+                return Err(format!(
                 "{other:?} is not an attribute: give texcoords=REL, normals=REL or colors=REL (or one number for all)"
-            )),
+            ))
+            }
         };
         *slot = relative(value)?;
     }
@@ -2217,7 +2219,9 @@ impl<'a> CheckReference<'a> {
 fn describe_attributes(a: &Attributes) -> String {
     let mut parts: Vec<String> = a.channels().map(|(k, _)| k.name().to_string()).collect();
     if !a.groups.is_empty() {
-        parts.push(format!("{} groups/materials", a.groups.len()));
+        let n = a.groups.len();
+        let s = if n == 1 { "" } else { "s" };
+        parts.push(format!("{n} group{s}/material{s}"));
     }
     if !a.mtllib.is_empty() {
         parts.push("mtllib".into());
