@@ -303,7 +303,7 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let (mut input_mesh, input_strays, input_naming, input_in_file) = input_read?;
     let mut welded = output_read?;
     let output_in_file = welded.mesh.positions.len();
-    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, &input_mesh);
+    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, &input_mesh, input_in_file);
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
@@ -373,7 +373,7 @@ impl Mesh3 {
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle_like(welded.mesh, &welded.file_corners, input))
+        Ok(settle_like(welded.mesh, &welded.file_corners, input, 0))
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -561,12 +561,29 @@ impl<'a> Names<'a> {
     }
 }
 
-/// [`Mesh3::read_like`] on a file already read by [`read_welded`].
-fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3) -> Mesh3 {
+/// [`Mesh3::read_like`] on a file already read by [`read_welded`]. Only
+/// `input.positions[first_copy..]` may repeat a position of the input (0 for
+/// any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies
+/// last, after the file's welded vertices, and usually none).
+fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3, first_copy: usize) -> Mesh3 {
     // How many vertices the input has at each position it has several at (usually none).
+    let copies = input.positions.get(first_copy..).unwrap_or_default();
+    if copies.is_empty() {
+        return settle(welded, file_corners);
+    }
     let mut count: FastMap<[u64; 3], i64> = FastMap::default();
-    for p in &input.positions {
-        *count.entry(bits(*p)).or_insert(0) += 1;
+    if first_copy == 0 {
+        for p in &input.positions {
+            *count.entry(bits(*p)).or_insert(0) += 1;
+        }
+    } else {
+        // (Only the copies' positions can be repeated: count those alone.)
+        count.extend(copies.iter().map(|p| (bits(*p), 0)));
+        for p in &input.positions {
+            if let Some(c) = count.get_mut(&bits(*p)) {
+                *c += 1;
+            }
+        }
     }
     count.retain(|_, c| *c > 1);
     if count.is_empty() {
