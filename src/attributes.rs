@@ -107,6 +107,37 @@ impl Tolerances {
             Kind::Color => self.colors,
         }
     }
+
+    /// What a tolerance must be, as messages say it.
+    pub const RANGE: &'static str = "a relative tolerance (a number from 0 to 1)";
+
+    /// Refuses a tolerance that is not [`is_relative_tolerance`] (NaN,
+    /// negative, infinite or above 1, as `--attribute-tolerance` refuses
+    /// it) with [`crate::Error::Setting`] naming the attribute.
+    pub fn validate(&self) -> crate::Result<()> {
+        for (kind, name) in [
+            (Kind::TexCoord, "texture coordinates tolerance"),
+            (Kind::Normal, "normals tolerance"),
+            (Kind::Color, "colours tolerance"),
+        ] {
+            let value = self.of(kind);
+            if !is_relative_tolerance(value) {
+                return Err(crate::Error::Setting {
+                    name,
+                    value,
+                    expected: Self::RANGE,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether `x` is a [`Tolerances`] value that the library and
+/// `--attribute-tolerance` accept: a number from 0 to 1 (relative to the
+/// attribute's largest magnitude).
+pub fn is_relative_tolerance(x: f64) -> bool {
+    (0.0..=1.0).contains(&x)
 }
 
 /// Which attribute a [`Channel`] holds.

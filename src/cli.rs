@@ -800,16 +800,19 @@ fn score_name(s: Score) -> &'static str {
 /// weld nothing without a word, infinity everything).
 fn weld_distance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-        _ => Err(format!("{s:?} is not a distance (a finite number, 0 or more)")),
+        Ok(x) if delmesh::repair::is_weld_distance(x) => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not {}",
+            delmesh::repair::RepairOptions::WELD_TOLERANCE_RANGE
+        )),
     }
 }
 
 /// A relative tolerance (`--attribute-tolerance`): from 0 to 1.
 fn relative_tolerance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        _ => Err(format!("{s:?} is not a relative tolerance (a number from 0 to 1)")),
+        Ok(x) if delmesh::attributes::is_relative_tolerance(x) => Ok(x),
+        _ => Err(format!("{s:?} is not {}", Tolerances::RANGE)),
     }
 }
 
