@@ -18,8 +18,10 @@
 //! - an input vertex takes, bit for bit, its own value in the region of the
 //!   output face;
 //! - a vertex added on input edge (a, b) at parameter t takes
-//!   `value(a) + t·(value(b) − value(a))`, with a's and b's values in the
-//!   region of the output face (the side of the edge the face is on).
+//!   `value(a) + t·(value(b) − value(a))` ([`interpolate`]: where that
+//!   difference overflows, `(1 − t)·value(a) + t·value(b)`), with a's and
+//!   b's values in the region of the output face (the side of the edge the
+//!   face is on).
 //!
 //! Normals are interpolated linearly, not renormalized: the field a renderer
 //! interpolates stays the same.
@@ -626,7 +628,7 @@ impl Transfer {
                             let x1 = channel.corner(corner_of(i1, region));
                             for (k, slot) in value.iter_mut().enumerate() {
                                 let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
-                                *slot = a + t * (b - a);
+                                *slot = interpolate(a, b, t);
                             }
                         }
                     }
@@ -642,6 +644,21 @@ impl Transfer {
             *out.channel_mut(kind) = Some(pooled);
         }
         out
+    }
+}
+
+/// The value at parameter `t` ∈ [0, 1] between `a` and `b`:
+/// `a + t·(b − a)`, as positions are computed, unless `b − a` overflows
+/// (values of opposite signs beyond ±f64::MAX / 2, such as texture
+/// coordinates of ±1.7e308, gave ±inf); then `(1 − t)·a + t·b`, kept
+/// between `a` and `b` (its rounding could pass f64::MAX): finite for finite
+/// `a` and `b`.
+pub fn interpolate(a: f64, b: f64, t: f64) -> f64 {
+    let d = b - a;
+    if d.is_finite() {
+        a + t * d
+    } else {
+        ((1.0 - t) * a + t * b).clamp(a.min(b), a.max(b))
     }
 }
 
@@ -719,6 +736,29 @@ impl PerVertex {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Values near ±f64::MAX interpolate to finite values between them
+    /// (`a + t·(b − a)` gave ±inf); others exactly as before.
+    #[test]
+    fn interpolation_does_not_overflow() {
+        let big = 1.7e308;
+        for t in [0.0, 1e-9, 0.25, 0.3, 0.5, 0.7, 1.0 - 1e-12, 1.0] {
+            for (a, b) in [
+                (-big, big),
+                (big, -big),
+                (f64::MAX, -f64::MAX),
+                (f64::MAX, f64::MAX),
+                (-big, 0.0),
+            ] {
+                let x = interpolate(a, b, t);
+                assert!(x.is_finite() && x >= a.min(b) && x <= a.max(b), "{a} {b} {t}: {x}");
+            }
+            assert_eq!(interpolate(0.25, 0.75, t), 0.25 + t * (0.75 - 0.25));
+        }
+        assert_eq!(interpolate(-big, big, 0.5), 0.0);
+        assert_eq!(interpolate(-big, big, 0.0), -big);
+        assert_eq!(interpolate(-big, big, 1.0), big);
+    }
 
     fn uv(values: &[[f64; 2]], corners: Vec<u32>) -> Channel {
         Channel {

@@ -728,3 +728,34 @@ fn obj_colours_in_bytes_are_written_to_ply_as_bytes() {
         .collect();
     assert_eq!(first, [0.0, 128.0, 255.0]);
 }
+
+/// Texture coordinates near ±f64::MAX: a vertex added between -1.7e308
+/// and 1.7e308 got `vt inf` (`a + t·(b − a)` overflows), which delmesh's
+/// own reader then refuses. Now every output value is finite and between
+/// its edge's ends, in OBJ and PLY.
+#[test]
+fn huge_texture_coordinates_interpolate_to_finite_values() {
+    let dir = tempfile::tempdir().unwrap();
+    // The crate example's folded rhombus: its long diagonal (1-2) is split.
+    let input = write(
+        dir.path(),
+        "huge.obj",
+        "v -2 0 0\nv 2 0 0\nv 0 0.5 0\nv 0 -0.4 0.3\n\
+         vt -1.7e308 0.5\nvt 1.7e308 0.5\nvt 0 1\nvt 0 0\n\
+         f 1/1 2/2 3/3\nf 2/2 1/1 4/4\n",
+    );
+    for ext in ["obj", "ply"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let printout = run(&input, &out, &[]);
+        assert!(work(&printout).1 >= 1, "{printout}");
+        check(&input, &out);
+        let m = read(&out);
+        let uv = channel(&m, Kind::TexCoord).expect("texture coordinates kept");
+        assert!(m.positions.len() > 4);
+        for (c, &v) in m.triangles.iter().flatten().enumerate() {
+            let value = uv.corner(c);
+            assert!(value.iter().all(|x| x.is_finite()), "{ext}: vertex {v}: {value:?}");
+            assert!(value[0].abs() <= 1.7e308, "{ext}: {value:?}");
+        }
+    }
+}
