@@ -240,6 +240,10 @@ pub struct Attributes {
     pub groups: Vec<Group>,
     /// The arguments of the file's `mtllib` statements, verbatim.
     pub mtllib: Vec<String>,
+    /// The texture images a PLY file names in `comment TextureFile NAME`
+    /// lines (MeshLab's), kept only with `texcoords`: written back to a PLY
+    /// output that has them.
+    pub texture_files: Vec<String>,
 }
 
 impl Attributes {
@@ -596,6 +600,7 @@ impl Transfer {
             face_group: Vec::new(),
             groups: input.groups.clone(),
             mtllib: input.mtllib.clone(),
+            texture_files: input.texture_files.clone(),
             ..Attributes::default()
         };
         if !input.face_group.is_empty() {

@@ -447,6 +447,9 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
             corners,
         });
     }
+    if a.texcoords.is_some() {
+        a.texture_files = raw.attributes.texture_files.clone();
+    }
     (a, notes)
 }
 
@@ -1081,8 +1084,10 @@ pub fn stage_mesh_after(
 
 /// Writes a triangle mesh with its attributes (per corner of `triangles`,
 /// as [`crate::attributes::Transfer::apply`] gives them) atomically, in the
-/// format of `path`'s extension. OBJ keeps everything; PLY keeps texture
-/// coordinates (`s t`, the first two numbers), normals (`nx ny nz`) and
+/// format of `path`'s extension. OBJ keeps everything but a PLY input's
+/// `TextureFile` comments (a note says so); PLY keeps texture
+/// coordinates (`s t`, the first two numbers, and the `comment
+/// TextureFile` lines of a PLY input), normals (`nx ny nz`) and
 /// colours (`red green blue [alpha]`, 8-bit), a vertex with several values
 /// written once per value at the same position, the copies last; OFF and
 /// STL keep positions only.
@@ -1111,7 +1116,16 @@ pub fn stage_mesh_with_attributes(
     let mut lost = |what: &str, format: &str| notes.push(format!("{what} not written: {format} cannot hold them"));
     let mut copies_of = Vec::new();
     let staged = match format {
-        Format::Obj => stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
+        Format::Obj => {
+            if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
+                notes.push(format!(
+                    "texture file {} (PLY comment TextureFile) not written: an OBJ names its textures in a \
+                     material library (.mtl), which delmesh does not write; write PLY to keep it",
+                    attributes.texture_files.join(", ")
+                ));
+            }
+            stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?
+        }
         Format::Ply => {
             if !attributes.face_group.is_empty() || !attributes.mtllib.is_empty() {
                 lost("groups and materials", "PLY");
@@ -1150,8 +1164,15 @@ pub fn stage_mesh_with_attributes(
             }
             let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
             copies_of = split.source[positions.len()..].to_vec();
+            // The texture image with the texture coordinates, as MeshLab names it.
+            let comments: Vec<String> = match attributes.texcoords {
+                Some(_) => (attributes.texture_files.iter())
+                    .map(|name| format!("TextureFile {name}"))
+                    .collect(),
+                None => Vec::new(),
+            };
             stage(path, |w| {
-                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
+                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &comments)
             })?
         }
         Format::Off | Format::Stl => {
