@@ -1,13 +1,23 @@
 //! delmesh as a library: read a mesh, make it a Delaunay mesh, prune the
-//! added vertices it can do without, verify it, and hand the cotangent
-//! weights' inputs (positions and triangles) to your own code.
+//! added vertices it can do without, verify it, and write it with its
+//! texture coordinates, normals, colours, groups and materials (what the
+//! command line does), then hand the cotangent weights' inputs (positions
+//! and triangles) to your own code.
 //!
 //! ```sh
 //! cargo run --release --example library -- data/bunny.obj bunny-dm.obj
 //! ```
+//!
+//! The attributes: [`Transfer::new`] takes the input's (per corner of its
+//! triangles) and the surface *before* refinement; after refining (and
+//! pruning), [`Transfer::apply`] gives them per corner of the output's
+//! triangles, for [`io::write_mesh_with_attributes`]. (Writing
+//! `surface.positions` and `surface.triangles()` with [`io::write_mesh`]
+//! alone drops them.)
 
 use std::path::Path;
 
+use delmesh::attributes::Transfer;
 use delmesh::io::{self, ReadOptions};
 use delmesh::{make_delaunay, Options};
 
@@ -18,9 +28,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => return Err("usage: library INPUT OUTPUT".into()),
     };
     // Read (any format, welded and validated; `repair: Some(..)` fixes what
-    // would be refused) and build the refinable surface.
+    // would be refused) and build the refinable surface (`build_surface_with`
+    // takes other attribute tolerances).
     let mut input = io::read_mesh(input_path, &ReadOptions::default())?;
     let mut surface = io::build_surface(&mut input, input_path)?;
+    for note in &input.notes {
+        println!("note: {note}");
+    }
+    // The attributes' transfer, made before refinement (empty if the input
+    // has none: `apply` then gives none, and the output is positions only).
+    let transfer = Transfer::new(input.attributes.clone(), &input.triangles, &surface);
     // Algorithm 2 with the defaults (stack, score 2, median), then pruning.
     let options = Options::default();
     let stats = make_delaunay(&mut surface, &options)?;
@@ -39,7 +56,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
     );
     assert!(report.passed(), "{:?}", report.failures);
-    io::write_mesh(output_path, &positions, &triangles)?;
+    // Per corner of `triangles`: interpolated at the added vertices.
+    let attributes = transfer.apply(&surface);
+    let written = io::write_mesh_with_attributes(output_path, &positions, &triangles, &attributes)?;
+    for note in &written.notes {
+        println!("note: {note}"); // what the output's format cannot hold
+    }
     println!(
         "{} splits, {} flips, {} of them removed again: {} vertices, {} faces, {} non-Delaunay edges",
         stats.splits,

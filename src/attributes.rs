@@ -18,8 +18,10 @@
 //! - an input vertex takes, bit for bit, its own value in the region of the
 //!   output face;
 //! - a vertex added on input edge (a, b) at parameter t takes
-//!   `value(a) + t·(value(b) − value(a))`, with a's and b's values in the
-//!   region of the output face (the side of the edge the face is on).
+//!   `value(a) + t·(value(b) − value(a))` ([`interpolate`]: where that
+//!   difference overflows, `(1 − t)·value(a) + t·value(b)`), with a's and
+//!   b's values in the region of the output face (the side of the edge the
+//!   face is on).
 //!
 //! Normals are interpolated linearly, not renormalized: the field a renderer
 //! interpolates stays the same.
@@ -109,6 +111,37 @@ impl Tolerances {
             Kind::Color => self.colors,
         }
     }
+
+    /// What a tolerance must be, as messages say it.
+    pub const RANGE: &'static str = "a relative tolerance (a number from 0 to 1)";
+
+    /// Refuses a tolerance that is not [`is_relative_tolerance`] (NaN,
+    /// negative, infinite or above 1, as `--attribute-tolerance` refuses
+    /// it) with [`crate::Error::Setting`] naming the attribute.
+    pub fn validate(&self) -> crate::Result<()> {
+        for (kind, name) in [
+            (Kind::TexCoord, "texture coordinates tolerance"),
+            (Kind::Normal, "normals tolerance"),
+            (Kind::Color, "colours tolerance"),
+        ] {
+            let value = self.of(kind);
+            if !is_relative_tolerance(value) {
+                return Err(crate::Error::Setting {
+                    name,
+                    value,
+                    expected: Self::RANGE,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether `x` is a [`Tolerances`] value that the library and
+/// `--attribute-tolerance` accept: a number from 0 to 1 (relative to the
+/// attribute's largest magnitude).
+pub fn is_relative_tolerance(x: f64) -> bool {
+    (0.0..=1.0).contains(&x)
 }
 
 /// Which attribute a [`Channel`] holds.
@@ -209,6 +242,10 @@ pub struct Attributes {
     pub groups: Vec<Group>,
     /// The arguments of the file's `mtllib` statements, verbatim.
     pub mtllib: Vec<String>,
+    /// The texture images a PLY file names in `comment TextureFile NAME`
+    /// lines (MeshLab's), kept only with `texcoords`: written back to a PLY
+    /// output that has them.
+    pub texture_files: Vec<String>,
 }
 
 impl Attributes {
@@ -575,6 +612,7 @@ impl Transfer {
             face_group: Vec::new(),
             groups: input.groups.clone(),
             mtllib: input.mtllib.clone(),
+            texture_files: input.texture_files.clone(),
             ..Attributes::default()
         };
         if !input.face_group.is_empty() {
@@ -607,7 +645,7 @@ impl Transfer {
                             let x1 = channel.corner(corner_of(i1, region));
                             for (k, slot) in value.iter_mut().enumerate() {
                                 let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
-                                *slot = a + t * (b - a);
+                                *slot = interpolate(a, b, t);
                             }
                         }
                     }
@@ -623,6 +661,21 @@ impl Transfer {
             *out.channel_mut(kind) = Some(pooled);
         }
         out
+    }
+}
+
+/// The value at parameter `t` ∈ [0, 1] between `a` and `b`:
+/// `a + t·(b − a)`, as positions are computed, unless `b − a` overflows
+/// (values of opposite signs beyond ±f64::MAX / 2, such as texture
+/// coordinates of ±1.7e308, gave ±inf); then `(1 − t)·a + t·b`, kept
+/// between `a` and `b` (its rounding could pass f64::MAX): finite for finite
+/// `a` and `b`.
+pub fn interpolate(a: f64, b: f64, t: f64) -> f64 {
+    let d = b - a;
+    if d.is_finite() {
+        a + t * d
+    } else {
+        ((1.0 - t) * a + t * b).clamp(a.min(b), a.max(b))
     }
 }
 
@@ -700,6 +753,29 @@ impl PerVertex {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Values near ±f64::MAX interpolate to finite values between them
+    /// (`a + t·(b − a)` gave ±inf); others exactly as before.
+    #[test]
+    fn interpolation_does_not_overflow() {
+        let big = 1.7e308;
+        for t in [0.0, 1e-9, 0.25, 0.3, 0.5, 0.7, 1.0 - 1e-12, 1.0] {
+            for (a, b) in [
+                (-big, big),
+                (big, -big),
+                (f64::MAX, -f64::MAX),
+                (f64::MAX, f64::MAX),
+                (-big, 0.0),
+            ] {
+                let x = interpolate(a, b, t);
+                assert!(x.is_finite() && x >= a.min(b) && x <= a.max(b), "{a} {b} {t}: {x}");
+            }
+            assert_eq!(interpolate(0.25, 0.75, t), 0.25 + t * (0.75 - 0.25));
+        }
+        assert_eq!(interpolate(-big, big, 0.5), 0.0);
+        assert_eq!(interpolate(-big, big, 0.0), -big);
+        assert_eq!(interpolate(-big, big, 1.0), big);
+    }
 
     fn uv(values: &[[f64; 2]], corners: Vec<u32>) -> Channel {
         Channel {

@@ -810,8 +810,11 @@ fn score_name(s: Score) -> &'static str {
 /// weld nothing without a word, infinity everything).
 fn weld_distance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-        _ => Err(format!("{s:?} is not a distance (a finite number, 0 or more)")),
+        Ok(x) if delmesh::repair::is_weld_distance(x) => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not {}",
+            delmesh::repair::RepairOptions::WELD_TOLERANCE_RANGE
+        )),
     }
 }
 
@@ -821,8 +824,8 @@ fn weld_distance(s: &str) -> Result<f64, String> {
 /// named keeping their defaults.
 fn attribute_tolerances(s: &str) -> Result<Tolerances, String> {
     let relative = |text: &str| match text.trim().parse::<f64>() {
-        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        _ => Err(format!("{text:?} is not a relative tolerance (a number from 0 to 1)")),
+        Ok(x) if delmesh::attributes::is_relative_tolerance(x) => Ok(x),
+        _ => Err(format!("{text:?} is not {}", Tolerances::RANGE)),
     };
     if !s.contains('=') {
         return relative(s).map(Tolerances::all);
@@ -997,10 +1000,22 @@ struct Outcome {
     stats: Stats,
     /// With --prune: what pruning removed.
     pruned: Option<PruneStats>,
+    /// Seconds refining, pruning included.
     seconds: f64,
+    /// Seconds pruning (a part of `seconds`).
+    seconds_prune: f64,
 }
 
 impl Outcome {
+    /// The seconds of this run, written in `seconds_write`.
+    fn seconds(&self, seconds_write: f64) -> stats_json::RunSeconds {
+        stats_json::RunSeconds {
+            refine: self.seconds,
+            prune: self.seconds_prune,
+            write: seconds_write,
+        }
+    }
+
     /// The record of this run, written to `output` in `seconds_write`.
     fn record(&self, options: Options, output: &Path, seconds_write: f64) -> stats_json::RunRecord {
         let s = &self.surface;
@@ -1011,11 +1026,10 @@ impl Outcome {
                 vertices: s.positions.len(),
                 faces: s.topo.n_faces(),
                 added_vertices: s.positions.len() - s.n_input_vertices,
-                pruned_vertices: self.pruned.map(|p| p.removed),
+                pruned: self.pruned,
                 stats: Some(self.stats),
-                seconds_refine: self.seconds,
-                seconds_write,
             }),
+            seconds: self.seconds(seconds_write),
         }
     }
 }
@@ -1054,6 +1068,7 @@ fn refine_once(
         stats,
         pruned: None,
         seconds: first_pass.seconds + start.elapsed().as_secs_f64(),
+        seconds_prune: 0.0,
     };
     Ok(match prune {
         Some(passes) => prune_outcome(out, options, passes),
@@ -1082,7 +1097,8 @@ fn prune_outcome(mut out: Outcome, options: &Options, passes: usize) -> Outcome 
         passes,
         progress::prune_hook(),
     ));
-    out.seconds += start.elapsed().as_secs_f64();
+    out.seconds_prune = start.elapsed().as_secs_f64();
+    out.seconds += out.seconds_prune;
     out
 }
 
@@ -1150,11 +1166,19 @@ fn mesh_streamed<'a>(staged: &io::Staged, output: &'a Path) -> impl Fn(anyhow::E
 }
 
 /// The record of a run of `options` that failed with `e`.
-fn failure_record(options: Options, output: &Path, e: &anyhow::Error) -> stats_json::RunRecord {
+/// The record of a run that failed with `e`, after its phases took
+/// `seconds` (those that did not run: 0).
+pub(crate) fn failure_record(
+    options: Options,
+    output: &Path,
+    e: &anyhow::Error,
+    seconds: stats_json::RunSeconds,
+) -> stats_json::RunRecord {
     stats_json::RunRecord {
         options: Some(options),
         output: output.display().to_string(),
         result: Err((error_kind(e), one_line(e))),
+        seconds,
     }
 }
 
@@ -1470,13 +1494,12 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                         vertices: f.vertices,
                         faces: f.faces,
                         added_vertices: f.added,
-                        pruned_vertices: f.pruned,
+                        pruned: f.pruned,
                         stats: Some(f.stats),
-                        seconds_refine: f.seconds,
-                        seconds_write: f.seconds_write,
                     }),
                     Err(e) => Err((error_kind(e), one_line(e))),
                 },
+                seconds: r.seconds,
             })
             .collect();
         report.write(&runs, true)?;
@@ -1510,11 +1533,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 vertices: surface.positions.len(),
                 faces: surface.topo.n_faces(),
                 added_vertices: 0,
-                pruned_vertices: None,
+                pruned: None,
                 stats: None,
-                seconds_refine: 0.0,
-                seconds_write: write_s,
             }),
+            seconds: stats_json::RunSeconds {
+                write: write_s,
+                ..Default::default()
+            },
         };
         let (total, reports) = report.stage(&[run], false).map_err(streamed)?;
         side.extend(reports);
@@ -1547,6 +1572,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Refine);
     let mut vertex_lines = io::obj::VertexLines::default();
     let mut pruned_settings = 0;
+    // (A failed run's record has the seconds it refined.)
+    let refine_start = Instant::now();
     let result = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
@@ -1587,7 +1614,11 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         Err(e) => {
             let e = name_stuck_edge(e, &input);
             progress::phase(Phase::Idle);
-            report.write(&[failure_record(options, &output, &e)], true)?;
+            let seconds = stats_json::RunSeconds {
+                refine: first_pass.seconds + refine_start.elapsed().as_secs_f64(),
+                ..Default::default()
+            };
+            report.write(&[failure_record(options, &output, &e, seconds)], true)?;
             // Which edges get stuck depends on the order of work and the
             // samples chosen: other settings often get through.
             if stuck_elsewhere(&e) && !args.smallest {
@@ -1611,7 +1642,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         staged = match check_output(input_path, &input, staged, &output) {
             Ok(staged) => staged,
             Err(e) => {
-                report.write(&[failure_record(options, &output, &e)], true)?;
+                report.write(&[failure_record(options, &output, &e, out.seconds(write_s))], true)?;
                 return Err(e);
             }
         };
@@ -2059,16 +2090,16 @@ struct Row {
     options: Options,
     file: PathBuf,
     result: anyhow::Result<RowFigures>,
+    /// Its phases' seconds, also if it failed (until it did).
+    seconds: stats_json::RunSeconds,
 }
 
 struct RowFigures {
     faces: usize,
     vertices: usize,
     added: usize,
-    pruned: Option<usize>,
+    pruned: Option<PruneStats>,
     stats: Stats,
-    seconds: f64,
-    seconds_write: f64,
 }
 
 /// Why a refined mesh is never written as STL: every output must pass
@@ -2242,8 +2273,16 @@ struct Sweep<'a> {
 }
 
 /// Refines one combination and writes its file (atomically), checked with
-/// --check.
-fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file: &Path) -> anyhow::Result<RowFigures> {
+/// --check; `seconds` gets the seconds of its phases as they end (those of
+/// a failed run too).
+fn run_combination(
+    sweep: &Sweep,
+    options: &Options,
+    prune: Option<usize>,
+    file: &Path,
+    seconds: &mut stats_json::RunSeconds,
+) -> anyhow::Result<RowFigures> {
+    let start = Instant::now();
     let out = refine_once(
         sweep.surface.clone(),
         sweep.first_pass,
@@ -2251,10 +2290,15 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
         options,
         prune,
     )
-    .map_err(|e| name_stuck_edge(e, sweep.input))?;
+    .map_err(|e| {
+        seconds.refine = sweep.first_pass.seconds + start.elapsed().as_secs_f64();
+        name_stuck_edge(e, sweep.input)
+    })?;
+    *seconds = out.seconds(0.0);
     let t = Instant::now();
-    let (_, mut staged) = write_output(file, &out.surface, sweep.transfer, &Default::default())?;
-    let seconds_write = t.elapsed().as_secs_f64();
+    let written = write_output(file, &out.surface, sweep.transfer, &Default::default());
+    seconds.write = t.elapsed().as_secs_f64();
+    let (_, mut staged) = written?;
     if let Some(reference) = sweep.check {
         staged = reference.check(staged, file)?;
     }
@@ -2264,10 +2308,8 @@ fn run_combination(sweep: &Sweep, options: &Options, prune: Option<usize>, file:
         faces: out.surface.topo.n_faces(),
         vertices: out.surface.positions.len(),
         added: out.surface.positions.len() - out.surface.n_input_vertices,
-        pruned: out.pruned.map(|p| p.removed),
+        pruned: out.pruned,
         stats: out.stats,
-        seconds: out.seconds,
-        seconds_write,
     })
 }
 
@@ -2316,11 +2358,13 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
     run_each(threads, &order, &|i| {
         let options = &combos[i];
         let file = combination_path(output, options);
-        let result = run_combination(sweep, options, args.settings.prune(), &file);
+        let mut seconds = stats_json::RunSeconds::default();
+        let result = run_combination(sweep, options, args.settings.prune(), &file, &mut seconds);
         rows.lock().unwrap_or_else(|p| p.into_inner()).push(Row {
             options: *options,
             file,
             result,
+            seconds,
         });
     });
     progress::phase(Phase::Idle);
@@ -2362,7 +2406,7 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
                     f.added,
                     f.stats.splits,
                     f.stats.flips,
-                    f.seconds
+                    r.seconds.refine
                 ),
                 Err(e) if e.downcast_ref::<CheckFailed>().is_some() => {
                     say!("{head} {:>9}  {}", "rejected", one_line(e))

@@ -81,6 +81,19 @@ pub enum Error {
         /// likely cause if any.
         nearly_flat_edges: usize,
     },
+    /// A setting given to the library is out of its range: a tolerance that
+    /// is NaN, negative or infinite (the command line refuses the same
+    /// values when it parses its flags).
+    #[error("{name} {value} is not {expected}")]
+    Setting {
+        /// The setting, as messages name it (`weld tolerance`,
+        /// `texture coordinates tolerance`, ...).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must be.
+        expected: &'static str,
+    },
     /// An output file could not be written.
     #[error("{path}: cannot write: {source}")]
     Write {

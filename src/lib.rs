@@ -8,8 +8,35 @@
 //! The library is what the command line is built on: read a mesh
 //! ([`io::read_mesh`]), build the refinable [`Surface`]
 //! ([`io::build_surface`]), run [`make_delaunay`], write the result
-//! ([`io::write_mesh`]), and verify it independently ([`check`]). Texture
-//! coordinates, normals, colours and groups are carried by [`attributes`].
+//! ([`io::write_mesh`]), and verify it independently ([`check`]).
+//!
+//! What the command line refuses, the library refuses with a typed error,
+//! never a panic: [`Surface::new`] a mesh without triangles, coordinates
+//! beyond ±[`io::MAX_COORDINATE`], edges shorter than [`io::MIN_EDGE`]
+//! ([`mesh::InputError`]); [`io::read_mesh`] and [`io::build_surface_with`]
+//! the same in a file, and tolerances that are NaN, negative or infinite
+//! ([`Error::Setting`]).
+//!
+//! Texture coordinates, normals, colours, groups and materials are carried
+//! by [`attributes`]: make an [`attributes::Transfer`] from the input's
+//! attributes and the surface *before* refining, and write
+//! [`attributes::Transfer::apply`]'s result with
+//! [`io::write_mesh_with_attributes`] (`examples/library.rs` does, as the
+//! command line does); [`io::write_mesh`] writes positions only.
+//!
+//! ```no_run
+//! use delmesh::{attributes::Transfer, io, make_delaunay, Options};
+//! use std::path::Path;
+//!
+//! let path = Path::new("textured.obj");
+//! let mut input = io::read_mesh(path, &io::ReadOptions::default())?;
+//! let mut surface = io::build_surface(&mut input, path)?;
+//! let transfer = Transfer::new(input.attributes.clone(), &input.triangles, &surface);
+//! make_delaunay(&mut surface, &Options::default())?;
+//! let attributes = transfer.apply(&surface);
+//! io::write_mesh_with_attributes(Path::new("out.obj"), &surface.positions, &surface.triangles(), &attributes)?;
+//! # Ok::<(), delmesh::Error>(())
+//! ```
 //!
 //! ```
 //! use delmesh::{make_delaunay, Options, Surface};

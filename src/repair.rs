@@ -69,8 +69,35 @@ pub struct RepairOptions {
     /// by up to the cluster's extent. The search is linear while a tolerance-sized neighbourhood
     /// holds few vertices (the intended use: closing cracks left by rounding); a tolerance far
     /// above the vertex spacing makes it quadratic in the vertices per neighbourhood.
-    /// A negative or NaN tolerance is treated as `0.0`; an infinite one welds all vertices.
+    /// [`repair`] itself treats a negative or NaN tolerance as `0.0` and welds all vertices
+    /// with an infinite one; [`crate::io::read_mesh`] refuses all three, as the command line
+    /// does ([`RepairOptions::validate`]).
     pub weld_tolerance: f64,
+}
+
+/// Whether `x` is a weld distance ([`RepairOptions::weld_tolerance`]) that the readers and the
+/// command line's `--weld-tolerance` accept: finite, 0 or more.
+pub fn is_weld_distance(x: f64) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
+impl RepairOptions {
+    /// What a weld tolerance must be, as messages say it.
+    pub const WELD_TOLERANCE_RANGE: &'static str = "a distance (a finite number, 0 or more)";
+
+    /// Refuses a weld tolerance that is NaN, negative or infinite ([`is_weld_distance`]) with
+    /// [`crate::Error::Setting`].
+    pub fn validate(&self) -> crate::Result<()> {
+        if is_weld_distance(self.weld_tolerance) {
+            Ok(())
+        } else {
+            Err(crate::Error::Setting {
+                name: "weld tolerance",
+                value: self.weld_tolerance,
+                expected: Self::WELD_TOLERANCE_RANGE,
+            })
+        }
+    }
 }
 
 /// What [`repair`] changed, by kind.

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use delmesh::io::InputMesh;
 use delmesh::mesh::InputFigures;
+use delmesh::prune::PruneStats;
 use delmesh::refine::{Options, Stats, Worklist};
 use delmesh::samples::{SampleConstants, Score};
 
@@ -24,6 +25,21 @@ pub struct RunRecord {
     pub output: String,
     /// `Err((kind, message))` if the run failed.
     pub result: Result<RunFigures, (&'static str, String)>,
+    /// How long its phases took: also of a failed run, until it failed.
+    pub seconds: RunSeconds,
+}
+
+/// Wall-clock seconds of a run's phases: 0 for a phase that did not run; a
+/// run that failed has those of the phases it ran, until it failed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunSeconds {
+    /// Refining, pruning included.
+    pub refine: f64,
+    /// Pruning (with `--prune`), a part of `refine`.
+    pub prune: f64,
+    /// Writing the output mesh (until it is complete under its temporary
+    /// name).
+    pub write: f64,
 }
 
 /// The figures of a successful run.
@@ -34,14 +50,10 @@ pub struct RunFigures {
     pub faces: usize,
     /// Vertices not in the input.
     pub added_vertices: usize,
-    /// With `--prune`: added vertices it removed again.
-    pub pruned_vertices: Option<usize>,
+    /// With `--prune`: what pruning did (the figures its line prints).
+    pub pruned: Option<PruneStats>,
     /// Work done; `None` with `--no-refine`.
     pub stats: Option<Stats>,
-    /// Seconds spent refining.
-    pub seconds_refine: f64,
-    /// Seconds spent writing the output.
-    pub seconds_write: f64,
 }
 
 /// What the whole invocation read and how long it took.
@@ -146,7 +158,10 @@ impl Json {
     }
 }
 
+/// A number in shortest round-trip form; `-0` is written as `0` (no figure
+/// is negative: an empty sum gives -0), a non-finite one as `null`.
 fn num(x: f64) -> String {
+    let x = if x == 0.0 { 0.0 } else { x };
     if x.is_finite() {
         zmij::Buffer::new().format_finite(x).to_string()
     } else {
@@ -199,8 +214,10 @@ pub fn score_key(s: Score) -> u32 {
     }
 }
 
-/// The fields of a run record, in order: also the CSV columns after `input`.
-pub const RUN_FIELDS: [&str; 20] = [
+/// The fields of a run record, in order: also the CSV columns after `input`
+/// (fields added later come last, so that the earlier columns keep their
+/// places).
+pub const RUN_FIELDS: [&str; 24] = [
     "data_structure",
     "score",
     "median",
@@ -221,6 +238,10 @@ pub const RUN_FIELDS: [&str; 20] = [
     "longest_first_after_flips",
     "seconds_refine",
     "seconds_write",
+    "prune_tried",
+    "prune_flips",
+    "prune_passes",
+    "seconds_prune",
 ];
 
 fn run_object(r: &RunRecord) -> Json {
@@ -247,11 +268,12 @@ fn run_object(r: &RunRecord) -> Json {
     let f = r.result.as_ref().ok();
     let st = f.and_then(|f| f.stats);
     let done = f.map(|f| f.stats.unwrap_or_default());
+    let pruned = f.and_then(|f| f.pruned);
     fields.extend([
         ("vertices", Json::opt_int(f.map(|f| f.vertices))),
         ("faces", Json::opt_int(f.map(|f| f.faces))),
         ("added_vertices", Json::opt_int(f.map(|f| f.added_vertices))),
-        ("pruned_vertices", Json::opt_int(f.and_then(|f| f.pruned_vertices))),
+        ("pruned_vertices", Json::opt_int(pruned.map(|p| p.removed))),
         ("splits", Json::opt_int(done.map(|s| s.splits))),
         ("flips", Json::opt_int(done.map(|s| s.flips))),
         ("non_delaunay_before", Json::opt_int(st.map(|s| s.non_delaunay_before))),
@@ -261,8 +283,12 @@ fn run_object(r: &RunRecord) -> Json {
             "longest_first_after_flips",
             Json::opt_int(done.and_then(|s| s.longest_first_after)),
         ),
-        ("seconds_refine", f.map_or(Json::Null, |f| Json::Num(f.seconds_refine))),
-        ("seconds_write", f.map_or(Json::Null, |f| Json::Num(f.seconds_write))),
+        ("seconds_refine", Json::Num(r.seconds.refine)),
+        ("seconds_write", Json::Num(r.seconds.write)),
+        ("prune_tried", Json::opt_int(pruned.map(|p| p.tried))),
+        ("prune_flips", Json::opt_int(pruned.map(|p| p.flips))),
+        ("prune_passes", Json::opt_int(pruned.map(|p| p.passes))),
+        ("seconds_prune", Json::Num(r.seconds.prune)),
     ]);
     Json::Obj(fields)
 }
@@ -332,7 +358,9 @@ pub fn batch_document(
 fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecord], peak_memory: Option<u64>) -> Json {
     let i = inv.input;
     let f = inv.figures;
-    let seconds_of = |g: fn(&RunFigures) -> f64| runs.iter().filter_map(|r| r.result.as_ref().ok()).map(g).sum();
+    // Summed over every run, failed ones too (from +0: an empty `sum` of
+    // floats is -0).
+    let seconds_of = |g: fn(&RunSeconds) -> f64| runs.iter().map(|r| g(&r.seconds)).fold(0.0, |a, b| a + b);
     Json::Obj(vec![
         ("delmesh_version", Json::Str(env!("CARGO_PKG_VERSION").into())),
         (
@@ -377,8 +405,9 @@ fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecor
             Json::Obj(vec![
                 ("read", Json::Num(inv.seconds_read)),
                 ("build", Json::Num(inv.seconds_build)),
-                ("refine", Json::Num(seconds_of(|f| f.seconds_refine))),
-                ("write", Json::Num(seconds_of(|f| f.seconds_write))),
+                ("refine", Json::Num(seconds_of(|s| s.refine))),
+                ("prune", Json::Num(seconds_of(|s| s.prune))),
+                ("write", Json::Num(seconds_of(|s| s.write))),
                 ("total", Json::Num(inv.seconds_total)),
             ]),
         ),
@@ -434,16 +463,24 @@ mod tests {
                 vertices: 5,
                 faces: 6,
                 added_vertices: 1,
-                pruned_vertices: None,
+                pruned: None,
                 stats: Some(Stats::default()),
-                seconds_refine: 0.5,
-                seconds_write: f64::NAN,
             }),
+            seconds: RunSeconds {
+                refine: 0.5,
+                prune: 0.0,
+                write: f64::NAN,
+            },
         };
         let failed = RunRecord {
             options: None,
             output: "c.obj".into(),
             result: Err(("work_limit", "stopped".into())),
+            seconds: RunSeconds {
+                refine: 0.25,
+                prune: -0.0,
+                write: 0.0,
+            },
         };
         for r in [&ok, &failed] {
             let Json::Obj(fields) = run_object(r) else { panic!() };
@@ -458,7 +495,9 @@ mod tests {
             "{}",
             lines[1]
         );
-        assert!(lines[1].ends_with(",0.5,"), "{}", lines[1]);
+        assert!(lines[1].ends_with(",0.5,,,,,0.0"), "{}", lines[1]);
+        // A failed run has the seconds of what ran; no -0 anywhere.
+        assert!(lines[2].ends_with(",0.25,0.0,,,,0.0"), "{}", lines[2]);
         assert!(
             lines[2].starts_with("in.obj,,,,,c.obj,false,work_limit,stopped,,"),
             "{}",

@@ -813,3 +813,147 @@ fn attributes_the_output_cannot_hold_cost_no_splits() {
     let off_batch = std::fs::read(out_dir.join("oval_cylinder_smooth_normals.off")).unwrap();
     assert_eq!(off_batch, std::fs::read(dir.path().join("o.off")).unwrap());
 }
+
+/// Texture coordinates near ±f64::MAX: a vertex added between -1.7e308
+/// and 1.7e308 got `vt inf` (`a + t·(b − a)` overflows), which delmesh's
+/// own reader then refuses. Now every output value is finite and between
+/// its edge's ends, in OBJ and PLY.
+#[test]
+fn huge_texture_coordinates_interpolate_to_finite_values() {
+    let dir = tempfile::tempdir().unwrap();
+    // The crate example's folded rhombus: its long diagonal (1-2) is split.
+    let input = write(
+        dir.path(),
+        "huge.obj",
+        "v -2 0 0\nv 2 0 0\nv 0 0.5 0\nv 0 -0.4 0.3\n\
+         vt -1.7e308 0.5\nvt 1.7e308 0.5\nvt 0 1\nvt 0 0\n\
+         f 1/1 2/2 3/3\nf 2/2 1/1 4/4\n",
+    );
+    for ext in ["obj", "ply"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let printout = run(&input, &out, &[]);
+        assert!(work(&printout).1 >= 1, "{printout}");
+        check(&input, &out);
+        let m = read(&out);
+        let uv = channel(&m, Kind::TexCoord).expect("texture coordinates kept");
+        assert!(m.positions.len() > 4);
+        for (c, &v) in m.triangles.iter().flatten().enumerate() {
+            let value = uv.corner(c);
+            assert!(value.iter().all(|x| x.is_finite()), "{ext}: vertex {v}: {value:?}");
+            assert!(value[0].abs() <= 1.7e308, "{ext}: {value:?}");
+        }
+    }
+}
+
+/// MeshLab's textured PLY: texture coordinates per face corner (`property
+/// list uchar float texcoord`, with `texnumber`) and the image in `comment
+/// TextureFile`. They were dropped without a word; now they are read as
+/// per-corner values (a seam kept as in OBJ), carried like OBJ's, and the
+/// `TextureFile` comment is written to a PLY output (an OBJ output says it
+/// cannot keep it).
+#[test]
+fn meshlab_wedge_texture_coordinates_and_texture_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(8, 3);
+    // An affine map, shifted by 0.5 on the right half: a seam down the middle.
+    let uv = |p: DVec3, right: bool| [p.x / 8.0 + if right { 0.5 } else { 0.0 }, p.y / 8.0];
+    let header = |format: &str| {
+        format!(
+            "ply\nformat {format} 1.0\ncomment TextureFile grid tex.png\nelement vertex {}\nproperty double x\n\
+             property double y\nproperty double z\nelement face {}\nproperty list uchar int vertex_indices\n\
+             property list uchar float texcoord\nproperty int texnumber\nend_header\n",
+            grid.positions.len(),
+            grid.triangles.len()
+        )
+    };
+    // ASCII, with face 1's texnumber and face 0's list length given.
+    let ascii_with = |texnumber_1: i32, values_0: usize| {
+        let mut ascii = header("ascii");
+        for p in &grid.positions {
+            writeln!(ascii, "{} {} {}", num(p.x), num(p.y), num(p.z)).unwrap();
+        }
+        for (t, tri) in grid.triangles.iter().enumerate() {
+            let corners = tri.map(|v| uv(grid.positions[v as usize], grid.right(t)).map(|x| x as f32));
+            let values: Vec<f32> = corners.iter().flatten().copied().collect();
+            let values = if t == 0 { &values[..values_0] } else { &values[..] };
+            write!(ascii, "3 {} {} {} {}", tri[0], tri[1], tri[2], values.len()).unwrap();
+            for x in values {
+                // (As f64: f32's shortest text, such as 0.15039063, is not
+                // the f32's exact value, and would round the field.)
+                write!(ascii, " {}", f64::from(*x)).unwrap();
+            }
+            writeln!(ascii, " {}", if t == 1 { texnumber_1 } else { 0 }).unwrap();
+        }
+        ascii
+    };
+    let ascii = ascii_with(0, 6);
+    let mut binary = header("binary_little_endian").into_bytes();
+    for p in &grid.positions {
+        for c in p.to_array() {
+            binary.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for (t, tri) in grid.triangles.iter().enumerate() {
+        // Values exact in f32 (multiples of 1/512 below 2).
+        let corners = tri.map(|v| uv(grid.positions[v as usize], grid.right(t)).map(|x| x as f32));
+        binary.push(3);
+        for v in tri {
+            binary.extend_from_slice(&(*v as i32).to_le_bytes());
+        }
+        binary.push(6);
+        for x in corners.iter().flatten() {
+            binary.extend_from_slice(&x.to_le_bytes());
+        }
+        binary.extend_from_slice(&0i32.to_le_bytes());
+    }
+    let binary_path = dir.path().join("binary.ply");
+    std::fs::write(&binary_path, &binary).unwrap();
+    for input in [write(dir.path(), "ascii.ply", &ascii), binary_path] {
+        let a = read(&input);
+        let uv_in = channel(&a, Kind::TexCoord).expect("wedge texture coordinates read");
+        assert_eq!(a.attributes.texture_files, ["grid tex.png"]);
+        // Per corner: the seam's vertices have two values.
+        assert_eq!(uv_in.corners.len(), 3 * a.triangles.len());
+        for ext in ["ply", "obj"] {
+            let out = dir.path().join(format!("out.{ext}"));
+            let printout = run(&input, &out, &[]);
+            assert!(printout.contains("attributes: texture coordinates"), "{printout}");
+            assert!(work(&printout).2 > 0, "{printout}");
+            check(&input, &out);
+            let b = read(&out);
+            let worst = compare(&a, &b, 1000, 5);
+            assert!(worst[0] <= 1e-9, "{ext}: {worst:?} {printout}");
+            let bytes = std::fs::read(&out).unwrap();
+            let text = String::from_utf8_lossy(&bytes);
+            let note = "texture file grid tex.png (PLY comment TextureFile) not written";
+            if ext == "ply" {
+                let end = text.find("end_header").unwrap();
+                assert!(
+                    text[..end].contains("\ncomment TextureFile grid tex.png\n"),
+                    "{}",
+                    &text[..end]
+                );
+                assert_eq!(b.attributes.texture_files, ["grid tex.png"]);
+                assert!(!printout.contains(note), "{printout}");
+            } else {
+                assert!(printout.contains(note), "{printout}");
+            }
+        }
+    }
+    // Several textures (texnumber 0 and 1): dropped, with a note saying why.
+    let two = write(dir.path(), "two.ply", &ascii_with(1, 6));
+    let printout = run(&two, &dir.path().join("two-out.ply"), &[]);
+    assert!(
+        printout.contains(
+            "texture coordinates of the faces (PLY face property texcoord) dropped: the faces use several textures"
+        ),
+        "{printout}"
+    );
+    // A list of the wrong length: dropped, with a note naming the face.
+    let short = write(dir.path(), "short.ply", &ascii_with(0, 5));
+    let printout = run(&short, &dir.path().join("short-out.ply"), &[]);
+    assert!(
+        printout.contains("face 0 has 5 texcoord values for its 3 corners"),
+        "{printout}"
+    );
+}

@@ -399,6 +399,16 @@ fn no_refine_repair_and_failed_runs_are_recorded() {
     assert_eq!(r["error_kind"], "work_limit");
     assert!(r["error"].as_str().unwrap().contains("work limit"));
     assert!(r["vertices"].is_null());
+    // The seconds it refined before it stopped (they were summed over the
+    // runs that succeeded only, and written as -0.0); no write, no prune: 0.
+    let s = &doc["seconds"];
+    assert!(s["refine"].as_f64().unwrap() > 0.0, "{s}");
+    assert_eq!(s["refine"], r["seconds_refine"]);
+    for zero in [&s["write"], &s["prune"], &r["seconds_write"], &r["seconds_prune"]] {
+        assert_eq!(zero.as_f64(), Some(0.0), "{doc}");
+    }
+    let text = std::fs::read_to_string(&json).unwrap() + &std::fs::read_to_string(&csv).unwrap();
+    assert!(!text.contains("-0.0") && !text.contains(": -0,"), "{text}");
     csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
     // A refused input writes neither.
     let bad = dir.path().join("bad.obj");
@@ -414,6 +424,62 @@ fn no_refine_repair_and_failed_runs_are_recorded() {
         .assert()
         .code(1);
     assert!(!json.exists());
+}
+
+/// With `--prune`, what the `prune` line prints is in the JSON and the CSV:
+/// removed, tried, flips, passes, and the seconds pruning took (a part of
+/// refining's).
+#[test]
+fn pruning_figures_are_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, csv) = (dir.path().join("p.json"), dir.path().join("p.csv"));
+    let out = delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("bunny.obj"))
+        .arg("-o")
+        .arg(dir.path().join("b.obj"))
+        .arg("--prune")
+        .arg("--stats-json")
+        .arg(&json)
+        .arg("--stats-csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let doc = read_json(&json);
+    validate(&doc);
+    csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
+    let (run, s) = (&doc["runs"][0], &doc["seconds"]);
+    let passes = run["prune_passes"].as_u64().unwrap();
+    let expected = format!(
+        "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
+        run["pruned_vertices"],
+        run["splits"],
+        run["prune_tried"],
+        run["prune_flips"],
+        passes,
+        if passes == 1 { "" } else { "es" }
+    );
+    assert!(stdout.contains(&expected), "missing {expected:?} in\n{stdout}");
+    let (prune, refine) = (s["prune"].as_f64().unwrap(), s["refine"].as_f64().unwrap());
+    assert!(prune > 0.0 && prune <= refine, "{s}");
+    assert_eq!(s["prune"], run["seconds_prune"]);
+    // Without --prune: null figures, 0 seconds.
+    delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(dir.path().join("c.obj"))
+        .arg("--stats-json")
+        .arg(&json)
+        .assert()
+        .success();
+    let doc = read_json(&json);
+    let run = &doc["runs"][0];
+    assert!(run["prune_tried"].is_null() && run["prune_passes"].is_null());
+    assert_eq!(doc["seconds"]["prune"].as_f64(), Some(0.0));
 }
 
 #[test]
@@ -445,6 +511,7 @@ fn without_timings(mut doc: Value) -> Value {
         let r = run.as_object_mut().unwrap();
         r.remove("seconds_refine");
         r.remove("seconds_write");
+        r.remove("seconds_prune");
     }
     doc
 }
@@ -536,6 +603,11 @@ fn batch_json_holds_each_files_main_document() {
     }
     assert_eq!(docs[1]["runs"][0]["ok"], false);
     assert_eq!(docs[1]["runs"][0]["error_kind"], "unsplittable");
+    // The failed file's refining took time, and is counted; it wrote nothing.
+    let (s, r) = (&docs[1]["seconds"], &docs[1]["runs"][0]);
+    assert!(s["refine"].as_f64().unwrap() > 0.0, "{s}");
+    assert_eq!(s["refine"], r["seconds_refine"]);
+    assert_eq!(s["write"].as_f64(), Some(0.0));
     assert_eq!(docs[2]["runs"][0]["ok"], true);
     // The CSV has the same runs (and rows for the refused inputs).
     let rows = read_csv(&std::fs::read_to_string(&csv).unwrap());

@@ -23,7 +23,7 @@ use super::{
     name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere,
     write_output, FirstPass, Settings,
 };
-use crate::stats_json::{self, FileDocument, RunRecord};
+use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
 use delmesh::io;
 use delmesh::refine::Options;
@@ -291,6 +291,8 @@ struct Failed {
     error: anyhow::Error,
     doc: Option<FileDocument>,
     refused: bool,
+    /// The seconds of the phases that ran (until the failure).
+    seconds: RunSeconds,
 }
 
 /// Reads, refines and writes one file, as the main command would (and
@@ -309,6 +311,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         error,
         doc: None,
         refused: true,
+        seconds: RunSeconds::default(),
     })?;
     let figures = surface.input_figures;
     let constants = delmesh::refine::sample_constants(&surface);
@@ -319,14 +322,24 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     } else {
         0
     };
-    let result = refine_read(&mut mesh, surface, &first_pass, input, output, args, options);
+    let mut seconds = RunSeconds::default();
+    let result = refine_read(
+        &mut mesh,
+        surface,
+        &first_pass,
+        input,
+        output,
+        args,
+        options,
+        &mut seconds,
+    );
     let repaired = (args.repaired_inputs && result.is_ok()).then(|| repaired_path(output));
     let doc = json.then(|| {
         let failure;
         let record = match &result {
             Ok(done) => &done.record,
             Err(e) => {
-                failure = failure_record(*options, output, e);
+                failure = failure_record(*options, output, e, seconds);
                 &failure
             }
         };
@@ -354,11 +367,14 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
             error,
             doc,
             refused: false,
+            seconds,
         }),
     }
 }
 
-/// [`refine_file`] once the input is read and built.
+/// [`refine_file`] once the input is read and built; `seconds` gets the
+/// seconds of the phases as they end (those of a failed run too).
+#[allow(clippy::too_many_arguments)]
 fn refine_read(
     mesh: &mut io::InputMesh,
     surface: delmesh::Surface,
@@ -367,21 +383,28 @@ fn refine_read(
     output: &Path,
     args: &BatchArgs,
     options: &Options,
+    seconds: &mut RunSeconds,
 ) -> anyhow::Result<Done> {
+    let start = Instant::now();
+    let failed_after = |seconds: &mut RunSeconds| seconds.refine = first_pass.seconds + start.elapsed().as_secs_f64();
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
     let (options, out) = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        let (options, mut out, _) =
-            smallest(surface, first_pass, input, options, args.jobs, passes).map_err(|e| name_stuck_edge(e, mesh))?;
+        let (options, mut out, _) = smallest(surface, first_pass, input, options, args.jobs, passes).map_err(|e| {
+            failed_after(seconds);
+            name_stuck_edge(e, mesh)
+        })?;
         out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
         (options, out)
     } else {
         (
             *options,
-            refine_once(surface, first_pass, input, options, args.settings.prune())
-                .map_err(|e| name_stuck_edge(e, mesh))?,
+            refine_once(surface, first_pass, input, options, args.settings.prune()).map_err(|e| {
+                failed_after(seconds);
+                name_stuck_edge(e, mesh)
+            })?,
         )
     };
     let t_write = Instant::now();
@@ -394,9 +417,12 @@ fn refine_read(
         args.smallest,
     ));
     notes.extend(longest_first_note(&out.stats));
-    let (written, mut staged) = write_output(output, &out.surface, transfer.as_ref(), &Default::default())?;
-    notes.extend(written.notes.iter().cloned());
+    *seconds = out.seconds(0.0);
+    let written = write_output(output, &out.surface, transfer.as_ref(), &Default::default());
     let seconds_write = t_write.elapsed().as_secs_f64();
+    seconds.write = seconds_write;
+    let (written, mut staged) = written?;
+    notes.extend(written.notes.iter().cloned());
     if args.check {
         staged = check_output(input, mesh, staged, output)?;
     }
@@ -583,6 +609,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                         error: e,
                         doc,
                         refused: not_read,
+                        seconds,
                     }) => {
                         failed += 1;
                         docs.extend(doc);
@@ -597,7 +624,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                             ""
                         };
                         complain!("delmesh: {}{hint}", one_line(&e));
-                        records.push((i, failure_record(options, &outputs[i], &e)));
+                        records.push((i, failure_record(options, &outputs[i], &e, seconds)));
                     }
                 }
             }
@@ -661,7 +688,7 @@ fn report_done(input: &Path, done: &Done, checked: bool) {
         f.faces,
         f.added_vertices
     );
-    if let Some(pruned) = f.pruned_vertices {
+    if let Some(pruned) = f.pruned.map(|p| p.removed) {
         line += &format!(" ({pruned} pruned)");
     }
     if let (true, Some(o)) = (done.smallest, done.record.options) {

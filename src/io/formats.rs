@@ -1203,6 +1203,8 @@ enum PlyEncoding {
 struct PlyHeader {
     encoding: PlyEncoding,
     elements: Vec<PlyElement>,
+    /// The names of `comment TextureFile NAME` lines (MeshLab's), in order.
+    texture_files: Vec<String>,
     /// Offset of the first data byte.
     data_start: usize,
     /// Line of the first data byte.
@@ -1219,6 +1221,11 @@ enum Role {
     TexCoord(usize),
     Normal(usize),
     Indices,
+    /// A face's texture coordinates, two per corner (MeshLab's wedge
+    /// texture coordinates: `property list uchar float texcoord`).
+    WedgeTexCoords,
+    /// Which of the `TextureFile`s a face's texture coordinates are in.
+    TexNumber,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1239,6 +1246,7 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
     let mut encoding = None;
     let mut elements: Vec<PlyElement> = Vec::new();
     let (mut seen_vertex, mut seen_face) = (false, false);
+    let mut texture_files = Vec::new();
     loop {
         if pos >= bytes.len() {
             return Err(FormatError::at(line, "the PLY header has no end_header line"));
@@ -1258,7 +1266,11 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
             continue;
         }
         let keyword = first_word(raw);
-        if keyword == b"comment" || keyword == b"obj_info" || keyword.is_empty() {
+        if keyword == b"comment" {
+            texture_files.extend(texture_file(raw));
+            continue;
+        }
+        if keyword == b"obj_info" || keyword.is_empty() {
             continue;
         }
         let text = std::str::from_utf8(raw)
@@ -1352,9 +1364,21 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
     Ok(PlyHeader {
         encoding,
         elements,
+        texture_files,
         data_start: pos,
         data_line: line + 1,
     })
+}
+
+/// The name in a `comment TextureFile NAME` header line (the rest of the
+/// line, as MeshLab writes and reads it), if it is one.
+fn texture_file(line: &[u8]) -> Option<String> {
+    let line = std::str::from_utf8(line).ok()?.trim_end_matches(['\r', '\n']);
+    let rest = line.trim_start().strip_prefix("comment")?.trim_start();
+    let name = rest.strip_prefix("TextureFile")?;
+    // (A space after the keyword, not `TextureFiles`.)
+    let name = name.strip_prefix(|c: char| c.is_ascii_whitespace())?.trim();
+    (!name.is_empty()).then(|| name.to_owned())
 }
 
 fn scalar_type(name: &str, line: u64) -> Result<Scalar, FormatError> {
@@ -1450,6 +1474,19 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                         }
                     }
                     roles[i] = Role::Indices;
+                    // MeshLab's per-face texture coordinates and texture
+                    // number (the first of each name).
+                    let named = |name: &[&str]| el.props.iter().position(|p| name.contains(&p.name.as_str()));
+                    if let Some(k) = named(&["texcoord", "texcoords"]) {
+                        if matches!(el.props[k].ty, PropType::List { .. }) {
+                            roles[k] = Role::WedgeTexCoords;
+                        }
+                    }
+                    if let Some(k) = named(&["texnumber"]) {
+                        if matches!(el.props[k].ty, PropType::Scalar(_)) {
+                            roles[k] = Role::TexNumber;
+                        }
+                    }
                     Ok((ElementKind::Face, roles))
                 }
                 None if el.count == 0 => Ok((ElementKind::Other, roles)),
@@ -1507,7 +1544,14 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         has_vertex |= kind == ElementKind::Vertex;
         has_colors |= roles.iter().any(|r| matches!(r, Role::Color(_)));
         if kind == ElementKind::Vertex {
-            channels = VertexChannels::new(&roles);
+            let wedge = std::mem::take(&mut channels.wedge);
+            channels = VertexChannels {
+                wedge,
+                ..VertexChannels::new(&roles)
+            };
+        }
+        if kind == ElementKind::Face && roles.contains(&Role::WedgeTexCoords) {
+            channels.wedge = Some(WedgeTexCoords::default());
         }
         plans.push((kind, roles));
     }
@@ -1559,6 +1603,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let channels = std::mem::take(&mut b.channels);
     let mut m = b.finish()?;
     channels.finish(&mut m);
+    // The texture image goes with the texture coordinates.
+    if m.attributes.texcoords.is_some() {
+        m.attributes.texture_files = header.texture_files;
+    }
     // Data after the declared elements is ignored, as other readers do; but
     // the header's counts may be wrong, and the mesh then has holes: said.
     if let Some(what) = trailing {
@@ -1581,6 +1629,23 @@ struct VertexChannels {
     /// The first defect of texture coordinates, normals and colours (in
     /// ASCII data: a value that is no number, or does not fit its type).
     defects: [Option<String>; 3],
+    /// The faces' texture coordinates (`texcoord` lists), if the face
+    /// element has them.
+    wedge: Option<WedgeTexCoords>,
+}
+
+/// The per-face (wedge) texture coordinates of a PLY file, as they are read:
+/// a value per face corner, so seams are kept as in OBJ.
+#[derive(Clone, Debug, Default)]
+struct WedgeTexCoords {
+    /// Two numbers per corner, the corners in the order of `indices`.
+    values: Vec<f64>,
+    /// The first defect (a value that is no number, a list whose length is
+    /// not twice the face's corners): they are dropped, with a note.
+    defect: Option<String>,
+    /// The first face's `texnumber`, and whether another face has another.
+    texnumber: Option<i64>,
+    several_textures: bool,
 }
 
 impl VertexChannels {
@@ -1592,6 +1657,7 @@ impl VertexChannels {
             colors: has(|r| matches!(r, Role::Color(_))),
             alpha: roles.contains(&Role::Color(3)),
             defects: Default::default(),
+            wedge: None,
         }
     }
 
@@ -1617,10 +1683,41 @@ impl VertexChannels {
         }
     }
 
+    /// Appends the texture coordinates of the face just ended (`v.wedge`),
+    /// which has `corners` corners, if the faces have them.
+    fn push_face(&mut self, v: &VertexValues, corners: usize, face: usize, origin: u64, lines: bool) {
+        let Some(w) = &mut self.wedge else { return };
+        if w.defect.is_some() {
+            return;
+        }
+        if let Some(n) = v.texnumber {
+            w.several_textures |= w.texnumber.is_some_and(|first| first != n);
+            w.texnumber.get_or_insert(n);
+        }
+        if let Some(why) = &v.wedge_defect {
+            w.defect = Some(why.clone());
+        } else if v.wedge.len() != 2 * corners {
+            let at = if lines {
+                format!("line {origin}: ")
+            } else {
+                String::new()
+            };
+            w.defect = Some(format!(
+                "{at}face {face} has {} texcoord values for its {corners} corners (2 each)",
+                v.wedge.len()
+            ));
+        } else {
+            w.values.extend_from_slice(&v.wedge);
+        }
+    }
+
     /// Moves the attributes into `m` (per vertex: each corner takes its
-    /// vertex's value); a channel with a defect or a non-finite value is
-    /// dropped with a note.
+    /// vertex's value; the faces' texture coordinates: each corner its own);
+    /// a channel with a defect or a non-finite value is dropped with a note.
     fn finish(self, m: &mut RawMesh) {
+        if let Some(w) = &self.wedge {
+            wedge_finish(w, self.texcoords.is_some(), m);
+        }
         let color_dim = if self.alpha { 4 } else { 3 };
         let channels = [
             (Kind::TexCoord, self.texcoords, 2),
@@ -1651,6 +1748,37 @@ impl VertexChannels {
     }
 }
 
+/// Moves the faces' texture coordinates `w` into `m` as a channel with a
+/// value per corner, unless the vertices have texture coordinates
+/// (`vertex_texcoords`: those are read), or they have a defect, a
+/// non-finite value, or the faces use several textures: then with a note.
+fn wedge_finish(w: &WedgeTexCoords, vertex_texcoords: bool, m: &mut RawMesh) {
+    const WHAT: &str = "texture coordinates of the faces (PLY face property texcoord)";
+    let why = if vertex_texcoords {
+        Some("the vertices' are read instead".to_owned())
+    } else if let Some(defect) = &w.defect {
+        Some(defect.clone())
+    } else if w.several_textures {
+        Some("the faces use several textures (face property texnumber), which delmesh does not carry".to_owned())
+    } else if w.values.iter().any(|x| !x.is_finite()) {
+        Some("a face has a non-finite one".to_owned())
+    } else if w.values.len() != 2 * m.indices.len() {
+        Some("some faces have none".to_owned())
+    } else {
+        None
+    };
+    match why {
+        Some(why) => m.attribute_notes.push(format!("{WHAT} dropped: {why}")),
+        None => {
+            m.attributes.texcoords = Some(Channel {
+                dim: 2,
+                values: w.values.clone(),
+                corners: (0..m.indices.len() as u32).collect(),
+            })
+        }
+    }
+}
+
 /// A colour channel in 0..1: integers scaled by their type's maximum (255
 /// for all but 16-bit ones), floats as they are.
 fn color_unit(v: f64, t: Scalar) -> f64 {
@@ -1670,6 +1798,12 @@ struct VertexValues {
     color: [f64; 4],
     texcoord: [f64; 2],
     normal: [f64; 3],
+    /// A face's texture coordinates (its `texcoord` list).
+    wedge: Vec<f64>,
+    /// Why they cannot be read, if so.
+    wedge_defect: Option<String>,
+    /// A face's `texnumber`.
+    texnumber: Option<i64>,
 }
 
 impl VertexValues {
@@ -1698,7 +1832,14 @@ fn finish_record(
             b.channels.push(v);
             Ok(())
         }
-        ElementKind::Face => b.end_face(origin),
+        ElementKind::Face => {
+            let start = b.m.face_start.last().copied().unwrap_or(0) as usize;
+            let corners = b.m.indices.len() - start;
+            b.end_face(origin)?;
+            let lines = b.m.origin_kind == OriginKind::Line;
+            b.channels.push_face(v, corners, i, origin, lines);
+            Ok(())
+        }
         ElementKind::Other => Ok(()),
     }
 }
@@ -1756,6 +1897,7 @@ fn read_ascii_element(
                         (Role::Color(c), Ok(x)) => v.set_color(c, x, ty),
                         (Role::TexCoord(k), Ok(x)) => v.texcoord[k] = x,
                         (Role::Normal(k), Ok(x)) => v.normal[k] = x,
+                        (Role::TexNumber, Ok(x)) => v.texnumber = Some(x as i64),
                         (Role::Coord(_), Err(why)) => return Err(FormatError::at(line, what(why))),
                         // A defect in an attribute drops it, with a note.
                         (Role::Color(_), Err(why)) => b.channels.defect(Kind::Color, line, || what(why)),
@@ -1813,6 +1955,21 @@ fn read_ascii_element(
                                 return Err(FormatError::at(line, format!("face {i} index `{}` {why}", show(tok))));
                             }
                             b.index(index);
+                        }
+                    } else if *role == Role::WedgeTexCoords {
+                        v.wedge.reserve(n as usize);
+                        for _ in 0..n {
+                            let Some((tok, line)) = t.next() else {
+                                return Err(truncated(t.line));
+                            };
+                            match parse_f64(tok) {
+                                Some(x) => v.wedge.push(x),
+                                None => {
+                                    v.wedge_defect.get_or_insert_with(|| {
+                                        format!("line {line}: face {i} texcoord `{}` is not a number", show(tok))
+                                    });
+                                }
+                            }
                         }
                     } else {
                         for _ in 0..n {
@@ -1931,6 +2088,7 @@ fn read_binary_element(
                         Role::Color(c) => v.set_color(c, get_f64(ty, s, big), ty),
                         Role::TexCoord(k) => v.texcoord[k] = get_f64(ty, s, big),
                         Role::Normal(k) => v.normal[k] = get_f64(ty, s, big),
+                        Role::TexNumber => v.texnumber = Some(get_f64(ty, s, big) as i64),
                         _ => {}
                     }
                 }
@@ -1965,6 +2123,9 @@ fn read_binary_element(
                             let index = get_int(item, chunk, big);
                             b.index(checked_index(index, i, None, b.m.positions.len())?);
                         }
+                    } else if *role == Role::WedgeTexCoords {
+                        v.wedge
+                            .extend(s.chunks_exact(item.size()).map(|x| get_f64(item, x, big)));
                     }
                 }
             }
@@ -2378,15 +2539,20 @@ pub struct PlyColumn {
 }
 
 /// Writes a binary little-endian PLY 1.0: double x y z, then `columns`,
-/// face list uchar uint vertex_indices. Positions and `double` columns are
-/// exact. Refuses what [`write_ply_binary`] refuses, and a column whose
-/// length is not the vertex count.
+/// face list uchar uint vertex_indices; each of `comments` on a `comment`
+/// line of the header. Positions and `double` columns are exact. Refuses
+/// what [`write_ply_binary`] refuses, a column whose length is not the
+/// vertex count, and a comment with a line break.
 pub fn write_ply_binary_columns(
     w: &mut dyn Write,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     columns: &[PlyColumn],
+    comments: &[String],
 ) -> io::Result<()> {
+    if let Some(c) = comments.iter().find(|c| c.contains(['\n', '\r'])) {
+        return Err(invalid(format!("a PLY comment cannot hold a line break: {c:?}")));
+    }
     check_for_writing(positions, triangles, None)?;
     if let Some(c) = columns.iter().find(|c| c.values.len() != positions.len()) {
         return Err(invalid(format!(
@@ -2397,11 +2563,11 @@ pub fn write_ply_binary_columns(
         )));
     }
     let mut w = BufWriter::new(w);
-    write!(
-        w,
-        "ply\nformat binary_little_endian 1.0\ncomment written by delmesh\nelement vertex {}\n",
-        positions.len()
-    )?;
+    write!(w, "ply\nformat binary_little_endian 1.0\ncomment written by delmesh\n",)?;
+    for c in comments {
+        writeln!(w, "comment {c}")?;
+    }
+    writeln!(w, "element vertex {}", positions.len())?;
     w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
     for c in columns {
         writeln!(w, "property {} {}", if c.uchar { "uchar" } else { "double" }, c.name)?;

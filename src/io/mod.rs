@@ -50,6 +50,25 @@ pub fn in_supported_range(p: DVec3) -> bool {
 /// The shortest edge accepted: below it, those products would underflow.
 pub const MIN_EDGE: f64 = 1e-75;
 
+/// Whether every edge of the triangle `a b c` is at least [`MIN_EDGE`]
+/// long: what the readers, [`build_surface_with`] and
+/// [`crate::Surface::new`] require of every triangle.
+#[inline]
+pub fn edges_in_supported_scale(a: DVec3, b: DVec3, c: DVec3) -> bool {
+    // Compared squared (no root per edge): MIN_EDGE² is a normal number.
+    let shortest = (b - a)
+        .length_squared()
+        .min((c - b).length_squared())
+        .min((a - c).length_squared());
+    shortest >= MIN_EDGE * MIN_EDGE
+}
+
+/// The message for a triangle with an edge shorter than [`MIN_EDGE`],
+/// after the name of its face.
+pub(crate) fn short_edge_text() -> String {
+    format!("has an edge shorter than {MIN_EDGE:e}, below the supported scale")
+}
+
 /// Appended to refusals that `--repair` would fix.
 const REPAIR_HINT: &str = " (--repair would fix this)";
 
@@ -258,6 +277,9 @@ fn repeated_vertex(mut ids: impl ExactSizeIterator<Item = u32>, scratch: &mut Ve
 
 /// Turns polygons into the algorithm's input: see the module documentation.
 pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputMesh> {
+    if let Some(repair) = &options.repair {
+        repair.validate()?;
+    }
     let raw = without_attributes_if_dropped(raw, options);
     let n_faces = raw.face_start.len().saturating_sub(1);
     if n_faces == 0 {
@@ -346,15 +368,8 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             let [a, b, c] = t.map(|v| positions[v as usize]);
             // Below the supported scale first: the Delaunay test's products of
             // lengths would underflow (the exact predicates would not).
-            let shortest = (b - a)
-                .length_squared()
-                .min((c - b).length_squared())
-                .min((a - c).length_squared());
-            if shortest < MIN_EDGE * MIN_EDGE {
-                let what = format!(
-                    "{} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
-                    raw.numbering.face(f)
-                );
+            if !edges_in_supported_scale(a, b, c) {
+                let what = format!("{} {}", raw.numbering.face(f), short_edge_text());
                 return Err(face_error(path, &raw, f, what));
             }
             if collinear(a, b, c) {
@@ -432,6 +447,9 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
             corners,
         });
     }
+    if a.texcoords.is_some() {
+        a.texture_files = raw.attributes.texture_files.clone();
+    }
     (a, notes)
 }
 
@@ -489,16 +507,9 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     }
     for (i, t) in fixed.triangles.iter().enumerate() {
         let [a, b, c] = t.map(|v| DVec3::from_array(fixed.positions[v as usize]));
-        let shortest = (b - a)
-            .length_squared()
-            .min((c - b).length_squared())
-            .min((a - c).length_squared());
-        if shortest < MIN_EDGE * MIN_EDGE {
+        if !edges_in_supported_scale(a, b, c) {
             let f = triangle_face[fixed.source_triangle[i] as usize];
-            let what = format!(
-                "{} has an edge shorter than {MIN_EDGE:e}, below the supported scale",
-                raw.numbering.face(f)
-            );
+            let what = format!("{} {}", raw.numbering.face(f), short_edge_text());
             return Err(face_error(path, raw, f, what));
         }
     }
@@ -550,7 +561,22 @@ pub fn build_surface(input: &mut InputMesh, path: &Path) -> Result<Surface> {
 /// could not survive a flip within `tolerances` ([`AttributeCuts`]). Adds
 /// to `input.notes` a line when some flat regions are flipped as a whole
 /// though their attributes are affine only within the tolerances.
+///
+/// Refuses, as the readers do (an `InputMesh` may have been made or edited
+/// by the caller): tolerances that are NaN, negative, infinite or above 1
+/// ([`Tolerances::validate`]), a mesh without triangles, a coordinate that
+/// is not finite or beyond ±[`MAX_COORDINATE`], an edge shorter than
+/// [`MIN_EDGE`], and triangles that do not make a manifold, consistently
+/// oriented mesh. (Unused vertices and zero-area triangles, which the
+/// readers refuse too, are not looked for again: [`Surface::new`] does.)
 pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolerances) -> Result<Surface> {
+    tolerances.validate()?;
+    if input.triangles.is_empty() {
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: "no faces".into(),
+        });
+    }
     // The readers refuse such coordinates; an input edited since is refused
     // here (one pass, without a branch per value).
     if !input.positions.iter().fold(true, |ok, &p| ok & in_supported_range(p)) {
@@ -567,6 +593,27 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
             ),
         });
     }
+    // Indices first: the edge test below reads the corners' positions.
+    let n = input.positions.len();
+    if let Some(face) = input.triangles.iter().position(|t| t.iter().any(|&v| v as usize >= n)) {
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: format!("triangle {face} uses a vertex beyond the vertex count ({n})"),
+        });
+    }
+    let corners = |t: &[u32; 3]| t.map(|v| input.positions[v as usize]);
+    if let Some(face) = (input.triangles.iter().map(corners)).position(|[a, b, c]| !edges_in_supported_scale(a, b, c)) {
+        // Where the file has it (a mesh made by the caller may say nothing).
+        let at = match (input.triangle_origin.get(face), input.origin_kind) {
+            (Some(line), OriginKind::Line) => format!("line {line}: "),
+            (Some(record), OriginKind::Record) => format!("face record {record}: "),
+            (None, _) => String::new(),
+        };
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: format!("{at}triangle {face} {}", short_edge_text()),
+        });
+    }
     let topology = input.topology.take();
     let attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances);
     let cuts: &dyn RegionCuts = if input.attributes.is_empty() {
@@ -578,9 +625,10 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
     let mut positions = Vec::with_capacity(input.positions.len() + room_for_splits(input.triangles.len()));
     positions.extend_from_slice(&input.positions);
     let surface = match topology {
-        Some(topology) => Ok(Surface::with_topology(positions, topology, cuts)),
-        None => Surface::with_region_cuts(positions, &input.triangles, cuts),
-    };
+        Some(topology) => Ok(topology),
+        None => Topology::from_triangles(positions.len(), &input.triangles),
+    }
+    .map(|topology| Surface::with_topology(positions, topology, cuts));
     let note = attribute_cuts.note();
     input.notes.extend(note);
     let input = &*input;
@@ -1094,8 +1142,10 @@ pub fn stage_mesh_after(
 
 /// Writes a triangle mesh with its attributes (per corner of `triangles`,
 /// as [`crate::attributes::Transfer::apply`] gives them) atomically, in the
-/// format of `path`'s extension. OBJ keeps everything; PLY keeps texture
-/// coordinates (`s t`, the first two numbers), normals (`nx ny nz`) and
+/// format of `path`'s extension. OBJ keeps everything but a PLY input's
+/// `TextureFile` comments (a note says so); PLY keeps texture
+/// coordinates (`s t`, the first two numbers, and the `comment
+/// TextureFile` lines of a PLY input), normals (`nx ny nz`) and
 /// colours (`red green blue [alpha]`, 8-bit), a vertex with several values
 /// written once per value at the same position, the copies last; OFF and
 /// STL keep positions only.
@@ -1126,7 +1176,16 @@ pub fn stage_mesh_with_attributes(
     }
     let mut copies_of = Vec::new();
     let staged = match format {
-        Format::Obj => stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?,
+        Format::Obj => {
+            if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
+                notes.push(format!(
+                    "texture file {} (PLY comment TextureFile) not written: an OBJ names its textures in a \
+                     material library (.mtl), which delmesh does not write; write PLY to keep it",
+                    attributes.texture_files.join(", ")
+                ));
+            }
+            stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?
+        }
         Format::Ply => {
             let channels: Vec<_> = attributes.channels().collect();
             let split = PerVertex::new(
@@ -1162,8 +1221,15 @@ pub fn stage_mesh_with_attributes(
             }
             let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
             copies_of = split.source[positions.len()..].to_vec();
+            // The texture image with the texture coordinates, as MeshLab names it.
+            let comments: Vec<String> = match attributes.texcoords {
+                Some(_) => (attributes.texture_files.iter())
+                    .map(|name| format!("TextureFile {name}"))
+                    .collect(),
+                None => Vec::new(),
+            };
             stage(path, |w| {
-                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns)
+                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &comments)
             })?
         }
         Format::Off | Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
@@ -1231,6 +1297,84 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    /// The library refuses what the command line refuses, with typed
+    /// errors: tolerances that are NaN, negative or infinite (they acted as
+    /// 0, or flipped everything), a mesh without triangles and edges below
+    /// the supported scale in an `InputMesh` made or edited by the caller.
+    #[test]
+    fn library_settings_and_meshes_the_command_line_refuses() {
+        let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
+        let read = || read_mesh(&cube, &Default::default()).unwrap();
+        for bad in [f64::NAN, -1.0, f64::INFINITY, 2.0] {
+            for tolerances in [
+                Tolerances::all(bad),
+                Tolerances {
+                    colors: bad,
+                    ..Tolerances::default()
+                },
+            ] {
+                let e = build_surface_with(&mut read(), &cube, tolerances).unwrap_err();
+                assert!(matches!(e, Error::Setting { .. }), "{e:?}");
+                assert!(
+                    e.to_string()
+                        .contains("is not a relative tolerance (a number from 0 to 1)"),
+                    "{e}"
+                );
+            }
+        }
+        let e = build_surface_with(&mut read(), &cube, Tolerances::all(f64::NAN)).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "texture coordinates tolerance NaN is not a relative tolerance (a number from 0 to 1)"
+        );
+        for weld_tolerance in [f64::NAN, -1.0, f64::NEG_INFINITY, f64::INFINITY] {
+            let options = ReadOptions {
+                repair: Some(RepairOptions { weld_tolerance }),
+                ..ReadOptions::default()
+            };
+            let e = read_mesh(&cube, &options).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    Error::Setting {
+                        name: "weld tolerance",
+                        ..
+                    }
+                ),
+                "{e:?}"
+            );
+        }
+        let options = ReadOptions {
+            repair: Some(RepairOptions { weld_tolerance: 1e-9 }),
+            ..ReadOptions::default()
+        };
+        assert!(read_mesh(&cube, &options).is_ok());
+        // No triangles.
+        let mut empty = InputMesh::default();
+        let e = build_surface(&mut empty, &cube).unwrap_err();
+        assert!(e.to_string().ends_with("cube.obj: no faces"), "{e}");
+        // Scaled below the supported scale after reading.
+        let mut tiny = read();
+        tiny.topology = None;
+        for p in &mut tiny.positions {
+            *p *= 1e-80;
+        }
+        let e = build_surface(&mut tiny, &cube).unwrap_err();
+        assert!(e.to_string().contains("has an edge shorter than 1e-75"), "{e}");
+        // An index beyond the vertices, in a mesh the caller made.
+        let mut made = InputMesh {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            triangles: vec![[0, 1, 7]],
+            ..InputMesh::default()
+        };
+        let e = build_surface(&mut made, &cube).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("triangle 0 uses a vertex beyond the vertex count"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -191,6 +191,9 @@ const NEARLY_FLAT_EXTENT: f64 = 1e-3;
 /// refuse in a file (their messages name its lines instead).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum InputError {
+    /// There are no triangles: nothing to make Delaunay (the readers refuse
+    /// a file without faces).
+    NoFaces,
     /// The triangles do not make a manifold, consistently oriented mesh.
     Topology(TopologyError),
     /// A coordinate of this vertex is NaN or infinite.
@@ -203,11 +206,15 @@ pub enum InputError {
     UnusedVertex { vertex: u32 },
     /// This triangle's corners are collinear, exactly.
     ZeroArea { face: usize },
+    /// This triangle has an edge shorter than [`crate::io::MIN_EDGE`]: the
+    /// Delaunay test's products of lengths would underflow.
+    EdgeTooShort { face: usize },
 }
 
 impl std::fmt::Display for InputError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            InputError::NoFaces => write!(f, "the mesh has no triangles"),
             InputError::Topology(e) => write!(f, "{e}"),
             InputError::NonFinite { vertex } => write!(f, "vertex {vertex} has a non-finite coordinate"),
             InputError::OutOfRange { vertex } => write!(
@@ -217,6 +224,7 @@ impl std::fmt::Display for InputError {
             ),
             InputError::UnusedVertex { vertex } => write!(f, "vertex {vertex} is in no triangle"),
             InputError::ZeroArea { face } => write!(f, "triangle {face} has zero area (collinear corners)"),
+            InputError::EdgeTooShort { face } => write!(f, "triangle {face} {}", crate::io::short_edge_text()),
         }
     }
 }
@@ -231,12 +239,28 @@ impl From<TopologyError> for InputError {
 
 impl Surface {
     /// Builds the mesh of an input whose equal positions are one vertex (as
-    /// the readers weld them; not checked here). Refused, with an error
-    /// naming the 0-based vertex or triangle: a coordinate that is not
-    /// finite or beyond ±[`crate::io::MAX_COORDINATE`], a vertex no
-    /// triangle uses, a triangle of zero area, triangles that do not make
-    /// a manifold, consistently oriented mesh.
+    /// the readers weld them; not checked here). Refused, as the readers
+    /// refuse a file, with an error naming the 0-based vertex or triangle:
+    /// no triangles, a coordinate that is not finite or beyond
+    /// ±[`crate::io::MAX_COORDINATE`], a vertex no triangle uses, an edge
+    /// shorter than [`crate::io::MIN_EDGE`], a triangle of zero area,
+    /// triangles that do not make a manifold, consistently oriented mesh.
     pub fn new(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Surface, InputError> {
+        Surface::with_region_cuts(positions, triangles, &NoCuts)
+    }
+
+    /// As [`Surface::new`] (with the same refusals), but exactly coplanar
+    /// input faces share a planar region only as `cuts` allow (an edge
+    /// between two regions is never flipped). Used to keep texture seams,
+    /// groups and the attributes' fields ([`crate::attributes`]).
+    pub fn with_region_cuts(
+        positions: Vec<DVec3>,
+        triangles: &[[u32; 3]],
+        cuts: &dyn RegionCuts,
+    ) -> Result<Surface, InputError> {
+        if triangles.is_empty() {
+            return Err(InputError::NoFaces);
+        }
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(InputError::NonFinite { vertex: v as u32 });
         }
@@ -247,29 +271,25 @@ impl Surface {
         if let Some(v) = (0..positions.len() as u32).find(|&v| topo.vertex_he(VertexId(v)).is_none()) {
             return Err(InputError::UnusedVertex { vertex: v });
         }
-        let collinear = geometry::collinear_for(&positions);
         let corners = |t: &[u32; 3]| t.map(|v| positions[v as usize]);
+        // Below the supported scale first, as the readers test (the exact
+        // collinearity test would not underflow, the Delaunay test would).
+        if let Some(face) =
+            (triangles.iter().map(corners)).position(|[a, b, c]| !crate::io::edges_in_supported_scale(a, b, c))
+        {
+            return Err(InputError::EdgeTooShort { face });
+        }
+        let collinear = geometry::collinear_for(&positions);
         if let Some(face) = triangles.iter().map(corners).position(|[a, b, c]| collinear(a, b, c)) {
             return Err(InputError::ZeroArea { face });
         }
-        Ok(Surface::with_topology(positions, topo, &NoCuts))
-    }
-
-    /// As [`Surface::new`], but exactly coplanar input faces share a planar
-    /// region only as `cuts` allow (an edge between two regions is never
-    /// flipped). Used to keep texture seams, groups and the attributes'
-    /// fields ([`crate::attributes`]).
-    pub fn with_region_cuts(
-        positions: Vec<DVec3>,
-        triangles: &[[u32; 3]],
-        cuts: &dyn RegionCuts,
-    ) -> Result<Surface, TopologyError> {
-        let topo = Topology::from_triangles(positions.len(), triangles)?;
         Ok(Surface::with_topology(positions, topo, cuts))
     }
 
     /// As [`Surface::with_region_cuts`], with the connectivity already built
-    /// ([`Topology::from_triangles`] of the same positions and triangles).
+    /// ([`Topology::from_triangles`] of the same positions and triangles),
+    /// and nothing refused: for an input already checked (by the readers, or
+    /// [`crate::io::build_surface_with`]).
     pub fn with_topology(positions: Vec<DVec3>, topo: Topology, cuts: &dyn RegionCuts) -> Surface {
         let n = positions.len();
         let spare = room_for_splits(topo.n_faces());
@@ -1203,7 +1223,33 @@ mod tests {
             InputError::Topology(TopologyError::IndexOutOfRange { face: 0, index: 9 })
         );
         assert_eq!(e.to_string(), "triangle 0 uses vertex 9, beyond the vertex count");
-        assert!(Surface::new(Vec::new(), &[]).is_ok()); // nothing to refine
+        // No triangles (a vertex or none): refused, as the readers refuse a
+        // file without faces (it was Ok, and its output failed `check`).
+        assert_eq!(Surface::new(Vec::new(), &[]).unwrap_err(), InputError::NoFaces);
+        assert_eq!(Surface::new(vec![DVec3::ZERO], &[]).unwrap_err(), InputError::NoFaces);
+        // Edges below 1e-75 (io::MIN_EDGE), as the readers refuse them: the
+        // crate example's folded rhombus at 1e-80 was Ok, and its output
+        // failed `check`. At 1e-74 it is taken.
+        let rhombus = |scale: f64| {
+            let p = [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, -0.4, 0.3]];
+            Surface::new(
+                p.map(|p| DVec3::from_array(p) * scale).to_vec(),
+                &[[0, 1, 2], [1, 0, 3]],
+            )
+        };
+        assert!(rhombus(1e-74).is_ok());
+        for scale in [1e-80, 1e-200] {
+            let e = rhombus(scale).unwrap_err();
+            assert_eq!(e, InputError::EdgeTooShort { face: 0 });
+            assert_eq!(
+                e.to_string(),
+                "triangle 0 has an edge shorter than 1e-75, below the supported scale"
+            );
+        }
+        assert_eq!(
+            with(1, DVec3::new(1e76, 0.0, 0.0)),
+            InputError::OutOfRange { vertex: 1 }
+        );
     }
 
     /// Faces (a, b, c) and (b, a, d) in the plane z = 0, with a, b on the
