@@ -518,9 +518,10 @@ impl Pruner<'_> {
         s.topo.are_adjacent_within_either(c, d, ADJACENCY_LIMIT) == Some(false)
     }
 
-    /// Saves what a flip or a split of `e` writes (the six half-edges of its
-    /// two faces, the faces, and the vertex ends `ends` of `e` whose outgoing
-    /// half-edge may move); returns the four edges around `e`.
+    /// Saves what a split of `e` writes (the six half-edges of its two
+    /// faces, the faces, and the vertex ends `ends` of `e` whose outgoing
+    /// half-edge may move); returns the four edges around `e`. (A flip is
+    /// saved by [`crate::mesh::Topology::flip_record`].)
     fn save_quad(&mut self, e: EdgeId, ends: &[VertexId]) -> [EdgeId; 4] {
         let topo = &self.s.topo;
         let (h, t) = (e.halfedge(), e.halfedge().twin());
@@ -536,9 +537,9 @@ impl Pruner<'_> {
         if self.flips >= MAX_FLIPS_PER_TRY {
             return None;
         }
-        let h = e.halfedge();
-        let ends = [self.s.topo.origin(h), self.s.topo.dest(h)];
-        let around = self.save_quad(e, &ends);
+        let [h2, h1, t2, t1] = self.s.topo.outer_halfedges(e);
+        let around = [h1.edge(), h2.edge(), t1.edge(), t2.edge()];
+        self.journal.push(self.s.topo.flip_record(e));
         self.inputs.push((e, self.s.edge_input[e.idx()]));
         self.s.flip(e);
         self.flips += 1;

@@ -166,7 +166,13 @@ pub enum Saved {
     Vertex(VertexId, HalfEdgeId),
     /// The numbers of half-edges, faces and vertices before a split: undoing
     /// truncates the arrays back to them.
-    Lengths(usize, usize, usize),
+    Lengths(u32, u32, u32),
+    /// A flip of the edge, with what the flipped mesh does not tell: the
+    /// half-edges its two faces had, and whether the outgoing half-edge of
+    /// its first (bit 0) and second (bit 1) end moved
+    /// ([`Topology::flip_record`]). A tenth of the entries of saving the
+    /// quad, and undone by walking the flipped quad back.
+    Flip(EdgeId, HalfEdgeId, HalfEdgeId, u8),
 }
 
 /// Half-edge connectivity. See the module documentation for the layout.
@@ -888,19 +894,69 @@ impl Topology {
                 Saved::Face(f, h) => self.face_he[f.idx()] = h,
                 Saved::Vertex(v, h) => self.vertex_he[v.idx()] = h,
                 Saved::Lengths(hes, faces, verts) => {
+                    let (hes, faces, verts) = (hes as usize, faces as usize, verts as usize);
                     self.he_origin.truncate(hes);
                     self.he_next.truncate(hes);
                     self.he_face.truncate(hes);
                     self.face_he.truncate(faces);
                     self.vertex_he.truncate(verts);
                 }
+                Saved::Flip(e, g1, g2, moved) => self.unflip(e, [g1, g2], moved),
             }
         }
     }
 
     /// The entry that undoes the growth of the arrays by later splits.
     pub fn lengths(&self) -> Saved {
-        Saved::Lengths(self.he_origin.len(), self.face_he.len(), self.vertex_he.len())
+        let len = |n: usize| u32::try_from(n).expect("ids are 32-bit");
+        Saved::Lengths(
+            len(self.he_origin.len()),
+            len(self.face_he.len()),
+            len(self.vertex_he.len()),
+        )
+    }
+
+    /// The entry that undoes [`Topology::flip`] of the interior edge `e`,
+    /// taken just before it (see [`Saved::Flip`]).
+    #[inline]
+    pub fn flip_record(&self, e: EdgeId) -> Saved {
+        let (h, t) = (e.halfedge(), e.halfedge().twin());
+        let (f1, f2) = (self.face(h), self.face(t));
+        let moved = u8::from(self.vertex_he[self.origin(h).idx()] == h)
+            | (u8::from(self.vertex_he[self.origin(t).idx()] == t) << 1);
+        Saved::Flip(e, self.face_he[f1.idx()], self.face_he[f2.idx()], moved)
+    }
+
+    /// Undoes [`Topology::flip`] of `e`, the mesh being as the flip left it:
+    /// every entry the flip wrote is found again from the flipped quad (the
+    /// flip's `h2`, `t1` follow `h`, and its `t2`, `h1` follow `t`), but the
+    /// faces' half-edges `faces` and which ends' outgoing half-edges
+    /// `moved` (see [`Saved::Flip`]).
+    fn unflip(&mut self, e: EdgeId, faces: [HalfEdgeId; 2], moved: u8) {
+        let (h, t) = (e.halfedge(), e.halfedge().twin());
+        let (h2, t2) = (self.next(h), self.next(t));
+        let (t1, h1) = (self.next(h2), self.next(t2));
+        let (a, b) = (self.origin(t1), self.origin(h1));
+        let (f1, f2) = (self.face(h), self.face(t));
+        // F1: h (a→b), h1 (b→c), h2 (c→a); F2: t (b→a), t1 (a→d), t2 (d→b).
+        self.he_origin[h.idx()] = a;
+        self.he_next[h.idx()] = h1;
+        self.he_next[h1.idx()] = h2;
+        self.he_next[h2.idx()] = h;
+        self.he_face[h1.idx()] = f1;
+        self.face_he[f1.idx()] = faces[0];
+        self.he_origin[t.idx()] = b;
+        self.he_next[t.idx()] = t1;
+        self.he_next[t1.idx()] = t2;
+        self.he_next[t2.idx()] = t;
+        self.he_face[t1.idx()] = f2;
+        self.face_he[f2.idx()] = faces[1];
+        if moved & 1 != 0 {
+            self.vertex_he[a.idx()] = h;
+        }
+        if moved & 2 != 0 {
+            self.vertex_he[b.idx()] = t;
+        }
     }
 
     /// Whether `e` was removed by [`Topology::unsplit`].
@@ -1431,6 +1487,40 @@ mod tests {
         t.validate().unwrap();
         assert_eq!(t.triangles(), before);
         assert_eq!((t.n_vertices(), t.n_edges()), (6, 12));
+    }
+
+    #[test]
+    fn flip_records_undo_flips_entry_for_entry() {
+        let before = Topology::from_triangles(6, &octahedron()).unwrap();
+        let mut t = before.clone();
+        let mut log = Vec::new();
+        // Split first, so that the flips meet both kinds of entries, then
+        // flip edges in turn (some twice), and undo everything.
+        log.push(t.lengths());
+        let e = EdgeId(4);
+        let h = e.halfedge();
+        let (h1, t1) = (t.next(h), t.next(h.twin()));
+        let quad = [h, h.twin(), h1, t.next(h1), t1, t.next(t1)];
+        t.save(&quad, &[t.face(h), t.face(h.twin())], &[t.dest(h)], &mut log);
+        t.split(e);
+        let (split, split_entries) = (t.clone(), log.len());
+        for round in 0..3u32 {
+            for e in (0..t.n_edges() as u32).map(EdgeId) {
+                let h = e.halfedge();
+                let (c, d) = (t.apex(h), t.apex(h.twin()));
+                if (e.0 + round) % 2 == 0 && c != d && t.are_adjacent_within_either(c, d, 64) == Some(false) {
+                    log.push(t.flip_record(e));
+                    t.flip(e);
+                    t.validate().unwrap();
+                }
+            }
+        }
+        assert!(log.len() > split_entries + 5);
+        // Every array back as it was, not only the same triangles.
+        t.restore(&log[split_entries..]);
+        assert_eq!(t, split);
+        t.restore(&log[..split_entries]);
+        assert_eq!(t, before);
     }
 
     #[test]
