@@ -673,6 +673,20 @@ fn rounded_texture_on_a_fanned_polygon_is_flipped_within_the_tolerance() {
     assert!(worst[0] <= 1e-9, "{worst:?}");
 }
 
+/// Runs delmesh on `input` with `--attribute-tolerance=value`, which must
+/// be refused as a usage error (exit 2); returns its standard error.
+fn tolerance_refused(input: &Path, value: &str) -> String {
+    let out = delmesh()
+        .arg("-i")
+        .arg(input)
+        .args(["-o", "-", &format!("--attribute-tolerance={value}")])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "{value}: {stderr}");
+    stderr
+}
+
 /// `--attribute-tolerance` takes a number from 0 to 1, and refuses others
 /// before reading anything.
 #[test]
@@ -680,14 +694,7 @@ fn attribute_tolerance_is_a_relative_number() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     for bad in ["-1", "2", "nan", "x"] {
-        let out = delmesh()
-            .arg("-i")
-            .arg(&input)
-            .args(["-o", "-", &format!("--attribute-tolerance={bad}")])
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{bad}: {stderr}");
+        let stderr = tolerance_refused(&input, bad);
         assert!(stderr.contains("is not a relative tolerance"), "{bad}: {stderr}");
     }
     run(&input, &dir.path().join("o.obj"), &["--attribute-tolerance", "1e-3"]);
@@ -757,13 +764,7 @@ fn attribute_tolerance_takes_values_per_kind() {
     );
     assert!(added(&["--attribute-tolerance", "texcoords=0"]) > 0);
     for bad in ["uv=1e-3", "colors=2", "colors=", "colors=1e-3,"] {
-        let out = delmesh()
-            .arg("-i")
-            .arg(&input)
-            .args(["-o", "-", &format!("--attribute-tolerance={bad}")])
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(2), "{bad}");
+        tolerance_refused(&input, bad);
     }
 }
 

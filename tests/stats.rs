@@ -212,8 +212,10 @@ fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
-#[test]
-fn single_run_json_and_csv_match_the_readme_and_the_summary() {
+/// Runs delmesh on the bunny with `extra` flags, `--stats-json` and
+/// `--stats-csv`; checks that it succeeds, that the JSON document is valid
+/// and that the CSV matches it. Returns the printout and the document.
+fn bunny_with_stats(extra: &[&str]) -> (String, Value) {
     let dir = tempfile::tempdir().unwrap();
     let (json, csv) = (dir.path().join("s.json"), dir.path().join("s.csv"));
     let out = delmesh()
@@ -221,6 +223,7 @@ fn single_run_json_and_csv_match_the_readme_and_the_summary() {
         .arg(common::data_dir().join("bunny.obj"))
         .arg("-o")
         .arg(dir.path().join("b.obj"))
+        .args(extra)
         .arg("--stats-json")
         .arg(&json)
         .arg("--stats-csv")
@@ -228,10 +231,15 @@ fn single_run_json_and_csv_match_the_readme_and_the_summary() {
         .output()
         .unwrap();
     assert!(out.status.success());
-    let stdout = String::from_utf8_lossy(&out.stdout);
     let doc = read_json(&json);
     validate(&doc);
     csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
+    (String::from_utf8_lossy(&out.stdout).into_owned(), doc)
+}
+
+#[test]
+fn single_run_json_and_csv_match_the_readme_and_the_summary() {
+    let (stdout, doc) = bunny_with_stats(&[]);
     // Every figure of the printed summary is in the JSON.
     let input = &doc["input"];
     let run = &doc["runs"][0];
@@ -431,25 +439,7 @@ fn no_refine_repair_and_failed_runs_are_recorded() {
 /// refining's).
 #[test]
 fn pruning_figures_are_recorded() {
-    let dir = tempfile::tempdir().unwrap();
-    let (json, csv) = (dir.path().join("p.json"), dir.path().join("p.csv"));
-    let out = delmesh()
-        .arg("-i")
-        .arg(common::data_dir().join("bunny.obj"))
-        .arg("-o")
-        .arg(dir.path().join("b.obj"))
-        .arg("--prune")
-        .arg("--stats-json")
-        .arg(&json)
-        .arg("--stats-csv")
-        .arg(&csv)
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let doc = read_json(&json);
-    validate(&doc);
-    csv_matches_json(&read_csv(&std::fs::read_to_string(&csv).unwrap()), &doc);
+    let (stdout, doc) = bunny_with_stats(&["--prune"]);
     let (run, s) = (&doc["runs"][0], &doc["seconds"]);
     let passes = run["prune_passes"].as_u64().unwrap();
     let expected = format!(
@@ -466,17 +456,7 @@ fn pruning_figures_are_recorded() {
     assert!(prune > 0.0 && prune <= refine, "{s}");
     assert_eq!(s["prune"], run["seconds_prune"]);
     // Without --prune: null figures, 0 seconds.
-    delmesh()
-        .arg("-q")
-        .arg("-i")
-        .arg(common::data_dir().join("cube.obj"))
-        .arg("-o")
-        .arg(dir.path().join("c.obj"))
-        .arg("--stats-json")
-        .arg(&json)
-        .assert()
-        .success();
-    let doc = read_json(&json);
+    let (_, doc) = bunny_with_stats(&[]);
     let run = &doc["runs"][0];
     assert!(run["prune_tried"].is_null() && run["prune_passes"].is_null());
     assert_eq!(doc["seconds"]["prune"].as_f64(), Some(0.0));
