@@ -2135,6 +2135,17 @@ fn write_output(
     if io::output_format(path) == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());
     }
+    if !written.copies_of.is_empty() {
+        // (The `output` line counts the mesh's vertices; a reader of the
+        // file counts its records.)
+        written.notes.push(format!(
+            "the file holds {} vertex records: {} copies of vertices at attribute seams follow the mesh's {}, as PLY \
+             gives a vertex one value per attribute",
+            surface.positions.len() + written.copies_of.len(),
+            written.copies_of.len(),
+            surface.positions.len()
+        ));
+    }
     if let Some(ext) = unknown_extension(path) {
         written.notes.push(format!(
             "{}: .{ext} is not a mesh extension delmesh writes (.obj, .off, .ply): written as OBJ",

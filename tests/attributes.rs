@@ -763,6 +763,16 @@ fn attribute_tolerance_takes_values_per_kind() {
         0
     );
     assert!(added(&["--attribute-tolerance", "texcoords=0"]) > 0);
+    // The grid's seam makes PLY write copies of vertices: the printout says
+    // how many records the file holds, as its header does.
+    let printout = run(&input, &dir.path().join("o.ply"), &[]);
+    let bytes = std::fs::read(dir.path().join("o.ply")).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..bytes.len().min(1000)]).into_owned();
+    let records = header.lines().find_map(|l| l.strip_prefix("element vertex ")).unwrap();
+    assert!(
+        printout.contains(&format!("note    the file holds {records} vertex records: ")),
+        "{records}: {printout}"
+    );
     for bad in ["uv=1e-3", "colors=2", "colors=", "colors=1e-3,"] {
         tolerance_refused(&input, bad);
     }
