@@ -636,12 +636,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
     let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
-        format: match format {
-            Some(formats::Format::Off) => "OFF",
-            Some(formats::Format::Ply) => "PLY",
-            Some(formats::Format::Stl) => "STL",
-            None | Some(formats::Format::Obj) => "OBJ",
-        },
+        format: format.unwrap_or(formats::Format::Obj).name(),
         reason,
     };
     let raw = match format {

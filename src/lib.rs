@@ -80,6 +80,7 @@ pub mod repair;
 pub mod samples;
 #[cfg(test)]
 mod test_rng;
+mod union_find;
 
 pub use error::{Error, Result};
 pub use mesh::Surface;

@@ -687,6 +687,18 @@ fn reading_merges_objects_welds_and_numbers_by_v_lines() {
 
 /// A closed icosphere subdivided `levels` times, with vertices randomly perturbed.
 fn perturbed_icosphere(levels: usize, rng: &mut Rng) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (mut v, f) = icosphere(levels);
+    let edge = (v[f[0][0] as usize] - v[f[0][1] as usize]).length();
+    for p in &mut v {
+        *p = *p * rng.range(0.97, 1.03) + rng.vec(0.2 * edge);
+    }
+    (v, f)
+}
+
+/// The icosahedron on the unit sphere, subdivided `levels` times (each face
+/// into four, the new vertices pushed out onto the sphere, numbered after
+/// the old in order of the faces' edges).
+fn icosphere(levels: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let g = (1.0 + 5f64.sqrt()) / 2.0;
     let mut v: Vec<DVec3> = [
         [-1.0, g, 0.0],
@@ -741,10 +753,6 @@ fn perturbed_icosphere(levels: usize, rng: &mut Rng) -> (Vec<DVec3>, Vec<[u32; 3
             next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
         }
         f = next;
-    }
-    let edge = (v[f[0][0] as usize] - v[f[0][1] as usize]).length();
-    for p in &mut v {
-        *p = *p * rng.range(0.97, 1.03) + rng.vec(0.2 * edge);
     }
     (v, f)
 }
@@ -1205,38 +1213,9 @@ fn failures_number_as_each_format_numbers() {
 /// overlapping coplanar regions (whose faces cannot be told apart)", which they are not.
 #[test]
 fn a_different_surface_is_not_called_overlapping_coplanar_regions() {
-    // The icosahedron's faces (not subdivided, so the points do not matter)...
-    let (_, f) = perturbed_icosphere(0, &mut Rng(1));
-    // ...on its corners, unperturbed, and its subdivision onto the unit sphere.
-    let g = (1.0 + 5f64.sqrt()) / 2.0;
-    let corners = [
-        [-1.0, g, 0.0],
-        [1.0, g, 0.0],
-        [-1.0, -g, 0.0],
-        [1.0, -g, 0.0],
-        [0.0, -1.0, g],
-        [0.0, 1.0, g],
-        [0.0, -1.0, -g],
-        [0.0, 1.0, -g],
-        [g, 0.0, -1.0],
-        [g, 0.0, 1.0],
-        [-g, 0.0, -1.0],
-        [-g, 0.0, 1.0],
-    ];
-    let mut v: Vec<DVec3> = corners.iter().map(|p| DVec3::from_array(*p).normalize()).collect();
+    let (v, f) = icosphere(0);
     let input = obj(&v.iter().map(|p| p.to_array()).collect::<Vec<_>>(), &f);
-    let mut middle: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut fine = Vec::new();
-    for &[a, b, c] in &f {
-        let mut m = |x: u32, y: u32| {
-            *middle.entry((x.min(y), x.max(y))).or_insert_with(|| {
-                v.push(((v[x as usize] + v[y as usize]) / 2.0).normalize());
-                v.len() as u32 - 1
-            })
-        };
-        let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-        fine.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-    }
+    let (v, fine) = icosphere(1);
     let output = obj(&v.iter().map(|p| p.to_array()).collect::<Vec<_>>(), &fine);
     let report = check_texts(&input, &output);
     assert!(!has(&report, "overlapping"), "{report}");

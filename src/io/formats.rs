@@ -131,6 +131,18 @@ pub enum Format {
     Stl,
 }
 
+impl Format {
+    /// The format's name in messages (`"OFF"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Obj => "OBJ",
+            Format::Off => "OFF",
+            Format::Ply => "PLY",
+            Format::Stl => "STL",
+        }
+    }
+}
+
 /// Why a file could not be read.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FormatError {

@@ -1075,16 +1075,6 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
     })
 }
 
-/// The name of `format` in messages.
-fn format_name(format: Format) -> &'static str {
-    match format {
-        Format::Obj => "OBJ",
-        Format::Off => "OFF",
-        Format::Ply => "PLY",
-        Format::Stl => "STL",
-    }
-}
-
 /// Leaves out of `input` the attributes that a file of `format` cannot hold
 /// (OFF and STL: all of them; PLY: groups and materials), before its surface
 /// is built: an attribute that will not be written must not keep flat
@@ -1102,7 +1092,7 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format)
     }
     Some(format!(
         "{lost} left out: {} cannot hold them (the mesh is refined as without them)",
-        format_name(format)
+        format.name()
     ))
 }
 
@@ -1172,7 +1162,7 @@ pub fn stage_mesh_with_attributes(
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
     if let Some(lost) = attributes_format_cannot_hold(attributes, format) {
-        notes.push(format!("{lost} not written: {} cannot hold them", format_name(format)));
+        notes.push(format!("{lost} not written: {} cannot hold them", format.name()));
     }
     let mut copies_of = Vec::new();
     let staged = match format {

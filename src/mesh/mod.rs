@@ -15,6 +15,7 @@ pub use topology::{
 
 use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
+use crate::union_find::UnionFind;
 use glam::DVec3;
 
 /// Where a vertex of the mesh lies on the input.
@@ -345,19 +346,6 @@ impl Surface {
     /// are joined only across the edges [`RegionCuts::apart_within`] allows.
     fn find_regions(&mut self, cuts: &dyn RegionCuts) {
         let n_faces = self.topo.n_faces();
-        fn root(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                parent[x as usize] = parent[parent[x as usize] as usize];
-                x = parent[x as usize];
-            }
-            x
-        }
-        fn join(parent: &mut [u32], f1: u32, f2: u32) {
-            let (r1, r2) = (root(parent, f1), root(parent, f2));
-            if r1 != r2 {
-                parent[r1.max(r2) as usize] = r1.min(r2);
-            }
-        }
         // The exact test on every interior edge (read-only: on every core),
         // then the joins (sequential, cheap).
         // Coordinates checked once for the whole mesh, not per edge.
@@ -373,11 +361,11 @@ impl Surface {
             let h = EdgeId(e).halfedge();
             (self.topo.face(h).0, self.topo.face(h.twin()).0)
         };
-        let mut parent: Vec<u32> = (0..n_faces as u32).collect();
+        let mut sets = UnionFind::new(n_faces);
         if cuts.is_none() {
             for &e in &flat {
                 let (f1, f2) = faces_of(e);
-                join(&mut parent, f1, f2);
+                sets.union(f1 as usize, f2 as usize);
             }
         } else {
             let apart: Vec<bool> = flat
@@ -389,20 +377,20 @@ impl Surface {
                 .collect();
             for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| !apart) {
                 let (f1, f2) = faces_of(e);
-                join(&mut parent, f1, f2);
+                sets.union(f1 as usize, f2 as usize);
             }
             // Candidates with an edge kept apart inside them (joined around
             // it) are never whole.
             let mut whole = vec![true; n_faces];
             for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| apart) {
                 let (f1, f2) = faces_of(e);
-                let (r1, r2) = (root(&mut parent, f1), root(&mut parent, f2));
+                let (r1, r2) = (sets.find(f1 as usize), sets.find(f2 as usize));
                 if r1 == r2 {
-                    whole[r1 as usize] = false;
+                    whole[r1] = false;
                 }
             }
             // Each candidate's faces, in order (a counting sort by root).
-            let roots: Vec<u32> = (0..n_faces as u32).map(|f| root(&mut parent, f)).collect();
+            let roots: Vec<u32> = (0..n_faces).map(|f| sets.find(f) as u32).collect();
             let mut start = vec![0u32; n_faces + 1];
             for &r in &roots {
                 start[r as usize + 1] += 1;
@@ -424,11 +412,11 @@ impl Surface {
             }
             // The regions: whole candidates, and the others joined edge by
             // edge.
-            parent = (0..n_faces as u32).collect();
+            sets = UnionFind::new(n_faces);
             for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| !apart) {
                 let (f1, f2) = faces_of(e);
                 if whole[roots[f1 as usize] as usize] || !cuts.apart_within(f1, f2) {
-                    join(&mut parent, f1, f2);
+                    sets.union(f1 as usize, f2 as usize);
                 }
             }
         }
@@ -436,7 +424,7 @@ impl Surface {
         let mut next = 0u32;
         self.face_region = Vec::with_capacity(n_faces + 2 * room_for_splits(n_faces));
         self.face_region.extend((0..n_faces as u32).map(|f| {
-            let r = root(&mut parent, f) as usize;
+            let r = sets.find(f as usize);
             if id[r] == u32::MAX {
                 id[r] = next;
                 next += 1;
@@ -641,27 +629,17 @@ impl Surface {
         // The near-planes: regions joined across those edges, each with how
         // many regions it holds and the box of its corners seen.
         let n_regions = self.region_plane.len();
-        let mut parent: Vec<u32> = (0..n_regions as u32).collect();
-        fn root(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                parent[x as usize] = parent[parent[x as usize] as usize];
-                x = parent[x as usize];
-            }
-            x
-        }
+        let mut sets = UnionFind::new(n_regions);
         for &(r1, r2, _) in &nearly_flat {
-            let (a, b) = (root(&mut parent, r1), root(&mut parent, r2));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(r1 as usize, r2 as usize);
         }
         let mut size = vec![0u32; n_regions];
-        for r in 0..n_regions as u32 {
-            size[root(&mut parent, r) as usize] += 1;
+        for r in 0..n_regions {
+            size[sets.find(r)] += 1;
         }
         let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); n_regions];
         for &(r, _, quad) in &nearly_flat {
-            let b = &mut boxes[root(&mut parent, r) as usize];
+            let b = &mut boxes[sets.find(r as usize)];
             for p in quad {
                 *b = (b.0.min(p), b.1.max(p));
             }
@@ -673,7 +651,7 @@ impl Surface {
         nearly_flat
             .iter()
             .filter(|&&(r, _, _)| {
-                let k = root(&mut parent, r) as usize;
+                let k = sets.find(r as usize);
                 size[k] >= 3 && (boxes[k].1 - boxes[k].0).max_element() >= least_extent
             })
             .count()
@@ -926,28 +904,15 @@ impl Surface {
     /// [`InputFigures::near_coincident_edges`].
     fn near_coincident_by_part(&self) -> NearCoincidentFigures {
         let n = self.positions.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn root(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                parent[x as usize] = parent[parent[x as usize] as usize];
-                x = parent[x as usize];
-            }
-            x
-        }
+        let mut parts = UnionFind::new(n);
         for e in 0..self.topo.n_edges() {
             let h = EdgeId(e as u32).halfedge();
-            let (a, b) = (
-                root(&mut parent, self.topo.origin(h).0),
-                root(&mut parent, self.topo.dest(h).0),
-            );
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            parts.union(self.topo.origin(h).idx(), self.topo.dest(h).idx());
         }
         let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); n];
-        for v in 0..n as u32 {
-            let r = root(&mut parent, v) as usize;
-            let p = self.positions[v as usize];
+        for v in 0..n {
+            let r = parts.find(v);
+            let p = self.positions[v];
             boxes[r] = (boxes[r].0.min(p), boxes[r].1.max(p));
         }
         let mut near = NearCoincidentFigures {
@@ -958,7 +923,7 @@ impl Surface {
         };
         for e in 0..self.topo.n_edges() {
             let e = EdgeId(e as u32);
-            let r = root(&mut parent, self.topo.origin(e.halfedge()).0) as usize;
+            let r = parts.find(self.topo.origin(e.halfedge()).idx());
             let size = (boxes[r].1 - boxes[r].0).length();
             let length = self.edge_length(e);
             if length < NEAR_COINCIDENT * size {
