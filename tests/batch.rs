@@ -577,7 +577,10 @@ fn an_output_without_its_vertex_map_is_not_finished() {
     let d = out.to_str().unwrap();
     let (ok, _, stderr) = batch(&["-q", "-d", d, "--vertex-maps"], &[&cube]);
     assert!(!ok);
-    assert!(stderr.contains("cube.obj not written"), "{stderr}");
+    assert!(
+        stderr.contains("cube.vertex-map.csv: is a folder, not a file (") && stderr.contains("cube.obj not written)"),
+        "{stderr}"
+    );
     assert!(!out.join("cube.obj").exists());
     std::fs::remove_dir(&map).unwrap();
     let (ok, _, stderr) = batch(&["-q", "-d", d], &[&cube]);
@@ -589,6 +592,35 @@ fn an_output_without_its_vertex_map_is_not_finished() {
     assert!(map.exists());
     let (ok, stdout, _) = batch(&["-d", d, "--vertex-maps", "--skip-existing"], &[&cube]);
     assert!(ok && stdout.contains("0 written, 1 skipped"), "{stdout}");
+}
+
+/// A folder where one output goes fails that file alone, before reading it,
+/// whichever place it has in the batch; --skip-existing does not take the
+/// folder for a finished file.
+#[test]
+fn a_folder_in_an_outputs_place_fails_that_file_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let cube = common::data_dir().join("cube.obj");
+    let bunny = common::data_dir().join("bunny.obj");
+    let d = out.to_str().unwrap();
+    for (folder, written) in [("cube.obj", "bunny.obj"), ("bunny.obj", "cube.obj")] {
+        std::fs::create_dir_all(out.join(folder)).unwrap();
+        for extra in [&[][..], &["--skip-existing"][..]] {
+            let args: Vec<&str> = ["-d", d].iter().copied().chain(extra.iter().copied()).collect();
+            let (ok, stdout, stderr) = batch(&args, &[&cube, &bunny]);
+            assert!(!ok, "{stdout}");
+            let message = format!(
+                "delmesh: {}: output is a folder, not a file",
+                out.join(folder).display()
+            );
+            assert_eq!(stderr.trim_end(), message);
+            assert!(stdout.contains("1 failed"), "{stdout}");
+            assert!(out.join(folder).is_dir());
+            check_passes(&common::data_dir().join(written), &out.join(written));
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+    }
 }
 
 #[test]

@@ -301,6 +301,18 @@ struct Failed {
 fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options) -> Result<Done, Failed> {
     let t0 = Instant::now();
     let read = || -> anyhow::Result<_> {
+        // A folder in an output's place fails this file alone, before any
+        // work (the others are written).
+        if output.is_dir() {
+            bail!("{}: output is a folder, not a file", output.display());
+        }
+        if let Some(folder) = side_paths(output, args).into_iter().find(|p| p.is_dir()) {
+            bail!(
+                "{}: is a folder, not a file ({} not written)",
+                folder.display(),
+                output.display()
+            );
+        }
         let mut mesh = args.settings.read(input, output)?;
         let read_s = t0.elapsed().as_secs_f64();
         let t_build = Instant::now();
@@ -491,7 +503,11 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let _created = (!args.out_dir.exists()).then(|| RemovedIfEmpty(args.out_dir.clone()));
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
-    check_output_dir(&outputs[0])?;
+    // Whether the folder can be written in, probed beside the first output
+    // that is not a folder itself (one that is fails on its own, below).
+    if let Some(output) = outputs.iter().find(|p| !p.is_dir()) {
+        check_output_dir(output)?;
+    }
     let reports = [&args.stats_csv, &args.stats_json].map(|p| p.as_ref().and_then(|p| file_key(p)));
     if reports[0].is_some() && reports[0] == reports[1] {
         bail!(
@@ -559,7 +575,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             if i >= n {
                 break;
             }
-            let finished = |out: &Path| out.exists() && side_paths(out, args).iter().all(|s| s.exists());
+            // (A folder in a file's place is not a finished file.)
+            let written = |p: &Path| p.exists() && !p.is_dir();
+            let finished = |out: &Path| written(out) && side_paths(out, args).iter().all(|s| written(s));
             let done = if args.skip_existing && finished(&outputs[i]) {
                 Ok(None)
             } else {
