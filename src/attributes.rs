@@ -32,6 +32,7 @@ use glam::{DVec2, DVec3};
 
 use crate::hash::FastMap;
 use crate::mesh::{Carrier, FaceId, RegionCuts, Surface};
+use crate::union_find::UnionFind;
 
 /// "No value": a corner that the file gave none (only in a
 /// [`crate::io::RawMesh`], before [`crate::io::finish`] checks them).
@@ -59,7 +60,8 @@ pub const AFFINE_TOLERANCE: f64 = 1e-12;
 pub const MAX_DIM: usize = 4;
 
 /// How far, relative to the largest magnitude of an attribute's values in
-/// the mesh, the values of a flat region may lie from one affine field for
+/// the region's piece of the mesh (its faces joined through shared
+/// vertices: one object of the file), the values of a flat region may lie from one affine field for
 /// the region to be flipped as a whole (`--attribute-tolerance`). Where it
 /// is, any triangulation of the region interpolates a field within that
 /// distance of the affine one, as the input's does: the output's field
@@ -139,7 +141,7 @@ impl Tolerances {
 
 /// Whether `x` is a [`Tolerances`] value that the library and
 /// `--attribute-tolerance` accept: a number from 0 to 1 (relative to the
-/// attribute's largest magnitude).
+/// attribute's largest magnitude in a region's object).
 pub fn is_relative_tolerance(x: f64) -> bool {
     (0.0..=1.0).contains(&x)
 }
@@ -378,6 +380,31 @@ impl SharedEdge {
 /// a little over half an 8-bit step (0.5 / 255 = 2.0e-3).
 const ROUNDING_LIKE: f64 = 2.5e-3;
 
+/// The piece of each triangle: triangles sharing a vertex are in one piece.
+/// Pieces are numbered from 0 in the order of their first triangles;
+/// returns the numbers and how many there are.
+fn pieces(n_vertices: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, usize) {
+    let mut sets = UnionFind::new(n_vertices);
+    for &[a, b, c] in triangles {
+        sets.union(a as usize, b as usize);
+        sets.union(a as usize, c as usize);
+    }
+    let mut number = vec![u32::MAX; n_vertices];
+    let mut n = 0;
+    let piece = triangles
+        .iter()
+        .map(|t| {
+            let root = sets.find(t[0] as usize);
+            if number[root] == u32::MAX {
+                number[root] = n;
+                n += 1;
+            }
+            number[root]
+        })
+        .collect();
+    (piece, n as usize)
+}
+
 /// The [`RegionCuts`] of a mesh's attributes, with [`Tolerances`]: what
 /// [`crate::io::build_surface_with`] builds planar regions with. It also
 /// records the flat regions it let be flipped as a whole though their
@@ -387,8 +414,14 @@ pub struct AttributeCuts<'a> {
     positions: &'a [DVec3],
     triangles: &'a [[u32; 3]],
     tolerances: Tolerances,
-    /// The largest magnitude of each channel's values (in the order of
-    /// [`Attributes::channels`]).
+    /// The piece (set of faces joined through shared vertices: an object
+    /// of the file) of each triangle, numbered from 0.
+    piece: Vec<u32>,
+    /// The largest magnitude of each channel's values in each piece:
+    /// `scales[n_channels * piece + i]` for channel `i` (in the order of
+    /// [`Attributes::channels`]). A region's tolerance is relative to its
+    /// piece's, so that one object's large values (a floor tiled 0..100)
+    /// do not loosen another's.
     scales: Vec<f64>,
     /// Regions found whole with values off one affine field by more than
     /// [`AFFINE_TOLERANCE`] (relative), and their faces.
@@ -396,6 +429,9 @@ pub struct AttributeCuts<'a> {
     /// The largest distance of such a region's values from its field, per
     /// channel.
     deviation: Vec<Cell<f64>>,
+    /// The same relative to the piece's scale, per channel: what says
+    /// whether rounding explains it.
+    relative_deviation: Vec<Cell<f64>>,
 }
 
 impl<'a> AttributeCuts<'a> {
@@ -407,23 +443,39 @@ impl<'a> AttributeCuts<'a> {
         triangles: &'a [[u32; 3]],
         tolerances: Tolerances,
     ) -> AttributeCuts<'a> {
-        let scales: Vec<f64> = attributes
-            .channels()
-            .map(|(_, ch)| {
-                (0..ch.corners.len())
-                    .flat_map(|c| ch.corner(c).iter())
-                    .fold(0.0f64, |m, x| m.max(x.abs()))
-            })
-            .collect();
+        let n_channels = attributes.channels().count();
+        let (piece, n_pieces) = if n_channels == 0 {
+            (Vec::new(), 0)
+        } else {
+            pieces(positions.len(), triangles)
+        };
+        let mut scales = vec![0.0f64; n_channels * n_pieces];
+        for (i, (_, ch)) in attributes.channels().enumerate() {
+            for (c, &piece) in (0..ch.corners.len()).zip(piece.iter().flat_map(|p| [p; 3])) {
+                let scale = &mut scales[n_channels * piece as usize + i];
+                *scale = ch.corner(c).iter().fold(*scale, |m, x| m.max(x.abs()));
+            }
+        }
+        let cells = || (0..n_channels).map(|_| Cell::new(0.0)).collect();
         AttributeCuts {
             attributes,
             positions,
             triangles,
             tolerances,
-            deviation: scales.iter().map(|_| Cell::new(0.0)).collect(),
+            piece,
             scales,
             inexact: Cell::new((0, 0)),
+            deviation: cells(),
+            relative_deviation: cells(),
         }
+    }
+
+    /// The largest magnitude of each channel's values in the piece of
+    /// triangle `f`.
+    fn scales_of(&self, f: u32) -> &[f64] {
+        let n = self.deviation.len();
+        let piece = self.piece[f as usize] as usize;
+        &self.scales[n * piece..n * (piece + 1)]
     }
 
     /// A line for the printout when some flat regions were let be flipped as
@@ -439,14 +491,14 @@ impl<'a> AttributeCuts<'a> {
             .attributes
             .channels()
             .zip(&self.deviation)
-            .zip(&self.scales)
+            .zip(&self.relative_deviation)
             .filter(|((_, d), _)| d.get() > 0.0)
-            .map(|(((kind, _), d), &scale)| (kind.name(), d.get(), scale))
+            .map(|(((kind, _), d), relative)| (kind.name(), d.get(), relative.get()))
             .collect();
         let list = |f: &dyn Fn(&(&str, f64, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
         // Rounding explains deviations up to half an 8-bit step (colours
         // stored as bytes); larger ones are the values' own.
-        let rounded = off.iter().all(|&(_, d, scale)| d <= ROUNDING_LIKE * scale);
+        let rounded = off.iter().all(|&(_, _, relative)| relative <= ROUNDING_LIKE);
         Some(format!(
             "{regions} flat region{} ({faces} faces) may be flipped as a whole: their {} are affine there only within \
              {}{}, so the output's may move by up to {} (--attribute-tolerance 0 keeps them exact)",
@@ -501,7 +553,9 @@ impl RegionCuts for AttributeCuts<'_> {
             return false;
         }
         let mut deviations = [0.0f64; 3];
-        for (i, ((kind, ch), &scale)) in self.attributes.channels().zip(&self.scales).enumerate() {
+        // (A region is one piece: its faces are joined through edges.)
+        let scales = self.scales_of(faces[0]);
+        for (i, ((kind, ch), &scale)) in self.attributes.channels().zip(scales).enumerate() {
             let tolerance = self.tolerances.of(kind) * scale;
             if tolerance.is_nan() || tolerance <= 0.0 || corners().any(|c| ch.corner(c).len() != ch.dim) {
                 return false;
@@ -526,7 +580,6 @@ impl RegionCuts for AttributeCuts<'_> {
                 }
             }
         }
-        let scales = self.scales.iter();
         if deviations
             .iter()
             .zip(scales)
@@ -534,8 +587,15 @@ impl RegionCuts for AttributeCuts<'_> {
         {
             let (regions, n) = self.inexact.get();
             self.inexact.set((regions + 1, n + faces.len()));
-            for (cell, &d) in self.deviation.iter().zip(&deviations) {
+            for (((cell, relative), &d), &scale) in self
+                .deviation
+                .iter()
+                .zip(&self.relative_deviation)
+                .zip(&deviations)
+                .zip(scales)
+            {
                 cell.set(cell.get().max(d));
+                relative.set(relative.get().max(d / scale));
             }
         }
         true

@@ -310,7 +310,7 @@ struct Settings {
 
     /// How far a flat region's texture coordinates, normals and colours may
     /// lie from one affine field (relative to each attribute's largest
-    /// magnitude) for the region to be flipped as a whole, as without
+    /// magnitude in the region's object) for the region to be flipped as a whole, as without
     /// them: their fields then move by at most twice this there, and a
     /// note says how far. Rounded values, as exporters write them, are
     /// rarely affine exactly; with 0 (exact) the thin fan triangles of a

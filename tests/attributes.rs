@@ -673,6 +673,60 @@ fn rounded_texture_on_a_fanned_polygon_is_flipped_within_the_tolerance() {
     assert!(worst[0] <= 1e-9, "{worst:?}");
 }
 
+/// The tolerance is relative to each object's own values: a floor tiled
+/// with texture coordinates up to 100 beside a small flat cap does not let
+/// the cap's texture move a hundred times further than it would alone.
+#[test]
+fn one_objects_large_values_do_not_loosen_anothers_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    // An oval cap fanned from one rim vertex, its texture coordinates off
+    // an affine map by up to 3e-4 (a wobble, not rounding).
+    let n = 24;
+    let mut cap = String::from("o cap\n");
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        let (x, y) = (2.0 * a.cos(), a.sin());
+        writeln!(
+            cap,
+            "v {x} {y} 1\nvt {} {}",
+            x / 4.0 + 0.5 + 3e-4 * (3.0 * x).sin(),
+            y / 2.0 + 0.5
+        )
+        .unwrap();
+    }
+    for i in 2..n {
+        writeln!(cap, "f 1/1 {i}/{i} {}/{}", i + 1, i + 1).unwrap();
+    }
+    // A separate floor, texture coordinates 0..100 (exactly affine).
+    let mut floor = String::from("o floor\n");
+    for (x, y) in [(-10, -10), (10, -10), (10, 10), (-10, 10)] {
+        writeln!(floor, "v {x} {y} 0\nvt {} {}", 5 * (x + 10), 5 * (y + 10)).unwrap();
+    }
+    let m = n + 1;
+    writeln!(floor, "f {m}/{m} {}/{} {}/{}", m + 1, m + 1, m + 2, m + 2).unwrap();
+    writeln!(floor, "f {m}/{m} {}/{} {}/{}", m + 2, m + 2, m + 3, m + 3).unwrap();
+    let alone = write(dir.path(), "cap.obj", &cap);
+    let both = write(dir.path(), "both.obj", &(cap + &floor));
+    let printout = run(&alone, &dir.path().join("cap.out.obj"), &[]);
+    let with_floor = run(&both, &dir.path().join("both.out.obj"), &[]);
+    assert!(work(&printout).0 > 0, "{printout}");
+    assert_eq!(work(&printout), work(&with_floor), "{printout}\n{with_floor}");
+    assert!(!with_floor.contains("flipped as a whole"), "{with_floor}");
+    check(&both, &dir.path().join("both.out.obj"));
+    // Tolerance 1e-3 lets the cap alone be flipped as a whole: the wobble
+    // is what the default keeps exact.
+    let loose = run(
+        &alone,
+        &dir.path().join("loose.obj"),
+        &["--attribute-tolerance", "texcoords=1e-3"],
+    );
+    assert_eq!(work(&loose).0, 0, "{loose}");
+    assert!(
+        loose.contains("1 flat region (22 faces) may be flipped as a whole"),
+        "{loose}"
+    );
+}
+
 /// Runs delmesh on `input` with `--attribute-tolerance=value`, which must
 /// be refused as a usage error (exit 2); returns its standard error.
 fn tolerance_refused(input: &Path, value: &str) -> String {
