@@ -208,6 +208,13 @@ impl Channel {
         self.corners.get(c).map_or(&[], |&i| self.value(i))
     }
 
+    /// Whether some corners have no value ([`NO_VALUE`]): an OBJ whose
+    /// faces give texture coordinates or normals in some objects only. A
+    /// triangle's three corners then have values, or none.
+    pub fn is_partial(&self) -> bool {
+        self.corners.contains(&NO_VALUE)
+    }
+
     /// Appends a value, returning its index.
     pub fn push(&mut self, value: &[f64]) -> u32 {
         let i = self.n_values() as u32;
@@ -474,7 +481,11 @@ impl<'a> AttributeCuts<'a> {
     /// triangle `f`.
     fn scales_of(&self, f: u32) -> &[f64] {
         let n = self.deviation.len();
-        let piece = self.piece[f as usize] as usize;
+        // (No channels: no pieces either, only groups.)
+        let Some(&piece) = self.piece.get(f as usize) else {
+            return &[];
+        };
+        let piece = piece as usize;
         &self.scales[n * piece..n * (piece + 1)]
     }
 
@@ -556,6 +567,11 @@ impl RegionCuts for AttributeCuts<'_> {
         // (A region is one piece: its faces are joined through edges.)
         let scales = self.scales_of(faces[0]);
         for (i, ((kind, ch), &scale)) in self.attributes.channels().zip(scales).enumerate() {
+            // A region without values of this channel (faces of a part of
+            // the file that has none) is not bound by it.
+            if corners().all(|c| ch.corner(c).is_empty()) {
+                continue;
+            }
             let tolerance = self.tolerances.of(kind) * scale;
             if tolerance.is_nan() || tolerance <= 0.0 || corners().any(|c| ch.corner(c).len() != ch.dim) {
                 return false;
@@ -696,6 +712,11 @@ impl Transfer {
                     match surface.carriers[v.idx()] {
                         Carrier::Vertex(i) => {
                             let x = channel.corner(corner_of(i, region));
+                            if x.is_empty() {
+                                // A region of faces without values.
+                                pooled.corners.push(NO_VALUE);
+                                continue;
+                            }
                             value = [0.0; MAX_DIM];
                             value[..x.len()].copy_from_slice(x);
                         }
@@ -703,6 +724,10 @@ impl Transfer {
                             let [i0, i1] = surface.input_edges[edge as usize];
                             let x0 = channel.corner(corner_of(i0, region));
                             let x1 = channel.corner(corner_of(i1, region));
+                            if x0.is_empty() || x1.is_empty() {
+                                pooled.corners.push(NO_VALUE);
+                                continue;
+                            }
                             for (k, slot) in value.iter_mut().enumerate() {
                                 let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
                                 *slot = interpolate(a, b, t);

@@ -81,7 +81,7 @@ macro_rules! complain {
 }
 mod batch;
 
-use delmesh::attributes::{Attributes, Tolerances, Transfer};
+use delmesh::attributes::{Attributes, Tolerances, Transfer, NO_VALUE};
 use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
@@ -395,8 +395,8 @@ enum Command {
         /// View direction: degrees around the vertical axis.
         #[arg(long, default_value_t = 30.0, allow_negative_numbers = true, value_parser = finite_degrees)]
         azimuth: f64,
-        /// View direction: degrees above the horizon.
-        #[arg(long, default_value_t = 20.0, allow_negative_numbers = true, value_parser = finite_degrees)]
+        /// View direction: degrees above the horizon, -90 to 90.
+        #[arg(long, default_value_t = 20.0, allow_negative_numbers = true, value_parser = elevation_degrees)]
         elevation: f64,
         /// Picture width and height in pixels.
         #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
@@ -854,6 +854,15 @@ fn finite_degrees(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         _ => Err(format!("{s:?} is not a finite number of degrees")),
+    }
+}
+
+/// An elevation in degrees for `render`: from -90 (from below) to 90
+/// (from above).
+fn elevation_degrees(s: &str) -> Result<f64, String> {
+    match finite_degrees(s)? {
+        x if (-90.0..=90.0).contains(&x) => Ok(x),
+        _ => Err(format!("{s:?} is not an elevation from -90 to 90 degrees")),
     }
 }
 
@@ -2259,7 +2268,18 @@ impl<'a> CheckReference<'a> {
 
 /// What attributes an input has, for the printout.
 fn describe_attributes(a: &Attributes) -> String {
-    let mut parts: Vec<String> = a.channels().map(|(k, _)| k.name().to_string()).collect();
+    let mut parts: Vec<String> = a
+        .channels()
+        .map(|(k, ch)| {
+            let faces = ch.corners.len() / 3;
+            let with = ch.corners.chunks_exact(3).filter(|t| t[0] != NO_VALUE).count();
+            if with < faces {
+                format!("{} (on {with} of {faces} triangles)", k.name())
+            } else {
+                k.name().to_string()
+            }
+        })
+        .collect();
     if !a.groups.is_empty() {
         let n = a.groups.len();
         let s = if n == 1 { "" } else { "s" };

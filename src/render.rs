@@ -77,7 +77,8 @@ pub fn render(
         .filter(|t| t.iter().all(|&v| (v as usize) < positions.len()))
         .collect();
     let p = |v: u32| positions[v as usize];
-    let (az, el) = (view.azimuth.to_radians(), view.elevation.to_radians());
+    // (Whole turns off first: the radians of a huge azimuth lose its angle.)
+    let (az, el) = (view.azimuth.rem_euclid(360.0).to_radians(), view.elevation.to_radians());
     // Camera looking along -forward; y is up.
     let forward = DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
     let right = DVec3::Y.cross(forward).normalize_or(DVec3::X);

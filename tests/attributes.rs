@@ -87,11 +87,16 @@ fn barycentric(m: &InputMesh, t: usize, p: DVec3) -> ([f64; 3], f64) {
     ([1.0 - lb - lc, lb, lc], (p - a).dot(n).abs() / nn.sqrt())
 }
 
-/// The value of `kind` at barycentric `l` of triangle `t`.
-fn interpolate(ch: &Channel, t: usize, l: [f64; 3]) -> Vec<f64> {
-    (0..ch.dim)
+/// The value of `kind` at barycentric `l` of triangle `t` (`None` on a
+/// triangle without values).
+fn interpolate(ch: &Channel, t: usize, l: [f64; 3]) -> Option<Vec<f64>> {
+    if (0..3).any(|i| ch.corner(3 * t + i).len() != ch.dim) {
+        return None;
+    }
+    let values = (0..ch.dim)
         .map(|k| (0..3).map(|i| l[i] * ch.corner(3 * t + i)[k]).sum())
-        .collect()
+        .collect();
+    Some(values)
 }
 
 /// The input triangle holding `p`: the one it is most inside of.
@@ -123,12 +128,15 @@ fn compare(input: &InputMesh, output: &InputMesh, samples: usize, seed: u64) -> 
         for (k, kind) in [Kind::TexCoord, Kind::Normal, Kind::Color].into_iter().enumerate() {
             match (channel(input, kind), channel(output, kind)) {
                 (None, None) => {}
-                (Some(ci), Some(co)) => {
-                    let (before, after) = (interpolate(ci, s, ls), interpolate(co, t, l));
-                    for (x, y) in before.iter().zip(&after) {
-                        worst[k] = worst[k].max((x - y).abs());
+                (Some(ci), Some(co)) => match (interpolate(ci, s, ls), interpolate(co, t, l)) {
+                    (None, None) => {}
+                    (Some(before), Some(after)) => {
+                        for (x, y) in before.iter().zip(&after) {
+                            worst[k] = worst[k].max((x - y).abs());
+                        }
                     }
-                }
+                    _ => panic!("{} at {p} on one side only", kind.name()),
+                },
                 _ => panic!("{} present on one side only", kind.name()),
             }
         }
@@ -725,6 +733,72 @@ fn one_objects_large_values_do_not_loosen_anothers_tolerance() {
         loose.contains("1 flat region (22 faces) may be flipped as a whole"),
         "{loose}"
     );
+}
+
+/// Faces without texture coordinates and normals (an object exported
+/// without them) keep none, and the others keep theirs: the channel is not
+/// dropped for the whole file. The two kinds of faces stay apart where they
+/// meet in one plane, the fields are the same before and after on both,
+/// and PLY, which stores values per vertex, leaves such channels out with
+/// a note.
+#[test]
+fn faces_without_values_keep_none_and_the_others_keep_theirs() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(12, 5);
+    // Not affine (so the textured half is split rather than flipped).
+    let text = grid.obj(|p, _| [p.x * p.x / 64.0, p.y / 16.0], true, false, false);
+    let mut obj = String::new();
+    let mut t = 0;
+    for line in text.lines() {
+        if let Some(corners) = line.strip_prefix("f ") {
+            if grid.right(t) {
+                let plain: Vec<&str> = corners.split(' ').map(|c| c.split('/').next().unwrap()).collect();
+                writeln!(obj, "f {}", plain.join(" ")).unwrap();
+            } else {
+                writeln!(obj, "{line}").unwrap();
+            }
+            t += 1;
+        } else {
+            writeln!(obj, "{line}").unwrap();
+        }
+    }
+    let input = write(dir.path(), "half.obj", &obj);
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    let n = grid.triangles.len();
+    let with = (0..n).filter(|&t| !grid.right(t)).count();
+    let line = format!("texture coordinates (on {with} of {n} triangles), normals (on {with} of {n} triangles)");
+    assert!(printout.contains(&line), "{printout}");
+    assert!(!printout.contains("dropped"), "{printout}");
+    assert!(work(&printout).1 > 0, "{printout}");
+    check(&input, &out);
+    let (a, b) = (read(&input), read(&out));
+    let textured = |m: &InputMesh| {
+        let ch = m.attributes.texcoords.as_ref().expect("texture coordinates kept");
+        (0..m.triangles.len()).filter(|&t| !ch.corner(3 * t).is_empty()).count()
+    };
+    assert!(textured(&b) >= textured(&a) && textured(&b) < b.triangles.len());
+    let worst = compare(&a, &b, 2000, 21);
+    assert!(worst.iter().all(|&d| d <= 1e-9), "{worst:?}");
+    // Faces without values are written without `/`.
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(written.lines().any(|l| l.starts_with("f ") && !l.contains('/')));
+    assert!(written.lines().any(|l| l.starts_with("f ") && l.contains('/')));
+    // PLY has no "none" per vertex: both channels are left out, before the
+    // construction, which then runs as without them.
+    let ply = dir.path().join("out.ply");
+    let printout = run(&input, &ply, &[]);
+    let plain = run(&input, &dir.path().join("plain.obj"), &["--drop-attributes"]);
+    assert!(
+        printout.contains(
+            "texture coordinates of only some faces, normals of only some faces, groups and materials left out: PLY \
+             cannot hold them"
+        ),
+        "{printout}"
+    );
+    assert_eq!(work(&printout), work(&plain));
+    check(&input, &ply);
+    assert!(read(&ply).attributes.texcoords.is_none());
 }
 
 /// Runs delmesh on `input` with `--attribute-tolerance=value`, which must

@@ -1698,3 +1698,18 @@ fn ply_ascii_values_must_fit_their_declared_types() {
     );
     assert!(m.attributes.texcoords.is_none());
 }
+
+/// OBJ line and point elements (`l`, `p`) are not faces: read past, with a
+/// note naming the first one's line and how many there were.
+#[test]
+fn obj_line_and_point_elements_are_ignored_with_a_note() {
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nf 1 2 3\np 3\nl 2 3 1\n";
+    let m = delmesh::io::obj::parse_obj(text.as_bytes()).unwrap();
+    assert_eq!(faces(&m), [vec![0, 1, 2]]);
+    assert_eq!(
+        m.notes,
+        ["line 4: 3 line or point elements (l, p) ignored: only faces are read and written"]
+    );
+    let m = delmesh::io::obj::parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    assert!(m.notes.is_empty(), "{:?}", m.notes);
+}

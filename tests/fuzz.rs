@@ -1398,8 +1398,14 @@ fn input_invariants(m: &InputMesh, repaired: bool) -> Result<(), String> {
         return fail("an unused vertex");
     }
     for (_, ch) in m.attributes.channels() {
-        if ch.corners.len() != 3 * m.triangles.len() || ch.corners.iter().any(|&i| i as usize >= ch.n_values()) {
-            return fail("an attribute corner without a value");
+        // A corner has a value, or its whole triangle has none (NO_VALUE).
+        let valued = |i: u32| (i as usize) < ch.n_values();
+        let whole = |t: &[u32]| t.iter().all(|&i| valued(i)) || t.iter().all(|&i| i == delmesh::attributes::NO_VALUE);
+        if ch.corners.len() != 3 * m.triangles.len() || !ch.corners.chunks_exact(3).all(whole) {
+            return fail("an attribute corner without a value (in a triangle with values)");
+        }
+        if !ch.corners.iter().any(|&i| valued(i)) {
+            return fail("an attribute channel without any value");
         }
     }
     if !repaired {
@@ -1740,6 +1746,13 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 let carried = transfer.apply(&s);
                 if carried.channels().any(|(_, c)| c.corners.len() != 3 * s.topo.n_faces()) {
                     return Err("attributes not carried to every output corner".into());
+                }
+                // A triangle has values at all its corners, or at none (faces
+                // of an input object without them).
+                let no = delmesh::attributes::NO_VALUE;
+                let mixed = |t: &[u32]| t.contains(&no) && t.iter().any(|&i| i != no);
+                if carried.channels().any(|(_, c)| c.corners.chunks_exact(3).any(mixed)) {
+                    return Err("an output triangle with values at some corners only".into());
                 }
                 let mut scale = precision_tag(&input, s.input_figures.min_angle, stats.constants.as_ref());
                 if face_on_one_input_edge(&s) {

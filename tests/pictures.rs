@@ -199,3 +199,47 @@ fn render_never_replaces_a_mesh() {
     }
     assert!(!picture_ply.exists());
 }
+
+/// The view's angles: an elevation beyond ±90 degrees is refused (it drew
+/// nothing), and an azimuth of many turns draws as its last turn does.
+#[test]
+fn view_angles_out_of_range_are_refused_or_reduced() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let svg = dir.path().join("b.svg");
+    for elevation in ["91", "-90.5", "1e308"] {
+        let out = delmesh()
+            .arg("render")
+            .arg(&bunny)
+            .arg("-o")
+            .arg(&svg)
+            .args(["--elevation", elevation])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("is not an elevation from -90 to 90 degrees"),
+            "{stderr}"
+        );
+        assert!(!svg.exists());
+    }
+    let drawn = |azimuth: &str| {
+        let stdout = stdout_of(delmesh().arg("render").arg(&bunny).arg("-o").arg(&svg).args([
+            "--azimuth",
+            azimuth,
+            "--elevation",
+            "90",
+        ]));
+        stdout
+            .split(": ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(drawn("3630"), drawn("30"));
+    assert_ne!(drawn("1e308"), "0");
+}

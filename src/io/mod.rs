@@ -411,9 +411,10 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
 }
 
 /// The attributes of `raw` on its triangles, given the raw corners and the
-/// face of each triangle; a channel that leaves some corner without a value
-/// is dropped with a note. The notes: the reader's, then those on
-/// attributes.
+/// face of each triangle. A channel may leave whole faces without values
+/// ([`Channel::is_partial`]); one that leaves some corners of a face
+/// without, or refers to values it lacks, is dropped with a note. The
+/// notes: the reader's, then those on attributes.
 fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &[u32]) -> (Attributes, Vec<String>) {
     let mut notes = raw.notes.clone();
     notes.extend_from_slice(&raw.attribute_notes);
@@ -436,9 +437,34 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
             .collect();
         if corners
             .iter()
-            .any(|&i| i == NO_VALUE || i as usize >= channel.n_values())
+            .any(|&i| i != NO_VALUE && i as usize >= channel.n_values())
         {
-            notes.push(format!("{} dropped: some faces have none", kind.name()));
+            notes.push(format!(
+                "{} dropped: some faces refer to values the file lacks",
+                kind.name()
+            ));
+            continue;
+        }
+        // Faces without values (an object with none) keep none, and the
+        // others keep theirs; a face with values at some corners only is a
+        // defect of the file.
+        let mut without = 0usize;
+        let mut some = false;
+        for t in corners.chunks_exact(3) {
+            match t.iter().filter(|&&i| i == NO_VALUE).count() {
+                0 => {}
+                3 => without += 1,
+                _ => some = true,
+            }
+        }
+        if some {
+            notes.push(format!(
+                "{} dropped: some faces have them at some corners only",
+                kind.name()
+            ));
+            continue;
+        }
+        if without == corners.len() / 3 {
             continue;
         }
         *a.channel_mut(kind) = Some(crate::attributes::Channel {
@@ -1055,12 +1081,17 @@ pub fn output_format(path: &Path) -> Format {
 fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<String> {
     let groups = !attributes.face_group.is_empty() || !attributes.mtllib.is_empty();
     let mut lost: Vec<&str> = Vec::new();
-    if matches!(format, Format::Off | Format::Stl) {
-        for (kind, _) in attributes.channels() {
-            lost.push(match kind {
-                Kind::TexCoord => "texture coordinates",
-                Kind::Normal => "normals",
-                Kind::Color => "colours",
+    for (kind, channel) in attributes.channels() {
+        // PLY stores values per vertex: it has no "none" for the vertices
+        // of faces without.
+        if matches!(format, Format::Off | Format::Stl) || (format == Format::Ply && channel.is_partial()) {
+            lost.push(match (kind, format) {
+                (Kind::TexCoord, Format::Ply) => "texture coordinates of only some faces",
+                (Kind::Normal, Format::Ply) => "normals of only some faces",
+                (Kind::Color, Format::Ply) => "colours of only some faces",
+                (Kind::TexCoord, _) => "texture coordinates",
+                (Kind::Normal, _) => "normals",
+                (Kind::Color, _) => "colours",
             });
         }
     }
@@ -1076,7 +1107,8 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
 }
 
 /// Leaves out of `input` the attributes that a file of `format` cannot hold
-/// (OFF and STL: all of them; PLY: groups and materials), before its surface
+/// (OFF and STL: all of them; PLY: groups and materials, and texture
+/// coordinates, normals or colours that only some faces have), before its surface
 /// is built: an attribute that will not be written must not keep flat
 /// regions apart or cost splits (a smooth-shaded oval cylinder written as
 /// OFF got 21,256 added vertices for normals it could not keep, and none
@@ -1086,9 +1118,18 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format)
     if matches!(format, Format::Off | Format::Stl) {
         input.attributes = Attributes::default();
     } else {
-        input.attributes.face_group = Vec::new();
-        input.attributes.groups = Vec::new();
-        input.attributes.mtllib = Vec::new();
+        let a = &mut input.attributes;
+        for channel in [&mut a.texcoords, &mut a.normals, &mut a.colors] {
+            if channel.as_ref().is_some_and(Channel::is_partial) {
+                *channel = None;
+            }
+        }
+        if a.texcoords.is_none() {
+            a.texture_files = Vec::new();
+        }
+        a.face_group = Vec::new();
+        a.groups = Vec::new();
+        a.mtllib = Vec::new();
     }
     Some(format!(
         "{lost} left out: {} cannot hold them (the mesh is refined as without them)",
@@ -1177,7 +1218,7 @@ pub fn stage_mesh_with_attributes(
             stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?
         }
         Format::Ply => {
-            let channels: Vec<_> = attributes.channels().collect();
+            let channels: Vec<_> = attributes.channels().filter(|(_, c)| !c.is_partial()).collect();
             let split = PerVertex::new(
                 positions.len(),
                 triangles,

@@ -170,6 +170,8 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
     let bytes = &joined[..];
     let lossy;
     let mut renamed = None;
+    // `l` and `p` statements (how many, the first one's line).
+    let mut lines_and_points: Option<(usize, usize)> = None;
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
         Err(_) => {
@@ -377,6 +379,10 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                 raw.face_origin.push(line_no as u32);
                 extra.face();
             }
+            "l" | "p" => {
+                let (count, _) = lines_and_points.get_or_insert((0, line_no));
+                *count += 1;
+            }
             k if IGNORED.contains(&k) => {}
             k => {
                 return Err(error(
@@ -401,6 +407,12 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
             );
             return Err(error(raw.face_origin[f] as usize, what));
         }
+    }
+    if let Some((count, line)) = lines_and_points {
+        raw.notes.push(format!(
+            "line {line}: {count} line or point element{} (l, p) ignored: only faces are read and written",
+            if count == 1 { "" } else { "s" }
+        ));
     }
     (raw.attributes, raw.attribute_notes) = extra.finish(raw.positions.len(), &raw.indices);
     if let Some(line) = renamed {
@@ -1192,7 +1204,13 @@ pub fn write_obj_with_attributes(
         for (k, &v) in triangles[f].iter().enumerate() {
             line.push(b' ');
             push_index(&mut line, v);
-            let corner = |c: &Option<Channel>| c.as_ref().and_then(|c| c.corners.get(3 * f + k)).copied();
+            // (No value: a face of an object that has none.)
+            let corner = |c: &Option<Channel>| {
+                c.as_ref()
+                    .and_then(|c| c.corners.get(3 * f + k))
+                    .copied()
+                    .filter(|&i| i != NO_VALUE)
+            };
             match (corner(&attributes.texcoords), corner(&attributes.normals)) {
                 (None, None) => {}
                 (Some(t), None) => {
