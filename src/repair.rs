@@ -133,12 +133,21 @@ pub struct RepairReport {
     /// outline they trace. Without `--repair` such a face is refused. Counted by the reader
     /// ([`crate::io`]), not by [`repair`], which sees triangles only.
     pub keyhole_polygons: usize,
+    /// Corners of polygons (more than three corners) dropped because they lie at the position
+    /// of the corner before them (`f 1 2 2 3`): the polygon is triangulated as the outline the
+    /// others trace. Counted by the reader ([`crate::io`]), as `keyhole_polygons`.
+    pub repeated_corners: usize,
 }
 
 impl RepairReport {
     /// One human-readable line per kind of change that happened, e.g. `"welded 263 vertices"`.
     pub fn lines(&self) -> Vec<String> {
-        let kinds: [(usize, &str, &str); 11] = [
+        let kinds: [(usize, &str, &str); 12] = [
+            (
+                self.repeated_corners,
+                "dropped {} polygon corner at the position of the corner before it",
+                "dropped {} polygon corners at the position of the corner before them",
+            ),
             (
                 self.keyhole_polygons,
                 "read {} polygon that passes through a point twice as the outline it traces",

@@ -1712,4 +1712,74 @@ fn obj_line_and_point_elements_are_ignored_with_a_note() {
     );
     let m = delmesh::io::obj::parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     assert!(m.notes.is_empty(), "{:?}", m.notes);
+/// A file whose content is of another format than its name's is refused
+/// as misnamed, not with the named reader's reason: a binary PLY named
+/// `.obj` or `.off` had "lines end in a carriage return alone (classic Mac
+/// OS text)" at the first 0x0d of its data, and any text named `.stl` "the
+/// binary STL header declares 1879730017 facets ... (truncated file?)". A
+/// file its own format refuses keeps its reason.
+#[test]
+fn a_misnamed_file_is_refused_as_misnamed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (p, t) = (tricky_positions(), tricky_triangles());
+    let mut ply = Vec::new();
+    write_ply_binary(&mut ply, &p, &t, None).unwrap();
+    // Positions with 13 (a carriage return) among their bytes.
+    let carriage: Vec<[f64; 3]> = p.iter().map(|q| q.map(|x| x + f64::from_bits(0x0d0d))).collect();
+    let mut ply_cr = Vec::new();
+    write_ply_binary(&mut ply_cr, &carriage, &t, None).unwrap();
+    assert!(ply_cr.contains(&b'\r'));
+    let mut off = Vec::new();
+    write_off(&mut off, &p, &t).unwrap();
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let mut stl = Vec::new();
+    let tetrahedron = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    write_stl_binary(&mut stl, &tetrahedron, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]).unwrap();
+    let read = |name: &str, bytes: &[u8]| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let e = delmesh::io::read_mesh(&path, &Default::default())
+            .unwrap_err()
+            .to_string();
+        e.strip_prefix(&format!("{}: ", path.display()))
+            .unwrap_or(&e)
+            .to_owned()
+    };
+    let named = "the name's extension decides the format";
+    for (name, bytes, expected) in [
+        (
+            "a.obj",
+            &ply_cr[..],
+            "not an OBJ file: its content is PLY (name it .ply",
+        ),
+        (
+            "a.off",
+            &ply_cr[..],
+            "not an OFF file: its content is PLY (name it .ply",
+        ),
+        ("a.stl", &ply[..], "not an STL file: its content is PLY (name it .ply"),
+        ("a.stl", &off[..], "not an STL file: its content is OFF (name it .off"),
+        (
+            "a.stl",
+            obj.as_bytes(),
+            "not an STL file: its content is OBJ (name it .obj",
+        ),
+        (
+            "a.ply",
+            obj.as_bytes(),
+            "not a PLY file: its content is OBJ (name it .obj",
+        ),
+        (
+            "a.obj.gz",
+            &gzip(&off),
+            "not an OBJ file: its content is OFF (name it .off",
+        ),
+        ("a.obj", &stl[..], "not an OBJ file: its content is STL (name it .stl"),
+    ] {
+        assert_eq!(read(name, bytes), format!("{expected}: {named})"), "{name}");
+    }
+    // Its own format's reasons.
+    assert!(read("b.ply", b"ply\nformat ascii 1.0\nend\n").contains("PLY"));
+    let e = read("c.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+    assert!(e.contains("out of range"), "{e}");
 }

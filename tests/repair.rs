@@ -1113,3 +1113,57 @@ fn crowded_edges_and_vertices_stay_fast() {
         positions.len() + 2 * (k as usize / 2) + (k as usize - 1)
     );
 }
+
+/// A polygon with a corner repeated next to itself (`f 3 4 5 6 6 7 8 1 2`,
+/// as exporters leave where an edge collapsed) is read by `--repair` as the
+/// outline of the others. Its zero-length side kept every corner from
+/// seeing the polygon whole, so this U was read as the fan from its first
+/// corner, which overlaps itself: repair then removed a zero-area face and
+/// split a vertex, and the output had two components where the U has one.
+#[test]
+fn a_repeated_corner_of_a_polygon_is_dropped_by_repair() {
+    let dir = tempfile::tempdir().unwrap();
+    let u = "v 0 0 0\nv 3 0 0\nv 3 2 0\nv 2 2 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n";
+    // The same corner by index, by another vertex at its position, and as
+    // the last corner repeating the first.
+    for (name, extra, face) in [
+        ("index.obj", "", "f 3 4 5 6 6 7 8 1 2\n"),
+        ("position.obj", "v 1 1 0\n", "f 3 4 5 6 9 7 8 1 2\n"),
+        ("closing.obj", "", "f 3 4 5 6 7 8 1 2 3\n"),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, format!("{u}{extra}{face}")).unwrap();
+        let options = delmesh::io::ReadOptions {
+            repair: Some(RepairOptions::default()),
+            ..Default::default()
+        };
+        let m = delmesh::io::read_mesh(&path, &options).unwrap();
+        assert!(m.notes.is_empty(), "{name}: {:?}", m.notes);
+        let report = m.repair.unwrap();
+        let welded = usize::from(!extra.is_empty());
+        assert_eq!(
+            report,
+            RepairReport {
+                repeated_corners: 1,
+                welded_vertices: welded,
+                ..Default::default()
+            },
+            "{name}"
+        );
+        assert_eq!(
+            report.lines()[0],
+            "dropped 1 polygon corner at the position of the corner before it"
+        );
+        // Six triangles covering the U (area 6 - 1 = 5), each turning up.
+        assert_eq!(m.triangles.len(), 6, "{name}");
+        let area: f64 = (m.triangles.iter())
+            .map(|t| {
+                let [a, b, c] = t.map(|v| m.positions[v as usize]);
+                let z = (b - a).cross(c - a).z / 2.0;
+                assert!(z > 0.0, "{name}: {t:?} turns down or is flat");
+                z
+            })
+            .sum();
+        assert_eq!(area, 5.0, "{name}");
+    }
+}

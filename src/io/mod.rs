@@ -170,13 +170,41 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
     let named = path.to_str().and_then(formats::format_from_name);
     let bytes = formats::gunzip_judged(&bytes, MAX_DECOMPRESSED, named).map_err(|e| format_error(path, e))?;
     let format = detect_format(path, &bytes).unwrap_or(Format::Obj);
-    let raw = match format {
+    let read = |format| match format {
         Format::Obj => obj::parse_obj(&bytes),
         Format::Off => formats::read_off(&bytes),
         Format::Ply => formats::read_ply(&bytes),
         Format::Stl => formats::read_stl(&bytes),
     };
-    raw.map_err(|e| format_error(path, e))
+    read(format).map_err(|e| match misnamed(named, &bytes, read) {
+        Some(what) => Error::Mesh {
+            path: path.to_owned(),
+            what,
+        },
+        None => format_error(path, e),
+    })
+}
+
+/// Why a file that its name's format (`named`) refuses is misnamed: its
+/// content is a file of another format, which that format's reader
+/// (`read`) takes. The named reader's own reason says nothing useful then
+/// (a binary PLY named `.obj` had lines ending in a carriage return alone,
+/// any text named `.stl` a header declaring a billion facets).
+fn misnamed(
+    named: Option<Format>,
+    bytes: &[u8],
+    read: impl Fn(Format) -> std::result::Result<RawMesh, formats::FormatError>,
+) -> Option<String> {
+    let named = named?;
+    let content = formats::sniff_format(bytes).filter(|&f| f != named)?;
+    read(content).ok()?;
+    Some(format!(
+        "not {} {} file: its content is {} (name it .{}: the name's extension decides the format)",
+        if named == Format::Ply { "a" } else { "an" },
+        named.name(),
+        content.name(),
+        content.name().to_ascii_lowercase()
+    ))
 }
 
 /// The bytes of the file `path`, or of standard input to its end if `path`
@@ -499,6 +527,22 @@ fn passes_a_point_twice(p: &[u32], positions: &[[f64; 3]], scratch: &mut Vec<[u6
     scratch.windows(2).any(|w| w[0] == w[1])
 }
 
+/// The corners of polygon `p` in `out`, less each one at the position of
+/// the corner kept before it (bit-identical coordinates; around the
+/// outline, so also a last corner at the first one's position).
+fn without_repeated_corners(p: &[u32], positions: &[[f64; 3]], out: &mut Vec<u32>) {
+    let bits = |v: u32| positions[v as usize].map(f64::to_bits);
+    out.clear();
+    for &v in p {
+        if out.last().is_none_or(|&last| bits(last) != bits(v)) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && bits(out[0]) == bits(out[out.len() - 1]) {
+        out.pop();
+    }
+}
+
 /// `finish` with `--repair`: triangulate everything, then let
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
 fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
@@ -508,13 +552,24 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
     let mut keyhole_polygons = 0;
+    let mut repeated_corners = 0;
     let mut scratch = Vec::new();
+    let mut outline = Vec::new();
     for f in 0..n_faces {
-        let p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+        let mut p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         if let &[a, b, c] = p {
             triangles.push([a, b, c]);
             triangle_face.push(f);
             continue;
+        }
+        // A corner at the position of the one before it (`f 1 2 2 3`, or
+        // two vertex lines at one point) adds nothing to the outline, but
+        // its zero-length side keeps every corner from seeing the polygon
+        // whole: its fan from the first corner then overlaps itself.
+        without_repeated_corners(p, &raw.positions, &mut outline);
+        if outline.len() < p.len() && outline.len() >= 3 {
+            repeated_corners += p.len() - outline.len();
+            p = &outline;
         }
         keyhole_polygons += passes_a_point_twice(p, &raw.positions, &mut scratch) as usize;
         unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
@@ -525,6 +580,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     }
     let (mut fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
     fixed.report.keyhole_polygons = keyhole_polygons;
+    fixed.report.repeated_corners = repeated_corners;
     if fixed.triangles.is_empty() {
         return Err(Error::Mesh {
             path: path.to_owned(),
