@@ -1712,6 +1712,8 @@ fn obj_line_and_point_elements_are_ignored_with_a_note() {
     );
     let m = delmesh::io::obj::parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     assert!(m.notes.is_empty(), "{:?}", m.notes);
+}
+
 /// A file whose content is of another format than its name's is refused
 /// as misnamed, not with the named reader's reason: a binary PLY named
 /// `.obj` or `.off` had "lines end in a carriage return alone (classic Mac
