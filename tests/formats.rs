@@ -1785,3 +1785,17 @@ fn a_misnamed_file_is_refused_as_misnamed() {
     let e = read("c.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
     assert!(e.contains("out of range"), "{e}");
 }
+
+/// A file where only some `v` lines give a colour drops colours with a
+/// note naming the first vertex without one, whichever kind comes first.
+#[test]
+fn partial_obj_colours_are_named_at_the_first_vertex_without() {
+    let note = |text: &str| delmesh::io::obj::parse_obj(text.as_bytes()).unwrap().attribute_notes;
+    let expected = |line: usize| {
+        vec![format!(
+            "colours dropped: line {line}: only some vertices have a colour (not this one)"
+        )]
+    };
+    assert_eq!(note("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n"), expected(2));
+    assert_eq!(note("v 0 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n"), expected(1));
+}

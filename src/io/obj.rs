@@ -436,6 +436,8 @@ struct Extras {
     /// Colours of the `v` lines that give one, and how many do.
     colors: Vec<f64>,
     colored: usize,
+    /// The line of the first `v` without a colour.
+    uncolored_line: Option<usize>,
     vertices: usize,
     /// Per face corner: its `vt` and `vn` (0-based, unchecked; NO_VALUE when
     /// absent). Empty until a corner gives one.
@@ -506,6 +508,13 @@ impl Extras {
     fn vertex_color(&mut self, rest: &[&str], line: usize) {
         self.vertices += 1;
         if rest.len() != 3 {
+            // Named at the first vertex without a colour, whichever comes first.
+            self.uncolored_line.get_or_insert(line);
+            if self.colored > 0 {
+                self.note(Kind::Color, line, || {
+                    "only some vertices have a colour (not this one)".into()
+                });
+            }
             return;
         }
         for &tok in rest {
@@ -520,8 +529,10 @@ impl Extras {
             }
         }
         self.colored += 1;
-        if self.colored != self.vertices {
-            self.note(Kind::Color, line, || "only some vertices have a colour".into());
+        if let Some(uncolored) = self.uncolored_line {
+            self.note(Kind::Color, uncolored, || {
+                "only some vertices have a colour (not this one)".into()
+            });
         }
     }
 
