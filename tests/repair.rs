@@ -1167,3 +1167,25 @@ fn a_repeated_corner_of_a_polygon_is_dropped_by_repair() {
         assert_eq!(area, 5.0, "{name}");
     }
 }
+
+/// A weld wider than the faces leaves none: the error says that the weld
+/// did it, and that a smaller distance keeps them.
+#[test]
+fn a_weld_that_collapses_every_face_says_so() {
+    let out = assert_cmd::Command::cargo_bin("delmesh")
+        .unwrap()
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .args(["-o", "-", "--repair", "--weld-tolerance", "10"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("no faces left after repair: the weld (--weld-tolerance 10) joined")
+            && stderr.contains("a smaller distance keeps them"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+}

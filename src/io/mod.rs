@@ -582,9 +582,20 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     fixed.report.keyhole_polygons = keyhole_polygons;
     fixed.report.repeated_corners = repeated_corners;
     if fixed.triangles.is_empty() {
+        let r = &fixed.report;
+        // A weld wider than the faces collapses them all.
+        let why = if options.weld_tolerance > 0.0 && r.welded_vertices > 0 {
+            format!(
+                ": the weld (--weld-tolerance {}) joined {} vertices and left every face with a repeated vertex or no \
+                 area; a smaller distance keeps them",
+                options.weld_tolerance, r.welded_vertices
+            )
+        } else {
+            String::new()
+        };
         return Err(Error::Mesh {
             path: path.to_owned(),
-            what: "no faces left after repair".into(),
+            what: format!("no faces left after repair{why}"),
         });
     }
     for (i, t) in fixed.triangles.iter().enumerate() {
