@@ -1096,3 +1096,33 @@ fn meshlab_wedge_texture_coordinates_and_texture_file() {
         "{printout}"
     );
 }
+
+/// `usemtl` (or `o`) without a name ends the material (object) before it;
+/// the output says so too, rather than leaving the faces after it in the
+/// previous material.
+#[test]
+fn a_material_ended_by_usemtl_alone_stays_ended() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.5\nv 2 0 0.2\no A\nusemtl red\nf 1 2 3\nusemtl\nf 2 4 3\no\nf 2 5 4\n";
+    let input = write(dir.path(), "m.obj", text);
+    let out = dir.path().join("out.obj");
+    run(&input, &out, &[]);
+    let written = std::fs::read_to_string(&out).unwrap();
+    let statements: Vec<&str> = written.lines().filter(|l| !l.starts_with("v ")).collect();
+    assert_eq!(
+        statements,
+        [
+            "mtllib m.mtl",
+            "o A",
+            "usemtl red",
+            "f 1 2 3",
+            "usemtl",
+            "f 2 4 3",
+            "o",
+            "f 2 5 4"
+        ]
+    );
+    let (a, b) = (read(&input), read(&out));
+    assert_eq!(a.attributes.groups, b.attributes.groups);
+    assert_eq!(a.attributes.face_group, b.attributes.face_group);
+}

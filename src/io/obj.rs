@@ -1245,14 +1245,17 @@ pub fn write_obj_with_attributes(
 }
 
 /// Writes the `o`, `g` and `usemtl` lines that take `written` to `group`.
-/// A statement cannot be undone in OBJ, except `g` alone (the default
-/// group): a name that `group` lacks and `written` has stays.
+/// A name that `group` lacks and `written` has is undone by the statement
+/// alone, as the input did it (only an input's `o`, `g` or `usemtl` without
+/// a name leaves a later group without one: groups are written in order of
+/// first use).
 fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> std::io::Result<()> {
     if group.object != written.object {
-        if let Some(o) = &group.object {
-            writeln!(w, "o {o}")?;
-            written.object = group.object.clone();
+        match &group.object {
+            Some(o) => writeln!(w, "o {o}")?,
+            None => writeln!(w, "o")?,
         }
+        written.object = group.object.clone();
     }
     if group.group != written.group {
         match &group.group {
@@ -1262,10 +1265,11 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
         written.group = group.group.clone();
     }
     if group.material != written.material {
-        if let Some(m) = &group.material {
-            writeln!(w, "usemtl {m}")?;
-            written.material = group.material.clone();
+        match &group.material {
+            Some(m) => writeln!(w, "usemtl {m}")?,
+            None => writeln!(w, "usemtl")?,
         }
+        written.material = group.material.clone();
     }
     Ok(())
 }
