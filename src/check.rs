@@ -2757,17 +2757,17 @@ fn nearest_edges_containing(mesh: &Mesh3, edges: &[Edge], candidates: &[u32], p:
         let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
         distance_on_edge(p, a, b).map(|d| (d, slack))
     };
-    // Two passes (the nearest distance, then the edges near it): no allocation per point.
-    let nearest = candidates
-        .iter()
-        .filter_map(|&e| distance(e))
-        .fold(f64::INFINITY, |m, (d, _)| m.min(d));
-    out.extend(
-        candidates
-            .iter()
-            .copied()
-            .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
-    );
+    // The edges containing `p` and the nearest distance, then of those edges the ones near
+    // it: the second pass computes again only the few distances of the edges found, and
+    // nothing is allocated per point.
+    let mut nearest = f64::INFINITY;
+    for &e in candidates {
+        if let Some((d, _)) = distance(e) {
+            nearest = nearest.min(d);
+            out.push(e);
+        }
+    }
+    out.retain(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack));
     out.sort_unstable();
     out.dedup();
 }
