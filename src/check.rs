@@ -296,28 +296,39 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
             let in_file = welded.mesh.positions.len();
             let mesh = settle(welded.mesh, &welded.file_corners);
             welded.naming.name_copies(&mesh.positions, in_file);
-            (mesh, welded.strays, welded.naming, in_file)
+            // The vertices no face uses, after all the others (their own numbers are not the
+            // file's): an output one must still be an input vertex or lie on an input edge.
+            let mut mesh = mesh;
+            let settled = mesh.positions.len();
+            mesh.positions.extend(welded.strays);
+            // (Validated while the output may still be read: its error, if any, is reported
+            // only once both files are read.)
+            let prepared = prepare_input(&mesh, &welded.naming);
+            (mesh, settled, welded.naming, in_file, prepared)
         })
     };
     let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
-    let (mut input_mesh, input_strays, input_naming, input_in_file) = input_read?;
+    let (input_mesh, input_settled, input_naming, input_in_file, input_prepared) = input_read?;
     let mut welded = output_read?;
     let output_in_file = welded.mesh.positions.len();
-    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, &input_mesh, input_in_file);
+    let input_positions = &input_mesh.positions[..input_settled];
+    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
     // the files' own, in file order.
     let reordered = first_reordered_vertex(&input_mesh.positions[..input_in_file], &output_mesh.positions);
-    // The vertices no face uses, after all the others (their own numbers are not the file's):
-    // an output one must still be an input vertex or lie on an input edge.
-    input_mesh.positions.extend(input_strays);
+    // (The output's vertices no face uses too, as the input's.)
     output_mesh.positions.extend(welded.strays);
-    let mut report = check_core(&input_mesh, &output_mesh, &input_naming, &output_naming).map_err(|reason| {
-        CheckError::InvalidInput {
-            path: input.to_path_buf(),
-            reason,
-        }
+    let meshes = Meshes {
+        input: &input_mesh,
+        output: &output_mesh,
+        input_naming: &input_naming,
+        output_naming: &output_naming,
+    };
+    let mut report = check_core(meshes, Some(input_prepared)).map_err(|reason| CheckError::InvalidInput {
+        path: input.to_path_buf(),
+        reason,
     })?;
     report.first_reordered_vertex = reordered;
     report.first_reordered_vertex_names = reordered.map(|k| {
@@ -340,7 +351,13 @@ fn first_reordered_vertex(input: &[DVec3], output: &[DVec3]) -> Option<usize> {
 /// [`CheckReport::unused_vertices`]; unused input vertices are only such positions.
 pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
     let naming = Naming::default();
-    let mut report = check_core(input, output, &naming, &naming).unwrap_or_else(|reason| {
+    let meshes = Meshes {
+        input,
+        output,
+        input_naming: &naming,
+        output_naming: &naming,
+    };
+    let mut report = check_core(meshes, None).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
         report.failures.push(format!("input mesh is invalid: {reason}"));
         report
@@ -373,7 +390,7 @@ impl Mesh3 {
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle_like(welded.mesh, &welded.file_corners, input, 0))
+        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0))
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -561,25 +578,25 @@ impl<'a> Names<'a> {
     }
 }
 
-/// [`Mesh3::read_like`] on a file already read by [`read_welded`]. Only
-/// `input.positions[first_copy..]` may repeat a position of the input (0 for
-/// any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies
-/// last, after the file's welded vertices, and usually none).
-fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &Mesh3, first_copy: usize) -> Mesh3 {
+/// [`Mesh3::read_like`] on a file already read by [`read_welded`], `input` being the
+/// positions of the input's vertices. Only `input[first_copy..]` may repeat a position of the
+/// input (0 for any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies last,
+/// after the file's welded vertices, and usually none).
+fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Mesh3 {
     // How many vertices the input has at each position it has several at (usually none).
-    let copies = input.positions.get(first_copy..).unwrap_or_default();
+    let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
         return settle(welded, file_corners);
     }
     let mut count: FastMap<[u64; 3], i64> = FastMap::default();
     if first_copy == 0 {
-        for p in &input.positions {
+        for p in input {
             *count.entry(bits(*p)).or_insert(0) += 1;
         }
     } else {
         // (Only the copies' positions can be repeated: count those alone.)
         count.extend(copies.iter().map(|p| (bits(*p), 0)));
-        for p in &input.positions {
+        for p in input {
             if let Some(c) = count.get_mut(&bits(*p)) {
                 *c += 1;
             }
@@ -662,17 +679,21 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
 /// `shares_vertices`, a corner's file vertex is its index in the file's vertex list (OFF,
 /// PLY, OBJ); without (STL), its welded vertex.
 fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, String> {
-    let mut welder = Welder::default();
+    // (Sized for every position at once, as growing the table rehashes all it holds; but
+    // not for STL, whose facets repeat each position about six times.)
+    let mut welder = Welder::with_capacity(if shares_vertices { raw.positions.len() } else { 0 });
     let ids: Vec<u32> = raw
         .positions
         .iter()
         .map(|p| welder.insert(DVec3::from_array(*p)))
         .collect::<Result<_, _>>()?;
-    let mut triangles = Vec::new();
+    // (At least one triangle per face.)
+    let faces = raw.face_start.len().saturating_sub(1);
+    let mut triangles = Vec::with_capacity(faces);
     // The file's own vertex of each corner, and the file's face of every triangle (a
     // polygon gives several).
-    let mut file_corners = Vec::new();
-    let mut face_of = Vec::new();
+    let mut file_corners = Vec::with_capacity(faces);
+    let mut face_of = Vec::with_capacity(faces);
     let mut pieces = Vec::new();
     for f in 0..raw.face_start.len().saturating_sub(1) {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
@@ -836,18 +857,30 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
         let error = |why: String| format!("line {line_number}: {why}");
         let vertices = raw.positions.len() as i64;
         if kind == b'v' {
-            if let Some(why) = vertex_syntax_error(values, vertices + 1) {
-                return Err(error(why));
-            }
             let number = |w: &[u8]| std::str::from_utf8(w).ok().and_then(|t| t.parse::<f64>().ok());
-            let mut p = [0.0; 3];
-            for (c, w) in p.iter_mut().zip(values) {
-                *c = number(w).unwrap_or(f64::NAN);
-            }
-            if values.len() == 4 {
-                let w = number(values[3]).unwrap_or(f64::NAN);
-                p = p.map(|c| c / w);
-            }
+            // Nearly every line is `x y z` (or `x y z r g b`) of three numbers: each is read
+            // once; any other line is judged by `vertex_syntax_error` first.
+            let plain = match values {
+                [x, y, z] | [x, y, z, _, _, _] => number(x).zip(number(y)).zip(number(z)),
+                _ => None,
+            };
+            let p = match plain {
+                Some(((x, y), z)) => [x, y, z],
+                None => {
+                    if let Some(why) = vertex_syntax_error(values, vertices + 1) {
+                        return Err(error(why));
+                    }
+                    let mut p = [0.0; 3];
+                    for (c, w) in p.iter_mut().zip(values) {
+                        *c = number(w).unwrap_or(f64::NAN);
+                    }
+                    if values.len() == 4 {
+                        let w = number(values[3]).unwrap_or(f64::NAN);
+                        p = p.map(|c| c / w);
+                    }
+                    p
+                }
+            };
             raw.positions.push(p);
             raw.vertex_origin.push(line_number as u32);
             continue;
@@ -1021,21 +1054,30 @@ fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
             })
         })
     };
-    let (start, mut higher) = grouped(n, edges);
-    let mut crowded = vec![false; n];
-    let mut any = false;
-    for low in 0..n {
-        let list = &mut higher[start[low]..start[low + 1]];
-        list.sort_unstable();
-        for run in list.chunk_by(|x, y| x.0 == y.0) {
-            if run.len() > 2 || (run.len() == 2 && run[0].1 == run[1].1) {
-                (crowded[low], crowded[run[0].0 as usize], any) = (true, true, true);
+    let (start, higher) = grouped(n, edges);
+    // The crowded edges' ends, found on all threads (each sorting a copy of its lists).
+    let ends: Vec<u32> = crate::parallel::map_ranges(n, |range| {
+        let (mut list, mut ends) = (Vec::new(), Vec::new());
+        for low in range {
+            list.clear();
+            list.extend_from_slice(&higher[start[low]..start[low + 1]]);
+            list.sort_unstable();
+            for run in list.chunk_by(|x, y| x.0 == y.0) {
+                if run.len() > 2 || (run.len() == 2 && run[0].1 == run[1].1) {
+                    ends.extend([low as u32, run[0].0]);
+                }
             }
         }
-    }
-    if !any {
+        ends
+    })
+    .into_iter()
+    .flatten()
+    .collect();
+    if ends.is_empty() {
         return mesh;
     }
+    let mut crowded = vec![false; n];
+    ends.iter().for_each(|&v| crowded[v as usize] = true);
     unweld(mesh, file_corners, &crowded)
 }
 
@@ -1072,25 +1114,73 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
     // Faces around each vertex.
     let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
     let (start, around) = grouped(n, corners);
-    let mut parent: Vec<usize> = Vec::new();
-    let mut by_neighbour: Vec<(u32, usize)> = Vec::new();
-    for v in 0..n {
-        let faces = &around[start[v]..start[v + 1]];
-        if faces.len() < 2 {
-            continue;
+    // Which fan every face of a pinched vertex is in, found on all threads: a vertex's fans
+    // do not depend on how the pinches before it were cut (faces sharing a neighbour that was
+    // cut are in one of its fans, so they still share its copy), so each vertex's are found
+    // in the mesh as read. Then the copies are made in order, as one pass would make them.
+    let triangles = &mesh.triangles;
+    let pinched: Vec<(u32, u32, u32)> = crate::parallel::map_ranges(n, |range| {
+        let mut fans = Fans::default();
+        let mut found = Vec::new();
+        for v in range {
+            let faces = &around[start[v]..start[v + 1]];
+            if faces.len() >= 2 {
+                fans.find(v, faces, triangles, &mut found);
+            }
         }
-        // Union the faces around v that share an edge (v, w).
+        found
+    })
+    .into_iter()
+    .flatten()
+    .collect();
+    // (vertex, fan) → its new vertex, for the current vertex only.
+    let mut new_vertex: Vec<(u32, u32)> = Vec::new();
+    for (i, &(v, f, fan)) in pinched.iter().enumerate() {
+        if i == 0 || pinched[i - 1].0 != v {
+            new_vertex.clear();
+        }
+        let id = match new_vertex.iter().find(|(r, _)| *r == fan) {
+            Some(&(_, id)) => id,
+            None => {
+                let id = mesh.positions.len() as u32;
+                mesh.positions.push(mesh.positions[v as usize]);
+                new_vertex.push((fan, id));
+                id
+            }
+        };
+        for corner in mesh.triangles[f as usize].iter_mut() {
+            if *corner == v {
+                *corner = id;
+            }
+        }
+    }
+    mesh
+}
+
+/// The fans of one vertex, with buffers reused from vertex to vertex.
+#[derive(Default)]
+struct Fans {
+    parent: Vec<usize>,
+    by_neighbour: Vec<(u32, usize)>,
+}
+
+impl Fans {
+    /// Appends `(v, face, fan)` for every face of `faces` (the faces around `v`, in
+    /// increasing order) that is not in the fan of the lowest face, `fan` naming its fan
+    /// (the root of its faces joined across shared edges `(v, w)`).
+    fn find(&mut self, v: usize, faces: &[u32], triangles: &[[u32; 3]], found: &mut Vec<(u32, u32, u32)>) {
+        let parent = &mut self.parent;
         parent.clear();
         parent.extend(0..faces.len());
-        by_neighbour.clear();
+        self.by_neighbour.clear();
         for (i, &f) in faces.iter().enumerate() {
-            for &w in &mesh.triangles[f as usize] {
+            for &w in &triangles[f as usize] {
                 if w as usize != v {
-                    by_neighbour.push((w, i));
+                    self.by_neighbour.push((w, i));
                 }
             }
         }
-        by_neighbour.sort_unstable();
+        self.by_neighbour.sort_unstable();
         fn root(parent: &mut [usize], mut x: usize) -> usize {
             while parent[x] != x {
                 parent[x] = parent[parent[x]];
@@ -1098,92 +1188,148 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
             }
             x
         }
-        for pair in by_neighbour.windows(2) {
+        for pair in self.by_neighbour.windows(2) {
             if pair[0].0 == pair[1].0 {
-                let (a, b) = (root(&mut parent, pair[0].1), root(&mut parent, pair[1].1));
+                let (a, b) = (root(parent, pair[0].1), root(parent, pair[1].1));
                 parent[a.max(b)] = a.min(b);
             }
         }
         // Faces are listed in increasing order, so root 0 is the fan of the lowest face.
-        let mut new_vertex: Vec<(usize, u32)> = Vec::new();
         for (i, &f) in faces.iter().enumerate() {
-            let r = root(&mut parent, i);
-            if r == 0 {
-                continue;
-            }
-            let id = match new_vertex.iter().find(|(root, _)| *root == r) {
-                Some(&(_, id)) => id,
-                None => {
-                    let id = mesh.positions.len() as u32;
-                    mesh.positions.push(mesh.positions[v]);
-                    new_vertex.push((r, id));
-                    id
-                }
-            };
-            for corner in mesh.triangles[f as usize].iter_mut() {
-                if *corner as usize == v {
-                    *corner = id;
-                }
+            let r = root(parent, i);
+            if r != 0 {
+                found.push((v as u32, f, r as u32));
             }
         }
     }
-    mesh
 }
 
-/// Welds positions by their bit patterns while models are appended.
-#[derive(Default)]
+/// Welds positions by their bit patterns while models are appended: an open-addressing table
+/// (linear probing, at most half full) of indices into `positions`, whose bits are the keys.
+/// Four bytes a slot stay in cache far better than a map holding the 24-byte keys, where
+/// inserting a million positions was mostly waiting for memory.
 struct Welder {
     positions: Vec<DVec3>,
-    index: FastMap<[u64; 3], u32>,
+    /// Indices into `positions`, or [`Welder::EMPTY`]; a power of two long.
+    slots: Vec<u32>,
 }
 
 impl Welder {
+    /// An unused slot.
+    const EMPTY: u32 = u32::MAX;
+
+    /// A welder with room for `n` positions.
+    fn with_capacity(n: usize) -> Welder {
+        Welder {
+            positions: Vec::with_capacity(n),
+            slots: vec![Self::EMPTY; (2 * n).next_power_of_two().max(16)],
+        }
+    }
+
     /// Returns the welded index of `p`, adding it if new.
     fn insert(&mut self, p: DVec3) -> Result<u32, String> {
-        let next = u32::try_from(self.positions.len()).map_err(|_| "too many vertices (more than 2^32)".to_string())?;
-        let id = *self.index.entry(bits(p)).or_insert(next);
-        if id == next {
-            self.positions.push(p);
+        let next = u32::try_from(self.positions.len())
+            .ok()
+            .filter(|&next| next != Self::EMPTY)
+            .ok_or_else(|| "too many vertices (more than 2^32)".to_string())?;
+        if 2 * (self.positions.len() + 1) > self.slots.len() {
+            self.grow();
         }
-        Ok(id)
+        let key = bits(p);
+        let mask = self.slots.len() - 1;
+        let mut i = position_hash(key) as usize & mask;
+        loop {
+            match self.slots[i] {
+                Self::EMPTY => {
+                    self.slots[i] = next;
+                    self.positions.push(p);
+                    return Ok(next);
+                }
+                s if bits(self.positions[s as usize]) == key => return Ok(s),
+                _ => i = (i + 1) & mask,
+            }
+        }
     }
+
+    /// Doubles the table, placing every position again.
+    fn grow(&mut self) {
+        self.slots = vec![Self::EMPTY; 2 * self.slots.len()];
+        let mask = self.slots.len() - 1;
+        for (k, p) in self.positions.iter().enumerate() {
+            let mut i = position_hash(bits(*p)) as usize & mask;
+            while self.slots[i] != Self::EMPTY {
+                i = (i + 1) & mask;
+            }
+            self.slots[i] = k as u32;
+        }
+    }
+}
+
+/// A well-mixed hash of a position's bits (every bit of the key moves the low bits).
+fn position_hash(key: [u64; 3]) -> u64 {
+    let h = key[0].wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ key[1].wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ key[2].wrapping_mul(0x1656_67B1_9E37_79F9);
+    let h = (h ^ (h >> 31)).wrapping_mul(0xD6E8_FEB8_6659_FD93);
+    h ^ (h >> 32)
 }
 
 // ---------------------------------------------------------------------------------------------
 // The check
 // ---------------------------------------------------------------------------------------------
 
-/// Runs every check, naming the meshes' vertices and faces as their files do (`input_naming`,
-/// `output_naming`); `Err` carries why the input is invalid.
-fn check_core(
-    input: &Mesh3,
-    output: &Mesh3,
-    input_naming: &Naming,
-    output_naming: &Naming,
-) -> Result<CheckReport, String> {
-    let output_names = Names::new("output", output, output_naming);
+/// The two meshes of a check, and how their files name their vertices and faces.
+#[derive(Clone, Copy)]
+struct Meshes<'a> {
+    input: &'a Mesh3,
+    output: &'a Mesh3,
+    input_naming: &'a Naming,
+    output_naming: &'a Naming,
+}
+
+/// Runs every check, naming the meshes' vertices and faces as their files do; `Err` carries
+/// why the input is invalid. `input_prepared` is [`prepare_input`] if already done.
+fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) -> Result<CheckReport, String> {
+    let Meshes { input, output, .. } = meshes;
+    let output_names = Names::new("output", output, meshes.output_naming);
     // Independent pieces run on two threads for large meshes (see `crate::parallel::join`):
-    // the input's model beside the output's edges, then the output's Delaunay test beside the
-    // geometry rules. Failures are recorded in the same order either way.
+    // the input's regions and the output's edges beside the search structures for the output's
+    // vertices, then the output's Delaunay test beside the geometry rules. Failures are
+    // recorded in the same order either way (only one side of each pair records any).
     let worth_it = input.triangles.len() + output.triangles.len() >= PARALLEL_FACES;
     let mut fail = Failures::default();
-    let (model, out) = crate::parallel::join(
+    let prepared = input_prepared.unwrap_or_else(|| prepare_input(input, meshes.input_naming))?;
+    let out_referenced = validate(&output_names, &mut fail);
+    let ((regions, out), search) = crate::parallel::join(
         worth_it,
-        || InputModel::new(input, input_naming),
-        || Prepared::new(&output_names, &mut fail),
+        || {
+            let regions = input_regions(input, &prepared);
+            let out = (out_referenced.as_ref()).map(|r| Prepared::build(&output_names, r.clone(), &mut fail));
+            (regions, out)
+        },
+        || (out_referenced.as_ref()).map(|r| VertexSearch::new(input, &prepared, output, r)),
     );
-    let model = model?;
+    let (regions, vertex_regions) = regions;
+    let model = InputModel {
+        mesh: input,
+        names: Names::new("input", input, meshes.input_naming),
+        prepared,
+        regions,
+        vertex_regions,
+    };
     let mut report = CheckReport::empty(input, output);
     report.input_vertices = model.prepared.stats.vertices;
     report.input_regions = model.regions.area.len();
 
-    if let Some(out) = out {
+    if let (Some(out), Some(mut search)) = (out, search) {
         report.output_vertices = out.stats.vertices;
         let (delaunay, ()) = crate::parallel::join(
             worth_it,
             || delaunay_edges(output, &out.edges),
             || {
-                let candidates = classify_output_vertices(&model, &output_names, &out.referenced, &mut fail);
+                let candidates =
+                    classify_output_vertices(&model, &mut search, &output_names, &out.referenced, &mut fail);
+                drop(search);
                 report.added_vertices = candidates.added;
                 report.unused_vertices = candidates.unused;
                 let mut assignment = assign_faces(&model, &output_names, &candidates, &mut fail);
@@ -1201,6 +1347,34 @@ fn check_core(
     Ok(report)
 }
 
+/// Validates the input (indices, finite coordinates, oriented manifold): its edges and
+/// topology, or why it is invalid.
+fn prepare_input(mesh: &Mesh3, naming: &Naming) -> Result<Prepared, String> {
+    if mesh.triangles.is_empty() {
+        return Err("the mesh has no faces".into());
+    }
+    let names = Names::new("input", mesh, naming);
+    let mut problems = Failures::default();
+    match Prepared::new(&names, &mut problems) {
+        Some(p) if problems.is_empty() => Ok(p),
+        _ => Err(problems.summary(5)),
+    }
+}
+
+/// The planar regions of a validated input, and the regions of the faces around each of its
+/// vertices (sorted, unique).
+fn input_regions(mesh: &Mesh3, prepared: &Prepared) -> (Regions, Csr) {
+    let regions = Regions::new(mesh, &prepared.edges);
+    let corners: Vec<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .flat_map(|(f, t)| t.map(|v| (v, regions.of_face[f])))
+        .collect();
+    let vertex_regions = Csr::from_pairs(mesh.positions.len(), &corners).sorted_unique();
+    (regions, vertex_regions)
+}
+
 /// The validated input with its planar regions.
 struct InputModel<'a> {
     mesh: &'a Mesh3,
@@ -1215,28 +1389,13 @@ struct InputModel<'a> {
 impl<'a> InputModel<'a> {
     /// Validates the input (indices, finite coordinates, oriented manifold) and computes its
     /// planar regions.
+    #[cfg(test)]
     fn new(mesh: &'a Mesh3, naming: &'a Naming) -> Result<InputModel<'a>, String> {
-        if mesh.triangles.is_empty() {
-            return Err("the mesh has no faces".into());
-        }
-        let names = Names::new("input", mesh, naming);
-        let mut problems = Failures::default();
-        let prepared = Prepared::new(&names, &mut problems);
-        let prepared = match prepared {
-            Some(p) if problems.is_empty() => p,
-            _ => return Err(problems.summary(5)),
-        };
-        let regions = Regions::new(mesh, &prepared.edges);
-        let corners: Vec<(u32, u32)> = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(f, t)| t.map(|v| (v, regions.of_face[f])))
-            .collect();
-        let vertex_regions = Csr::from_pairs(mesh.positions.len(), &corners).sorted_unique();
+        let prepared = prepare_input(mesh, naming)?;
+        let (regions, vertex_regions) = input_regions(mesh, &prepared);
         Ok(InputModel {
             mesh,
-            names,
+            names: Names::new("input", mesh, naming),
             prepared,
             regions,
             vertex_regions,
@@ -1271,59 +1430,71 @@ impl Prepared {
     /// Validates indices and coordinates (failures and `None` when wrong), then builds the edges
     /// and topology, reporting non-manifold features as failures.
     fn new(names: &Names, fail: &mut Failures) -> Option<Prepared> {
-        let (mesh, who) = (names.mesh, names.who);
-        let n = mesh.positions.len();
-        let failures_before = fail.total();
-        let mut referenced = vec![false; n];
-        for (f, t) in mesh.triangles.iter().enumerate() {
-            for &v in t {
-                match referenced.get_mut(v as usize) {
-                    Some(r) => *r = true,
-                    None => fail.push(KIND_INDEX, || {
-                        format!(
-                            "{}{who} {} refers to vertex {} of {n}",
-                            names.face_at(f),
-                            names.face_noun(f),
-                            names.vertex_number(v)
-                        )
-                    }),
-                }
-            }
-        }
-        if fail.total() > failures_before {
-            return None;
-        }
-        for (v, p) in mesh.positions.iter().enumerate() {
-            if referenced[v] && !p.is_finite() {
-                fail.push(KIND_INDEX, || {
-                    let v = v as u32;
-                    format!("{}{who} {} is not finite", names.vertex_at(v), names.vertex(v))
-                });
-            } else if referenced[v] && !crate::io::in_supported_range(*p) {
-                // Products of such coordinates overflow: areas and angles
-                // would read NaN. The construction refuses them too.
-                fail.push(KIND_INDEX, || {
-                    let v = v as u32;
-                    format!(
-                        "{}{who} {} has a coordinate beyond ±{:e}, the supported range",
-                        names.vertex_at(v),
-                        names.vertex(v),
-                        crate::io::MAX_COORDINATE
-                    )
-                });
-            }
-        }
-        if fail.total() > failures_before {
-            return None;
-        }
+        validate(names, fail).map(|referenced| Prepared::build(names, referenced, fail))
+    }
+
+    /// The edges and topology of a mesh whose indices and coordinates are valid (`referenced`:
+    /// [`validate`]), reporting non-manifold features as failures.
+    fn build(names: &Names, referenced: Vec<bool>, fail: &mut Failures) -> Prepared {
         let edges = build_edges(names, fail);
         let stats = topology_stats(names, &referenced, &edges, fail);
-        Some(Prepared {
+        Prepared {
             referenced,
             edges,
             stats,
-        })
+        }
     }
+}
+
+/// Validates a mesh's indices and coordinates: which vertices its faces use, or `None` with
+/// failures when an index or a used coordinate is wrong.
+fn validate(names: &Names, fail: &mut Failures) -> Option<Vec<bool>> {
+    let (mesh, who) = (names.mesh, names.who);
+    let n = mesh.positions.len();
+    let failures_before = fail.total();
+    let mut referenced = vec![false; n];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            match referenced.get_mut(v as usize) {
+                Some(r) => *r = true,
+                None => fail.push(KIND_INDEX, || {
+                    format!(
+                        "{}{who} {} refers to vertex {} of {n}",
+                        names.face_at(f),
+                        names.face_noun(f),
+                        names.vertex_number(v)
+                    )
+                }),
+            }
+        }
+    }
+    if fail.total() > failures_before {
+        return None;
+    }
+    for (v, p) in mesh.positions.iter().enumerate() {
+        if referenced[v] && !p.is_finite() {
+            fail.push(KIND_INDEX, || {
+                let v = v as u32;
+                format!("{}{who} {} is not finite", names.vertex_at(v), names.vertex(v))
+            });
+        } else if referenced[v] && !crate::io::in_supported_range(*p) {
+            // Products of such coordinates overflow: areas and angles
+            // would read NaN. The construction refuses them too.
+            fail.push(KIND_INDEX, || {
+                let v = v as u32;
+                format!(
+                    "{}{who} {} has a coordinate beyond ±{:e}, the supported range",
+                    names.vertex_at(v),
+                    names.vertex(v),
+                    crate::io::MAX_COORDINATE
+                )
+            });
+        }
+    }
+    if fail.total() > failures_before {
+        return None;
+    }
+    Some(referenced)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1373,23 +1544,28 @@ fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
 /// degenerate faces, edges with more than two faces and edges used twice in one direction.
 fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
     let (mesh, who) = (names.mesh, names.who);
-    let mut halves: Vec<(u32, (u32, u32, bool))> = Vec::with_capacity(mesh.triangles.len() * 3);
     for (f, t) in mesh.triangles.iter().enumerate() {
         if is_degenerate(t) {
             fail.push(KIND_DEGENERATE, || {
                 format!("{}{who} {} repeats a vertex", names.face_at(f), names.face(f))
             });
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            halves.push((a.min(b), (a.max(b), f as u32, a < b)));
         }
     }
     // Group the half-edges by their lower vertex, then sort each (small) row by upper vertex.
-    let (starts, mut by_lo) = group_by_row(mesh.positions.len(), &halves);
-    drop(halves);
-    let mut edges = Vec::new();
+    // (Grouped as generated, never stored ungrouped: a mesh's half-edges take 16 bytes each.)
+    let halves = || {
+        (mesh.triangles.iter().enumerate())
+            .filter(|(_, t)| !is_degenerate(t))
+            .flat_map(|(f, t)| {
+                [0, 1, 2].map(|k| {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    (a.min(b) as usize, (a.max(b), f as u32, a < b))
+                })
+            })
+    };
+    let (starts, mut by_lo) = grouped(mesh.positions.len(), halves);
+    // (Most edges have two faces.)
+    let mut edges = Vec::with_capacity(by_lo.len() / 2 + 1);
     for lo in 0..mesh.positions.len() {
         let row = &mut by_lo[starts[lo]..starts[lo + 1]];
         row.sort_unstable();
@@ -1482,14 +1658,11 @@ fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut
 /// Reports every vertex whose faces do not form a single fan (a disk or half-disk).
 fn check_vertex_fans(names: &Names, fail: &mut Failures) {
     let (mesh, who) = (names.mesh, names.who);
-    let mut corners: Vec<(u32, (u32, u32))> = Vec::with_capacity(mesh.triangles.len() * 3);
-    for t in mesh.triangles.iter().filter(|t| !is_degenerate(t)) {
-        for k in 0..3 {
-            corners.push((t[k], (t[(k + 1) % 3], t[(k + 2) % 3])));
-        }
-    }
-    let (counts, mut links) = group_by_row(mesh.positions.len(), &corners);
-    drop(corners);
+    let corners = || {
+        (mesh.triangles.iter().filter(|t| !is_degenerate(t)))
+            .flat_map(|t| [0, 1, 2].map(|k| (t[k] as usize, (t[(k + 1) % 3], t[(k + 2) % 3]))))
+    };
+    let (counts, mut links) = grouped(mesh.positions.len(), corners);
     for v in 0..mesh.positions.len() {
         let link = &mut links[counts[v]..counts[v + 1]];
         if !link.is_empty() && is_single_fan(link) == Some(false) {
@@ -2124,47 +2297,92 @@ struct Candidates {
     edge_has_added: Vec<bool>,
 }
 
-/// Checks rules 1 and 2 and returns the candidate regions of every output vertex.
+/// Where the output's vertices are looked up: the input's vertices by position, and for the
+/// others the input's edges ([`EdgeGrid`]).
+struct VertexSearch {
+    /// The first input vertex (used by a face) at every such position...
+    lookup: FastMap<[u64; 3], u32>,
+    /// ...and the next one there (several share one position where a pinch was read as
+    /// separate fans, see `split_pinched_vertices`), or [`VertexSearch::END`].
+    same_next: Vec<u32>,
+    /// Output vertices used by a face at each input vertex's position (counted on the first
+    /// input vertex there).
+    at_position: Vec<u32>,
+    /// The positions of the output vertices the grid will look up (its trees are shaped by them).
+    added_points: Vec<DVec3>,
+    /// The positions of the input vertices no face uses: an unused output vertex may sit there.
+    unused_input: HashSet<[u64; 3], crate::hash::FastBuild>,
+    /// The grid, once built: at once when some output vertex is not at an input vertex's
+    /// position, else when first needed (if ever).
+    grid: Option<EdgeGrid>,
+}
+
+impl VertexSearch {
+    /// Marks the end of a `same_next` chain.
+    const END: u32 = u32::MAX;
+
+    /// Indexes the `input` (validated as `prepared`) for the vertices of `output`, whose faces
+    /// use the vertices marked in `out_referenced`.
+    fn new(input: &Mesh3, prepared: &Prepared, output: &Mesh3, out_referenced: &[bool]) -> VertexSearch {
+        let mut lookup: FastMap<[u64; 3], u32> = FastMap::default();
+        let mut same_next = vec![Self::END; input.positions.len()];
+        for (v, p) in input.positions.iter().enumerate().rev() {
+            if prepared.referenced[v] {
+                if let Some(old) = lookup.insert(bits(*p), v as u32) {
+                    same_next[v] = old;
+                }
+            }
+        }
+        let mut at_position = vec![0u32; input.positions.len()];
+        let mut added_points = Vec::new();
+        let unused_input: HashSet<[u64; 3], crate::hash::FastBuild> = (input.positions.iter().enumerate())
+            .filter(|&(v, _)| !prepared.referenced[v])
+            .map(|(_, p)| bits(*p))
+            .collect();
+        let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
+        for (v, p) in output.positions.iter().enumerate() {
+            match (out_referenced[v], lookup.get(&bits(*p))) {
+                (true, Some(&first)) => at_position[first as usize] += 1,
+                (true, None) => added_points.push(*p),
+                (false, _) if p.is_finite() && !is_input_position(*p) => added_points.push(*p),
+                (false, _) => {}
+            }
+        }
+        // Every vertex of `added_points` is looked up in the grid.
+        let grid = (!added_points.is_empty()).then(|| EdgeGrid::new(input, &prepared.edges, &added_points));
+        VertexSearch {
+            lookup,
+            same_next,
+            at_position,
+            added_points,
+            unused_input,
+            grid,
+        }
+    }
+}
+
+/// Checks rules 1 and 2 and returns the candidate regions of every output vertex, looked up
+/// in `search` (made for this model and output).
 fn classify_output_vertices(
     model: &InputModel,
+    search: &mut VertexSearch,
     output_names: &Names,
     out_referenced: &[bool],
     fail: &mut Failures,
 ) -> Candidates {
     let input = model.mesh;
     let output = output_names.mesh;
-    // Input vertices by position; several share one position where a pinch was read as
-    // separate fans (see `split_pinched_vertices`): `same_next` chains them.
-    const END: u32 = u32::MAX;
-    let mut lookup: FastMap<[u64; 3], u32> = FastMap::default();
-    let mut same_next = vec![END; input.positions.len()];
-    for (v, p) in input.positions.iter().enumerate().rev() {
-        if model.prepared.referenced[v] {
-            if let Some(old) = lookup.insert(bits(*p), v as u32) {
-                same_next[v] = old;
-            }
-        }
-    }
-    // Output vertices at each input vertex's position (counted on the first input vertex there),
-    // and the positions of the others, which the grid will look up.
-    let mut at_position = vec![0u32; input.positions.len()];
-    let mut added_points = Vec::new();
-    // The positions of the input vertices no face uses: an unused output vertex may sit there.
-    let unused_input: HashSet<[u64; 3], crate::hash::FastBuild> = (input.positions.iter().enumerate())
-        .filter(|&(v, _)| !model.prepared.referenced[v])
-        .map(|(_, p)| bits(*p))
-        .collect();
+    const END: u32 = VertexSearch::END;
+    let VertexSearch {
+        lookup,
+        same_next,
+        at_position,
+        added_points,
+        unused_input,
+        grid,
+    } = search;
     let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
-    for (v, p) in output.positions.iter().enumerate() {
-        match (out_referenced[v], lookup.get(&bits(*p))) {
-            (true, Some(&first)) => at_position[first as usize] += 1,
-            (true, None) => added_points.push(*p),
-            (false, _) if p.is_finite() && !is_input_position(*p) => added_points.push(*p),
-            (false, _) => {}
-        }
-    }
     let mut seen = vec![false; input.positions.len()];
-    let mut grid: Option<EdgeGrid> = None;
     let mut regions = CsrBuilder::default();
     let mut known = vec![false; output.positions.len()];
     let mut added = 0;
@@ -2179,7 +2397,7 @@ fn classify_output_vertices(
             unused += 1;
             let on_input = p.is_finite()
                 && (is_input_position(p) || {
-                    let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
+                    let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, added_points));
                     grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
                     !on_edges.is_empty()
                 });
@@ -2212,7 +2430,7 @@ fn classify_output_vertices(
             // unknown: all of them get the regions of both. (Not otherwise: an input vertex
             // merely within the on-edge tolerance of an edge does not join its regions.)
             if at_position[first as usize] > input_count {
-                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
+                let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, added_points));
                 grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
                 model.regions_of_edges(&on_edges, &mut edge_regions);
                 set.extend_from_slice(&edge_regions);
@@ -2223,7 +2441,7 @@ fn classify_output_vertices(
             regions.extend(&set);
         } else {
             added += 1;
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, &added_points));
+            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, added_points));
             grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
             if on_edges.is_empty() {
                 fail.push(KIND_VERTEX, || {
@@ -2539,17 +2757,17 @@ fn nearest_edges_containing(mesh: &Mesh3, edges: &[Edge], candidates: &[u32], p:
         let slack = NEAREST_EDGE_SLACK * a.abs().max_element().max(b.abs().max_element());
         distance_on_edge(p, a, b).map(|d| (d, slack))
     };
-    // Two passes (the nearest distance, then the edges near it): no allocation per point.
-    let nearest = candidates
-        .iter()
-        .filter_map(|&e| distance(e))
-        .fold(f64::INFINITY, |m, (d, _)| m.min(d));
-    out.extend(
-        candidates
-            .iter()
-            .copied()
-            .filter(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack)),
-    );
+    // The edges containing `p` and the nearest distance, then of those edges the ones near
+    // it: the second pass computes again only the few distances of the edges found, and
+    // nothing is allocated per point.
+    let mut nearest = f64::INFINITY;
+    for &e in candidates {
+        if let Some((d, _)) = distance(e) {
+            nearest = nearest.min(d);
+            out.push(e);
+        }
+    }
+    out.retain(|&e| distance(e).is_some_and(|(d, slack)| d <= nearest + slack));
     out.sort_unstable();
     out.dedup();
 }
@@ -2704,7 +2922,17 @@ impl CellTrees {
             let e = &edges[e as usize];
             (mesh.positions[e.lo as usize], mesh.positions[e.hi as usize])
         };
-        for e in 0..edges.len() as u32 {
+        // Only the edges of the roots' buckets can overlap a root (the grid registered every
+        // edge in the bucket of every cell it overlaps): they are walked, in increasing order
+        // as all edges were, instead of every edge of the mesh.
+        let mut near: Vec<u32> = work
+            .iter()
+            .flat_map(|root| grid.bucket_items(root.cell))
+            .copied()
+            .collect();
+        near.sort_unstable();
+        near.dedup();
+        for e in near {
             grid.for_each_cell(segment(e), |index, c| {
                 if grid.bucket_items(c).len() > CROWDED {
                     if let Some(&root) = trees.roots.get(&c) {
