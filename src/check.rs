@@ -650,17 +650,43 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         reason: e.to_string(),
     })?;
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-    let format = formats::format_from_name(name).or_else(|| formats::sniff_format(&bytes));
+    let from_name = formats::format_from_name(name);
+    let format = from_name.or_else(|| formats::sniff_format(&bytes));
+    let read = |format| read_welded_as(path, &bytes, format);
+    read(format).map_err(|e| {
+        // A file whose content is another format than its name's, and reads as that: said
+        // so, as the main command says it (the named reader's reason would mislead).
+        let content = formats::sniff_format(&bytes).filter(|&c| from_name.is_some_and(|n| n != c));
+        match (e, content) {
+            (CheckError::Parse { path, format, .. }, Some(content)) if read(Some(content)).is_ok() => {
+                CheckError::Parse {
+                    path,
+                    format,
+                    reason: format!(
+                        "its content is {} (name it .{}: the name's extension decides the format)",
+                        content.name(),
+                        content.name().to_ascii_lowercase()
+                    ),
+                }
+            }
+            (e, _) => e,
+        }
+    })
+}
+
+/// [`read_welded`] of the file `path`'s (inflated) `bytes`, read as `format` (OBJ if `None`).
+fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::Format>) -> Result<Welded, CheckError> {
+    use crate::io::formats;
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
         format: format.unwrap_or(formats::Format::Obj).name(),
         reason,
     };
     let raw = match format {
-        None | Some(formats::Format::Obj) => return read_obj_welded(path, &bytes),
-        Some(formats::Format::Off) => formats::read_off(&bytes),
-        Some(formats::Format::Ply) => formats::read_ply(&bytes),
-        Some(formats::Format::Stl) => formats::read_stl(&bytes),
+        None | Some(formats::Format::Obj) => return read_obj_welded(path, bytes),
+        Some(formats::Format::Off) => formats::read_off(bytes),
+        Some(formats::Format::Ply) => formats::read_ply(bytes),
+        Some(formats::Format::Stl) => formats::read_stl(bytes),
     }
     .map_err(|e| parse_error(e.to_string()))?;
     // OFF and PLY share vertices between faces by index; STL has none to

@@ -1253,3 +1253,34 @@ fn a_different_surface_is_not_called_overlapping_coplanar_regions() {
          none of the input faces at v1 and v3",
     );
 }
+
+/// A file whose content is another format than its name says is refused as
+/// misnamed, as the main command refuses it, not with the named reader's
+/// reason (a PLY named `.obj` had "lines end in a carriage return alone").
+#[test]
+fn a_misnamed_file_is_refused_as_misnamed() {
+    let dir = TempDir::new().unwrap();
+    let text = octahedron();
+    let obj = write(&dir, "o.obj", &text);
+    let ply = write(&dir, "o.ply", &text);
+    let stl = write(&dir, "o.stl", &text);
+    for (path, named) in [(&ply, "PLY"), (&stl, "STL")] {
+        match check_files(path, &obj) {
+            Err(CheckError::Parse { format, reason, .. }) => {
+                assert_eq!(format, named);
+                assert_eq!(
+                    reason,
+                    "its content is OBJ (name it .obj: the name's extension decides the format)"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    // A file that no reader takes keeps its own reader's reason.
+    let bad = write(&dir, "bad.ply", "garbage\n");
+    match check_files(&bad, &obj) {
+        Err(CheckError::Parse { reason, .. }) => assert!(reason.contains("not a PLY file"), "{reason}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(check_files(&obj, &obj).unwrap().passed());
+}
