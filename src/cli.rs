@@ -1432,11 +1432,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                 say!("repair  {line}");
             }
         } else if input.welded > 0 || input.unreferenced > 0 {
-            say!(
-                "        welded {} duplicate vertices, dropped {} unused vertices",
-                input.welded,
-                input.unreferenced
-            );
+            say!("        {}", renumbered_line(input.welded, input.unreferenced));
         }
         if let Some(t) = &transfer {
             say!("        attributes: {}", describe_attributes(t.input()));
@@ -2267,6 +2263,27 @@ impl<'a> CheckReference<'a> {
 }
 
 /// What attributes an input has, for the printout.
+/// What reading did to the input's numbering: `welded` vertices at the
+/// position of an earlier one, `unused` ones no face uses. The output
+/// numbers the input's vertices without them, so that data kept per vertex
+/// by the file's numbers must follow `--vertex-map`.
+fn renumbered_line(welded: usize, unused: usize) -> String {
+    let count = |n: usize, what: &str| format!("{n} {what} vert{}", if n == 1 { "ex" } else { "ices" });
+    let mut parts = Vec::new();
+    if welded > 0 {
+        parts.push(format!("welded {}", count(welded, "duplicate")));
+    }
+    if unused > 0 {
+        parts.push(format!("dropped {}", count(unused, "unused")));
+    }
+    format!(
+        "{}: the output numbers the input's vertices without {} (--vertex-map gives each vertex its number in the \
+         input file)",
+        parts.join(", "),
+        if welded + unused == 1 { "it" } else { "them" }
+    )
+}
+
 fn describe_attributes(a: &Attributes) -> String {
     let mut parts: Vec<String> = a
         .channels()

@@ -210,3 +210,38 @@ fn batch_writes_the_same_maps() {
         );
     }
 }
+
+/// A file with unused or repeated vertices is numbered without them in
+/// the output: the printout says so where it counts them, and points to
+/// --vertex-map.
+#[test]
+fn the_printout_says_when_the_input_is_renumbered() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "v 0 0 0\nv 5 5 5\nv 4 0 0\nv 4 1 0\nv 0 1 .1\nf 1 3 4\nf 1 4 5\n",
+            "dropped 1 unused vertex: the output numbers the input's vertices without it",
+        ),
+        (
+            "v 0 0 0\nv 4 0 0\nv 4 0 0\nv 4 1 0\nv 0 1 .1\nv 9 9 9\nf 1 2 4\nf 1 4 5\n",
+            "welded 1 duplicate vertex, dropped 1 unused vertex: the output numbers the input's vertices without them",
+        ),
+    ];
+    for (i, (text, line)) in cases.iter().enumerate() {
+        let input = dir.path().join(format!("in{i}.obj"));
+        std::fs::write(&input, text).unwrap();
+        let out = delmesh()
+            .arg("-i")
+            .arg(&input)
+            .arg("-o")
+            .arg(dir.path().join(format!("out{i}.obj")))
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{stdout}");
+        assert!(
+            stdout.contains(line) && stdout.contains("(--vertex-map gives each vertex its number in the input file)"),
+            "{stdout}"
+        );
+    }
+}
