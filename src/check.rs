@@ -662,11 +662,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
                 CheckError::Parse {
                     path,
                     format,
-                    reason: format!(
-                        "its content is {} (name it .{}: the name's extension decides the format)",
-                        content.name(),
-                        content.name().to_ascii_lowercase()
-                    ),
+                    reason: content.misnamed_reason(),
                 }
             }
             (e, _) => e,

@@ -141,6 +141,16 @@ impl Format {
             Format::Stl => "STL",
         }
     }
+
+    /// Why a file named as another format is refused when its content is
+    /// of this one, as the construction and `check` both say it.
+    pub fn misnamed_reason(self) -> String {
+        format!(
+            "its content is {} (name it .{}: the name's extension decides the format)",
+            self.name(),
+            self.name().to_ascii_lowercase()
+        )
+    }
 }
 
 /// Why a file could not be read.

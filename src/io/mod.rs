@@ -199,11 +199,10 @@ fn misnamed(
     let content = formats::sniff_format(bytes).filter(|&f| f != named)?;
     read(content).ok()?;
     Some(format!(
-        "not {} {} file: its content is {} (name it .{}: the name's extension decides the format)",
+        "not {} {} file: {}",
         if named == Format::Ply { "a" } else { "an" },
         named.name(),
-        content.name(),
-        content.name().to_ascii_lowercase()
+        content.misnamed_reason()
     ))
 }
 
