@@ -1,6 +1,7 @@
-//! Texture coordinates, normals, per-vertex colours, groups and materials:
-//! read with the input, respected when planar regions are built, and carried
-//! to the output from the carriers.
+//! Texture coordinates, normals, per-vertex colours, groups and materials,
+//! and a PLY file's other vertex and face properties: read with the input,
+//! respected when planar regions are built, and carried to the output from
+//! the carriers.
 //!
 //! Attributes are stored per triangle corner ([`Channel`]): a vertex on a
 //! seam has a different value in each face around it. The construction does
@@ -24,7 +25,14 @@
 //!   face is on).
 //!
 //! Normals are interpolated linearly, not renormalized: the field a renderer
-//! interpolates stays the same.
+//! interpolates stays the same. A vertex property of an integer type (a
+//! label, flags) is not interpolated: an added vertex takes the value of the
+//! nearer end of its input edge ([`VertexProperty`]).
+//!
+//! A face property ([`FaceProperty`]: a face colour, a segment label) is
+//! one value per face. Faces with different values never share a planar
+//! region (as groups), so each output face lies in faces of one value and
+//! takes it.
 
 use std::cell::Cell;
 
@@ -83,6 +91,9 @@ pub struct Tolerances {
     /// store colours as bytes, rounded by up to half a step, so a smooth
     /// gradient on a flat part is affine only within about 2e-3.
     pub colors: f64,
+    /// Other vertex properties ([`VertexProperty`]): 1e-5, as texture
+    /// coordinates.
+    pub properties: f64,
 }
 
 impl Default for Tolerances {
@@ -91,6 +102,7 @@ impl Default for Tolerances {
             texcoords: 1e-5,
             normals: 1e-3,
             colors: 4e-3,
+            properties: 1e-5,
         }
     }
 }
@@ -102,6 +114,7 @@ impl Tolerances {
             texcoords: tolerance,
             normals: tolerance,
             colors: tolerance,
+            properties: tolerance,
         }
     }
 
@@ -111,6 +124,7 @@ impl Tolerances {
             Kind::TexCoord => self.texcoords,
             Kind::Normal => self.normals,
             Kind::Color => self.colors,
+            Kind::Property(_) => self.properties,
         }
     }
 
@@ -125,6 +139,7 @@ impl Tolerances {
             (Kind::TexCoord, "texture coordinates tolerance"),
             (Kind::Normal, "normals tolerance"),
             (Kind::Color, "colours tolerance"),
+            (Kind::Property(0), "vertex properties tolerance"),
         ] {
             let value = self.of(kind);
             if !is_relative_tolerance(value) {
@@ -156,17 +171,132 @@ pub enum Kind {
     /// Colours, each component in 0..1 (OBJ `v x y z r g b`, PLY
     /// `red green blue [alpha]`, integers scaled to 0..1).
     Color,
+    /// A PLY file's other vertex property: number `i` of
+    /// [`Attributes::properties`].
+    Property(u16),
 }
 
 impl Kind {
-    /// How messages name the attribute.
+    /// How messages name the attribute (a vertex property by
+    /// [`Attributes::name_of`], which knows its name).
     pub fn name(self) -> &'static str {
         match self {
             Kind::TexCoord => "texture coordinates",
             Kind::Normal => "normals",
             Kind::Color => "colours",
+            Kind::Property(_) => "vertex property",
         }
     }
+
+    /// 0, 1, 2 for texture coordinates, normals and colours (the readers'
+    /// slots for them); `None` for a vertex property.
+    pub fn fixed_index(self) -> Option<usize> {
+        match self {
+            Kind::TexCoord => Some(0),
+            Kind::Normal => Some(1),
+            Kind::Color => Some(2),
+            Kind::Property(_) => None,
+        }
+    }
+}
+
+/// The type a PLY file declares for a property, which it is written back
+/// as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ValueType {
+    /// `char` (`int8`).
+    I8,
+    /// `uchar` (`uint8`).
+    U8,
+    /// `short` (`int16`).
+    I16,
+    /// `ushort` (`uint16`).
+    U16,
+    /// `int` (`int32`).
+    I32,
+    /// `uint` (`uint32`).
+    U32,
+    /// `float` (`float32`).
+    F32,
+    /// `double` (`float64`).
+    F64,
+}
+
+impl ValueType {
+    /// Whether values are integers: then not interpolated (labels, flags).
+    pub fn is_integer(self) -> bool {
+        !matches!(self, ValueType::F32 | ValueType::F64)
+    }
+
+    /// The type's name in a PLY header.
+    pub fn ply_name(self) -> &'static str {
+        match self {
+            ValueType::I8 => "char",
+            ValueType::U8 => "uchar",
+            ValueType::I16 => "short",
+            ValueType::U16 => "ushort",
+            ValueType::I32 => "int",
+            ValueType::U32 => "uint",
+            ValueType::F32 => "float",
+            ValueType::F64 => "double",
+        }
+    }
+
+    /// Bytes per value.
+    pub fn size(self) -> usize {
+        match self {
+            ValueType::I8 | ValueType::U8 => 1,
+            ValueType::I16 | ValueType::U16 => 2,
+            ValueType::I32 | ValueType::U32 | ValueType::F32 => 4,
+            ValueType::F64 => 8,
+        }
+    }
+
+    /// Appends `x` as a little-endian value of this type: integers rounded
+    /// and clamped to the type's range (values read from a file of this
+    /// type are written back exactly), `float` rounded to the nearest.
+    pub fn put_le(self, x: f64, out: &mut Vec<u8>) {
+        // `as` saturates, and maps NaN to 0.
+        match self {
+            ValueType::I8 => out.push(x.round() as i8 as u8),
+            ValueType::U8 => out.push(x.round() as u8),
+            ValueType::I16 => out.extend_from_slice(&(x.round() as i16).to_le_bytes()),
+            ValueType::U16 => out.extend_from_slice(&(x.round() as u16).to_le_bytes()),
+            ValueType::I32 => out.extend_from_slice(&(x.round() as i32).to_le_bytes()),
+            ValueType::U32 => out.extend_from_slice(&(x.round() as u32).to_le_bytes()),
+            ValueType::F32 => out.extend_from_slice(&(x as f32).to_le_bytes()),
+            ValueType::F64 => out.extend_from_slice(&x.to_le_bytes()),
+        }
+    }
+}
+
+/// A vertex property of a PLY file that is none of the attributes above
+/// (MeshLab's `quality`, a scan's `confidence` or `intensity`, a
+/// segmentation's `label`): one number per vertex, carried like them. An
+/// added vertex interpolates its input edge's ends, or for an integer type
+/// takes the value of the nearer end (the first at the middle): a label
+/// stays a label.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VertexProperty {
+    /// The property's name in the file.
+    pub name: String,
+    /// Its declared type, which the output keeps.
+    pub ty: ValueType,
+    /// The values (`dim` 1), per corner; `None` once dropped.
+    pub channel: Option<Channel>,
+}
+
+/// A face property of a PLY file (face colours `red green blue`, a
+/// segment label, MeshLab's `quality` or `flags`): one number per face.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FaceProperty {
+    /// The property's name in the file.
+    pub name: String,
+    /// Its declared type, which the output keeps.
+    pub ty: ValueType,
+    /// One value per face (in a [`crate::io::RawMesh`]: per polygon of the
+    /// file; else per triangle).
+    pub values: Vec<f64>,
 }
 
 /// One attribute of every corner: a pool of values of `dim` numbers each,
@@ -255,15 +385,23 @@ pub struct Attributes {
     /// lines (MeshLab's), kept only with `texcoords`: written back to a PLY
     /// output that has them.
     pub texture_files: Vec<String>,
+    /// A PLY file's other vertex properties, in the file's order.
+    pub properties: Vec<VertexProperty>,
+    /// A PLY file's face properties, in the file's order.
+    pub face_properties: Vec<FaceProperty>,
 }
 
 impl Attributes {
     /// Whether there is nothing to carry.
     pub fn is_empty(&self) -> bool {
-        self.channels().next().is_none() && self.face_group.is_empty() && self.mtllib.is_empty()
+        self.channels().next().is_none()
+            && self.face_group.is_empty()
+            && self.mtllib.is_empty()
+            && self.face_properties.is_empty()
     }
 
-    /// The channels present.
+    /// The channels present: texture coordinates, normals, colours, then
+    /// the vertex properties.
     pub fn channels(&self) -> impl Iterator<Item = (Kind, &Channel)> {
         [
             (Kind::TexCoord, &self.texcoords),
@@ -272,20 +410,75 @@ impl Attributes {
         ]
         .into_iter()
         .filter_map(|(k, c)| c.as_ref().map(|c| (k, c)))
+        .chain(
+            self.properties
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| p.channel.as_ref().map(|c| (Kind::Property(i as u16), c))),
+        )
     }
 
-    /// The channel of `kind`, mutable.
+    /// The channel of `kind`, mutable (a vertex property beyond the
+    /// properties: added, unnamed, up to it).
     pub fn channel_mut(&mut self, kind: Kind) -> &mut Option<Channel> {
         match kind {
             Kind::TexCoord => &mut self.texcoords,
             Kind::Normal => &mut self.normals,
             Kind::Color => &mut self.colors,
+            Kind::Property(i) => {
+                let i = i as usize;
+                if i >= self.properties.len() {
+                    self.properties.resize_with(i + 1, || VertexProperty {
+                        name: String::new(),
+                        ty: ValueType::F64,
+                        channel: None,
+                    });
+                }
+                &mut self.properties[i].channel
+            }
         }
+    }
+
+    /// How messages name the attribute `kind`: a vertex property by its
+    /// name (`vertex property quality`).
+    pub fn name_of(&self, kind: Kind) -> String {
+        match kind {
+            Kind::Property(i) => match self.properties.get(i as usize) {
+                Some(p) => format!("vertex property {}", p.name),
+                None => kind.name().to_owned(),
+            },
+            _ => kind.name().to_owned(),
+        }
+    }
+
+    /// The vertex properties without their values, and the face
+    /// properties without theirs: what a copy of these attributes on other
+    /// corners and faces starts from.
+    pub fn property_names(&self) -> (Vec<VertexProperty>, Vec<FaceProperty>) {
+        let vertex = self.properties.iter().map(|p| VertexProperty {
+            name: p.name.clone(),
+            ty: p.ty,
+            channel: None,
+        });
+        let face = self.face_properties.iter().map(|p| FaceProperty {
+            name: p.name.clone(),
+            ty: p.ty,
+            values: Vec::new(),
+        });
+        (vertex.collect(), face.collect())
+    }
+
+    /// Whether faces `f1` and `f2` differ in a face property (bit for bit).
+    fn face_values_differ(&self, f1: u32, f2: u32) -> bool {
+        self.face_properties.iter().any(|p| {
+            let value = |f: u32| p.values.get(f as usize).map(|x| x.to_bits());
+            value(f1) != value(f2)
+        })
     }
 
     /// Whether two input triangles `f1` and `f2` of `triangles`, which share
     /// an edge, can never share a planar region, whatever their values: they
-    /// are in different groups, or on a seam (the two faces give a shared
+    /// are in different groups, differ in a face property, or on a seam (the two faces give a shared
     /// vertex different values, or values of different sizes).
     pub fn apart(&self, triangles: &[[u32; 3]], f1: u32, f2: u32) -> bool {
         let Some(e) = SharedEdge::of(triangles, f1, f2) else {
@@ -297,6 +490,7 @@ impl Attributes {
     /// [`Attributes::apart`], given the faces' shared edge.
     fn apart_along(&self, e: &SharedEdge, f1: u32, f2: u32) -> bool {
         self.face_group.get(f1 as usize) != self.face_group.get(f2 as usize)
+            || self.face_values_differ(f1, f2)
             || self.channels().any(|(_, ch)| {
                 let (va, vb) = (ch.corner(e.a1), ch.corner(e.b1));
                 let (vc, vd) = (ch.corner(e.c1), ch.corner(e.d2));
@@ -498,15 +692,15 @@ impl<'a> AttributeCuts<'a> {
         if regions == 0 {
             return None;
         }
-        let off: Vec<(&str, f64, f64)> = self
+        let off: Vec<(String, f64, f64)> = self
             .attributes
             .channels()
             .zip(&self.deviation)
             .zip(&self.relative_deviation)
             .filter(|((_, d), _)| d.get() > 0.0)
-            .map(|(((kind, _), d), relative)| (kind.name(), d.get(), relative.get()))
+            .map(|(((kind, _), d), relative)| (self.attributes.name_of(kind), d.get(), relative.get()))
             .collect();
-        let list = |f: &dyn Fn(&(&str, f64, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
+        let list = |f: &dyn Fn(&(String, f64, f64)) -> String| off.iter().map(f).collect::<Vec<_>>().join(" and ");
         // Rounding explains deviations up to half an 8-bit step (colours
         // stored as bytes); larger ones are the values' own.
         let rounded = off.iter().all(|&(_, _, relative)| relative <= ROUNDING_LIKE);
@@ -563,9 +757,9 @@ impl RegionCuts for AttributeCuts<'_> {
         if !(det > 0.0 && det.is_finite()) {
             return false;
         }
-        let mut deviations = [0.0f64; 3];
         // (A region is one piece: its faces are joined through edges.)
         let scales = self.scales_of(faces[0]);
+        let mut deviations = vec![0.0f64; scales.len()];
         for (i, ((kind, ch), &scale)) in self.attributes.channels().zip(scales).enumerate() {
             // A region without values of this channel (faces of a part of
             // the file that has none) is not bound by it.
@@ -637,6 +831,9 @@ pub struct Transfer {
     /// The group of each region (one group per region: see
     /// [`Attributes::keep_apart`]).
     region_group: Vec<u32>,
+    /// An input triangle of each region, whose face properties the
+    /// region's faces take (one value per region, as for groups).
+    region_face: Vec<u32>,
 }
 
 impl Transfer {
@@ -647,8 +844,12 @@ impl Transfer {
         let mut corner = FastMap::default();
         let mut any_corner = vec![u32::MAX; surface.n_input_vertices];
         let mut region_group = vec![0u32; surface.n_regions];
+        let mut region_face = vec![0u32; surface.n_regions];
         for (f, t) in triangles.iter().enumerate() {
             let region = surface.face_region.get(f).copied().unwrap_or(0);
+            if let Some(slot) = region_face.get_mut(region as usize) {
+                *slot = f as u32;
+            }
             for (k, &v) in t.iter().enumerate() {
                 let c = (3 * f + k) as u32;
                 corner.entry((v, region)).or_insert(c);
@@ -665,6 +866,7 @@ impl Transfer {
             corner,
             any_corner,
             region_group,
+            region_face,
         }
     }
 
@@ -684,11 +886,23 @@ impl Transfer {
                 .or_else(|| self.any_corner.get(v as usize))
                 .map_or(usize::MAX, |&c| c as usize)
         };
+        let (properties, mut face_properties) = input.property_names();
+        for (p, out) in input.face_properties.iter().zip(&mut face_properties) {
+            out.values = (0..n_faces)
+                .map(|f| {
+                    let region = surface.face_region[f] as usize;
+                    let face = self.region_face.get(region).copied().unwrap_or(0);
+                    p.values.get(face as usize).copied().unwrap_or(0.0)
+                })
+                .collect();
+        }
         let mut out = Attributes {
             face_group: Vec::new(),
             groups: input.groups.clone(),
             mtllib: input.mtllib.clone(),
             texture_files: input.texture_files.clone(),
+            properties,
+            face_properties,
             ..Attributes::default()
         };
         if !input.face_group.is_empty() {
@@ -701,6 +915,11 @@ impl Transfer {
         }
         for (kind, channel) in input.channels() {
             let dim = channel.dim;
+            // Integer properties take the nearer end's value.
+            let nearest = match kind {
+                Kind::Property(i) => input.properties[i as usize].ty.is_integer(),
+                _ => false,
+            };
             let mut pooled = Channel::new(dim);
             pooled.corners.reserve(3 * n_faces);
             // Equal values share an entry of the pool.
@@ -730,7 +949,11 @@ impl Transfer {
                             }
                             for (k, slot) in value.iter_mut().enumerate() {
                                 let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
-                                *slot = interpolate(a, b, t);
+                                *slot = match nearest {
+                                    true if t <= 0.5 => a,
+                                    true => b,
+                                    false => interpolate(a, b, t),
+                                };
                             }
                         }
                     }
@@ -746,6 +969,17 @@ impl Transfer {
             *out.channel_mut(kind) = Some(pooled);
         }
         out
+    }
+}
+
+/// How messages name some properties of `element` (`vertex`, `face`):
+/// `vertex property quality`, `face properties (red, green, blue)`; `None`
+/// for none.
+pub fn properties_named(element: &str, names: &[&str]) -> Option<String> {
+    match names {
+        [] => None,
+        [one] => Some(format!("{element} property {one}")),
+        _ => Some(format!("{element} properties ({})", names.join(", "))),
     }
 }
 

@@ -81,7 +81,7 @@ macro_rules! complain {
 }
 mod batch;
 
-use delmesh::attributes::{Attributes, Tolerances, Transfer, NO_VALUE};
+use delmesh::attributes::{properties_named, Attributes, Kind, Tolerances, Transfer, NO_VALUE};
 use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
@@ -308,17 +308,18 @@ struct Settings {
     #[arg(long = "drop-attributes")]
     drop_attributes: bool,
 
-    /// How far a flat region's texture coordinates, normals and colours may
-    /// lie from one affine field (relative to each attribute's largest
-    /// magnitude in the region's object) for the region to be flipped as a whole, as without
-    /// them: their fields then move by at most twice this there, and a
-    /// note says how far. Rounded values, as exporters write them, are
-    /// rarely affine exactly; with 0 (exact) the thin fan triangles of a
-    /// textured flat polygon get split instead of flipped. One number sets
-    /// all three; `texcoords=REL`, `normals=REL`, `colors=REL` (comma
-    /// separated) set some, the others keep their defaults. Default: 1e-5
-    /// for texture coordinates, 1e-3 for normals, 4e-3 for colours (about
-    /// an 8-bit step)
+    /// How far a flat region's texture coordinates, normals, colours and
+    /// other PLY vertex properties may lie from one affine field (relative
+    /// to each attribute's largest magnitude in the region's object) for
+    /// the region to be flipped as a whole, as without them: their fields
+    /// then move by at most twice this there, and a note says how far.
+    /// Rounded values, as exporters write them, are rarely affine exactly;
+    /// with 0 (exact) the thin fan triangles of a textured flat polygon get
+    /// split instead of flipped. One number sets all; `texcoords=REL`,
+    /// `normals=REL`, `colors=REL`, `properties=REL` (comma separated) set
+    /// some, the others keep their defaults. Default: 1e-5 for texture
+    /// coordinates and vertex properties, 1e-3 for normals, 4e-3 for
+    /// colours (about an 8-bit step)
     #[arg(long = "attribute-tolerance", value_name = "REL", value_parser = attribute_tolerances)]
     attribute_tolerance: Option<Tolerances>,
 }
@@ -820,8 +821,9 @@ fn weld_distance(s: &str) -> Result<f64, String> {
 
 /// The tolerances of `--attribute-tolerance`: one relative tolerance (a
 /// number from 0 to 1) for all attributes, or `KIND=REL` pairs separated by
-/// commas (`texcoords`, `normals`, `colors` or `colours`), the kinds not
-/// named keeping their defaults.
+/// commas (`texcoords`, `normals`, `colors` or `colours`, `properties`: a
+/// PLY file's other vertex properties), the kinds not named keeping their
+/// defaults.
 fn attribute_tolerances(s: &str) -> Result<Tolerances, String> {
     let relative = |text: &str| match text.trim().parse::<f64>() {
         Ok(x) if delmesh::attributes::is_relative_tolerance(x) => Ok(x),
@@ -837,10 +839,12 @@ fn attribute_tolerances(s: &str) -> Result<Tolerances, String> {
             "texcoords" => &mut tolerances.texcoords,
             "normals" => &mut tolerances.normals,
             "colors" | "colours" => &mut tolerances.colors,
+            "properties" => &mut tolerances.properties,
             other => {
                 return Err(format!(
-                "{other:?} is not an attribute: give texcoords=REL, normals=REL or colors=REL (or one number for all)"
-            ))
+                    "{other:?} is not an attribute: give texcoords=REL, normals=REL, colors=REL or properties=REL (or \
+                     one number for all)"
+                ))
             }
         };
         *slot = relative(value)?;
@@ -2287,6 +2291,7 @@ fn renumbered_line(welded: usize, unused: usize) -> String {
 fn describe_attributes(a: &Attributes) -> String {
     let mut parts: Vec<String> = a
         .channels()
+        .filter(|(k, _)| !matches!(k, Kind::Property(_)))
         .map(|(k, ch)| {
             let faces = ch.corners.len() / 3;
             let with = ch.corners.chunks_exact(3).filter(|t| t[0] != NO_VALUE).count();
@@ -2297,6 +2302,16 @@ fn describe_attributes(a: &Attributes) -> String {
             }
         })
         .collect();
+    let vertex: Vec<&str> = a
+        .channels()
+        .filter_map(|(k, _)| match k {
+            Kind::Property(i) => Some(a.properties[i as usize].name.as_str()),
+            _ => None,
+        })
+        .collect();
+    let face: Vec<&str> = a.face_properties.iter().map(|p| p.name.as_str()).collect();
+    parts.extend(properties_named("vertex", &vertex));
+    parts.extend(properties_named("face", &face));
     if !a.groups.is_empty() {
         let n = a.groups.len();
         let s = if n == 1 { "" } else { "s" };

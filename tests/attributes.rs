@@ -73,6 +73,7 @@ fn channel(m: &InputMesh, kind: Kind) -> Option<&Channel> {
         Kind::TexCoord => m.attributes.texcoords.as_ref(),
         Kind::Normal => m.attributes.normals.as_ref(),
         Kind::Color => m.attributes.colors.as_ref(),
+        Kind::Property(i) => m.attributes.properties.get(i as usize)?.channel.as_ref(),
     }
 }
 

@@ -37,7 +37,7 @@ use std::borrow::Cow;
 use std::fmt;
 use std::io::{self, BufWriter, Read, Write};
 
-use crate::attributes::{Attributes, Channel, Kind};
+use crate::attributes::{Attributes, Channel, FaceProperty, Kind, ValueType, VertexProperty};
 
 /// A mesh as read from a file, before welding and triangulation.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -1041,20 +1041,12 @@ fn checked_index(i: i64, f: usize, line: Option<u64>, vertices: usize) -> Result
 // PLY
 // ---------------------------------------------------------------------------
 
-/// A PLY scalar type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
+/// A PLY scalar type: the attributes' [`ValueType`], which a carried
+/// property keeps.
+type Scalar = ValueType;
 
-impl Scalar {
+/// What reading a PLY file asks of its types.
+impl ValueType {
     fn from_name(name: &str) -> Option<Scalar> {
         Some(match name.to_ascii_lowercase().as_str() {
             "char" | "int8" => Scalar::I8,
@@ -1069,32 +1061,14 @@ impl Scalar {
         })
     }
 
-    fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::F64 => 8,
-        }
-    }
-
     fn is_float(self) -> bool {
-        matches!(self, Scalar::F32 | Scalar::F64)
+        !self.is_integer()
     }
 
     /// The type's name in messages (PLY's own; a header may use the sized
     /// alias, `uint8` for `uchar`, which the range in the message shows).
     fn name(self) -> &'static str {
-        match self {
-            Scalar::I8 => "char",
-            Scalar::U8 => "uchar",
-            Scalar::I16 => "short",
-            Scalar::U16 => "ushort",
-            Scalar::I32 => "int",
-            Scalar::U32 => "uint",
-            Scalar::F32 => "float",
-            Scalar::F64 => "double",
-        }
+        self.ply_name()
     }
 
     /// The least and greatest values of an integer type; `None` for floats.
@@ -1248,6 +1222,141 @@ enum Role {
     WedgeTexCoords,
     /// Which of the `TextureFile`s a face's texture coordinates are in.
     TexNumber,
+    /// Another vertex property, carried: column `.0` of
+    /// [`VertexChannels::properties`].
+    Property(usize),
+    /// A face property, carried: column `.0` of
+    /// [`VertexChannels::face_properties`].
+    FaceProperty(usize),
+}
+
+/// The names of the vertex properties that have roles of their own (or are
+/// part of one: a colour without its blue).
+const KNOWN_VERTEX_PROPERTIES: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "red",
+    "green",
+    "blue",
+    "alpha",
+    "diffuse_red",
+    "diffuse_green",
+    "diffuse_blue",
+    "diffuse_alpha",
+    "u",
+    "v",
+    "s",
+    "t",
+    "texture_u",
+    "texture_v",
+    "texture_s",
+    "texture_t",
+    "nx",
+    "ny",
+    "nz",
+];
+
+/// The names of the face properties that have roles of their own.
+const KNOWN_FACE_PROPERTIES: &[&str] = &["vertex_indices", "vertex_index", "texcoord", "texcoords", "texnumber"];
+
+/// Gives each scalar property of the vertex or face element `el` that
+/// nothing else reads a role of its own (a column of `columns`), so that
+/// it is carried to the output: MeshLab's `quality` and `flags`, a scan's
+/// `confidence`, face colours, a segmentation's labels. Returns a note on
+/// what of the element is left out: lists, a name used twice, a known name
+/// without its partners (`red` without `green`), and other elements' records.
+fn carried_properties(
+    el: &PlyElement,
+    kind: ElementKind,
+    roles: &mut [Role],
+    columns: &mut Vec<PropertyColumn>,
+) -> Option<String> {
+    if kind == ElementKind::Other {
+        return (el.count > 0 && !el.props.is_empty()).then(|| {
+            format!(
+                "element {} ({} record{}) left out: delmesh reads vertices and faces",
+                el.name,
+                el.count,
+                if el.count == 1 { "" } else { "s" }
+            )
+        });
+    }
+    let known = match kind {
+        ElementKind::Vertex => KNOWN_VERTEX_PROPERTIES,
+        _ => KNOWN_FACE_PROPERTIES,
+    };
+    let (mut lists, mut others) = (Vec::new(), Vec::new());
+    for (i, p) in el.props.iter().enumerate() {
+        if roles[i] != Role::Skip {
+            continue;
+        }
+        let unique = el.props.iter().filter(|q| q.name == p.name).count() == 1;
+        match p.ty {
+            PropType::Scalar(ty) if unique && !known.contains(&p.name.as_str()) => {
+                roles[i] = match kind {
+                    ElementKind::Vertex => Role::Property(columns.len()),
+                    _ => Role::FaceProperty(columns.len()),
+                };
+                columns.push(PropertyColumn {
+                    name: p.name.clone(),
+                    ty,
+                    values: Vec::new(),
+                    defect: None,
+                });
+            }
+            // MeshLab's texture number goes with its texture coordinates;
+            // other faces' lists than the corners and texture coordinates.
+            PropType::Scalar(_) if p.name == "texnumber" => {}
+            PropType::List { .. } => lists.push(p.name.as_str()),
+            PropType::Scalar(_) => others.push(p.name.as_str()),
+        }
+    }
+    let said = |names: &[&str], why: &str| {
+        format!(
+            "{} propert{} {} left out: {why}",
+            el.name,
+            if names.len() == 1 { "y" } else { "ies" },
+            names.join(", ")
+        )
+    };
+    let mut notes = Vec::new();
+    if !lists.is_empty() {
+        notes.push(said(&lists, "delmesh carries single numbers, not lists"));
+    }
+    if !others.is_empty() {
+        notes.push(said(
+            &others,
+            "a name declared twice, or a part of a colour, texture coordinates or normal without the rest",
+        ));
+    }
+    (!notes.is_empty()).then(|| notes.join("; "))
+}
+
+/// The values of a carried vertex or face property, as they are read.
+#[derive(Clone, Debug)]
+struct PropertyColumn {
+    name: String,
+    ty: Scalar,
+    /// One per vertex or face.
+    values: Vec<f64>,
+    /// The first defect (in ASCII data: a value that is no number, or does
+    /// not fit its type): the property is dropped, with a note.
+    defect: Option<String>,
+}
+
+impl PropertyColumn {
+    /// Appends a value read as `value`; a defect (`Err(what)`, on `line`)
+    /// is noted, and a NaN takes the value's place.
+    fn push(&mut self, value: Result<f64, String>, line: u64) {
+        match value {
+            Ok(x) => self.values.push(x),
+            Err(what) => {
+                self.defect.get_or_insert_with(|| format!("line {line}: {what}"));
+                self.values.push(f64::NAN);
+            }
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1561,16 +1670,24 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let mut has_vertex = false;
     let mut has_colors = false;
     let mut channels = VertexChannels::default();
+    let mut left_out = Vec::new();
+    let mut vertex_seen = false;
     for el in &header.elements {
-        let (kind, roles) = element_roles(el)?;
+        let (kind, mut roles) = element_roles(el)?;
         has_vertex |= kind == ElementKind::Vertex;
         has_colors |= roles.iter().any(|r| matches!(r, Role::Color(_)));
-        if kind == ElementKind::Vertex {
-            let wedge = std::mem::take(&mut channels.wedge);
+        if kind == ElementKind::Vertex && !vertex_seen {
+            vertex_seen = true;
             channels = VertexChannels {
-                wedge,
+                wedge: std::mem::take(&mut channels.wedge),
+                face_properties: std::mem::take(&mut channels.face_properties),
                 ..VertexChannels::new(&roles)
             };
+            left_out.extend(carried_properties(el, kind, &mut roles, &mut channels.properties));
+        } else if kind == ElementKind::Face && channels.face_properties.is_empty() {
+            left_out.extend(carried_properties(el, kind, &mut roles, &mut channels.face_properties));
+        } else {
+            left_out.extend(carried_properties(el, ElementKind::Other, &mut roles, &mut Vec::new()));
         }
         if kind == ElementKind::Face && roles.contains(&Role::WedgeTexCoords) {
             channels.wedge = Some(WedgeTexCoords::default());
@@ -1625,6 +1742,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let channels = std::mem::take(&mut b.channels);
     let mut m = b.finish()?;
     channels.finish(&mut m);
+    m.attribute_notes.extend(left_out);
     // The texture image goes with the texture coordinates.
     if m.attributes.texcoords.is_some() {
         m.attributes.texture_files = header.texture_files;
@@ -1654,6 +1772,10 @@ struct VertexChannels {
     /// The faces' texture coordinates (`texcoord` lists), if the face
     /// element has them.
     wedge: Option<WedgeTexCoords>,
+    /// The other vertex properties, carried.
+    properties: Vec<PropertyColumn>,
+    /// The face properties, carried.
+    face_properties: Vec<PropertyColumn>,
 }
 
 /// The per-face (wedge) texture coordinates of a PLY file, as they are read:
@@ -1680,13 +1802,17 @@ impl VertexChannels {
             alpha: roles.contains(&Role::Color(3)),
             defects: Default::default(),
             wedge: None,
+            properties: Vec::new(),
+            face_properties: Vec::new(),
         }
     }
 
     /// Notes the first defect of attribute `kind`, on `line`: the
     /// attribute is dropped, with a note ([`VertexChannels::finish`]).
     fn defect(&mut self, kind: Kind, line: u64, what: impl FnOnce() -> String) {
-        let slot = &mut self.defects[kind as usize];
+        // (Vertex properties keep their own: [`PropertyColumn::push`].)
+        let Some(i) = kind.fixed_index() else { return };
+        let slot = &mut self.defects[i];
         if slot.is_none() {
             *slot = Some(format!("{} dropped: line {line}: {}", kind.name(), what()));
         }
@@ -1746,10 +1872,12 @@ impl VertexChannels {
             (Kind::Normal, self.normals, 3),
             (Kind::Color, self.colors, color_dim),
         ];
-        let mut defects = self.defects;
+        let [a, b, c] = self.defects;
+        let mut defects = [a, b, c].into_iter();
         for (kind, values, dim) in channels {
+            let defect = defects.next().flatten();
             let Some(values) = values else { continue };
-            if let Some(note) = defects[kind as usize].take() {
+            if let Some(note) = defect {
                 m.attribute_notes.push(note);
                 if kind == Kind::Color {
                     m.colors = None;
@@ -1766,6 +1894,37 @@ impl VertexChannels {
                 values,
                 corners: m.indices.clone(),
             });
+        }
+        for p in self.properties {
+            let what = format!("vertex property {}", p.name);
+            if let Some(defect) = p.defect {
+                m.attribute_notes.push(format!("{what} dropped: {defect}"));
+            } else if p.values.iter().any(|x| !x.is_finite()) {
+                m.attribute_notes
+                    .push(format!("{what} dropped: a vertex has a non-finite value"));
+            } else {
+                m.attributes.properties.push(VertexProperty {
+                    name: p.name,
+                    ty: p.ty,
+                    channel: Some(Channel {
+                        dim: 1,
+                        values: p.values,
+                        corners: m.indices.clone(),
+                    }),
+                });
+            }
+        }
+        for p in self.face_properties {
+            match p.defect {
+                Some(defect) => m
+                    .attribute_notes
+                    .push(format!("face property {} dropped: {defect}", p.name)),
+                None => m.attributes.face_properties.push(FaceProperty {
+                    name: p.name,
+                    ty: p.ty,
+                    values: p.values,
+                }),
+            }
         }
     }
 }
@@ -1920,6 +2079,8 @@ fn read_ascii_element(
                         (Role::TexCoord(k), Ok(x)) => v.texcoord[k] = x,
                         (Role::Normal(k), Ok(x)) => v.normal[k] = x,
                         (Role::TexNumber, Ok(x)) => v.texnumber = Some(x as i64),
+                        (Role::Property(j), value) => b.channels.properties[j].push(value.map_err(what), line),
+                        (Role::FaceProperty(j), value) => b.channels.face_properties[j].push(value.map_err(what), line),
                         (Role::Coord(_), Err(why)) => return Err(FormatError::at(line, what(why))),
                         // A defect in an attribute drops it, with a note.
                         (Role::Color(_), Err(why)) => b.channels.defect(Kind::Color, line, || what(why)),
@@ -2111,6 +2272,8 @@ fn read_binary_element(
                         Role::TexCoord(k) => v.texcoord[k] = get_f64(ty, s, big),
                         Role::Normal(k) => v.normal[k] = get_f64(ty, s, big),
                         Role::TexNumber => v.texnumber = Some(get_f64(ty, s, big) as i64),
+                        Role::Property(j) => b.channels.properties[j].values.push(get_f64(ty, s, big)),
+                        Role::FaceProperty(j) => b.channels.face_properties[j].values.push(get_f64(ty, s, big)),
                         _ => {}
                     }
                 }
@@ -2547,42 +2710,53 @@ pub fn write_ply_binary(
     w.flush()
 }
 
-/// One more per-vertex property for [`write_ply_binary_columns`]: a name,
-/// whether it is written as `uchar` (the value in 0..1 scaled to 0..255 and
-/// rounded) rather than `double`, and one value per vertex.
+/// One more vertex or face property for [`write_ply_binary_columns`]: a
+/// name, the type it is written as, and one value per vertex or face.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlyColumn {
-    /// The property name (`s`, `nx`, `red`...).
-    pub name: &'static str,
-    /// Written as `uchar` from a value in 0..1, else as `double`.
-    pub uchar: bool,
-    /// One value per vertex (finite).
+    /// The property name (`s`, `nx`, `red`, `quality`...): one word.
+    pub name: String,
+    /// Its type: values are rounded to it ([`ValueType::put_le`]).
+    pub ty: ValueType,
+    /// One value per vertex or face.
     pub values: Vec<f64>,
 }
 
-/// Writes a binary little-endian PLY 1.0: double x y z, then `columns`,
-/// face list uchar uint vertex_indices; each of `comments` on a `comment`
-/// line of the header. Positions and `double` columns are exact. Refuses
-/// what [`write_ply_binary`] refuses, a column whose length is not the
-/// vertex count, and a comment with a line break.
+/// Writes a binary little-endian PLY 1.0: double x y z, then
+/// `columns`, face list uchar uint vertex_indices, then `face_columns`;
+/// each of `comments` on a `comment` line of the header. Positions and
+/// `double` columns are exact. Refuses what [`write_ply_binary`] refuses, a
+/// column whose length is not the vertex (or face) count or whose name is
+/// not one word, and a comment with a line break.
 pub fn write_ply_binary_columns(
     w: &mut dyn Write,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     columns: &[PlyColumn],
+    face_columns: &[PlyColumn],
     comments: &[String],
 ) -> io::Result<()> {
     if let Some(c) = comments.iter().find(|c| c.contains(['\n', '\r'])) {
         return Err(invalid(format!("a PLY comment cannot hold a line break: {c:?}")));
     }
     check_for_writing(positions, triangles, None)?;
-    if let Some(c) = columns.iter().find(|c| c.values.len() != positions.len()) {
-        return Err(invalid(format!(
-            "{} values of {} for {} vertices",
-            c.values.len(),
-            c.name,
-            positions.len()
-        )));
+    for (columns, n, what) in [
+        (columns, positions.len(), "vertices"),
+        (face_columns, triangles.len(), "faces"),
+    ] {
+        if let Some(c) = columns.iter().find(|c| c.values.len() != n) {
+            return Err(invalid(format!(
+                "{} values of {} for {n} {what}",
+                c.values.len(),
+                c.name
+            )));
+        }
+        if let Some(c) = columns
+            .iter()
+            .find(|c| c.name.is_empty() || c.name.bytes().any(|b| b.is_ascii_whitespace() || b.is_ascii_control()))
+        {
+            return Err(invalid(format!("a PLY property name must be one word: {:?}", c.name)));
+        }
     }
     let mut w = BufWriter::new(w);
     write!(w, "ply\nformat binary_little_endian 1.0\ncomment written by delmesh\n",)?;
@@ -2592,34 +2766,36 @@ pub fn write_ply_binary_columns(
     writeln!(w, "element vertex {}", positions.len())?;
     w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
     for c in columns {
-        writeln!(w, "property {} {}", if c.uchar { "uchar" } else { "double" }, c.name)?;
+        writeln!(w, "property {} {}", c.ty.ply_name(), c.name)?;
     }
     write!(
         w,
-        "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        "element face {}\nproperty list uchar uint vertex_indices\n",
         triangles.len()
     )?;
-    let mut record = Vec::with_capacity(24 + 8 * columns.len());
+    for c in face_columns {
+        writeln!(w, "property {} {}", c.ty.ply_name(), c.name)?;
+    }
+    w.write_all(b"end_header\n")?;
+    let mut record = Vec::with_capacity(24 + 8 * columns.len().max(face_columns.len()));
     for (i, p) in positions.iter().enumerate() {
         record.clear();
         for c in p {
             record.extend_from_slice(&c.to_le_bytes());
         }
         for c in columns {
-            let x = c.values[i];
-            if c.uchar {
-                record.push((x * 255.0).round().clamp(0.0, 255.0) as u8);
-            } else {
-                record.extend_from_slice(&x.to_le_bytes());
-            }
+            c.ty.put_le(c.values[i], &mut record);
         }
         w.write_all(&record)?;
     }
-    for t in triangles {
+    for (f, t) in triangles.iter().enumerate() {
         record.clear();
         record.push(3);
         for i in t {
             record.extend_from_slice(&i.to_le_bytes());
+        }
+        for c in face_columns {
+            c.ty.put_le(c.values[f], &mut record);
         }
         w.write_all(&record)?;
     }

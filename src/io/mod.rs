@@ -27,7 +27,9 @@ use glam::DVec3;
 
 pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};
 
-use crate::attributes::{AttributeCuts, Attributes, Channel, Kind, PerVertex, Tolerances, NO_VALUE};
+use crate::attributes::{
+    properties_named, AttributeCuts, Attributes, Channel, Kind, PerVertex, Tolerances, ValueType, NO_VALUE,
+};
 use crate::error::{Error, Result};
 use crate::geometry;
 use crate::mesh::{room_for_splits, NoCuts, RegionCuts, Surface, Topology, TopologyError};
@@ -445,8 +447,17 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
 fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &[u32]) -> (Attributes, Vec<String>) {
     let mut notes = raw.notes.clone();
     notes.extend_from_slice(&raw.attribute_notes);
+    let (properties, mut face_properties) = raw.attributes.property_names();
+    for (p, out) in raw.attributes.face_properties.iter().zip(&mut face_properties) {
+        out.values = triangle_face
+            .iter()
+            .map(|&f| p.values.get(f as usize).copied().unwrap_or(0.0))
+            .collect();
+    }
     let mut a = Attributes {
         mtllib: raw.attributes.mtllib.clone(),
+        properties,
+        face_properties,
         ..Attributes::default()
     };
     if !raw.attributes.face_group.is_empty() {
@@ -468,7 +479,7 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
         {
             notes.push(format!(
                 "{} dropped: some faces refer to values the file lacks",
-                kind.name()
+                raw.attributes.name_of(kind)
             ));
             continue;
         }
@@ -487,7 +498,7 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
         if some {
             notes.push(format!(
                 "{} dropped: some faces have them at some corners only",
-                kind.name()
+                raw.attributes.name_of(kind)
             ));
             continue;
         }
@@ -1142,27 +1153,37 @@ pub fn output_format(path: &Path) -> Format {
 
 /// What of `attributes` a file of `format` cannot hold, as a note names it
 /// (`"normals, groups and materials"`); `None` if it holds all.
-/// OBJ holds every attribute; PLY all but groups and materials; OFF and STL
-/// positions only.
+/// OBJ holds every attribute but a PLY file's other vertex and face
+/// properties; PLY all but groups and materials, and channels that only
+/// some faces have; OFF and STL positions only.
 fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<String> {
     let groups = !attributes.face_group.is_empty() || !attributes.mtllib.is_empty();
-    let mut lost: Vec<&str> = Vec::new();
+    let mut lost: Vec<String> = Vec::new();
+    let mut properties: Vec<&str> = Vec::new();
     for (kind, channel) in attributes.channels() {
         // PLY stores values per vertex: it has no "none" for the vertices
         // of faces without.
-        if matches!(format, Format::Off | Format::Stl) || (format == Format::Ply && channel.is_partial()) {
-            lost.push(match (kind, format) {
-                (Kind::TexCoord, Format::Ply) => "texture coordinates of only some faces",
-                (Kind::Normal, Format::Ply) => "normals of only some faces",
-                (Kind::Color, Format::Ply) => "colours of only some faces",
-                (Kind::TexCoord, _) => "texture coordinates",
-                (Kind::Normal, _) => "normals",
-                (Kind::Color, _) => "colours",
-            });
+        let partial = format == Format::Ply && channel.is_partial();
+        let lose = match kind {
+            Kind::Property(_) => format != Format::Ply,
+            _ => matches!(format, Format::Off | Format::Stl) || partial,
+        };
+        if !lose {
+            continue;
+        }
+        match kind {
+            Kind::Property(i) => properties.push(&attributes.properties[i as usize].name),
+            _ if partial => lost.push(format!("{} of only some faces", kind.name())),
+            _ => lost.push(kind.name().to_owned()),
         }
     }
+    lost.extend(properties_named("vertex", &properties));
+    if format != Format::Ply {
+        let names: Vec<&str> = attributes.face_properties.iter().map(|p| p.name.as_str()).collect();
+        lost.extend(properties_named("face", &names));
+    }
     if groups && format != Format::Obj {
-        lost.extend(["groups", "materials"]);
+        lost.extend(["groups".to_owned(), "materials".to_owned()]);
     }
     let (last, rest) = lost.split_last()?;
     Some(if rest.is_empty() {
@@ -1174,28 +1195,34 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
 
 /// Leaves out of `input` the attributes that a file of `format` cannot hold
 /// (OFF and STL: all of them; PLY: groups and materials, and texture
-/// coordinates, normals or colours that only some faces have), before its surface
+/// coordinates, normals or colours that only some faces have; OBJ: a PLY
+/// file's other vertex and face properties), before its surface
 /// is built: an attribute that will not be written must not keep flat
 /// regions apart or cost splits (a smooth-shaded oval cylinder written as
 /// OFF got 21,256 added vertices for normals it could not keep, and none
 /// without them). Returns the note that says so, if anything was left out.
 pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format) -> Option<String> {
     let lost = attributes_format_cannot_hold(&input.attributes, format)?;
-    if matches!(format, Format::Off | Format::Stl) {
-        input.attributes = Attributes::default();
-    } else {
-        let a = &mut input.attributes;
-        for channel in [&mut a.texcoords, &mut a.normals, &mut a.colors] {
-            if channel.as_ref().is_some_and(Channel::is_partial) {
-                *channel = None;
+    let a = &mut input.attributes;
+    match format {
+        Format::Off | Format::Stl => *a = Attributes::default(),
+        Format::Ply => {
+            for channel in [&mut a.texcoords, &mut a.normals, &mut a.colors] {
+                if channel.as_ref().is_some_and(Channel::is_partial) {
+                    *channel = None;
+                }
             }
+            if a.texcoords.is_none() {
+                a.texture_files = Vec::new();
+            }
+            a.face_group = Vec::new();
+            a.groups = Vec::new();
+            a.mtllib = Vec::new();
         }
-        if a.texcoords.is_none() {
-            a.texture_files = Vec::new();
+        Format::Obj => {
+            a.properties = Vec::new();
+            a.face_properties = Vec::new();
         }
-        a.face_group = Vec::new();
-        a.groups = Vec::new();
-        a.mtllib = Vec::new();
     }
     Some(format!(
         "{lost} left out: {} cannot hold them (the mesh is refined as without them)",
@@ -1292,23 +1319,38 @@ pub fn stage_mesh_with_attributes(
             );
             let mut columns = Vec::new();
             for ((kind, channel), index) in channels.iter().zip(&split.values) {
-                let names: &[&'static str] = match kind {
-                    Kind::TexCoord => &["s", "t"],
-                    Kind::Normal => &["nx", "ny", "nz"],
-                    Kind::Color => &["red", "green", "blue", "alpha"],
+                let property = match kind {
+                    Kind::Property(i) => attributes.properties.get(*i as usize),
+                    _ => None,
+                };
+                let names: &[&str] = match (kind, property) {
+                    (Kind::TexCoord, _) => &["s", "t"],
+                    (Kind::Normal, _) => &["nx", "ny", "nz"],
+                    (Kind::Color, _) => &["red", "green", "blue", "alpha"],
+                    (Kind::Property(_), Some(p)) => &[p.name.as_str()],
+                    (Kind::Property(_), None) => &[],
                 };
                 // Colours are written as bytes from 0..1; an OBJ that wrote
                 // them in 0..255 (some do) would be clamped to white.
-                let scale = if *kind == Kind::Color && colors_in_bytes(channel) {
-                    notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
-                    1.0 / 255.0
-                } else {
-                    1.0
+                let (scale, ty) = match (kind, property) {
+                    (Kind::Color, _) if colors_in_bytes(channel) => {
+                        notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
+                        (1.0, ValueType::U8)
+                    }
+                    (Kind::Color, _) => (255.0, ValueType::U8),
+                    (_, Some(p)) => (1.0, p.ty),
+                    _ => (1.0, ValueType::F64),
                 };
-                for (k, &name) in names.iter().enumerate().take(channel.dim.max(2)) {
+                // (Texture coordinates of one number get t = 0.)
+                let dim = if *kind == Kind::TexCoord {
+                    channel.dim.max(2)
+                } else {
+                    channel.dim
+                };
+                for (k, &name) in names.iter().enumerate().take(dim) {
                     columns.push(PlyColumn {
-                        name,
-                        uchar: *kind == Kind::Color,
+                        name: name.to_owned(),
+                        ty,
                         values: index
                             .iter()
                             .map(|&i| scale * channel.value(i).get(k).copied().unwrap_or(0.0))
@@ -1316,6 +1358,13 @@ pub fn stage_mesh_with_attributes(
                     });
                 }
             }
+            let face_columns: Vec<PlyColumn> = (attributes.face_properties.iter())
+                .map(|p| PlyColumn {
+                    name: p.name.clone(),
+                    ty: p.ty,
+                    values: p.values.clone(),
+                })
+                .collect();
             let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
             copies_of = split.source[positions.len()..].to_vec();
             // The texture image with the texture coordinates, as MeshLab names it.
@@ -1326,7 +1375,7 @@ pub fn stage_mesh_with_attributes(
                 None => Vec::new(),
             };
             stage(path, |w| {
-                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &comments)
+                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &face_columns, &comments)
             })?
         }
         Format::Off | Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,

@@ -455,17 +455,11 @@ struct Extras {
     mtllib: Vec<String>,
 }
 
-fn slot(kind: Kind) -> usize {
-    match kind {
-        Kind::TexCoord => 0,
-        Kind::Normal => 1,
-        Kind::Color => 2,
-    }
-}
-
 impl Extras {
     fn note(&mut self, kind: Kind, line: usize, what: impl FnOnce() -> String) {
-        let d = &mut self.defect[slot(kind)];
+        // (An OBJ has no other vertex properties.)
+        let Some(slot) = kind.fixed_index() else { return };
+        let d = &mut self.defect[slot];
         if d.is_none() {
             let at = if line > 0 {
                 format!("line {line}: ")
@@ -664,7 +658,7 @@ impl Extras {
                     format!("a face refers to number {} (the file has {n})", bad as u64 + 1)
                 });
             }
-            if self.defect[slot(kind)].is_some() {
+            if kind.fixed_index().is_some_and(|i| self.defect[i].is_some()) {
                 continue;
             }
             corners.resize(indices.len(), NO_VALUE);
