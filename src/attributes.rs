@@ -385,6 +385,10 @@ pub struct Attributes {
     /// lines (MeshLab's), kept only with `texcoords`: written back to a PLY
     /// output that has them.
     pub texture_files: Vec<String>,
+    /// The type a PLY input declared for its colours, which a PLY output
+    /// keeps: `float` or `double` (values in 0..1, written as they are),
+    /// `ushort` (16-bit); `None` for 8-bit, the usual (and any other type).
+    pub color_type: Option<ValueType>,
     /// A PLY file's other vertex properties, in the file's order.
     pub properties: Vec<VertexProperty>,
     /// A PLY file's face properties, in the file's order.
@@ -901,6 +905,7 @@ impl Transfer {
             groups: input.groups.clone(),
             mtllib: input.mtllib.clone(),
             texture_files: input.texture_files.clone(),
+            color_type: input.color_type,
             properties,
             face_properties,
             ..Attributes::default()

@@ -1127,3 +1127,85 @@ fn a_material_ended_by_usemtl_alone_stays_ended() {
     assert_eq!(a.attributes.groups, b.attributes.groups);
     assert_eq!(a.attributes.face_group, b.attributes.face_group);
 }
+
+/// A PLY input's float colours are written back as floats (its vertices
+/// keep them as the type holds them), and 16-bit ones as `ushort`; 8-bit
+/// ones stay 8-bit.
+#[test]
+fn ply_colours_keep_their_declared_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = |ty: &str, values: [[f64; 3]; 4]| {
+        let mut text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+             property {ty} red\nproperty {ty} green\nproperty {ty} blue\nelement face 2\n\
+             property list uchar int vertex_indices\nend_header\n"
+        );
+        // Two thin faces folded along a long edge, which gets split.
+        let positions = [[0.0, 0.0, 0.0], [8.0, 0.0, 0.0], [4.0, 0.5, 0.05], [4.0, -0.5, 0.05]];
+        for (p, c) in positions.iter().zip(values) {
+            writeln!(text, "{} {} {} {} {} {}", p[0], p[1], p[2], c[0], c[1], c[2]).unwrap();
+        }
+        text.push_str("3 0 1 2\n3 1 0 3\n");
+        write(dir.path(), &format!("{ty}.ply"), &text)
+    };
+    let floats = [
+        [0.1, 0.2, 0.3],
+        [0.7, 0.123456, 0.9],
+        [0.01, 0.5, 0.333],
+        [1.0, 0.0, 0.25],
+    ];
+    let shorts = [
+        [1.0, 2.0, 3.0],
+        [65535.0, 0.0, 300.0],
+        [7.0, 40000.0, 9.0],
+        [0.0, 0.0, 0.0],
+    ];
+    for (ty, values, written) in [
+        ("float", floats, "property float red\n"),
+        ("ushort", shorts, "property ushort red\n"),
+        (
+            "uchar",
+            [
+                [10.0, 20.0, 30.0],
+                [200.0, 0.0, 7.0],
+                [1.0, 2.0, 3.0],
+                [50.0, 60.0, 70.0],
+            ],
+            "property uchar red\n",
+        ),
+    ] {
+        let input = ply(ty, values);
+        let out = dir.path().join(format!("{ty}-out.ply"));
+        let printout = run(&input, &out, &[]);
+        assert!(work(&printout).1 > 0, "{printout}");
+        check(&input, &out);
+        let bytes = std::fs::read(&out).unwrap();
+        let header = String::from_utf8_lossy(&bytes[..300]).into_owned();
+        assert!(header.contains(written), "{ty}: {header}");
+        let (a, b) = (read(&input), read(&out));
+        // Input vertices keep their colours exactly; added ones are within
+        // the type's step of the interpolated field.
+        let step = match ty {
+            "float" => 1e-7,
+            "ushort" => 0.5 / 65535.0 + 1e-12,
+            _ => 0.5 / 255.0 + 1e-12,
+        };
+        let colours = |m: &InputMesh| channel(m, Kind::Color).unwrap().clone();
+        let (ca, cb) = (colours(&a), colours(&b));
+        for (c, t) in b.triangles.iter().flatten().enumerate() {
+            if let Some(v) = a.positions.iter().position(|&p| p == b.positions[*t as usize]) {
+                let corner = a.triangles.iter().flatten().position(|&w| w as usize == v).unwrap();
+                // (An ASCII `float` is read as written, and written as a float.)
+                let expected: Vec<f64> = ca.corner(corner).iter().map(|&x| x as f32 as f64).collect();
+                let expected = if ty == "float" {
+                    expected
+                } else {
+                    ca.corner(corner).to_vec()
+                };
+                assert_eq!(cb.corner(c), expected, "{ty}: vertex {v}");
+            }
+        }
+        let worst = compare(&a, &b, 500, 3);
+        assert!(worst[2] <= step, "{ty}: {worst:?}");
+    }
+}

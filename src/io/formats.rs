@@ -1684,6 +1684,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 ..VertexChannels::new(&roles)
             };
             left_out.extend(carried_properties(el, kind, &mut roles, &mut channels.properties));
+            channels.color_type = el.props.iter().zip(&roles).find_map(|(p, r)| match (p.ty, r) {
+                (PropType::Scalar(ty), Role::Color(0)) => Some(ty),
+                _ => None,
+            });
         } else if kind == ElementKind::Face && channels.face_properties.is_empty() {
             left_out.extend(carried_properties(el, kind, &mut roles, &mut channels.face_properties));
         } else {
@@ -1766,6 +1770,9 @@ struct VertexChannels {
     colors: Option<Vec<f64>>,
     /// Colours have an alpha.
     alpha: bool,
+    /// The declared type of `red` (which a PLY output keeps if it is a
+    /// float or 16-bit type).
+    color_type: Option<Scalar>,
     /// The first defect of texture coordinates, normals and colours (in
     /// ASCII data: a value that is no number, or does not fit its type).
     defects: [Option<String>; 3],
@@ -1800,6 +1807,7 @@ impl VertexChannels {
             normals: has(|r| matches!(r, Role::Normal(_))),
             colors: has(|r| matches!(r, Role::Color(_))),
             alpha: roles.contains(&Role::Color(3)),
+            color_type: None,
             defects: Default::default(),
             wedge: None,
             properties: Vec::new(),
@@ -1888,6 +1896,9 @@ impl VertexChannels {
                 m.attribute_notes
                     .push(format!("{} dropped: a vertex has a non-finite one", kind.name()));
                 continue;
+            }
+            if kind == Kind::Color {
+                m.attributes.color_type = self.color_type;
             }
             *m.attributes.channel_mut(kind) = Some(Channel {
                 dim,

@@ -514,6 +514,9 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
     if a.texcoords.is_some() {
         a.texture_files = raw.attributes.texture_files.clone();
     }
+    if a.colors.is_some() {
+        a.color_type = raw.attributes.color_type;
+    }
     (a, notes)
 }
 
@@ -1269,8 +1272,10 @@ pub fn stage_mesh_after(
 /// format of `path`'s extension. OBJ keeps everything but a PLY input's
 /// `TextureFile` comments (a note says so); PLY keeps texture
 /// coordinates (`s t`, the first two numbers, and the `comment
-/// TextureFile` lines of a PLY input), normals (`nx ny nz`) and
-/// colours (`red green blue [alpha]`, 8-bit), a vertex with several values
+/// TextureFile` lines of a PLY input), normals (`nx ny nz`),
+/// colours (`red green blue [alpha]`, 8-bit, or a PLY input's float or
+/// 16-bit type) and a PLY input's other vertex and face properties (in
+/// their types), a vertex with several values
 /// written once per value at the same position, the copies last; OFF and
 /// STL keep positions only.
 pub fn write_mesh_with_attributes(
@@ -1333,11 +1338,16 @@ pub fn stage_mesh_with_attributes(
                 // Colours are written as bytes from 0..1; an OBJ that wrote
                 // them in 0..255 (some do) would be clamped to white.
                 let (scale, ty) = match (kind, property) {
-                    (Kind::Color, _) if colors_in_bytes(channel) => {
-                        notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
-                        (1.0, ValueType::U8)
-                    }
-                    (Kind::Color, _) => (255.0, ValueType::U8),
+                    // A PLY input's float or 16-bit colours keep their type.
+                    (Kind::Color, _) => match attributes.color_type {
+                        Some(ty @ (ValueType::F32 | ValueType::F64)) => (1.0, ty),
+                        Some(ValueType::U16) => (65535.0, ValueType::U16),
+                        _ if colors_in_bytes(channel) => {
+                            notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
+                            (1.0, ValueType::U8)
+                        }
+                        _ => (255.0, ValueType::U8),
+                    },
                     (_, Some(p)) => (1.0, p.ty),
                     _ => (1.0, ValueType::F64),
                 };
