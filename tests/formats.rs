@@ -1799,3 +1799,63 @@ fn partial_obj_colours_are_named_at_the_first_vertex_without() {
     assert_eq!(note("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n"), expected(2));
     assert_eq!(note("v 0 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n"), expected(1));
 }
+
+/// An OFF file's announced vertex attributes (`C`: colour, `N`: normal,
+/// `ST`: texture coordinates, in that line order: normal, colour, texture)
+/// and its face colours (numbers after a face's indices) are read; a
+/// defect drops that attribute alone, with a note.
+#[test]
+fn off_colours_normals_and_face_colours_are_read() {
+    let text = "STCNOFF\n4 2 0\n\
+                0 0 0  0 0 1  255 0 0 255  0 0\n\
+                1 0 0  0 0 1  0 255 0 255  1 0\n\
+                1 1 0  0 0 1  0 0 255 255  1 1\n\
+                0 1 0  0 0 1  9 9 9 255  0 1\n\
+                3 0 1 2 10 20 30\n3 0 2 3 40 50 60\n";
+    let m = read_off(text.as_bytes()).unwrap();
+    let a = &m.attributes;
+    assert_eq!(a.normals.as_ref().unwrap().dim, 3);
+    let colours = a.colors.as_ref().unwrap();
+    assert_eq!(
+        (colours.dim, colours.values[..4].to_vec()),
+        (4, vec![255.0, 0.0, 0.0, 255.0])
+    );
+    assert_eq!(
+        a.texcoords.as_ref().unwrap().values,
+        vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]
+    );
+    let names: Vec<&str> = a.face_properties.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["red", "green", "blue"]);
+    assert_eq!(a.face_properties[2].values, vec![30.0, 60.0]);
+    assert_eq!(a.face_properties[0].ty, delmesh::attributes::ValueType::U8);
+    assert!(m.attribute_notes.is_empty(), "{:?}", m.attribute_notes);
+
+    // A bad colour drops the colours only; a face without a colour drops
+    // the face colours; floats in 0..1 are kept as `float`.
+    let text = "COFF\n4 2 0\n0 0 0 1 0 0\n1 0 0 0 x 0\n1 1 0 0 0 1\n0 1 0 1 1 1\n3 0 1 2 0.5 0.25 1\n3 0 2 3\n";
+    let m = read_off(text.as_bytes()).unwrap();
+    assert!(m.attributes.colors.is_none() && m.attributes.face_properties.is_empty());
+    assert_eq!(
+        m.attribute_notes,
+        [
+            "colours dropped: line 4: vertex 1 colour `x` is not a number",
+            "face colours dropped: 1 of 2 faces has none"
+        ]
+    );
+    let text = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 0.5 0.25 1\n3 0 2 3 1 1 0\n";
+    let m = read_off(text.as_bytes()).unwrap();
+    assert_eq!(m.attributes.face_properties[0].ty, delmesh::attributes::ValueType::F32);
+    // Junk after the indices, or a colour map index: not a colour.
+    for (tail, why) in [
+        (
+            "junk",
+            "face 0: `junk` after its indices is not a number (a colour is 3 or 4)",
+        ),
+        ("7", "face 0 gives a colour map index, which delmesh does not read"),
+        ("1 2", "face 0 has 2 numbers after its indices (a colour is 3 or 4)"),
+    ] {
+        let text = format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 {tail}\n");
+        let m = read_off(text.as_bytes()).unwrap();
+        assert_eq!(m.attribute_notes, [format!("face colours dropped: line 6: {why}")]);
+    }
+}

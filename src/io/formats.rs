@@ -817,25 +817,25 @@ fn words(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 // OFF
 // ---------------------------------------------------------------------------
 
-/// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`).
-#[derive(Clone, Copy)]
+/// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
+/// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
+/// normal (`N`) after x y z, in the order normal, colour, texture
+/// coordinates.
+#[derive(Clone, Copy, Default)]
 struct OffKeyword {
     four: bool,
     ndim: bool,
+    texcoords: bool,
+    color: bool,
+    normal: bool,
 }
 
 fn off_keyword(tok: &[u8]) -> Option<OffKeyword> {
     if tok == b"off" {
-        return Some(OffKeyword {
-            four: false,
-            ndim: false,
-        });
+        return Some(OffKeyword::default());
     }
     let mut rest = tok.strip_suffix(b"OFF")?;
-    let mut kw = OffKeyword {
-        four: false,
-        ndim: false,
-    };
+    let mut kw = OffKeyword::default();
     let (mut st, mut c, mut n) = (false, false, false);
     while !rest.is_empty() {
         let (flag, len) = if rest.starts_with(b"ST") {
@@ -855,7 +855,202 @@ fn off_keyword(tok: &[u8]) -> Option<OffKeyword> {
         *flag = true;
         rest = &rest[len..];
     }
+    (kw.texcoords, kw.color, kw.normal) = (st, c, n);
     Some(kw)
+}
+
+/// The attributes of an OFF file as they are read: the vertices' normals,
+/// colours and texture coordinates its keyword announces, and the faces'
+/// colours (numbers after a face's indices).
+#[derive(Default)]
+struct OffAttributes {
+    /// Per vertex, if the keyword announces them: 3, 3 or 4, and 2 numbers.
+    normals: Option<Vec<f64>>,
+    colors: Option<Vec<f64>>,
+    texcoords: Option<Vec<f64>>,
+    /// Colour components per vertex (3 or 4), from the first vertex.
+    color_dim: usize,
+    /// The first defect of normals, colours, texture coordinates and face
+    /// colours: that attribute is dropped, with a note.
+    defects: [Option<String>; 4],
+    /// The faces' colours, 3 or 4 numbers each (from the first face that
+    /// has one), and how many faces have none.
+    face_colors: Vec<f64>,
+    face_color_dim: usize,
+    faces_without: usize,
+}
+
+impl OffAttributes {
+    fn new(kw: OffKeyword) -> OffAttributes {
+        let has = |x: bool| x.then(Vec::new);
+        OffAttributes {
+            normals: has(kw.normal),
+            colors: has(kw.color),
+            texcoords: has(kw.texcoords),
+            ..OffAttributes::default()
+        }
+    }
+
+    /// Notes the first defect of attribute `slot` (see `defects`).
+    fn defect(&mut self, slot: usize, line: u64, what: impl FnOnce() -> String) {
+        self.defects[slot].get_or_insert_with(|| format!("line {line}: {}", what()));
+    }
+
+    /// Reads what follows vertex `i`'s coordinates on its line.
+    fn vertex<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, i: usize, line: u64) {
+        if self.normals.is_none() && self.colors.is_none() && self.texcoords.is_none() {
+            return;
+        }
+        let rest: Vec<&[u8]> = rest.collect();
+        // The numbers of `span`, or a defect of attribute `slot`.
+        let numbers = |this: &mut Self, slot: usize, span: Option<&[&[u8]]>, what: &str| -> Option<Vec<f64>> {
+            let Some(span) = span else {
+                this.defect(slot, line, || format!("vertex {i} has no {what}"));
+                return None;
+            };
+            let values: Option<Vec<f64>> = span.iter().map(|w| parse_f64(w)).collect();
+            if values.is_none() {
+                let w = span.iter().find(|w| parse_f64(w).is_none()).copied().unwrap_or(b"");
+                this.defect(slot, line, || {
+                    format!("vertex {i} {what} `{}` is not a number", show(w))
+                });
+            }
+            values
+        };
+        let mut at = 0;
+        if self.normals.is_some() {
+            if let Some(n) = numbers(self, 0, rest.get(at..at + 3), "normal (NOFF: 3 numbers after x y z)") {
+                self.normals.get_or_insert_with(Vec::new).extend_from_slice(&n);
+            }
+            at += 3;
+        }
+        let texcoords = usize::from(self.texcoords.is_some()) * 2;
+        if self.colors.is_some() {
+            let n = rest.len().saturating_sub(at + texcoords);
+            if self.color_dim == 0 && (3..=4).contains(&n) {
+                self.color_dim = n;
+            }
+            if n > 0 && n == self.color_dim {
+                if let Some(c) = numbers(self, 1, rest.get(at..at + n), "colour") {
+                    self.colors.get_or_insert_with(Vec::new).extend_from_slice(&c);
+                }
+            } else {
+                let dim = self.color_dim.max(3);
+                self.defect(1, line, || {
+                    format!("vertex {i} has {n} colour components ({dim} expected)")
+                });
+            }
+            at += n;
+        }
+        if self.texcoords.is_some() {
+            let span = rest.get(at..at + 2);
+            if let Some(t) = numbers(self, 2, span, "texture coordinates (STOFF: 2 numbers)") {
+                self.texcoords.get_or_insert_with(Vec::new).extend_from_slice(&t);
+            }
+        }
+    }
+
+    /// Reads what follows face `f`'s indices on its line: a colour (3 or 4
+    /// numbers) or nothing.
+    fn face<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, f: usize, line: u64) {
+        let mut rest = rest.peekable();
+        if rest.peek().is_none() {
+            self.faces_without += 1;
+            return;
+        }
+        let rest: Vec<&[u8]> = rest.collect();
+        let numbers: Option<Vec<f64>> = rest.iter().map(|w| parse_f64(w)).collect();
+        match numbers {
+            Some(c) if (3..=4).contains(&c.len()) && (self.face_color_dim == 0 || c.len() == self.face_color_dim) => {
+                self.face_color_dim = c.len();
+                self.face_colors.extend_from_slice(&c);
+            }
+            Some(c) if c.len() == 1 => self.defect(3, line, || {
+                format!("face {f} gives a colour map index, which delmesh does not read")
+            }),
+            Some(c) => self.defect(3, line, || {
+                format!(
+                    "face {f} has {} numbers after its indices (a colour is 3 or 4)",
+                    c.len()
+                )
+            }),
+            None => {
+                let w = rest.iter().find(|w| parse_f64(w).is_none()).copied().unwrap_or(b"");
+                self.defect(3, line, || {
+                    format!(
+                        "face {f}: `{}` after its indices is not a number (a colour is 3 or 4)",
+                        show(w)
+                    )
+                })
+            }
+        }
+    }
+
+    /// Moves the attributes into `m`, each with a defect or a non-finite
+    /// value dropped with a note. Face colours become the face properties
+    /// `red green blue [alpha]`: `uchar` if they are whole numbers up to
+    /// 255 (as most files write them), else `float`.
+    fn finish(self, m: &mut RawMesh) {
+        let [n, c, t, fc] = self.defects;
+        let vertex_channels = [
+            (Kind::Normal, self.normals, 3, n),
+            (Kind::Color, self.colors, self.color_dim, c),
+            (Kind::TexCoord, self.texcoords, 2, t),
+        ];
+        for (kind, values, dim, defect) in vertex_channels {
+            // (No colour dimension: no vertex line gave one, or no vertex.)
+            let Some(values) = values.filter(|_| dim > 0) else {
+                continue;
+            };
+            let why = match defect {
+                Some(d) => Some(d),
+                None if values.iter().any(|x| !x.is_finite()) => Some("a vertex has a non-finite one".to_owned()),
+                None => None,
+            };
+            match why {
+                Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
+                None => {
+                    *m.attributes.channel_mut(kind) = Some(Channel {
+                        dim,
+                        values,
+                        corners: m.indices.clone(),
+                    })
+                }
+            }
+        }
+        if self.face_colors.is_empty() && fc.is_none() {
+            return;
+        }
+        let faces = m.face_start.len().saturating_sub(1);
+        let why = match fc {
+            Some(d) => Some(d),
+            None if self.faces_without > 0 => Some(format!(
+                "{} of {faces} faces {} none",
+                self.faces_without,
+                if self.faces_without == 1 { "has" } else { "have" }
+            )),
+            None if self.face_colors.iter().any(|x| !x.is_finite()) => Some("a face has a non-finite one".to_owned()),
+            None => None,
+        };
+        if let Some(why) = why {
+            m.attribute_notes.push(format!("face colours dropped: {why}"));
+            return;
+        }
+        let bytes = self
+            .face_colors
+            .iter()
+            .all(|&x| x.fract() == 0.0 && (0.0..=255.0).contains(&x))
+            && self.face_colors.iter().any(|&x| x > 1.0);
+        let ty = if bytes { ValueType::U8 } else { ValueType::F32 };
+        let dim = self.face_color_dim;
+        for (k, name) in ["red", "green", "blue", "alpha"].into_iter().enumerate().take(dim) {
+            m.attributes.face_properties.push(FaceProperty {
+                name: name.to_owned(),
+                ty,
+                values: self.face_colors.iter().skip(k).step_by(dim).copied().collect(),
+            });
+        }
+    }
 }
 
 /// The vertex count glued to the keyword of a header such as `OFF490 518 0` (written so by the
@@ -867,8 +1062,10 @@ fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
 
 /// Reads an OFF file (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`... and headerless files starting with the
 /// counts; also `OFF490 518 0`, the keyword glued to the counts as in the ModelNet datasets). Vertex
-/// lines give x y z first; whatever follows (normals, colour, texture coordinates) is skipped. Face
-/// lines are `n i1 .. in [colour]`. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
+/// lines give x y z first, then what the keyword announces: a normal (`N`), a colour of 3 or 4
+/// numbers (`C`) and texture coordinates (`ST`), read as attributes. Face lines are `n i1 .. in
+/// [colour]`, the colours read as the face properties `red green blue [alpha]`. An attribute with a
+/// defect is dropped with a note. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let text = strip_bom(bytes);
     if let Some(line) = lone_cr_line(text) {
@@ -880,6 +1077,7 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     };
     let mut first_words = words(first);
     let head = first_words.next().unwrap_or(b"");
+    let mut attributes = OffAttributes::default();
     let (counts_line, counts): (u64, Vec<&[u8]>) = if let Some(n_vertices) = glued_vertex_count(head) {
         // `OFF490 518 0`: the keyword and the counts on one line with no
         // space between them, as in many files of the ModelNet datasets.
@@ -897,6 +1095,7 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 ),
             ));
         }
+        attributes = OffAttributes::new(kw);
         let rest: Vec<&[u8]> = first_words.take(4).collect();
         if rest.first().is_some_and(|w| w.eq_ignore_ascii_case(b"BINARY")) {
             return Err(FormatError::at(first_line, "binary OFF is not supported"));
@@ -975,6 +1174,7 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                 .ok_or_else(|| FormatError::at(line, format!("vertex {i} coordinate `{}` is not a number", show(w))))?;
         }
         b.vertex(p, line, || format!("vertex {i}"))?;
+        attributes.vertex(ws, i, line);
     }
 
     for f in 0..nf {
@@ -1011,11 +1211,13 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             b.index(checked_index(i, f, Some(line), nv)?);
         }
         b.end_face(line)?;
+        attributes.face(ws, f, line);
     }
     // More after the declared faces is ignored, as other readers do; but
     // the header's counts may be wrong, and the mesh then has holes: said.
     let after = lines.next_meaningful().map(|(line, _)| line);
     let mut m = b.finish()?;
+    attributes.finish(&mut m);
     if let Some(line) = after {
         m.notes.push(format!(
             "line {line}: data after the {nf} faces the OFF header declares ignored (if its counts are wrong, faces are missing)"
