@@ -1818,7 +1818,7 @@ fn off_colours_normals_and_face_colours_are_read() {
     let colours = a.colors.as_ref().unwrap();
     assert_eq!(
         (colours.dim, colours.values[..4].to_vec()),
-        (4, vec![255.0, 0.0, 0.0, 255.0])
+        (4, vec![1.0, 0.0, 0.0, 1.0])
     );
     assert_eq!(
         a.texcoords.as_ref().unwrap().values,

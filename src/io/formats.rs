@@ -1007,6 +1007,12 @@ impl OffAttributes {
                 None if values.iter().any(|x| !x.is_finite()) => Some("a vertex has a non-finite one".to_owned()),
                 None => None,
             };
+            // Colours of whole numbers beyond 1 are in 0..255 (as most
+            // COFF files write them): scaled to 0..1, as the OFF format says.
+            let mut values = values;
+            if kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0) {
+                values.iter_mut().for_each(|x| *x /= 255.0);
+            }
             match why {
                 Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
                 None => {
