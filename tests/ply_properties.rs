@@ -428,3 +428,22 @@ fn vertex_properties_beyond_the_most_carried_are_left_out_with_a_note() {
         }
     }
 }
+
+/// `--repair` drops the properties, and its note names them (it named
+/// texture coordinates, normals, colours and groups, which the file has
+/// not, and not the properties).
+#[test]
+fn repair_names_the_properties_it_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = rotor_ply(dir.path());
+    let printout = run(&input, &dir.path().join("out.ply"), &["--repair"]);
+    assert!(
+        printout.contains(
+            "note    vertex properties (quality, label) and face properties (red, green, blue, segment) dropped: \
+             --repair does not carry them\n"
+        ),
+        "{printout}"
+    );
+    let output = read(&dir.path().join("out.ply"));
+    assert!(output.attributes.is_empty());
+}
