@@ -176,6 +176,10 @@ pub enum Kind {
     Property(u16),
 }
 
+/// The most vertex properties a file's vertices carry (the numbers of
+/// [`Kind::Property`]); the reader leaves out the others, with a note.
+pub const MAX_VERTEX_PROPERTIES: usize = u16::MAX as usize + 1;
+
 impl Kind {
     /// How messages name the attribute (a vertex property by
     /// [`Attributes::name_of`], which knows its name).

@@ -524,7 +524,7 @@ fn attributes_dropped_with_a_note() {
     );
     let printout = run(&input, &dir.path().join("r.obj"), &["--repair"]);
     assert!(
-        printout.contains("note    texture coordinates, normals, colours and groups dropped: --repair"),
+        printout.contains("note    texture coordinates, groups and materials dropped: --repair does not carry them\n"),
         "{printout}"
     );
     let printout = run(&input, &dir.path().join("o.off"), &[]);

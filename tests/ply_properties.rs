@@ -377,3 +377,73 @@ fn the_properties_tolerance_is_a_relative_number() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("is not a relative tolerance"), "{stderr}");
 }
+
+/// A vertex element of more properties than delmesh numbers (65,536) keeps
+/// the first ones, each with its own values, and names the rest in a note:
+/// the 65,537th was carried in the first's place, overwriting its values.
+#[test]
+fn vertex_properties_beyond_the_most_carried_are_left_out_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = delmesh::attributes::MAX_VERTEX_PROPERTIES + 2;
+    let mut bytes = String::from(
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n\
+         property double z\n",
+    );
+    for j in 0..n {
+        writeln!(bytes, "property uchar p{j}").unwrap();
+    }
+    bytes.push_str("element face 1\nproperty list uchar int vertex_indices\nend_header\n");
+    let mut bytes = bytes.into_bytes();
+    let value = |v: usize, j: usize| ((7 * v + j) % 251) as u8;
+    for (v, p) in [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .enumerate()
+    {
+        for c in p {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+        bytes.extend((0..n).map(|j| value(v, j)));
+    }
+    bytes.push(3);
+    for v in 0..3i32 {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let input = dir.path().join("wide.ply");
+    std::fs::write(&input, bytes).unwrap();
+    let out = dir.path().join("out.ply");
+    let printout = run(&input, &out, &[]);
+    assert!(
+        printout
+            .contains("note    2 more vertex properties left out (from p65536 on): delmesh carries at most 65536\n"),
+        "{}",
+        &printout[printout.len().saturating_sub(2000)..]
+    );
+    let output = read(&out);
+    assert_eq!(output.attributes.properties.len(), n - 2);
+    for j in [0, 1, n - 3] {
+        let values = vertex_values(&output, &format!("p{j}"));
+        for (c, x) in values.into_iter().enumerate() {
+            let v = output.triangles[c / 3][c % 3] as usize;
+            assert_eq!(x, value(v, j) as f64, "p{j} of vertex {v}");
+        }
+    }
+}
+
+/// `--repair` drops the properties, and its note names them (it named
+/// texture coordinates, normals, colours and groups, which the file has
+/// not, and not the properties).
+#[test]
+fn repair_names_the_properties_it_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = rotor_ply(dir.path());
+    let printout = run(&input, &dir.path().join("out.ply"), &["--repair"]);
+    assert!(
+        printout.contains(
+            "note    vertex properties (quality, label) and face properties (red, green, blue, segment) dropped: \
+             --repair does not carry them\n"
+        ),
+        "{printout}"
+    );
+    let output = read(&dir.path().join("out.ply"));
+    assert!(output.attributes.is_empty());
+}

@@ -37,7 +37,8 @@ use std::borrow::Cow;
 use std::fmt;
 use std::io::{self, BufWriter, Read, Write};
 
-use crate::attributes::{Attributes, Channel, FaceProperty, Kind, ValueType, VertexProperty};
+use crate::attributes::{Attributes, Channel, FaceProperty, Kind, ValueType, VertexProperty, MAX_VERTEX_PROPERTIES};
+use crate::hash::FastMap;
 
 /// A mesh as read from a file, before welding and triangulation.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -1473,7 +1474,8 @@ const KNOWN_FACE_PROPERTIES: &[&str] = &["vertex_indices", "vertex_index", "texc
 /// it is carried to the output: MeshLab's `quality` and `flags`, a scan's
 /// `confidence`, face colours, a segmentation's labels. Returns a note on
 /// what of the element is left out: lists, a name used twice, a known name
-/// without its partners (`red` without `green`), and other elements' records.
+/// without its partners (`red` without `green`), vertex properties beyond
+/// [`MAX_VERTEX_PROPERTIES`], and other elements' records.
 fn carried_properties(
     el: &PlyElement,
     kind: ElementKind,
@@ -1494,13 +1496,27 @@ fn carried_properties(
         ElementKind::Vertex => KNOWN_VERTEX_PROPERTIES,
         _ => KNOWN_FACE_PROPERTIES,
     };
-    let (mut lists, mut others) = (Vec::new(), Vec::new());
+    // (Counted once: a header may declare very many properties.)
+    let mut declared: FastMap<&str, usize> = FastMap::default();
+    for p in &el.props {
+        *declared.entry(p.name.as_str()).or_default() += 1;
+    }
+    let (mut lists, mut others, mut beyond) = (Vec::new(), Vec::new(), Vec::new());
     for (i, p) in el.props.iter().enumerate() {
         if roles[i] != Role::Skip {
             continue;
         }
-        let unique = el.props.iter().filter(|q| q.name == p.name).count() == 1;
+        let unique = declared[p.name.as_str()] == 1;
         match p.ty {
+            // Vertex properties are numbered by `Kind::Property`'s u16.
+            PropType::Scalar(_)
+                if unique
+                    && !known.contains(&p.name.as_str())
+                    && kind == ElementKind::Vertex
+                    && columns.len() >= MAX_VERTEX_PROPERTIES =>
+            {
+                beyond.push(p.name.as_str())
+            }
             PropType::Scalar(ty) if unique && !known.contains(&p.name.as_str()) => {
                 roles[i] = match kind {
                     ElementKind::Vertex => Role::Property(columns.len()),
@@ -1536,6 +1552,14 @@ fn carried_properties(
         notes.push(said(
             &others,
             "a name declared twice, or a part of a colour, texture coordinates or normal without the rest",
+        ));
+    }
+    if let Some(first) = beyond.first() {
+        notes.push(format!(
+            "{} more {} propert{} left out (from {first} on): delmesh carries at most {MAX_VERTEX_PROPERTIES}",
+            beyond.len(),
+            el.name,
+            if beyond.len() == 1 { "y" } else { "ies" }
         ));
     }
     (!notes.is_empty()).then(|| notes.join("; "))

@@ -639,10 +639,9 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         notes: {
             // The reader's notes (data it ignored) first, as without repair.
             let mut notes = raw.notes.clone();
-            if !raw.attributes.is_empty() {
-                notes.push(
-                    "texture coordinates, normals, colours and groups dropped: --repair does not carry them".into(),
-                );
+            // What the file has, named as an OFF output's note names it.
+            if let Some(lost) = attributes_format_cannot_hold(&raw.attributes, Format::Off) {
+                notes.push(format!("{lost} dropped: --repair does not carry them"));
             }
             if unseen_polygons > 0 {
                 notes.push(unseen_note(unseen_polygons));
