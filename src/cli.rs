@@ -678,7 +678,8 @@ pub(crate) fn growth_note(surface: &Surface, shells: bool, pruned: bool, smalles
             ),
             edges => format!(
                 "{per_vertex:.0} added vertices per input vertex: {edges} flat input edge(s) are never flipped, as the \
-                 attributes differ across them (a seam, a group boundary, or values not one affine field there): \
+                 attributes differ across them (a seam, a group or face property boundary, or values not one affine \
+                 field there): \
                  --drop-attributes lets them flip; the smallest input angle ({angle} rad) calls for vertices at its \
                  scale{nearly_flat}{helps}"
             ),

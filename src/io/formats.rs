@@ -1501,7 +1501,7 @@ fn carried_properties(
     for p in &el.props {
         *declared.entry(p.name.as_str()).or_default() += 1;
     }
-    let (mut lists, mut others, mut beyond) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut lists, mut twice, mut partial, mut beyond) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (i, p) in el.props.iter().enumerate() {
         if roles[i] != Role::Skip {
             continue;
@@ -1533,25 +1533,35 @@ fn carried_properties(
             // other faces' lists than the corners and texture coordinates.
             PropType::Scalar(_) if p.name == "texnumber" => {}
             PropType::List { .. } => lists.push(p.name.as_str()),
-            PropType::Scalar(_) => others.push(p.name.as_str()),
+            PropType::Scalar(_) if !unique => twice.push(p.name.as_str()),
+            PropType::Scalar(_) => partial.push(p.name.as_str()),
         }
     }
+    // Each name once, in the header's order.
+    let mut seen = std::collections::HashSet::new();
+    twice.retain(|name| seen.insert(*name));
     let said = |names: &[&str], why: &str| {
-        format!(
-            "{} propert{} {} left out: {why}",
-            el.name,
-            if names.len() == 1 { "y" } else { "ies" },
-            names.join(", ")
-        )
+        let named = crate::attributes::properties_named(&el.name, names).unwrap_or_default();
+        format!("{named} left out: {why}")
     };
     let mut notes = Vec::new();
     if !lists.is_empty() {
         notes.push(said(&lists, "delmesh carries single numbers, not lists"));
     }
-    if !others.is_empty() {
+    if !twice.is_empty() {
         notes.push(said(
-            &others,
-            "a name declared twice, or a part of a colour, texture coordinates or normal without the rest",
+            &twice,
+            if twice.len() == 1 {
+                "it is declared twice"
+            } else {
+                "each is declared twice"
+            },
+        ));
+    }
+    if !partial.is_empty() {
+        notes.push(said(
+            &partial,
+            "part of a colour, texture coordinates or normal without the rest",
         ));
     }
     if let Some(first) = beyond.first() {
