@@ -353,6 +353,14 @@ fn a_defective_property_is_dropped_with_a_note() {
     let output = read(&dir.path().join("out.ply"));
     assert_eq!(output.attributes.properties.len(), 1);
     assert_eq!(output.attributes.properties[0].ty, ValueType::F64);
+    // One property left out of an OBJ: `it`.
+    let printout = run(&input, &dir.path().join("out.obj"), &[]);
+    assert!(
+        printout.contains(
+            "note    vertex property height left out: OBJ cannot hold it (the mesh is refined as without it)\n"
+        ),
+        "{printout}"
+    );
 }
 
 /// `--attribute-tolerance properties=REL` sets the vertex properties' own.

@@ -1226,10 +1226,21 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format)
             a.face_properties = Vec::new();
         }
     }
+    let them = pronoun(&lost);
     Some(format!(
-        "{lost} left out: {} cannot hold them (the mesh is refined as without them)",
+        "{lost} left out: {} cannot hold {them} (the mesh is refined as without {them})",
         format.name()
     ))
+}
+
+/// `it` for what [`attributes_format_cannot_hold`] names when that is one
+/// property (`vertex property quality`), else `them`.
+fn pronoun(lost: &str) -> &'static str {
+    if lost.contains(" property ") && !lost.contains(" and ") {
+        "it"
+    } else {
+        "them"
+    }
 }
 
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
@@ -1300,7 +1311,11 @@ pub fn stage_mesh_with_attributes(
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
     if let Some(lost) = attributes_format_cannot_hold(attributes, format) {
-        notes.push(format!("{lost} not written: {} cannot hold them", format.name()));
+        notes.push(format!(
+            "{lost} not written: {} cannot hold {}",
+            format.name(),
+            pronoun(&lost)
+        ));
     }
     let mut copies_of = Vec::new();
     let staged = match format {
