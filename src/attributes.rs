@@ -836,11 +836,9 @@ pub struct Transfer {
     /// Any corner of each input vertex, for a region it is not in (which
     /// cannot happen on a valid surface, but must not panic).
     any_corner: Vec<u32>,
-    /// The group of each region (one group per region: see
+    /// An input triangle of each region, whose group and face properties
+    /// the region's faces take (one of each per region: see
     /// [`Attributes::keep_apart`]).
-    region_group: Vec<u32>,
-    /// An input triangle of each region, whose face properties the
-    /// region's faces take (one value per region, as for groups).
     region_face: Vec<u32>,
 }
 
@@ -851,7 +849,6 @@ impl Transfer {
     pub fn new(attributes: Attributes, triangles: &[[u32; 3]], surface: &Surface) -> Transfer {
         let mut corner = FastMap::default();
         let mut any_corner = vec![u32::MAX; surface.n_input_vertices];
-        let mut region_group = vec![0u32; surface.n_regions];
         let mut region_face = vec![0u32; surface.n_regions];
         for (f, t) in triangles.iter().enumerate() {
             let region = surface.face_region.get(f).copied().unwrap_or(0);
@@ -865,15 +862,11 @@ impl Transfer {
                     *any = (*any).min(c);
                 }
             }
-            if let (Some(g), Some(slot)) = (attributes.face_group.get(f), region_group.get_mut(region as usize)) {
-                *slot = *g;
-            }
         }
         Transfer {
             attributes,
             corner,
             any_corner,
-            region_group,
             region_face,
         }
     }
@@ -894,14 +887,22 @@ impl Transfer {
                 .or_else(|| self.any_corner.get(v as usize))
                 .map_or(usize::MAX, |&c| c as usize)
         };
-        let (properties, mut face_properties) = input.property_names();
-        for (p, out) in input.face_properties.iter().zip(&mut face_properties) {
-            out.values = (0..n_faces)
+        // The input triangle whose group and face properties each face takes.
+        let source: Vec<usize> = if input.face_group.is_empty() && input.face_properties.is_empty() {
+            Vec::new()
+        } else {
+            (0..n_faces)
                 .map(|f| {
                     let region = surface.face_region[f] as usize;
-                    let face = self.region_face.get(region).copied().unwrap_or(0);
-                    p.values.get(face as usize).copied().unwrap_or(0.0)
+                    self.region_face.get(region).map_or(0, |&t| t as usize)
                 })
+                .collect()
+        };
+        let (properties, mut face_properties) = input.property_names();
+        for (p, out) in input.face_properties.iter().zip(&mut face_properties) {
+            out.values = source
+                .iter()
+                .map(|&t| p.values.get(t).copied().unwrap_or(0.0))
                 .collect();
         }
         let mut out = Attributes {
@@ -915,11 +916,9 @@ impl Transfer {
             ..Attributes::default()
         };
         if !input.face_group.is_empty() {
-            out.face_group = (0..n_faces)
-                .map(|f| {
-                    let region = surface.face_region[f] as usize;
-                    self.region_group.get(region).copied().unwrap_or(0)
-                })
+            out.face_group = source
+                .iter()
+                .map(|&t| input.face_group.get(t).copied().unwrap_or(0))
                 .collect();
         }
         for (kind, channel) in input.channels() {

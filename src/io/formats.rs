@@ -881,6 +881,46 @@ struct OffAttributes {
     faces_without: usize,
 }
 
+/// The numbers among the rest of a line's words, without allocating: the
+/// first `N` (`N` at most 32), which of those are not numbers (and their
+/// words), how many words there are, and the first word that is not a
+/// number, with its place.
+struct LineNumbers<'a, const N: usize> {
+    values: [f64; N],
+    words: [&'a [u8]; N],
+    /// Bit k: word k is not a number.
+    not_numbers: u32,
+    count: usize,
+    bad: Option<(usize, &'a [u8])>,
+}
+
+impl<'a, const N: usize> LineNumbers<'a, N> {
+    fn read(words: impl Iterator<Item = &'a [u8]>) -> Self {
+        let mut numbers = LineNumbers {
+            values: [f64::NAN; N],
+            words: [b""; N],
+            not_numbers: 0,
+            count: 0,
+            bad: None,
+        };
+        for (k, w) in words.enumerate() {
+            numbers.count += 1;
+            let x = parse_f64(w);
+            if x.is_none() {
+                numbers.bad.get_or_insert((k, w));
+            }
+            if k < N {
+                numbers.words[k] = w;
+                match x {
+                    Some(x) => numbers.values[k] = x,
+                    None => numbers.not_numbers |= 1 << k,
+                }
+            }
+        }
+        numbers
+    }
+}
+
 impl OffAttributes {
     fn new(kw: OffKeyword) -> OffAttributes {
         let has = |x: bool| x.then(Vec::new);
@@ -902,39 +942,21 @@ impl OffAttributes {
         if self.normals.is_none() && self.colors.is_none() && self.texcoords.is_none() {
             return;
         }
-        let rest: Vec<&[u8]> = rest.collect();
-        // The numbers of `span`, or a defect of attribute `slot`.
-        let numbers = |this: &mut Self, slot: usize, span: Option<&[&[u8]]>, what: &str| -> Option<Vec<f64>> {
-            let Some(span) = span else {
-                this.defect(slot, line, || format!("vertex {i} has no {what}"));
-                return None;
-            };
-            let values: Option<Vec<f64>> = span.iter().map(|w| parse_f64(w)).collect();
-            if values.is_none() {
-                let w = span.iter().find(|w| parse_f64(w).is_none()).copied().unwrap_or(b"");
-                this.defect(slot, line, || {
-                    format!("vertex {i} {what} `{}` is not a number", show(w))
-                });
-            }
-            values
-        };
+        // At most a normal, an RGBA colour and texture coordinates.
+        let numbers = LineNumbers::<16>::read(rest);
         let mut at = 0;
         if self.normals.is_some() {
-            if let Some(n) = numbers(self, 0, rest.get(at..at + 3), "normal (NOFF: 3 numbers after x y z)") {
-                self.normals.get_or_insert_with(Vec::new).extend_from_slice(&n);
-            }
+            self.take(0, &numbers, at..at + 3, i, line, "normal (NOFF: 3 numbers after x y z)");
             at += 3;
         }
         let texcoords = usize::from(self.texcoords.is_some()) * 2;
         if self.colors.is_some() {
-            let n = rest.len().saturating_sub(at + texcoords);
+            let n = numbers.count.saturating_sub(at + texcoords);
             if self.color_dim == 0 && (3..=4).contains(&n) {
                 self.color_dim = n;
             }
             if n > 0 && n == self.color_dim {
-                if let Some(c) = numbers(self, 1, rest.get(at..at + n), "colour") {
-                    self.colors.get_or_insert_with(Vec::new).extend_from_slice(&c);
-                }
+                self.take(1, &numbers, at..at + n, i, line, "colour");
             } else {
                 let dim = self.color_dim.max(3);
                 self.defect(1, line, || {
@@ -944,46 +966,65 @@ impl OffAttributes {
             at += n;
         }
         if self.texcoords.is_some() {
-            let span = rest.get(at..at + 2);
-            if let Some(t) = numbers(self, 2, span, "texture coordinates (STOFF: 2 numbers)") {
-                self.texcoords.get_or_insert_with(Vec::new).extend_from_slice(&t);
-            }
+            self.take(
+                2,
+                &numbers,
+                at..at + 2,
+                i,
+                line,
+                "texture coordinates (STOFF: 2 numbers)",
+            );
         }
+    }
+
+    /// Appends `numbers[span]`, of vertex `i`'s line, to the values of
+    /// attribute `slot` (0 normals, 1 colours, 2 texture coordinates), or
+    /// notes its defect: the line has no such numbers, or a word there is
+    /// not a number.
+    fn take<const N: usize>(
+        &mut self,
+        slot: usize,
+        numbers: &LineNumbers<N>,
+        span: std::ops::Range<usize>,
+        i: usize,
+        line: u64,
+        what: &str,
+    ) {
+        if span.end > numbers.count.min(N) {
+            return self.defect(slot, line, || format!("vertex {i} has no {what}"));
+        }
+        if let Some(k) = span.clone().find(|&k| numbers.not_numbers & (1 << k) != 0) {
+            let w = numbers.words[k];
+            return self.defect(slot, line, || {
+                format!("vertex {i} {what} `{}` is not a number", show(w))
+            });
+        }
+        let values = [&mut self.normals, &mut self.colors, &mut self.texcoords][slot].get_or_insert_with(Vec::new);
+        values.extend_from_slice(&numbers.values[span]);
     }
 
     /// Reads what follows face `f`'s indices on its line: a colour (3 or 4
     /// numbers) or nothing.
     fn face<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, f: usize, line: u64) {
-        let mut rest = rest.peekable();
-        if rest.peek().is_none() {
-            self.faces_without += 1;
-            return;
-        }
-        let rest: Vec<&[u8]> = rest.collect();
-        let numbers: Option<Vec<f64>> = rest.iter().map(|w| parse_f64(w)).collect();
-        match numbers {
-            Some(c) if (3..=4).contains(&c.len()) && (self.face_color_dim == 0 || c.len() == self.face_color_dim) => {
-                self.face_color_dim = c.len();
-                self.face_colors.extend_from_slice(&c);
-            }
-            Some(c) if c.len() == 1 => self.defect(3, line, || {
-                format!("face {f} gives a colour map index, which delmesh does not read")
-            }),
-            Some(c) => self.defect(3, line, || {
+        let c = LineNumbers::<4>::read(rest);
+        match (c.count, c.bad) {
+            (0, _) => self.faces_without += 1,
+            (_, Some((_, w))) => self.defect(3, line, || {
                 format!(
-                    "face {f} has {} numbers after its indices (a colour is 3 or 4)",
-                    c.len()
+                    "face {f}: `{}` after its indices is not a number (a colour is 3 or 4)",
+                    show(w)
                 )
             }),
-            None => {
-                let w = rest.iter().find(|w| parse_f64(w).is_none()).copied().unwrap_or(b"");
-                self.defect(3, line, || {
-                    format!(
-                        "face {f}: `{}` after its indices is not a number (a colour is 3 or 4)",
-                        show(w)
-                    )
-                })
+            (n @ 3..=4, None) if self.face_color_dim == 0 || n == self.face_color_dim => {
+                self.face_color_dim = n;
+                self.face_colors.extend_from_slice(&c.values[..n]);
             }
+            (1, None) => self.defect(3, line, || {
+                format!("face {f} gives a colour map index, which delmesh does not read")
+            }),
+            (n, None) => self.defect(3, line, || {
+                format!("face {f} has {n} numbers after its indices (a colour is 3 or 4)")
+            }),
         }
     }
 
@@ -2122,8 +2163,7 @@ impl VertexChannels {
             (Kind::Normal, self.normals, 3),
             (Kind::Color, self.colors, color_dim),
         ];
-        let [a, b, c] = self.defects;
-        let mut defects = [a, b, c].into_iter();
+        let mut defects = self.defects.into_iter();
         for (kind, values, dim) in channels {
             let defect = defects.next().flatten();
             let Some(values) = values else { continue };

@@ -640,8 +640,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             // The reader's notes (data it ignored) first, as without repair.
             let mut notes = raw.notes.clone();
             // What the file has, named as an OFF output's note names it.
-            if let Some(lost) = attributes_format_cannot_hold(&raw.attributes, Format::Off) {
-                notes.push(format!("{lost} dropped: --repair does not carry them"));
+            if let Some((lost, them)) = attributes_format_cannot_hold(&raw.attributes, Format::Off) {
+                notes.push(format!("{lost} dropped: --repair does not carry {them}"));
             }
             if unseen_polygons > 0 {
                 notes.push(unseen_note(unseen_polygons));
@@ -1154,11 +1154,12 @@ pub fn output_format(path: &Path) -> Format {
 }
 
 /// What of `attributes` a file of `format` cannot hold, as a note names it
-/// (`"normals, groups and materials"`); `None` if it holds all.
+/// (`"normals, groups and materials"`), and the pronoun for it (`it` for a
+/// single property, else `them`); `None` if it holds all.
 /// OBJ holds every attribute but a PLY file's other vertex and face
 /// properties; PLY all but groups and materials, and channels that only
 /// some faces have; OFF and STL positions only.
-fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<String> {
+fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<(String, &'static str)> {
     let groups = !attributes.face_group.is_empty() || !attributes.mtllib.is_empty();
     let mut lost: Vec<String> = Vec::new();
     let mut properties: Vec<&str> = Vec::new();
@@ -1189,9 +1190,15 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
     }
     let (last, rest) = lost.split_last()?;
     Some(if rest.is_empty() {
-        last.to_string()
+        let face_properties = if format == Format::Ply {
+            0
+        } else {
+            attributes.face_properties.len()
+        };
+        let single_property = properties.len() + face_properties == 1;
+        (last.to_string(), if single_property { "it" } else { "them" })
     } else {
-        format!("{} and {last}", rest.join(", "))
+        (format!("{} and {last}", rest.join(", ")), "them")
     })
 }
 
@@ -1204,7 +1211,7 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
 /// OFF got 21,256 added vertices for normals it could not keep, and none
 /// without them). Returns the note that says so, if anything was left out.
 pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format) -> Option<String> {
-    let lost = attributes_format_cannot_hold(&input.attributes, format)?;
+    let (lost, them) = attributes_format_cannot_hold(&input.attributes, format)?;
     let a = &mut input.attributes;
     match format {
         Format::Off | Format::Stl => *a = Attributes::default(),
@@ -1226,21 +1233,10 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format)
             a.face_properties = Vec::new();
         }
     }
-    let them = pronoun(&lost);
     Some(format!(
         "{lost} left out: {} cannot hold {them} (the mesh is refined as without {them})",
         format.name()
     ))
-}
-
-/// `it` for what [`attributes_format_cannot_hold`] names when that is one
-/// property (`vertex property quality`), else `them`.
-fn pronoun(lost: &str) -> &'static str {
-    if lost.contains(" property ") && !lost.contains(" and ") {
-        "it"
-    } else {
-        "them"
-    }
 }
 
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
@@ -1310,12 +1306,8 @@ pub fn stage_mesh_with_attributes(
     let format = output_format(path);
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
-    if let Some(lost) = attributes_format_cannot_hold(attributes, format) {
-        notes.push(format!(
-            "{lost} not written: {} cannot hold {}",
-            format.name(),
-            pronoun(&lost)
-        ));
+    if let Some((lost, them)) = attributes_format_cannot_hold(attributes, format) {
+        notes.push(format!("{lost} not written: {} cannot hold {them}", format.name()));
     }
     let mut copies_of = Vec::new();
     let staged = match format {
