@@ -92,9 +92,9 @@ use delmesh::samples::Score;
 /// Reads an OBJ, splits input edges at sample points and flips edges inside
 /// flat regions until every interior edge is Delaunay (its two opposite
 /// angles sum to at most pi), and writes an OBJ whose first vertices are the
-/// input's, bit for bit. Texture coordinates, normals, colours, groups and
-/// materials are carried, with the texture mapping unchanged (see
-/// --drop-attributes). The report's single-dash flags (-ds, -nomedian,
+/// input's, bit for bit. Texture coordinates, normals, colours, groups,
+/// materials and PLY vertex and face properties are carried, with the
+/// texture mapping unchanged (see --drop-attributes). The report's single-dash flags (-ds, -nomedian,
 /// -all) work as written; each has a GNU-style long form.
 #[derive(Parser, Debug)]
 #[command(
@@ -301,8 +301,8 @@ struct Settings {
     #[arg(long = "prune-passes", value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
     prune_passes: Option<u8>,
 
-    /// Ignore the input's texture coordinates, normals, colours, groups and
-    /// materials: write positions only, and let planar regions ignore seams
+    /// Ignore the input's texture coordinates, normals, colours, groups,
+    /// materials and PLY vertex and face properties: write positions only, and let planar regions ignore seams
     /// (they are kept by default, and regions cut where a flip would
     /// distort them).
     #[arg(long = "drop-attributes")]
