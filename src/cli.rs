@@ -356,7 +356,8 @@ impl Settings {
     /// Reads `path`, with or without repair, and without its attributes
     /// under --drop-attributes, or those that `output`'s format cannot hold
     /// (with a note): they would cost splits and not be written.
-    fn read(&self, path: &Path, output: &Path) -> anyhow::Result<io::InputMesh> {
+    /// `refining`: false under --no-refine.
+    fn read(&self, path: &Path, output: &Path, refining: bool) -> anyhow::Result<io::InputMesh> {
         let options = io::ReadOptions {
             repair: self.repair.then_some(delmesh::repair::RepairOptions {
                 weld_tolerance: self.weld_tolerance,
@@ -364,7 +365,7 @@ impl Settings {
             drop_attributes: self.drop_attributes,
         };
         let mut input = io::read_mesh(path, &options)?;
-        if let Some(note) = io::drop_attributes_format_cannot_hold(&mut input, io::output_format(output)) {
+        if let Some(note) = io::drop_attributes_format_cannot_hold(&mut input, io::output_format(output), refining) {
             input.notes.push(note);
         }
         Ok(input)
@@ -1380,7 +1381,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let mut input = args.settings.read(input_path, &output)?;
+    let mut input = args.settings.read(input_path, &output, !args.no_refine)?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {

@@ -907,6 +907,22 @@ fn attribute_tolerance_takes_values_per_kind() {
     }
 }
 
+/// A conversion (`--no-refine`) to a format that cannot hold the attributes
+/// says they are left out, and not that the mesh is refined without them.
+#[test]
+fn left_out_note_of_a_conversion_does_not_speak_of_refining() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::data_dir()
+        .join("attributes")
+        .join("oval_cylinder_smooth_normals.obj");
+    let stl = run(&input, &dir.path().join("o.stl"), &["--no-refine"]);
+    assert!(
+        stl.contains("note    normals, groups and materials left out: STL cannot hold them\n"),
+        "{stl}"
+    );
+    assert!(!stl.contains("refined as"), "{stl}");
+}
+
 /// What the output's format cannot hold (OFF and STL: every attribute; PLY:
 /// groups and materials) is left out before the construction, with a note,
 /// and costs no split: a smooth-shaded oval cylinder (normals averaged across

@@ -1209,8 +1209,10 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
 /// is built: an attribute that will not be written must not keep flat
 /// regions apart or cost splits (a smooth-shaded oval cylinder written as
 /// OFF got 21,256 added vertices for normals it could not keep, and none
-/// without them). Returns the note that says so, if anything was left out.
-pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format) -> Option<String> {
+/// without them). Returns the note that says so, if anything was left out;
+/// `refining`: whether the note adds that the mesh is refined without them
+/// (not under `--no-refine`).
+pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format, refining: bool) -> Option<String> {
     let (lost, them) = attributes_format_cannot_hold(&input.attributes, format)?;
     let a = &mut input.attributes;
     match format {
@@ -1233,10 +1235,12 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format)
             a.face_properties = Vec::new();
         }
     }
-    Some(format!(
-        "{lost} left out: {} cannot hold {them} (the mesh is refined as without {them})",
-        format.name()
-    ))
+    let name = format.name();
+    Some(if refining {
+        format!("{lost} left out: {name} cannot hold {them} (the mesh is refined as without {them})")
+    } else {
+        format!("{lost} left out: {name} cannot hold {them}")
+    })
 }
 
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
