@@ -391,7 +391,11 @@ pub struct Attributes {
     pub texture_files: Vec<String>,
     /// The type a PLY input declared for its colours, which a PLY output
     /// keeps: `float` or `double` (values in 0..1, written as they are),
-    /// `ushort` (16-bit); `None` for 8-bit, the usual (and any other type).
+    /// `ushort` (16-bit), else 8-bit, the usual (also for any other type).
+    /// An OFF input's colours of whole numbers (0..255) are `uchar`, and an
+    /// OFF output writes 8-bit colours (an integer type but `ushort`) as
+    /// such numbers again, others as they are; `None` for an OBJ input and
+    /// an OFF input's other colours.
     pub color_type: Option<ValueType>,
     /// A PLY file's other vertex properties, in the file's order.
     pub properties: Vec<VertexProperty>,

@@ -1125,7 +1125,7 @@ fn file_name(path: &Path) -> String {
 
 /// Writes `--vertex-map` for `surface`, read from `input` and written as
 /// `written` says, under a temporary name ([`io::stage`]): a row per vertex
-/// of the output file, the copies a PLY output makes at attribute seams
+/// of the output file, the copies a PLY or OFF output makes at attribute seams
 /// (last in the file) repeating the rows of the vertices they copy.
 fn stage_vertex_map(
     path: &Path,
@@ -2126,7 +2126,7 @@ const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need 
 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written
-/// (and on STL's rounding) and the vertex copies a PLY output made.
+/// (and on STL's rounding) and the vertex copies a PLY or OFF output made.
 /// `done`: the OBJ lines of the input's vertices if formatted already (else
 /// empty).
 fn write_output(
@@ -2150,11 +2150,12 @@ fn write_output(
         // (The `output` line counts the mesh's vertices; a reader of the
         // file counts its records.)
         written.notes.push(format!(
-            "the file holds {} vertex records: {} copies of vertices at attribute seams follow the mesh's {}, as PLY \
+            "the file holds {} vertex records: {} copies of vertices at attribute seams follow the mesh's {}, as {} \
              gives a vertex one value per attribute",
             surface.positions.len() + written.copies_of.len(),
             written.copies_of.len(),
-            surface.positions.len()
+            surface.positions.len(),
+            io::output_format(path).name()
         ));
     }
     if let Some(ext) = unknown_extension(path) {

@@ -439,8 +439,8 @@ fn no_attributes_no_change() {
 }
 
 /// A PLY grid with per-vertex texture coordinates, normals and colours, and
-/// a seam made by duplicate vertices: written as PLY (copies of seam
-/// vertices) and as OBJ, read back with the same fields.
+/// a seam made by duplicate vertices: written as PLY and OFF (copies of
+/// seam vertices) and as OBJ, read back with the same fields.
 #[test]
 fn ply_round_trip() {
     let dir = tempfile::tempdir().unwrap();
@@ -490,7 +490,7 @@ fn ply_round_trip() {
     let input = write(dir.path(), "grid.ply", &text);
     let a = read(&input);
     assert!(a.attributes.texcoords.is_some() && a.attributes.normals.is_some() && a.attributes.colors.is_some());
-    for ext in ["ply", "obj"] {
+    for ext in ["ply", "obj", "off"] {
         let out = dir.path().join(format!("out.{ext}"));
         let printout = run(&input, &out, &[]);
         assert!(work(&printout).2 > 0, "{printout}");
@@ -498,8 +498,9 @@ fn ply_round_trip() {
         let b = read(&out);
         let worst = compare(&a, &b, 1000, 12);
         assert!(worst[0] <= 1e-9 && worst[1] <= 1e-9, "{ext}: {worst:?}");
-        // Colours are written to PLY with 8 bits: rounded at added vertices.
-        let colour_tolerance = if ext == "ply" { 0.5 / 255.0 + 1e-12 } else { 1e-9 };
+        // Colours are written to PLY and OFF with 8 bits: rounded at added
+        // vertices.
+        let colour_tolerance = if ext == "obj" { 1e-9 } else { 0.5 / 255.0 + 1e-12 };
         assert!(worst[2] <= colour_tolerance, "{ext}: {worst:?}");
     }
     // The PLY output holds the seam as copies of vertices, after the others.
@@ -511,8 +512,9 @@ fn ply_round_trip() {
     assert!(b.welded >= seam.len(), "{} welded", b.welded);
 }
 
-/// `--repair` drops attributes with a note; OFF output leaves them out, and
-/// says so.
+/// `--repair` drops attributes with a note; OFF output leaves out what it
+/// cannot hold (groups and materials; it keeps the texture coordinates),
+/// and says so.
 #[test]
 fn attributes_dropped_with_a_note() {
     let dir = tempfile::tempdir().unwrap();
@@ -529,9 +531,10 @@ fn attributes_dropped_with_a_note() {
     );
     let printout = run(&input, &dir.path().join("o.off"), &[]);
     assert!(
-        printout.contains("note    texture coordinates, groups and materials left out: OFF cannot hold them"),
+        printout.contains("note    groups and materials left out: OFF cannot hold them"),
         "{printout}"
     );
+    assert!(read(&dir.path().join("o.off")).attributes.texcoords.is_some());
     // A bad texture index drops texture coordinates, not the mesh.
     let bad = write(
         dir.path(),
@@ -923,11 +926,13 @@ fn left_out_note_of_a_conversion_does_not_speak_of_refining() {
     assert!(!stl.contains("refined as"), "{stl}");
 }
 
-/// What the output's format cannot hold (OFF and STL: every attribute; PLY:
-/// groups and materials) is left out before the construction, with a note,
-/// and costs no split: a smooth-shaded oval cylinder (normals averaged across
-/// the flat caps' rims, as Blender writes them) adds thousands of vertices
-/// as OBJ, which keeps its normals, and none as OFF.
+/// What the output's format cannot hold (PLY and OFF: groups and
+/// materials) is left out before the construction, with a note, and costs
+/// no split; what it holds costs what it costs in OBJ: a smooth-shaded oval
+/// cylinder (normals averaged across the flat caps' rims, as Blender
+/// writes them) adds thousands of vertices for its normals as OBJ, PLY and
+/// OFF (which once could not hold them, and left them out: then none), and
+/// none without them.
 #[test]
 fn attributes_the_output_cannot_hold_cost_no_splits() {
     let dir = tempfile::tempdir().unwrap();
@@ -941,22 +946,24 @@ fn attributes_the_output_cannot_hold_cost_no_splits() {
         "{obj}"
     );
     assert!(obj.contains("flat input edge(s) are never flipped"), "{obj}");
-    let off = run(&input, &dir.path().join("o.off"), &[]);
-    assert_eq!(work(&off).0, 0, "{off}");
-    assert!(
-        off.contains("note    normals, groups and materials left out: OFF cannot hold them"),
-        "{off}"
-    );
-    assert!(!off.contains("not written"), "{off}");
-    check(&input, &dir.path().join("o.off"));
-    // PLY keeps the normals (so the splits) and leaves out the groups.
-    let ply = run(&input, &dir.path().join("o.ply"), &[]);
-    assert!(
-        ply.contains("note    groups and materials left out: PLY cannot hold them"),
-        "{ply}"
-    );
-    assert_eq!(work(&ply).0, work(&obj).0, "{ply}");
-    check(&input, &dir.path().join("o.ply"));
+    let plain = run(&input, &dir.path().join("plain.off"), &["--drop-attributes"]);
+    assert_eq!(work(&plain).0, 0, "{plain}");
+    check(&input, &dir.path().join("plain.off"));
+    // PLY and OFF keep the normals (so the splits) and leave out the groups.
+    for format in ["PLY", "OFF"] {
+        let out = dir.path().join(format!("o.{}", format.to_lowercase()));
+        let printout = run(&input, &out, &[]);
+        assert!(
+            printout.contains(&format!(
+                "note    groups and materials left out: {format} cannot hold them"
+            )),
+            "{printout}"
+        );
+        assert!(!printout.contains("not written"), "{printout}");
+        assert_eq!(work(&printout).0, work(&obj).0, "{printout}");
+        check(&input, &out);
+        assert!(read(&out).attributes.normals.is_some(), "{format}");
+    }
     // batch leaves them out the same way.
     let out_dir = dir.path().join("b");
     let batch = delmesh()
@@ -1070,7 +1077,7 @@ fn meshlab_wedge_texture_coordinates_and_texture_file() {
         assert_eq!(a.attributes.texture_files, ["grid tex.png"]);
         // Per corner: the seam's vertices have two values.
         assert_eq!(uv_in.corners.len(), 3 * a.triangles.len());
-        for ext in ["ply", "obj"] {
+        for ext in ["ply", "obj", "off"] {
             let out = dir.path().join(format!("out.{ext}"));
             let printout = run(&input, &out, &[]);
             assert!(printout.contains("attributes: texture coordinates"), "{printout}");
@@ -1093,6 +1100,12 @@ fn meshlab_wedge_texture_coordinates_and_texture_file() {
                 assert!(!printout.contains(note), "{printout}");
             } else {
                 assert!(printout.contains(note), "{printout}");
+                if ext == "off" {
+                    assert!(
+                        printout.contains(&format!("{note}: OFF cannot name a texture")),
+                        "{printout}"
+                    );
+                }
             }
         }
     }

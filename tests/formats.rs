@@ -5,8 +5,9 @@ use std::io::Write;
 use std::time::{Duration, Instant};
 
 use delmesh::io::formats::{
-    format_from_name, maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off, write_ply_ascii,
-    write_ply_binary, write_stl_binary, Format, FormatError, Numbering, OriginKind, RawMesh,
+    format_from_name, maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off, write_off_with,
+    write_ply_ascii, write_ply_binary, write_stl_binary, ColorText, Format, FormatError, Numbering, OffColors,
+    OffExtras, OriginKind, RawMesh,
 };
 
 // ---------------------------------------------------------------------------
@@ -1857,5 +1858,99 @@ fn off_colours_normals_and_face_colours_are_read() {
         let text = format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 {tail}\n");
         let m = read_off(text.as_bytes()).unwrap();
         assert_eq!(m.attribute_notes, [format!("face colours dropped: line 6: {why}")]);
+    }
+}
+
+/// `write_off_with` writes Geomview's `[ST][C][N]OFF`: the keyword's
+/// prefixes in that order, a vertex line `x y z nx ny nz r g b [a] s t`,
+/// colours as bytes or as numbers with a decimal point, face colours after
+/// the indices; `read_off` gives back what was written. Without extras it
+/// writes what `write_off` writes; extras that do not fit are refused.
+#[test]
+fn off_with_attributes_is_written_in_geomview_order() {
+    let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let t = [[0, 1, 2]];
+    let extras = OffExtras {
+        normals: Some(vec![0.0, 0.0, 1.0, 0.5, 0.0, 1.0, 0.0, 0.25, 1.0]),
+        colors: Some(OffColors {
+            dim: 4,
+            text: ColorText::Floats,
+            values: vec![1.0, 0.0, 1e-7, 0.5, 0.1, 0.2, 0.3, 1.0, 2.0, 0.0, 1.0, 1.0],
+        }),
+        texcoords: Some(vec![0.0, 0.0, 1.0, 0.0, 0.0, 1e20]),
+        face_colors: Some(OffColors {
+            dim: 3,
+            text: ColorText::Bytes,
+            values: vec![254.6, -3.0, 300.0],
+        }),
+    };
+    let mut buf = Vec::new();
+    write_off_with(&mut buf, &p, &t, &extras).unwrap();
+    let text = String::from_utf8(buf.clone()).unwrap();
+    assert_eq!(
+        text,
+        "STCNOFF\n3 1 0\n\
+         0.0 0.0 0.0 0.0 0.0 1.0 1.0 0.0 1.0e-7 0.5 0.0 0.0\n\
+         1.0 0.0 0.0 0.5 0.0 1.0 0.1 0.2 0.3 1.0 1.0 0.0\n\
+         0.0 1.0 0.0 0.0 0.25 1.0 2.0 0.0 1.0 1.0 0.0 1e+20\n\
+         3 0 1 2 255 0 255\n"
+    );
+    let m = read_off(&buf).unwrap();
+    assert!(m.attribute_notes.is_empty(), "{:?}", m.attribute_notes);
+    let a = &m.attributes;
+    assert_eq!(a.normals.as_ref().unwrap().values, extras.normals.unwrap());
+    assert_eq!(
+        a.colors.as_ref().unwrap().values,
+        extras.colors.as_ref().unwrap().values
+    );
+    assert_eq!(a.texcoords.as_ref().unwrap().values, extras.texcoords.unwrap());
+    let face: Vec<f64> = a.face_properties.iter().map(|p| p.values[0]).collect();
+    assert_eq!(face, [255.0, 0.0, 255.0]);
+
+    let mut plain = Vec::new();
+    write_off_with(&mut plain, &p, &t, &OffExtras::default()).unwrap();
+    let mut expected = Vec::new();
+    write_off(&mut expected, &p, &t).unwrap();
+    assert_eq!(plain, expected);
+
+    let colors = |dim: usize, values: Vec<f64>| {
+        Some(OffColors {
+            dim,
+            text: ColorText::Bytes,
+            values,
+        })
+    };
+    for (bad, why) in [
+        (
+            OffExtras {
+                normals: Some(vec![0.0; 8]),
+                ..OffExtras::default()
+            },
+            "8 numbers of normals for 3 × 3",
+        ),
+        (
+            OffExtras {
+                colors: colors(2, vec![0.0; 6]),
+                ..OffExtras::default()
+            },
+            "colours of 2 numbers (3 or 4)",
+        ),
+        (
+            OffExtras {
+                face_colors: colors(3, vec![0.0; 6]),
+                ..OffExtras::default()
+            },
+            "6 numbers of face colours for 1 × 3",
+        ),
+        (
+            OffExtras {
+                texcoords: Some(vec![0.0, 0.0, 1.0, f64::NAN, 0.0, 1.0]),
+                ..OffExtras::default()
+            },
+            "texture coordinates: number 3 is not finite",
+        ),
+    ] {
+        let e = write_off_with(&mut Vec::new(), &p, &t, &bad).unwrap_err();
+        assert_eq!(e.to_string(), why);
     }
 }

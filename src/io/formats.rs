@@ -1050,14 +1050,20 @@ impl OffAttributes {
                 None => None,
             };
             // Colours of whole numbers beyond 1 are in 0..255 (as most
-            // COFF files write them): scaled to 0..1, as the OFF format says.
+            // COFF files write them): scaled to 0..1, as the OFF format says,
+            // and typed `uchar`, so that an output writes them as bytes again.
             let mut values = values;
-            if kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0) {
+            let bytes =
+                kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0);
+            if bytes {
                 values.iter_mut().for_each(|x| *x /= 255.0);
             }
             match why {
                 Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
                 None => {
+                    if bytes {
+                        m.attributes.color_type = Some(ValueType::U8);
+                    }
                     *m.attributes.channel_mut(kind) = Some(Channel {
                         dim,
                         values,
@@ -2935,6 +2941,151 @@ pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
         writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
     }
     w.flush()
+}
+
+/// How [`write_off_with`] writes colour components.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorText {
+    /// Whole numbers 0..255 (each value rounded and clamped to that range):
+    /// 8-bit colours, as most COFF files hold them, and as MeshLab, Open3D
+    /// and libigl write and read them.
+    Bytes,
+    /// Numbers in shortest round-trip form, always with a decimal point
+    /// (`1.0`, not `1`): MeshLab tells floats in 0..1 from bytes by it.
+    Floats,
+}
+
+/// Colours for [`write_off_with`]: `dim` (3 or 4) numbers per vertex or
+/// face, written as `text` says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OffColors {
+    /// Numbers per colour: 3 (RGB) or 4 (RGBA).
+    pub dim: usize,
+    /// How they are written.
+    pub text: ColorText,
+    /// `dim` numbers per vertex or face (for [`ColorText::Bytes`], in 0..255).
+    pub values: Vec<f64>,
+}
+
+/// What an OFF file holds besides positions and faces, for
+/// [`write_off_with`]: per vertex, in the order of its line, a normal, a
+/// colour and texture coordinates (announced by the keyword's `N`, `C` and
+/// `ST`); per face, a colour after its indices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OffExtras {
+    /// 3 numbers per vertex.
+    pub normals: Option<Vec<f64>>,
+    /// A colour per vertex.
+    pub colors: Option<OffColors>,
+    /// 2 numbers per vertex.
+    pub texcoords: Option<Vec<f64>>,
+    /// A colour per face.
+    pub face_colors: Option<OffColors>,
+}
+
+/// Writes an OFF file with vertex normals, colours and texture coordinates
+/// and face colours (Geomview's `[ST][C][N]OFF`: the vertex line is `x y z
+/// [nx ny nz] [r g b [a]] [s t]`, the face line `3 i j k [r g b [a]]`);
+/// numbers in shortest round-trip form, so that [`read_off`] gives them
+/// back bit for bit (colours written as bytes: the bytes). Refuses what
+/// [`write_off`] refuses, and extras whose count does not match the vertex
+/// or face count, colours of other than 3 or 4 numbers and non-finite
+/// values (`InvalidInput`). Without extras, the same file as [`write_off`].
+pub fn write_off_with(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    extras: &OffExtras,
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    let (n, nf) = (positions.len(), triangles.len());
+    fn colors(c: &Option<OffColors>) -> Option<(&[f64], usize)> {
+        c.as_ref().map(|c| (&c.values[..], c.dim))
+    }
+    let columns = [
+        ("normals", extras.normals.as_deref().map(|v| (v, 3)), n),
+        ("colours", colors(&extras.colors), n),
+        ("texture coordinates", extras.texcoords.as_deref().map(|v| (v, 2)), n),
+        ("face colours", colors(&extras.face_colors), nf),
+    ];
+    for (what, column, count) in columns {
+        let Some((values, dim)) = column else { continue };
+        if what.ends_with("colours") && !(3..=4).contains(&dim) {
+            return Err(invalid(format!("{what} of {dim} numbers (3 or 4)")));
+        }
+        if values.len() != dim * count {
+            return Err(invalid(format!(
+                "{} numbers of {what} for {count} × {dim}",
+                values.len()
+            )));
+        }
+        if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+            return Err(invalid(format!("{what}: number {i} is not finite")));
+        }
+    }
+    let mut w = BufWriter::new(w);
+    let mut num = zmij::Buffer::new();
+    let keyword = [
+        (extras.texcoords.is_some(), "ST"),
+        (extras.colors.is_some(), "C"),
+        (extras.normals.is_some(), "N"),
+    ];
+    for (has, prefix) in keyword {
+        if has {
+            w.write_all(prefix.as_bytes())?;
+        }
+    }
+    writeln!(w, "OFF\n{n} {nf} 0")?;
+    for (i, p) in positions.iter().enumerate() {
+        write_xyz(&mut w, &mut num, p)?;
+        if let Some(normals) = &extras.normals {
+            write_numbers(&mut w, &mut num, &normals[3 * i..3 * i + 3])?;
+        }
+        if let Some(c) = &extras.colors {
+            write_color(&mut w, &mut num, c, i)?;
+        }
+        if let Some(st) = &extras.texcoords {
+            write_numbers(&mut w, &mut num, &st[2 * i..2 * i + 2])?;
+        }
+        w.write_all(b"\n")?;
+    }
+    for (f, t) in triangles.iter().enumerate() {
+        write!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+        if let Some(c) = &extras.face_colors {
+            write_color(&mut w, &mut num, c, f)?;
+        }
+        w.write_all(b"\n")?;
+    }
+    w.flush()
+}
+
+/// Writes " a b ..." in shortest round-trip form (the numbers are finite).
+fn write_numbers(w: &mut dyn Write, num: &mut zmij::Buffer, values: &[f64]) -> io::Result<()> {
+    for &x in values {
+        w.write_all(b" ")?;
+        w.write_all(num.format_finite(x).as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Writes " r g b [a]", colour `i` of `c`.
+fn write_color(w: &mut dyn Write, num: &mut zmij::Buffer, c: &OffColors, i: usize) -> io::Result<()> {
+    for &x in &c.values[c.dim * i..c.dim * (i + 1)] {
+        match c.text {
+            // (`as` saturates; the values are finite.)
+            ColorText::Bytes => write!(w, " {}", x.round().clamp(0.0, 255.0) as u8)?,
+            ColorText::Floats => {
+                let text = num.format_finite(x);
+                w.write_all(b" ")?;
+                match text.find(['.', 'e', 'E']) {
+                    Some(at) if text.as_bytes()[at] == b'.' => w.write_all(text.as_bytes())?,
+                    Some(at) => write!(w, "{}.0{}", &text[..at], &text[at..])?,
+                    None => write!(w, "{text}.0")?,
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Writes "x y z" in shortest round-trip form (the coordinates are finite).

@@ -639,8 +639,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         notes: {
             // The reader's notes (data it ignored) first, as without repair.
             let mut notes = raw.notes.clone();
-            // What the file has, named as an OFF output's note names it.
-            if let Some((lost, them)) = attributes_format_cannot_hold(&raw.attributes, Format::Off) {
+            // What the file has, named as an STL output's note names it.
+            if let Some((lost, them)) = attributes_format_cannot_hold(&raw.attributes, Format::Stl) {
                 notes.push(format!("{lost} dropped: --repair does not carry {them}"));
             }
             if unseen_polygons > 0 {
@@ -1158,18 +1158,20 @@ pub fn output_format(path: &Path) -> Format {
 /// single property, else `them`); `None` if it holds all.
 /// OBJ holds every attribute but a PLY file's other vertex and face
 /// properties; PLY all but groups and materials, and channels that only
-/// some faces have; OFF and STL positions only.
+/// some faces have; OFF texture coordinates, normals, colours and face
+/// colours ([`off_face_colors`]), not channels that only some faces have;
+/// STL positions only.
 fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Option<(String, &'static str)> {
     let groups = !attributes.face_group.is_empty() || !attributes.mtllib.is_empty();
     let mut lost: Vec<String> = Vec::new();
     let mut properties: Vec<&str> = Vec::new();
     for (kind, channel) in attributes.channels() {
-        // PLY stores values per vertex: it has no "none" for the vertices
-        // of faces without.
-        let partial = format == Format::Ply && channel.is_partial();
+        // PLY and OFF store values per vertex: they have no "none" for the
+        // vertices of faces without.
+        let partial = matches!(format, Format::Ply | Format::Off) && channel.is_partial();
         let lose = match kind {
             Kind::Property(_) => format != Format::Ply,
-            _ => matches!(format, Format::Off | Format::Stl) || partial,
+            _ => format == Format::Stl || partial,
         };
         if !lose {
             continue;
@@ -1181,43 +1183,69 @@ fn attributes_format_cannot_hold(attributes: &Attributes, format: Format) -> Opt
         }
     }
     lost.extend(properties_named("vertex", &properties));
-    if format != Format::Ply {
-        let names: Vec<&str> = attributes.face_properties.iter().map(|p| p.name.as_str()).collect();
-        lost.extend(properties_named("face", &names));
-    }
+    let held = match format {
+        Format::Ply => (0..attributes.face_properties.len()).collect(),
+        Format::Off => off_face_colors(attributes).map_or_else(Vec::new, |(held, _)| held),
+        Format::Obj | Format::Stl => Vec::new(),
+    };
+    let face_properties: Vec<&str> = (attributes.face_properties.iter().enumerate())
+        .filter(|(i, _)| !held.contains(i))
+        .map(|(_, p)| p.name.as_str())
+        .collect();
+    lost.extend(properties_named("face", &face_properties));
     if groups && format != Format::Obj {
         lost.extend(["groups".to_owned(), "materials".to_owned()]);
     }
     let (last, rest) = lost.split_last()?;
     Some(if rest.is_empty() {
-        let face_properties = if format == Format::Ply {
-            0
-        } else {
-            attributes.face_properties.len()
-        };
-        let single_property = properties.len() + face_properties == 1;
+        let single_property = properties.len() + face_properties.len() == 1;
         (last.to_string(), if single_property { "it" } else { "them" })
     } else {
         (format!("{} and {last}", rest.join(", ")), "them")
     })
 }
 
+/// The face properties an OFF file holds, as its face colours: `red`,
+/// `green` and `blue` (as the OFF reader names them, and as PLY files
+/// do), all `uchar` (written as whole numbers 0..255) or all `float` or
+/// `double` (written as they are), and `alpha` if it is of the same kind.
+/// Their places in [`Attributes::face_properties`], in that order, and how
+/// they are written; `None` if there are none such.
+fn off_face_colors(attributes: &Attributes) -> Option<(Vec<usize>, formats::ColorText)> {
+    let properties = &attributes.face_properties;
+    let find = |name: &str| properties.iter().position(|p| p.name == name);
+    let text = |i: usize| match properties[i].ty {
+        ValueType::U8 => Some(formats::ColorText::Bytes),
+        ValueType::F32 | ValueType::F64 => Some(formats::ColorText::Floats),
+        _ => None,
+    };
+    let mut held = vec![find("red")?, find("green")?, find("blue")?];
+    let kind = text(held[0])?;
+    if held.iter().any(|&i| text(i) != Some(kind)) {
+        return None;
+    }
+    held.extend(find("alpha").filter(|&i| text(i) == Some(kind)));
+    Some((held, kind))
+}
+
 /// Leaves out of `input` the attributes that a file of `format` cannot hold
-/// (OFF and STL: all of them; PLY: groups and materials, and texture
-/// coordinates, normals or colours that only some faces have; OBJ: a PLY
-/// file's other vertex and face properties), before its surface
+/// (STL: all of them; PLY: groups and materials, and texture coordinates,
+/// normals or colours that only some faces have; OFF: those, a PLY file's
+/// other vertex properties and its face properties but the face colours;
+/// OBJ: a PLY file's other vertex and face properties), before its surface
 /// is built: an attribute that will not be written must not keep flat
-/// regions apart or cost splits (a smooth-shaded oval cylinder written as
-/// OFF got 21,256 added vertices for normals it could not keep, and none
-/// without them). Returns the note that says so, if anything was left out;
-/// `refining`: whether the note adds that the mesh is refined without them
-/// (not under `--no-refine`).
+/// regions apart or cost splits (when OFF could not hold normals, a
+/// smooth-shaded oval cylinder written as OFF got 21,256 added vertices for
+/// normals it did not keep, and none without them). Returns the note that
+/// says so, if anything was left out; `refining`: whether the note adds
+/// that the mesh is refined without them (not under `--no-refine`).
 pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format, refining: bool) -> Option<String> {
     let (lost, them) = attributes_format_cannot_hold(&input.attributes, format)?;
+    let held_face_colors = off_face_colors(&input.attributes).map_or_else(Vec::new, |(held, _)| held);
     let a = &mut input.attributes;
     match format {
-        Format::Off | Format::Stl => *a = Attributes::default(),
-        Format::Ply => {
+        Format::Stl => *a = Attributes::default(),
+        Format::Ply | Format::Off => {
             for channel in [&mut a.texcoords, &mut a.normals, &mut a.colors] {
                 if channel.as_ref().is_some_and(Channel::is_partial) {
                     *channel = None;
@@ -1229,6 +1257,12 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format,
             a.face_group = Vec::new();
             a.groups = Vec::new();
             a.mtllib = Vec::new();
+            if format == Format::Off {
+                a.properties = Vec::new();
+                a.face_properties = (std::mem::take(&mut a.face_properties).into_iter().enumerate())
+                    .filter_map(|(i, p)| held_face_colors.contains(&i).then_some(p))
+                    .collect();
+            }
         }
         Format::Obj => {
             a.properties = Vec::new();
@@ -1286,8 +1320,14 @@ pub fn stage_mesh_after(
 /// colours (`red green blue [alpha]`, 8-bit, or a PLY input's float or
 /// 16-bit type) and a PLY input's other vertex and face properties (in
 /// their types), a vertex with several values
-/// written once per value at the same position, the copies last; OFF and
-/// STL keep positions only.
+/// written once per value at the same position, the copies last; OFF
+/// keeps texture coordinates (`ST`), normals (`N`) and colours (`C`:
+/// whole numbers 0..255 if 8-bit, as an OFF input's whole numbers and a PLY
+/// input's integer types but `ushort` are, else numbers as they are, always
+/// with a decimal point) per vertex, split at seams as in PLY, and face
+/// colours (the face properties `red green blue [alpha]` of an OFF or PLY
+/// input, `uchar` as whole numbers, `float` or `double` as they are) after
+/// each face's indices; STL keeps positions only.
 pub fn write_mesh_with_attributes(
     path: &Path,
     positions: &[DVec3],
@@ -1326,12 +1366,7 @@ pub fn stage_mesh_with_attributes(
             stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?
         }
         Format::Ply => {
-            let channels: Vec<_> = attributes.channels().filter(|(_, c)| !c.is_partial()).collect();
-            let split = PerVertex::new(
-                positions.len(),
-                triangles,
-                &channels.iter().map(|(_, c)| *c).collect::<Vec<_>>(),
-            );
+            let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);
             let mut columns = Vec::new();
             for ((kind, channel), index) in channels.iter().zip(&split.values) {
                 let property = match kind {
@@ -1353,7 +1388,7 @@ pub fn stage_mesh_with_attributes(
                         Some(ty @ (ValueType::F32 | ValueType::F64)) => (1.0, ty),
                         Some(ValueType::U16) => (65535.0, ValueType::U16),
                         _ if colors_in_bytes(channel) => {
-                            notes.push("colours above 1 taken as 0-255 (the file's scale), written as they are".into());
+                            notes.push(COLORS_IN_BYTES.into());
                             (1.0, ValueType::U8)
                         }
                         _ => (255.0, ValueType::U8),
@@ -1371,10 +1406,7 @@ pub fn stage_mesh_with_attributes(
                     columns.push(PlyColumn {
                         name: name.to_owned(),
                         ty,
-                        values: index
-                            .iter()
-                            .map(|&i| scale * channel.value(i).get(k).copied().unwrap_or(0.0))
-                            .collect(),
+                        values: index.iter().map(|&i| scale * component(channel, i, k)).collect(),
                     });
                 }
             }
@@ -1398,9 +1430,127 @@ pub fn stage_mesh_with_attributes(
                 formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &face_columns, &comments)
             })?
         }
-        Format::Off | Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
+        Format::Off => {
+            let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |kind| {
+                !matches!(kind, Kind::Property(_))
+            });
+            let face_colors = off_face_colors(attributes);
+            if channels.is_empty() && face_colors.is_none() {
+                stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?
+            } else {
+                if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
+                    notes.push(format!(
+                        "texture file {} (PLY comment TextureFile) not written: OFF cannot name a texture; write PLY \
+                         to keep it",
+                        attributes.texture_files.join(", ")
+                    ));
+                }
+                let mut extras = formats::OffExtras::default();
+                for ((kind, channel), index) in channels.iter().zip(&split.values) {
+                    // (Texture coordinates of one number get t = 0, of three
+                    // lose the third, as in PLY.)
+                    let dim = match kind {
+                        Kind::TexCoord => 2,
+                        _ => channel.dim,
+                    };
+                    let values = |scale: f64| -> Vec<f64> {
+                        (index.iter())
+                            .flat_map(|&i| (0..dim).map(move |k| scale * component(channel, i, k)))
+                            .collect()
+                    };
+                    match kind {
+                        Kind::TexCoord => extras.texcoords = Some(values(1.0)),
+                        Kind::Normal => extras.normals = Some(values(1.0)),
+                        Kind::Color => {
+                            let (mut text, scale) = off_color_text(attributes.color_type, channel, &mut notes);
+                            let mut written = values(scale);
+                            // Bytes that are all 0 or 1 would read back as
+                            // 0..1 (the OFF reader, as Geomview's, takes whole
+                            // numbers for bytes only if one is above 1).
+                            let largest = written.iter().fold(0.0f64, |m, &x| m.max(x.round()));
+                            if text == formats::ColorText::Bytes && largest == 1.0 {
+                                (text, written) = (formats::ColorText::Floats, values(1.0));
+                            }
+                            extras.colors = Some(formats::OffColors {
+                                dim,
+                                text,
+                                values: written,
+                            });
+                        }
+                        Kind::Property(_) => {}
+                    }
+                }
+                extras.face_colors = face_colors.map(|(held, text)| formats::OffColors {
+                    dim: held.len(),
+                    text,
+                    values: (0..triangles.len())
+                        .flat_map(|f| {
+                            (held.iter())
+                                .map(move |&i| attributes.face_properties[i].values.get(f).copied().unwrap_or(0.0))
+                        })
+                        .collect(),
+                });
+                let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
+                copies_of = split.source[positions.len()..].to_vec();
+                stage(path, |w| {
+                    formats::write_off_with(w, &written, &split.triangles, &extras)
+                })?
+            }
+        }
+        Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
     };
     Ok((Written { notes, copies_of }, staged))
+}
+
+/// The channels of `attributes` of the kinds `hold` takes that a format
+/// storing values per vertex (PLY, OFF) can hold (not those that only some
+/// faces have), and the vertices split so that each has one value of each
+/// ([`PerVertex`]).
+fn split_per_vertex<'a>(
+    attributes: &'a Attributes,
+    vertices: usize,
+    triangles: &[[u32; 3]],
+    hold: impl Fn(Kind) -> bool,
+) -> (Vec<(Kind, &'a Channel)>, PerVertex) {
+    let channels: Vec<_> = (attributes.channels())
+        .filter(|&(kind, c)| hold(kind) && !c.is_partial())
+        .collect();
+    let split = PerVertex::new(
+        vertices,
+        triangles,
+        &channels.iter().map(|(_, c)| *c).collect::<Vec<_>>(),
+    );
+    (channels, split)
+}
+
+/// Number `k` of value `i` of `channel` (0 where it has none).
+fn component(channel: &Channel, i: u32, k: usize) -> f64 {
+    channel.value(i).get(k).copied().unwrap_or(0.0)
+}
+
+/// The note on colours written as [`colors_in_bytes`] says.
+const COLORS_IN_BYTES: &str = "colours above 1 taken as 0-255 (the file's scale), written as they are";
+
+/// How an OFF output writes `colors` of `color_type`
+/// ([`Attributes::color_type`]), and the factor they are written with:
+/// 8-bit ones (an integer type but `ushort`, as an OFF input's whole
+/// numbers are typed) as bytes, as most COFF files hold them; colours in
+/// 0..255 ([`colors_in_bytes`]) as they are, rounded, with a note; others
+/// (an OBJ's, an OFF's floats, a PLY's `float`, `double` or `ushort` ones)
+/// as numbers in shortest round-trip form.
+fn off_color_text(
+    color_type: Option<ValueType>,
+    colors: &Channel,
+    notes: &mut Vec<String>,
+) -> (formats::ColorText, f64) {
+    match color_type {
+        Some(ty) if ty.is_integer() && ty != ValueType::U16 => (formats::ColorText::Bytes, 255.0),
+        _ if colors_in_bytes(colors) => {
+            notes.push(COLORS_IN_BYTES.into());
+            (formats::ColorText::Bytes, 1.0)
+        }
+        _ => (formats::ColorText::Floats, 1.0),
+    }
 }
 
 /// What [`write_mesh_with_attributes`] wrote besides the mesh's own vertices.
@@ -1409,8 +1559,8 @@ pub struct Written {
     /// A note for each attribute the format could not hold.
     pub notes: Vec<String>,
     /// The file's vertices after the mesh's own (which come first, in
-    /// order): copies at attribute seams, as PLY writes a vertex once per
-    /// value; each entry is the mesh vertex the copy repeats. Empty for
+    /// order): copies at attribute seams, as PLY and OFF write a vertex once
+    /// per value; each entry is the mesh vertex the copy repeats. Empty for
     /// other formats and where no vertex has several values.
     pub copies_of: Vec<u32>,
 }
