@@ -986,14 +986,24 @@ impl Transfer {
 
 /// How messages name some properties of `element` (`vertex`, `face`):
 /// `vertex property quality`, `face properties (red, green, blue)`; `None`
-/// for none.
+/// for none. Past [`NAMED_PROPERTIES`] names, the rest are counted (`vertex
+/// properties (p0, ..., p7 and 92 more)`): a message stays one readable
+/// line however many a file declares.
 pub fn properties_named(element: &str, names: &[&str]) -> Option<String> {
     match names {
         [] => None,
         [one] => Some(format!("{element} property {one}")),
+        _ if names.len() > NAMED_PROPERTIES => Some(format!(
+            "{element} properties ({} and {} more)",
+            names[..NAMED_PROPERTIES].join(", "),
+            names.len() - NAMED_PROPERTIES
+        )),
         _ => Some(format!("{element} properties ({})", names.join(", "))),
     }
 }
+
+/// How many property names [`properties_named`] lists at most.
+pub const NAMED_PROPERTIES: usize = 8;
 
 /// The value at parameter `t` ∈ [0, 1] between `a` and `b`:
 /// `a + t·(b − a)`, as positions are computed, unless `b − a` overflows
@@ -1084,6 +1094,23 @@ impl PerVertex {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Up to eight names are listed, the rest counted.
+    #[test]
+    fn many_properties_are_counted_past_eight() {
+        let names: Vec<String> = (0..100).map(|i| format!("p{i}")).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        assert_eq!(properties_named("vertex", &names[..0]), None);
+        assert_eq!(properties_named("face", &names[..1]).unwrap(), "face property p0");
+        assert_eq!(
+            properties_named("vertex", &names[..8]).unwrap(),
+            "vertex properties (p0, p1, p2, p3, p4, p5, p6, p7)"
+        );
+        assert_eq!(
+            properties_named("vertex", &names).unwrap(),
+            "vertex properties (p0, p1, p2, p3, p4, p5, p6, p7 and 92 more)"
+        );
+    }
 
     /// Values near ±f64::MAX interpolate to finite values between them
     /// (`a + t·(b − a)` gave ±inf); others exactly as before.
