@@ -1858,4 +1858,33 @@ fn off_colours_normals_and_face_colours_are_read() {
         let m = read_off(text.as_bytes()).unwrap();
         assert_eq!(m.attribute_notes, [format!("face colours dropped: line 6: {why}")]);
     }
+    // Faces whose colours differ in length: the later one is named as such.
+    let text = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 1 0 0 1\n3 0 2 3 1 0 0\n";
+    let m = read_off(text.as_bytes()).unwrap();
+    assert_eq!(
+        m.attribute_notes,
+        ["face colours dropped: line 8: face 1 has a colour of 3 numbers, the faces before it of 4"]
+    );
+    // A COFF vertex line whose colour is not 3 or 4 numbers, from the first
+    // vertex on, drops the colours with a note (they were dropped silently),
+    // and so does one that differs from the vertices before it.
+    for (lines, why) in [
+        (
+            ["0 0 0 1 0", "1 0 0 1 0", "0 1 0 1 0"],
+            "line 3: vertex 0 has 2 colour components (3 or 4 expected)",
+        ),
+        (
+            ["0 0 0", "1 0 0", "0 1 0"],
+            "line 3: vertex 0 has 0 colour components (3 or 4 expected)",
+        ),
+        (
+            ["0 0 0 1 0 0", "1 0 0 1 0 0 1", "0 1 0 1 0 0"],
+            "line 4: vertex 1 has 4 colour components, the vertices before it 3",
+        ),
+    ] {
+        let text = format!("COFF\n3 1 0\n{}\n3 0 1 2\n", lines.join("\n"));
+        let m = read_off(text.as_bytes()).unwrap();
+        assert!(m.attributes.colors.is_none());
+        assert_eq!(m.attribute_notes, [format!("colours dropped: {why}")]);
+    }
 }

@@ -958,9 +958,10 @@ impl OffAttributes {
             if n > 0 && n == self.color_dim {
                 self.take(1, &numbers, at..at + n, i, line, "colour");
             } else {
-                let dim = self.color_dim.max(3);
-                self.defect(1, line, || {
-                    format!("vertex {i} has {n} colour components ({dim} expected)")
+                let dim = self.color_dim;
+                self.defect(1, line, || match dim {
+                    0 => format!("vertex {i} has {n} colour components (3 or 4 expected)"),
+                    _ => format!("vertex {i} has {n} colour components, the vertices before it {dim}"),
                 });
             }
             at += n;
@@ -1019,6 +1020,12 @@ impl OffAttributes {
                 self.face_color_dim = n;
                 self.face_colors.extend_from_slice(&c.values[..n]);
             }
+            (n @ 3..=4, None) => {
+                let dim = self.face_color_dim;
+                self.defect(3, line, || {
+                    format!("face {f} has a colour of {n} numbers, the faces before it of {dim}")
+                })
+            }
             (1, None) => self.defect(3, line, || {
                 format!("face {f} gives a colour map index, which delmesh does not read")
             }),
@@ -1040,8 +1047,7 @@ impl OffAttributes {
             (Kind::TexCoord, self.texcoords, 2, t),
         ];
         for (kind, values, dim, defect) in vertex_channels {
-            // (No colour dimension: no vertex line gave one, or no vertex.)
-            let Some(values) = values.filter(|_| dim > 0) else {
+            let Some(mut values) = values else {
                 continue;
             };
             let why = match defect {
@@ -1049,15 +1055,19 @@ impl OffAttributes {
                 None if values.iter().any(|x| !x.is_finite()) => Some("a vertex has a non-finite one".to_owned()),
                 None => None,
             };
-            // Colours of whole numbers beyond 1 are in 0..255 (as most
-            // COFF files write them): scaled to 0..1, as the OFF format says.
-            let mut values = values;
-            if kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0) {
-                values.iter_mut().for_each(|x| *x /= 255.0);
-            }
             match why {
+                // (A vertex line without a colour of 3 or 4 numbers leaves
+                // no colour dimension, but has its defect noted: said too.)
                 Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
+                // No colour dimension and no defect: no vertex.
+                None if dim == 0 => {}
                 None => {
+                    // Colours of whole numbers beyond 1 are in 0..255 (as most
+                    // COFF files write them): scaled to 0..1, as the OFF format says.
+                    if kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0)
+                    {
+                        values.iter_mut().for_each(|x| *x /= 255.0);
+                    }
                     *m.attributes.channel_mut(kind) = Some(Channel {
                         dim,
                         values,
