@@ -899,6 +899,30 @@ fn format_from_name_cases() {
     }
 }
 
+/// A first line `ply` padded with spaces or a tab is read, as the header's
+/// other lines are; it was
+/// refused as "not a PLY file", and a file without a name (standard input,
+/// `.dat`) was not taken for PLY at all.
+#[test]
+fn ply_first_line_may_end_in_spaces() {
+    let body = "format ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    for first in ["ply ", "ply\t", "ply  \r"] {
+        let text = format!("{first}\n{body}");
+        assert_eq!(sniff_format(text.as_bytes()), Some(Format::Ply), "{first:?}");
+        let m = read_ply(text.as_bytes()).unwrap();
+        assert_eq!((m.positions.len(), m.face_start.len() - 1), (3, 1), "{first:?}");
+    }
+    // Other words on it are still not PLY.
+    for first in ["ply x", "plyx", " ply"] {
+        let text = format!("{first}\n{body}");
+        assert!(
+            err_of(read_ply(text.as_bytes())).to_string().contains("not a PLY file"),
+            "{first:?}"
+        );
+    }
+}
+
 #[test]
 fn sniff_format_cases() {
     let cases: &[(&[u8], Option<Format>)] = &[

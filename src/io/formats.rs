@@ -334,12 +334,12 @@ pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
         && (starts(b"INF") || starts(b"IND") || starts(b"QNAN") || starts(b"SNAN"))
 }
 
-/// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, the word
+/// Sniff the format from content: the "ply" first line, "OFF"/"COFF"/"NOFF"... header, the word
 /// "solid" first for STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
 /// (including gzip data: decompress first with [`maybe_gunzip`]).
 pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
     let text = strip_bom(bytes);
-    if text.starts_with(b"ply\n") || text.starts_with(b"ply\r\n") {
+    if starts_with_ply_magic(text) {
         return Some(Format::Ply);
     }
     let window = &text[..text.len().min(SNIFF_WINDOW)];
@@ -444,10 +444,7 @@ pub(crate) fn judge_start(named: Option<Format>, prefix: &[u8]) -> Start {
         _ if prefix.starts_with(&[0x1f, 0x8b]) => false,
         Some(Format::Obj) => obj(),
         Some(Format::Stl) => !solid() && binary_stl_refused(prefix, false),
-        Some(Format::Ply) => {
-            let text = strip_bom(prefix);
-            !text.starts_with(b"ply\n") && !text.starts_with(b"ply\r\n")
-        }
+        Some(Format::Ply) => !starts_with_ply_magic(strip_bom(prefix)),
         Some(Format::Off) => off_refused(prefix),
         // Read as OBJ unless its size is exactly a binary STL's.
         None => match sniff_format(prefix) {
@@ -502,6 +499,20 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
 /// `bytes` without a leading UTF-8 byte order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
+/// Whether `line` (without its line feed) is a PLY file's first line:
+/// `ply`, less trailing spaces, tabs and a carriage return, as the header's
+/// other lines are read (their words may be padded freely).
+fn is_ply_magic(line: &[u8]) -> bool {
+    line.trim_ascii_end() == b"ply"
+}
+
+/// Whether `text` starts with a PLY file's first line ([`is_ply_magic`]).
+fn starts_with_ply_magic(text: &[u8]) -> bool {
+    text.iter()
+        .position(|&c| c == b'\n')
+        .is_some_and(|end| is_ply_magic(&text[..end]))
 }
 
 /// Why text is refused whose lines end in a carriage return alone
@@ -1684,7 +1695,7 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
             return Err(FormatError::at(line, LONE_CR));
         }
         if line == 1 {
-            if raw.strip_suffix(b"\r").unwrap_or(raw) != b"ply" {
+            if !is_ply_magic(raw) {
                 return Err(FormatError::at(1, "not a PLY file: the first line is not `ply`"));
             }
             continue;
