@@ -900,6 +900,30 @@ fn format_from_name_cases() {
     }
 }
 
+/// A first line `ply` padded with spaces or a tab is read, as the header's
+/// other lines are; it was
+/// refused as "not a PLY file", and a file without a name (standard input,
+/// `.dat`) was not taken for PLY at all.
+#[test]
+fn ply_first_line_may_end_in_spaces() {
+    let body = "format ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    for first in ["ply ", "ply\t", "ply  \r"] {
+        let text = format!("{first}\n{body}");
+        assert_eq!(sniff_format(text.as_bytes()), Some(Format::Ply), "{first:?}");
+        let m = read_ply(text.as_bytes()).unwrap();
+        assert_eq!((m.positions.len(), m.face_start.len() - 1), (3, 1), "{first:?}");
+    }
+    // Other words on it are still not PLY.
+    for first in ["ply x", "plyx", " ply"] {
+        let text = format!("{first}\n{body}");
+        assert!(
+            err_of(read_ply(text.as_bytes())).to_string().contains("not a PLY file"),
+            "{first:?}"
+        );
+    }
+}
+
 #[test]
 fn sniff_format_cases() {
     let cases: &[(&[u8], Option<Format>)] = &[
@@ -1858,6 +1882,35 @@ fn off_colours_normals_and_face_colours_are_read() {
         let text = format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 {tail}\n");
         let m = read_off(text.as_bytes()).unwrap();
         assert_eq!(m.attribute_notes, [format!("face colours dropped: line 6: {why}")]);
+    }
+    // Faces whose colours differ in length: the later one is named as such.
+    let text = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 1 0 0 1\n3 0 2 3 1 0 0\n";
+    let m = read_off(text.as_bytes()).unwrap();
+    assert_eq!(
+        m.attribute_notes,
+        ["face colours dropped: line 8: face 1 has a colour of 3 numbers, the faces before it of 4"]
+    );
+    // A COFF vertex line whose colour is not 3 or 4 numbers, from the first
+    // vertex on, drops the colours with a note (they were dropped silently),
+    // and so does one that differs from the vertices before it.
+    for (lines, why) in [
+        (
+            ["0 0 0 1 0", "1 0 0 1 0", "0 1 0 1 0"],
+            "line 3: vertex 0 has 2 colour components (3 or 4 expected)",
+        ),
+        (
+            ["0 0 0", "1 0 0", "0 1 0"],
+            "line 3: vertex 0 has 0 colour components (3 or 4 expected)",
+        ),
+        (
+            ["0 0 0 1 0 0", "1 0 0 1 0 0 1", "0 1 0 1 0 0"],
+            "line 4: vertex 1 has 4 colour components, the vertices before it 3",
+        ),
+    ] {
+        let text = format!("COFF\n3 1 0\n{}\n3 0 1 2\n", lines.join("\n"));
+        let m = read_off(text.as_bytes()).unwrap();
+        assert!(m.attributes.colors.is_none());
+        assert_eq!(m.attribute_notes, [format!("colours dropped: {why}")]);
     }
 }
 

@@ -695,3 +695,20 @@ fn the_library_writes_what_an_off_can_hold_and_names_the_rest() {
     let e = write(&two).unwrap_err().to_string();
     assert!(e.contains("colours of 2 numbers (3 or 4)"), "{e}");
 }
+
+/// Whole-number colours beyond 255 are not bytes: they are kept as they
+/// are (not divided by 255), and written back as they were read.
+#[test]
+fn colours_beyond_255_are_not_taken_for_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(
+        dir.path(),
+        "c.off",
+        "COFF\n3 1 0\n0 0 0 300 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n",
+    );
+    let colours = |m: &InputMesh| channel(m, Kind::Color).unwrap().values.clone();
+    assert_eq!(colours(&read(&input))[..3], [300.0, 0.0, 0.0]);
+    let output = dir.path().join("o.off");
+    run(&input, Some(&output), &[]);
+    assert_eq!(colours(&read(&output)), colours(&read(&input)));
+}

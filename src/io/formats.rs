@@ -334,12 +334,12 @@ pub(crate) fn is_windows_special(b: &[u8], i: usize) -> bool {
         && (starts(b"INF") || starts(b"IND") || starts(b"QNAN") || starts(b"SNAN"))
 }
 
-/// Sniff the format from content: "ply\n" / "ply\r\n" magic, "OFF"/"COFF"/"NOFF"... header, the word
+/// Sniff the format from content: the "ply" first line, "OFF"/"COFF"/"NOFF"... header, the word
 /// "solid" first for STL, binary STL by size == 84 + 50*n, OBJ by 'v '/'f ' lines; None if unknown
 /// (including gzip data: decompress first with [`maybe_gunzip`]).
 pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
     let text = strip_bom(bytes);
-    if text.starts_with(b"ply\n") || text.starts_with(b"ply\r\n") {
+    if starts_with_ply_magic(text) {
         return Some(Format::Ply);
     }
     let window = &text[..text.len().min(SNIFF_WINDOW)];
@@ -444,10 +444,7 @@ pub(crate) fn judge_start(named: Option<Format>, prefix: &[u8]) -> Start {
         _ if prefix.starts_with(&[0x1f, 0x8b]) => false,
         Some(Format::Obj) => obj(),
         Some(Format::Stl) => !solid() && binary_stl_refused(prefix, false),
-        Some(Format::Ply) => {
-            let text = strip_bom(prefix);
-            !text.starts_with(b"ply\n") && !text.starts_with(b"ply\r\n")
-        }
+        Some(Format::Ply) => !starts_with_ply_magic(strip_bom(prefix)),
         Some(Format::Off) => off_refused(prefix),
         // Read as OBJ unless its size is exactly a binary STL's.
         None => match sniff_format(prefix) {
@@ -502,6 +499,20 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
 /// `bytes` without a leading UTF-8 byte order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
+/// Whether `line` (without its line feed) is a PLY file's first line:
+/// `ply`, less trailing spaces, tabs and a carriage return, as the header's
+/// other lines are read (their words may be padded freely).
+fn is_ply_magic(line: &[u8]) -> bool {
+    line.trim_ascii_end() == b"ply"
+}
+
+/// Whether `text` starts with a PLY file's first line ([`is_ply_magic`]).
+fn starts_with_ply_magic(text: &[u8]) -> bool {
+    text.iter()
+        .position(|&c| c == b'\n')
+        .is_some_and(|end| is_ply_magic(&text[..end]))
 }
 
 /// Why text is refused whose lines end in a carriage return alone
@@ -958,9 +969,10 @@ impl OffAttributes {
             if n > 0 && n == self.color_dim {
                 self.take(1, &numbers, at..at + n, i, line, "colour");
             } else {
-                let dim = self.color_dim.max(3);
-                self.defect(1, line, || {
-                    format!("vertex {i} has {n} colour components ({dim} expected)")
+                let dim = self.color_dim;
+                self.defect(1, line, || match dim {
+                    0 => format!("vertex {i} has {n} colour components (3 or 4 expected)"),
+                    _ => format!("vertex {i} has {n} colour components, the vertices before it {dim}"),
                 });
             }
             at += n;
@@ -1019,6 +1031,12 @@ impl OffAttributes {
                 self.face_color_dim = n;
                 self.face_colors.extend_from_slice(&c.values[..n]);
             }
+            (n @ 3..=4, None) => {
+                let dim = self.face_color_dim;
+                self.defect(3, line, || {
+                    format!("face {f} has a colour of {n} numbers, the faces before it of {dim}")
+                })
+            }
             (1, None) => self.defect(3, line, || {
                 format!("face {f} gives a colour map index, which delmesh does not read")
             }),
@@ -1040,8 +1058,7 @@ impl OffAttributes {
             (Kind::TexCoord, self.texcoords, 2, t),
         ];
         for (kind, values, dim, defect) in vertex_channels {
-            // (No colour dimension: no vertex line gave one, or no vertex.)
-            let Some(values) = values.filter(|_| dim > 0) else {
+            let Some(mut values) = values else {
                 continue;
             };
             let why = match defect {
@@ -1049,19 +1066,21 @@ impl OffAttributes {
                 None if values.iter().any(|x| !x.is_finite()) => Some("a vertex has a non-finite one".to_owned()),
                 None => None,
             };
-            // Colours of whole numbers beyond 1 are in 0..255 (as most
-            // COFF files write them): scaled to 0..1, as the OFF format says,
-            // and typed `uchar`, so that an output writes them as bytes again.
-            let mut values = values;
-            let bytes =
-                kind == Kind::Color && values.iter().all(|x| x.fract() == 0.0) && values.iter().any(|&x| x > 1.0);
-            if bytes {
-                values.iter_mut().for_each(|x| *x /= 255.0);
-            }
             match why {
+                // (A vertex line without a colour of 3 or 4 numbers leaves
+                // no colour dimension, but has its defect noted: said too.)
                 Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
+                // No colour dimension and no defect: no vertex.
+                None if dim == 0 => {}
                 None => {
-                    if bytes {
+                    // Colours of whole numbers 0..255, one beyond 1, are
+                    // bytes (as most COFF files write them): scaled to 0..1,
+                    // as the OFF format says, and typed `uchar`, so that an
+                    // output writes them as bytes again. Others are kept as
+                    // they are.
+                    let byte = |x: f64| x.fract() == 0.0 && (0.0..=255.0).contains(&x);
+                    if kind == Kind::Color && values.iter().all(|&x| byte(x)) && values.iter().any(|&x| x > 1.0) {
+                        values.iter_mut().for_each(|x| *x /= 255.0);
                         m.attributes.color_type = Some(ValueType::U8);
                     }
                     *m.attributes.channel_mut(kind) = Some(Channel {
@@ -1680,7 +1699,7 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
             return Err(FormatError::at(line, LONE_CR));
         }
         if line == 1 {
-            if raw.strip_suffix(b"\r").unwrap_or(raw) != b"ply" {
+            if !is_ply_magic(raw) {
                 return Err(FormatError::at(1, "not a PLY file: the first line is not `ply`"));
             }
             continue;
