@@ -8,7 +8,7 @@ use std::collections::{BinaryHeap, VecDeque};
 use glam::{DVec2, DVec3};
 
 use crate::error::{Error, NearCoincident, Result};
-use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE};
+use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
 use crate::mesh::{room_for_splits, EdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
@@ -298,7 +298,9 @@ pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) ->
     (halves, outer)
 }
 
-/// Runs Algorithm 2 on `surface` until every interior edge is Delaunay.
+/// Runs Algorithm 2 on `surface` until every interior edge is Delaunay
+/// (within [`ALGORITHM_TOLERANCE`]; an input edge within
+/// [`SEED_TOLERANCE`] whose quad nothing changes is left as it is).
 ///
 /// Fails with [`Error::Unsplittable`] if some non-Delaunay sub-edge has no
 /// sample left inside it; it never loops.
@@ -334,6 +336,15 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
         ds.push(e, None, || run.s.edge_length(e));
     }
+    // Debug builds (every test): the input's edges left alone by the first
+    // pass though over ALGORITHM_TOLERANCE, with their quads, for the check
+    // after the loop.
+    #[cfg(debug_assertions)]
+    let left_alone: Vec<(EdgeId, [VertexId; 4])> = (0..run.s.topo.n_edges() as u32)
+        .map(EdgeId)
+        .filter(|&e| run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) && first_pass.binary_search(&e).is_err())
+        .map(|e| (e, run.quad(e)))
+        .collect();
     let mut taken: u64 = 0;
     loop {
         run.stats.passes += 1;
@@ -382,11 +393,19 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
             ds.push(e, None, || run.s.edge_length(e));
         }
     }
-    // The claim above, checked by a full pass in debug builds (every test).
-    debug_assert!(
-        non_delaunay_edges(run.s).iter().all(|&e| run.is_stuck(e)),
-        "a non-Delaunay edge was neither queued nor stuck"
-    );
+    // The claim above, checked by a full pass in debug builds (every test):
+    // an edge over ALGORITHM_TOLERANCE is stuck, or one the first pass left
+    // alone (within SEED_TOLERANCE) with its quad as it was.
+    #[cfg(debug_assertions)]
+    for e in (0..run.s.topo.n_edges() as u32).map(EdgeId) {
+        if !run.s.topo.is_dead_edge(e) && run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE) && !run.is_stuck(e) {
+            let alone = left_alone.binary_search_by_key(&e, |&(x, _)| x);
+            assert!(
+                alone.is_ok_and(|i| left_alone[i].1 == run.quad(e)),
+                "a non-Delaunay edge was neither queued nor stuck"
+            );
+        }
+    }
     // Every edge is now within ALGORITHM_TOLERANCE except stuck ones, which
     // may still be within the acceptance tolerance: they alone are counted.
     if !run.stuck.is_empty() {
@@ -407,12 +426,12 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
 }
 
 /// The interior edges of `s` non-Delaunay by more than
-/// [`ALGORITHM_TOLERANCE`], in increasing order. Read-only, so on large
-/// meshes each available core takes a contiguous range of edges; the result
-/// does not depend on how many do.
+/// [`SEED_TOLERANCE`] (the first pass of [`make_delaunay`]), in increasing
+/// order. Read-only, so on large meshes each available core takes a
+/// contiguous range of edges; the result does not depend on how many do.
 pub fn non_delaunay_edges(s: &Surface) -> Vec<EdgeId> {
     let edges = crate::parallel::filter_indices(s.topo.n_edges(), |e| {
-        s.is_non_delaunay(EdgeId(e as u32), ALGORITHM_TOLERANCE)
+        s.is_non_delaunay(EdgeId(e as u32), SEED_TOLERANCE)
     });
     edges.into_iter().map(EdgeId).collect()
 }
@@ -433,6 +452,14 @@ struct Run<'a> {
 impl Run<'_> {
     /// Whether `e` was found stuck and its neighbourhood has not changed
     /// since, so that processing it again would change nothing.
+    /// The four vertices of interior edge `e`'s quad: its ends, then the
+    /// apexes of its two faces.
+    #[cfg(debug_assertions)]
+    fn quad(&self, e: EdgeId) -> [VertexId; 4] {
+        let (topo, h) = (&self.s.topo, e.halfedge());
+        [topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin())]
+    }
+
     fn is_stuck(&self, e: EdgeId) -> bool {
         self.stuck.get(&e).is_some_and(|n| *n == self.neighbourhood(e))
     }

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
-use common::Rng;
+use common::{barycentric, channel, Rng};
 use delmesh::attributes::{Channel, Kind};
 use delmesh::io::{self, InputMesh, ReadOptions};
 use glam::DVec3;
@@ -66,26 +66,6 @@ fn work(printout: &str) -> (usize, usize, usize) {
 
 fn read(path: &Path) -> InputMesh {
     io::read_mesh(path, &ReadOptions::default()).unwrap()
-}
-
-fn channel(m: &InputMesh, kind: Kind) -> Option<&Channel> {
-    match kind {
-        Kind::TexCoord => m.attributes.texcoords.as_ref(),
-        Kind::Normal => m.attributes.normals.as_ref(),
-        Kind::Color => m.attributes.colors.as_ref(),
-        Kind::Property(i) => m.attributes.properties.get(i as usize)?.channel.as_ref(),
-    }
-}
-
-/// Barycentric coordinates of `p` in triangle `t` of `m` and the distance
-/// of `p` from its plane.
-fn barycentric(m: &InputMesh, t: usize, p: DVec3) -> ([f64; 3], f64) {
-    let [a, b, c] = m.triangles[t].map(|v| m.positions[v as usize]);
-    let n = (b - a).cross(c - a);
-    let nn = n.length_squared();
-    let lb = (p - a).cross(c - a).dot(n) / nn;
-    let lc = (b - a).cross(p - a).dot(n) / nn;
-    ([1.0 - lb - lc, lb, lc], (p - a).dot(n).abs() / nn.sqrt())
 }
 
 /// The value of `kind` at barycentric `l` of triangle `t` (`None` on a
@@ -172,18 +152,7 @@ impl Grid {
                 positions.push(DVec3::new(x, y, x / 2.0 + y / 4.0));
             }
         }
-        let mut triangles = Vec::new();
-        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        for j in 0..n {
-            for i in 0..n {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                if (i + j) % 2 == 1 {
-                    triangles.extend([[a, b, c], [a, c, d]]);
-                } else {
-                    triangles.extend([[a, b, d], [b, c, d]]);
-                }
-            }
-        }
+        let triangles = common::grid_triangles(n);
         Grid {
             n,
             positions,

@@ -59,9 +59,9 @@ use delmesh::io::formats::{
 };
 use delmesh::io::obj::{parse_obj, write_obj};
 use delmesh::io::{self, InputMesh, ReadOptions};
-use delmesh::mesh::{Carrier, Surface};
+use delmesh::mesh::{Carrier, EdgeId, Surface};
 use delmesh::prune::prune;
-use delmesh::refine::{make_delaunay, Options, Stats, Worklist};
+use delmesh::refine::{make_delaunay, make_delaunay_from, Options, Stats, Worklist};
 use delmesh::repair::RepairOptions;
 use delmesh::samples::{SampleConstants, Score};
 use delmesh::Error;
@@ -2383,6 +2383,34 @@ fn regression_file(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// Found by a sweep (session 42): an input that `delmesh check` accepts as
+/// it is (its one interior edge 4e-10 rad over π, within 1e-9) was refined
+/// all the same, as the first pass queued edges over 1e-10 (a terrain of
+/// 1e-4 rad angles got 595,183 vertices, with "non-Delaunay edges: 0
+/// before"). The first pass leaves such edges alone now
+/// (`geometry::SEED_TOLERANCE`), with every setting, and pruning too.
+#[test]
+fn regression_accepted_input_is_left_alone() {
+    let path = regression_file("bug-refine-accepted-input-refined.obj");
+    let input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
+    let unchanged = Mesh3 {
+        positions: input.positions.clone(),
+        triangles: input.triangles.clone(),
+    };
+    assert!(check_meshes(&unchanged, &unchanged).passed(), "check accepts the input");
+    for worklist in [Worklist::Stack, Worklist::Queue, Worklist::PriorityQueue] {
+        for score in [Score::AllEqual, Score::AlwaysCenter, Score::Uniform] {
+            let options = Options::new(worklist, score, true);
+            let mut s = io::build_surface(&mut input.clone(), &path).unwrap();
+            let stats = make_delaunay(&mut s, &options).unwrap();
+            assert_eq!((stats.splits, stats.flips), (0, 0), "{worklist:?} {score:?}");
+            prune(&mut s, &options);
+            assert_eq!(s.positions.len(), input.positions.len());
+            assert!(common::check_refined(&input, &s).passed());
+        }
+    }
+}
+
 /// Found by `fuzz_pipeline` (a coordinate replaced by -1e308, then by
 /// scaling). Geometry is scale-invariant, but the Delaunay test
 /// (`geometry::excess_sin_cos` / `is_non_delaunay`: products of four
@@ -3007,7 +3035,15 @@ fn regression_checker_vertex_next_to_end_of_long_edge() {
     let problems = pipeline_problems(name);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     let (input, mut s) = regression_surface(name);
-    make_delaunay(&mut s, &combination(9)).unwrap(); // stack, score 0, no median
+    // The crease is 4.6e-10 rad over pi: accepted as it is, so the first
+    // pass (SEED_TOLERANCE) leaves it alone; given as the first pass, it is
+    // split, as the algorithm's own tolerance (1e-10) says.
+    let crease: Vec<EdgeId> = (0..s.topo.n_edges() as u32)
+        .map(EdgeId)
+        .filter(|&e| s.topo.is_interior(e))
+        .collect();
+    assert_eq!(crease.len(), 1);
+    make_delaunay_from(&mut s, &combination(9), &crease).unwrap(); // stack, score 0, no median
     let n = input.positions.len();
     assert_eq!(s.positions.len(), n + 1);
     let (p, b) = (s.positions[n], input.positions[2]);

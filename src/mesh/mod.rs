@@ -987,11 +987,11 @@ impl Surface {
 
     /// [`Surface::added_vertex_lower_bound`], looking only at `candidates`,
     /// which must include every edge non-Delaunay by more than
-    /// [`ALGORITHM_TOLERANCE`] (e.g. `refine::non_delaunay_edges`): the bound
-    /// counts edges non-Delaunay by more than twice the acceptance tolerance,
-    /// a larger one.
+    /// [`geometry::SEED_TOLERANCE`] (e.g. `refine::non_delaunay_edges`): the
+    /// bound counts edges non-Delaunay by more than twice the acceptance
+    /// tolerance, a larger one.
     pub fn added_vertex_lower_bound_among(&self, candidates: &[EdgeId]) -> usize {
-        const _: () = assert!(2.0 * geometry::ACCEPT_TOLERANCE > ALGORITHM_TOLERANCE);
+        const _: () = assert!(2.0 * geometry::ACCEPT_TOLERANCE > geometry::SEED_TOLERANCE);
         let mut region_faces = vec![0u32; self.n_regions];
         for &r in &self.face_region {
             region_faces[r as usize] = region_faces[r as usize].saturating_add(1);

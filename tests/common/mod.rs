@@ -222,3 +222,43 @@ fn triangles_obj(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
     }
     s
 }
+
+/// The triangles of an n × n grid of cells whose vertices are numbered row
+/// by row (`(n + 1)` per row), with alternating diagonals.
+pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
+    let mut triangles = Vec::new();
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j) % 2 == 1 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    triangles
+}
+
+/// The channel of `kind` of a mesh read back.
+pub fn channel(m: &delmesh::io::InputMesh, kind: delmesh::attributes::Kind) -> Option<&delmesh::attributes::Channel> {
+    use delmesh::attributes::Kind;
+    match kind {
+        Kind::TexCoord => m.attributes.texcoords.as_ref(),
+        Kind::Normal => m.attributes.normals.as_ref(),
+        Kind::Color => m.attributes.colors.as_ref(),
+        Kind::Property(i) => m.attributes.properties.get(i as usize)?.channel.as_ref(),
+    }
+}
+
+/// Barycentric coordinates of `p` in triangle `t` of `m`, and the distance
+/// of `p` from its plane.
+pub fn barycentric(m: &delmesh::io::InputMesh, t: usize, p: glam::DVec3) -> ([f64; 3], f64) {
+    let [a, b, c] = m.triangles[t].map(|v| m.positions[v as usize]);
+    let n = (b - a).cross(c - a);
+    let nn = n.length_squared();
+    let lb = (p - a).cross(c - a).dot(n) / nn;
+    let lc = (b - a).cross(p - a).dot(n) / nn;
+    ([1.0 - lb - lc, lb, lc], (p - a).dot(n).abs() / nn.sqrt())
+}
