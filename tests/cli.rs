@@ -297,7 +297,15 @@ fn bad_inputs_are_refused_with_one_line() {
     refused(
         "twice.ply",
         ply(&xyz.replace("float y", "float x"), "0 0 0\n1 0 0\n0 1 0\n").as_bytes(),
-        "the PLY vertex element has two `x` properties",
+        ":5: the PLY vertex element has two `x` properties",
+    );
+    // Errors about one property name its own line, not its element's.
+    refused(
+        "float_indices.ply",
+        ply(xyz, "0 0 0\n1 0 0\n0 1 0\n")
+            .replace("list uchar int", "list uchar float")
+            .as_bytes(),
+        ":8: PLY face property vertex_indices has a non-integer item type",
     );
     refused(
         "extra.ply",

@@ -1455,6 +1455,8 @@ enum PropType {
 struct PlyProperty {
     name: String,
     ty: PropType,
+    /// The header line declaring it (1-based), for messages.
+    line: u64,
 }
 
 #[derive(Debug)]
@@ -1788,7 +1790,7 @@ fn parse_ply_header(bytes: &[u8]) -> Result<PlyHeader, FormatError> {
                 let Some(element) = elements.last_mut() else {
                     return Err(FormatError::at(line, "a PLY property comes before any element"));
                 };
-                element.props.push(PlyProperty { name, ty });
+                element.props.push(PlyProperty { name, ty, line });
             }
             b"end_header" => break,
             other => {
@@ -1851,7 +1853,7 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                 if found[slot].is_some() {
                     if slot < 3 {
                         return Err(FormatError::at(
-                            el.line,
+                            p.line,
                             format!("the PLY vertex element has two `{}` properties", p.name),
                         ));
                     }
@@ -1860,7 +1862,7 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                 if matches!(p.ty, PropType::List { .. }) {
                     if slot < 3 {
                         return Err(FormatError::at(
-                            el.line,
+                            p.line,
                             format!("PLY vertex property {} is a list", p.name),
                         ));
                     }
@@ -1907,7 +1909,7 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                     if let PropType::List { item, .. } = el.props[i].ty {
                         if item.is_float() {
                             return Err(FormatError::at(
-                                el.line,
+                                el.props[i].line,
                                 format!("PLY face property {} has a non-integer item type", el.props[i].name),
                             ));
                         }
