@@ -1073,13 +1073,11 @@ impl OffAttributes {
                 // No colour dimension and no defect: no vertex.
                 None if dim == 0 => {}
                 None => {
-                    // Colours of whole numbers 0..255, one beyond 1, are
-                    // bytes (as most COFF files write them): scaled to 0..1,
-                    // as the OFF format says, and typed `uchar`, so that an
+                    // Bytes (`off_colors_are_bytes`) are scaled to 0..1, as
+                    // the OFF format says, and typed `uchar`, so that an
                     // output writes them as bytes again. Others are kept as
                     // they are.
-                    let byte = |x: f64| x.fract() == 0.0 && (0.0..=255.0).contains(&x);
-                    if kind == Kind::Color && values.iter().all(|&x| byte(x)) && values.iter().any(|&x| x > 1.0) {
+                    if kind == Kind::Color && off_colors_are_bytes(&values) {
                         values.iter_mut().for_each(|x| *x /= 255.0);
                         m.attributes.color_type = Some(ValueType::U8);
                     }
@@ -1109,12 +1107,11 @@ impl OffAttributes {
             m.attribute_notes.push(format!("face colours dropped: {why}"));
             return;
         }
-        let bytes = self
-            .face_colors
-            .iter()
-            .all(|&x| x.fract() == 0.0 && (0.0..=255.0).contains(&x))
-            && self.face_colors.iter().any(|&x| x > 1.0);
-        let ty = if bytes { ValueType::U8 } else { ValueType::F32 };
+        let ty = if off_colors_are_bytes(&self.face_colors) {
+            ValueType::U8
+        } else {
+            ValueType::F32
+        };
         let dim = self.face_color_dim;
         for (k, name) in ["red", "green", "blue", "alpha"].into_iter().enumerate().take(dim) {
             m.attributes.face_properties.push(FaceProperty {
@@ -1124,6 +1121,13 @@ impl OffAttributes {
             });
         }
     }
+}
+
+/// Whether an OFF file's colour numbers `values` are bytes, 0..255, as
+/// most COFF files write them: all whole numbers in that range and one
+/// beyond 1 (else, as Geomview reads them, numbers in 0..1).
+pub(crate) fn off_colors_are_bytes(values: &[f64]) -> bool {
+    values.iter().all(|&x| x.fract() == 0.0 && (0.0..=255.0).contains(&x)) && values.iter().any(|&x| x > 1.0)
 }
 
 /// The vertex count glued to the keyword of a header such as `OFF490 518 0` (written so by the
@@ -2950,18 +2954,7 @@ pub(crate) fn check_for_writing(
 /// Writes an OFF file; coordinates in shortest round-trip form, so that [`read_off`] gives them back bit
 /// for bit. Non-finite coordinates and out-of-range indices are refused (`InvalidInput`).
 pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
-    check_for_writing(positions, triangles, None)?;
-    let mut w = BufWriter::new(w);
-    let mut num = zmij::Buffer::new();
-    writeln!(w, "OFF\n{} {} 0", positions.len(), triangles.len())?;
-    for p in positions {
-        write_xyz(&mut w, &mut num, p)?;
-        w.write_all(b"\n")?;
-    }
-    for t in triangles {
-        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
-    }
-    w.flush()
+    write_off_with(w, positions, triangles, &OffExtras::default())
 }
 
 /// How [`write_off_with`] writes colour components.
