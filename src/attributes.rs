@@ -15,7 +15,12 @@
 //! region carries one affine field per attribute (within the tolerance),
 //! so whatever refinement does inside it, interpolating the corner values
 //! of [`Transfer::apply`] reproduces the input's piecewise-linear mapping
-//! (within twice the tolerance):
+//! (within twice the tolerance). One exception: the faces cut from one
+//! polygon of the file always join (the file gives a polygon's values at
+//! its corners only; how they spread inside is the cut's, delmesh's own:
+//! [`crate::mesh::RegionCuts::polygon`]), and such a polygon whose values
+//! are not one affine field joins nothing else; inside it the corners keep
+//! their values and the fields follow the new triangles. Values are:
 //! - an input vertex takes, bit for bit, its own value in the region of the
 //!   output face;
 //! - a vertex added on input edge (a, b) at parameter t takes
@@ -645,6 +650,12 @@ pub struct AttributeCuts<'a> {
     /// The same relative to the piece's scale, per channel: what says
     /// whether rounding explains it.
     relative_deviation: Vec<Cell<f64>>,
+    /// The first triangle of each triangle's polygon of the file
+    /// ([`RegionCuts::polygon`]); empty: each triangle its own.
+    first_of_polygon: Vec<u32>,
+    /// Polygons flipped inside though their values are not one affine
+    /// field over them, and their faces.
+    loose: Cell<(usize, usize)>,
 }
 
 impl<'a> AttributeCuts<'a> {
@@ -680,7 +691,28 @@ impl<'a> AttributeCuts<'a> {
             inexact: Cell::new((0, 0)),
             deviation: cells(),
             relative_deviation: cells(),
+            first_of_polygon: Vec::new(),
+            loose: Cell::new((0, 0)),
         }
+    }
+
+    /// The same cuts, knowing the polygon of the file each triangle was cut
+    /// from (`polygons`, as [`crate::io::InputMesh::triangle_polygon`]:
+    /// one number per triangle, those of one polygon consecutive; empty,
+    /// or of another length, for none).
+    pub fn with_polygons(mut self, polygons: &[u32]) -> Self {
+        if polygons.len() == self.triangles.len() && polygons.windows(2).any(|w| w[0] == w[1]) {
+            let mut first = 0u32;
+            self.first_of_polygon = (0..polygons.len())
+                .map(|t| {
+                    if t > 0 && polygons[t] != polygons[t - 1] {
+                        first = t as u32;
+                    }
+                    first
+                })
+                .collect();
+        }
+        self
     }
 
     /// The largest magnitude of each channel's values in the piece of
@@ -725,6 +757,22 @@ impl<'a> AttributeCuts<'a> {
             if rounded { " (rounded values)" } else { "" },
             list(&|(_, d, _)| format!("{:.1e}", 2.0 * d)),
         ))
+    }
+}
+
+impl AttributeCuts<'_> {
+    /// A line for the printout when polygons of the file were flipped
+    /// inside though their values are not one affine field over them
+    /// ([`RegionCuts::polygon`]).
+    pub fn polygon_note(&self) -> Option<String> {
+        let (polygons, faces) = self.loose.get();
+        (polygons > 0).then(|| {
+            format!(
+                "{polygons} polygon(s) of the file ({faces} triangles) may be flipped inside though their attributes \
+                 are not one affine field there: the file gives them at the corners only, which keep them exactly \
+                 (inside, they follow the new triangles)"
+            )
+        })
     }
 }
 
@@ -825,6 +873,14 @@ impl RegionCuts for AttributeCuts<'_> {
 
     fn apart_within(&self, f1: u32, f2: u32) -> bool {
         self.attributes.keep_apart(self.positions, self.triangles, f1, f2)
+    }
+
+    fn polygon(&self, f: u32) -> u32 {
+        self.first_of_polygon.get(f as usize).copied().unwrap_or(f)
+    }
+
+    fn polygons_flipped_inside(&self, polygons: usize, faces: usize) {
+        self.loose.set((polygons, faces));
     }
 }
 
@@ -1215,6 +1271,60 @@ mod tests {
         let c = off(0.0);
         let cuts = AttributeCuts::new(&c, &p, &t, Tolerances::default());
         assert!(cuts.whole(&[0, 1]) && cuts.note().is_none());
+    }
+
+    /// A quad polygon of the file (0, 1, 2, 3), cut into (0, 1, 2) and
+    /// (0, 2, 3), whose texture is not one affine field over it, beside a
+    /// triangle (1, 4, 2) in its plane whose texture is one affine field
+    /// with (0, 1, 2), exactly; and a second triangle (4, 5, 2) beyond it,
+    /// affine with it too. The polygon is one region (its diagonal flips:
+    /// the file gives its values at the corners only); the triangles are
+    /// one region of their own, not joined to the polygon (a flip across
+    /// its side 1–2 would spread the polygon's values over theirs). Without
+    /// the polygon's numbers, each face of the quad is a face of the file
+    /// and stays apart.
+    #[test]
+    fn a_polygon_is_flipped_inside_whatever_its_values_and_joins_nothing_else() {
+        let p = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(4.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(4.5, 0.5, 0.0),
+            DVec3::new(5.0, 1.5, 0.0),
+        ];
+        let t = vec![[0, 1, 2], [0, 2, 3], [1, 4, 2], [4, 5, 2]];
+        // u = x / 8, v = y / 2, but corner 3 off that field.
+        let f = |q: DVec3| [q.x / 8.0, q.y / 2.0];
+        let mut values: Vec<[f64; 2]> = p.iter().map(|&q| f(q)).collect();
+        values[3][0] += 0.1;
+        let a = Attributes {
+            texcoords: Some(uv(&values, t.iter().flatten().copied().collect())),
+            ..Attributes::default()
+        };
+        let polygons = [0, 0, 1, 2];
+        let cuts = AttributeCuts::new(&a, &p, &t, Tolerances::default()).with_polygons(&polygons);
+        assert!(cuts.apart_within(0, 1) && !cuts.apart_within(0, 2) && !cuts.apart_within(2, 3));
+        assert_eq!((0..4).map(|f| cuts.polygon(f)).collect::<Vec<_>>(), [0, 0, 2, 3]);
+        let surface = Surface::with_region_cuts(p.clone(), &t, &cuts).unwrap();
+        let r = &surface.face_region;
+        assert!(r[0] == r[1] && r[2] == r[3] && r[0] != r[2], "{r:?}");
+        assert_eq!((surface.n_regions, surface.flat_edges_apart), (2, 1));
+        let note = cuts.polygon_note().expect("a note");
+        assert!(
+            note.starts_with("1 polygon(s) of the file (2 triangles) may be flipped inside"),
+            "{note}"
+        );
+        // Each triangle a face of its own: the quad's faces stay apart,
+        // and the triangles join the one they are affine with.
+        let cuts = AttributeCuts::new(&a, &p, &t, Tolerances::default());
+        let surface = Surface::with_region_cuts(p.clone(), &t, &cuts).unwrap();
+        let r = &surface.face_region;
+        assert!(r[0] == r[2] && r[2] == r[3] && r[0] != r[1], "{r:?}");
+        assert!(cuts.polygon_note().is_none());
+        // Polygon numbers of the wrong length are ignored.
+        let cuts = AttributeCuts::new(&a, &p, &t, Tolerances::default()).with_polygons(&[0, 0]);
+        assert_eq!(cuts.polygon(1), 1);
     }
 
     #[test]

@@ -86,6 +86,12 @@ pub struct InputMesh {
     pub triangle_origin: Vec<u32>,
     /// 1-based number of each vertex in the file (its first definition).
     pub vertex_number: Vec<u32>,
+    /// The face of the file each triangle was cut from, numbered from 0
+    /// (the triangles of one face are consecutive), when the file has
+    /// attributes: its polygons are then flipped inside whatever their
+    /// values ([`crate::mesh::RegionCuts::polygon`]). Empty otherwise, and
+    /// in a mesh made by a caller: each triangle a face of its own.
+    pub triangle_polygon: Vec<u32>,
     /// How `triangle_origin` counts.
     pub origin_kind: OriginKind,
     /// How the file numbers its vertices and faces, for messages.
@@ -426,6 +432,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         positions,
         triangles,
         triangle_origin,
+        triangle_polygon: triangle_face,
         vertex_number,
         origin_kind: raw.origin_kind,
         numbering: raw.numbering,
@@ -629,6 +636,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             .collect(),
         vertex_number: fixed.source_vertex.iter().map(|&v| v + 1).collect(),
         triangles: fixed.triangles,
+        // (No attributes after a repair.)
+        triangle_polygon: Vec::new(),
         origin_kind: raw.origin_kind,
         numbering: raw.numbering,
         faces_in_file: n_faces,
@@ -720,7 +729,8 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
         });
     }
     let topology = input.topology.take();
-    let attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances);
+    let attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances)
+        .with_polygons(&input.triangle_polygon);
     let cuts: &dyn RegionCuts = if input.attributes.is_empty() {
         &NoCuts
     } else {
@@ -734,8 +744,8 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
         None => Topology::from_triangles(positions.len(), &input.triangles),
     }
     .map(|topology| Surface::with_topology(positions, topology, cuts));
-    let note = attribute_cuts.note();
-    input.notes.extend(note);
+    let notes = [attribute_cuts.note(), attribute_cuts.polygon_note()];
+    input.notes.extend(notes.into_iter().flatten());
     let input = &*input;
     surface.map_err(|e| {
         let at = |face: usize| {

@@ -64,6 +64,20 @@ pub trait RegionCuts {
     ///
     /// [`whole`]: RegionCuts::whole
     fn apart_within(&self, f1: u32, f2: u32) -> bool;
+
+    /// The first face cut from the same polygon of the file as `f` (`f`
+    /// itself for a face of its own). A polygon's values are given at its
+    /// corners only: how they spread inside it depends on how it is cut
+    /// into triangles, which is delmesh's choice, not the file's. So the
+    /// edges inside one flat polygon join its faces even where its values
+    /// are not one affine field ([`RegionCuts::polygons_flipped_inside`]).
+    fn polygon(&self, f: u32) -> u32 {
+        f
+    }
+
+    /// Told how many polygons (and how many faces in them) are flipped
+    /// inside though their values are not one affine field over them.
+    fn polygons_flipped_inside(&self, _polygons: usize, _faces: usize) {}
 }
 
 /// The [`RegionCuts`] of a mesh without attributes: every flat edge joins.
@@ -411,13 +425,41 @@ impl Surface {
                 }
             }
             // The regions: whole candidates, and the others joined edge by
-            // edge.
+            // edge: inside one polygon of the file always (its values are
+            // given at its corners only, see `RegionCuts::polygon`); between
+            // faces of two polygons where the values are one affine field on
+            // the two faces exactly, and each polygon is one such field
+            // itself (a loose polygon, flipped inside though its values are
+            // not, joins nothing else: a flip across its outline would
+            // spread its values over the neighbour's).
+            let joins: Vec<(u32, u32, bool)> = flat
+                .iter()
+                .zip(&apart)
+                .filter(|(_, &apart)| !apart)
+                .map(|(&e, _)| {
+                    let (f1, f2) = faces_of(e);
+                    let exact = whole[roots[f1 as usize] as usize] || !cuts.apart_within(f1, f2);
+                    (f1, f2, exact)
+                })
+                .collect();
+            let mut loose = vec![false; n_faces];
+            for &(f1, f2, exact) in &joins {
+                let p = cuts.polygon(f1);
+                if !exact && p == cuts.polygon(f2) {
+                    loose[p as usize] = true;
+                }
+            }
             sets = UnionFind::new(n_faces);
-            for (&e, _) in flat.iter().zip(&apart).filter(|(_, &apart)| !apart) {
-                let (f1, f2) = faces_of(e);
-                if whole[roots[f1 as usize] as usize] || !cuts.apart_within(f1, f2) {
+            for &(f1, f2, exact) in &joins {
+                let (p1, p2) = (cuts.polygon(f1), cuts.polygon(f2));
+                if p1 == p2 || (exact && !loose[p1 as usize] && !loose[p2 as usize]) {
                     sets.union(f1 as usize, f2 as usize);
                 }
+            }
+            let polygons = loose.iter().filter(|&&l| l).count();
+            if polygons > 0 {
+                let faces = (0..n_faces as u32).filter(|&f| loose[cuts.polygon(f) as usize]).count();
+                cuts.polygons_flipped_inside(polygons, faces);
             }
         }
         let mut id = vec![u32::MAX; n_faces];
