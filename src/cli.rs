@@ -1325,6 +1325,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             written.push((flag.into(), path.clone()));
         }
     }
+    if let Some(chart) = &args.chart {
+        Format::of_picture(chart, &format!("--chart {}", chart.display())).map_err(anyhow::Error::msg)?;
+    }
     // With --check, an output that fails goes to OUTPUT.rejected instead:
     // that name may not be the input or another file of the run either.
     if args.check {
@@ -2606,7 +2609,7 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> a
     );
     let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
     let bytes = canvas
-        .encode(Format::of_path(path))
+        .encode(Format::of_path(path).unwrap_or(Format::Svg))
         .with_context(|| path.display().to_string())?;
     io::write_atomic(path, |w| w.write_all(&bytes))?;
     Ok(())
@@ -2645,6 +2648,7 @@ fn run_render(
             output.display()
         );
     }
+    let format = Format::of_picture(output, &output.display().to_string()).map_err(anyhow::Error::msg)?;
     let m = io::read_mesh(mesh, &io::ReadOptions::default())?;
     let original = input
         .map(|p| io::read_mesh(p, &io::ReadOptions::default()))
@@ -2655,9 +2659,7 @@ fn run_render(
         original.as_ref().map(|o| &o.positions[..]),
         &view,
     );
-    let bytes = canvas
-        .encode(Format::of_path(output))
-        .with_context(|| output.display().to_string())?;
+    let bytes = canvas.encode(format).with_context(|| output.display().to_string())?;
     io::write_atomic(output, |w| w.write_all(&bytes))?;
     say!(
         "render  {}: {} faces drawn, {} non-Delaunay edges (red), {} added vertices (blue)",

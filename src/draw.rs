@@ -108,12 +108,30 @@ pub enum Format {
 }
 
 impl Format {
-    /// PNG for a `.png` file name (any case), SVG otherwise.
-    pub fn of_path(path: &Path) -> Format {
-        match path.extension() {
-            Some(e) if e.eq_ignore_ascii_case("png") => Format::Png,
-            _ => Format::Svg,
+    /// The format a picture's name asks for, in any case: PNG for `.png`,
+    /// SVG for `.svg` or a name without an extension (`-`, `/dev/stdout`),
+    /// either one also before `.gz` (the file is then compressed as it is
+    /// written); `None` for any other extension (`.jpg`, `.pdf`): delmesh
+    /// draws no other format, and a picture written under such a name
+    /// would not be what the name says.
+    pub fn of_path(path: &Path) -> Option<Format> {
+        let name = path.file_name().map(|n| n.to_string_lossy().to_ascii_lowercase());
+        let name = name.as_deref().unwrap_or("");
+        let name = name.strip_suffix(".gz").unwrap_or(name);
+        match Path::new(name).extension().and_then(|e| e.to_str()) {
+            None => Some(Format::Svg),
+            Some("svg") => Some(Format::Svg),
+            Some("png") => Some(Format::Png),
+            Some(_) => None,
         }
+    }
+
+    /// [`Format::of_path`], or the one-line refusal of a name it does not
+    /// know (naming the picture as `what`: `--chart out.jpg`).
+    pub fn of_picture(path: &Path, what: &str) -> Result<Format, String> {
+        Format::of_path(path).ok_or_else(|| {
+            format!("{what}: delmesh draws SVG and PNG pictures only: name it .svg or .png (.gz after it compresses)")
+        })
     }
 }
 

@@ -243,3 +243,72 @@ fn view_angles_out_of_range_are_refused_or_reduced() {
     assert_eq!(drawn("3630"), drawn("30"));
     assert_ne!(drawn("1e308"), "0");
 }
+
+/// A picture's name says its format: `.png` PNG, `.svg` (or no extension)
+/// SVG, either one compressed before `.gz`; any other extension (`.jpg`,
+/// `.svgz`) is refused in one line before any work, for `render` and
+/// `--chart` alike, where an SVG was once written under it (and `.png.gz`
+/// got a compressed SVG).
+#[test]
+fn a_pictures_name_says_its_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = common::data_dir().join("cube.obj");
+    let gunzip = |path: &Path| {
+        let mut text = Vec::new();
+        std::io::Read::read_to_end(
+            &mut flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap()),
+            &mut text,
+        )
+        .unwrap();
+        text
+    };
+    for (name, png, gz) in [
+        ("a.png", true, false),
+        ("b.PNG", true, false),
+        ("c.png.gz", true, true),
+        ("d.svg", false, false),
+        ("e", false, false),
+        ("f.svg.gz", false, true),
+    ] {
+        let path = dir.path().join(name);
+        stdout_of(delmesh().arg("render").arg(&mesh).arg("-o").arg(&path));
+        let bytes = if gz {
+            gunzip(&path)
+        } else {
+            std::fs::read(&path).unwrap()
+        };
+        let magic: &[u8] = if png { b"\x89PNG" } else { b"<svg" };
+        assert!(bytes.starts_with(magic), "{name}");
+    }
+    for name in ["g.jpg", "h.svgz", "i.pdf.gz"] {
+        let path = dir.path().join(name);
+        let out = delmesh()
+            .arg("render")
+            .arg(&mesh)
+            .arg("-o")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("draws SVG and PNG pictures only"), "{stderr}");
+        assert!(!path.exists());
+    }
+    let out_mesh = dir.path().join("m.obj");
+    let chart = dir.path().join("chart.jpg");
+    let out = delmesh()
+        .args(["-all", "-i"])
+        .arg(&mesh)
+        .arg("-o")
+        .arg(&out_mesh)
+        .arg("--chart")
+        .arg(&chart)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--chart"), "{stderr}");
+    assert!(stderr.contains("draws SVG and PNG pictures only"), "{stderr}");
+    assert!(!chart.exists() && !dir.path().join("m-s-0-m.obj").exists());
+}
