@@ -872,6 +872,24 @@ fn gzip_followed_by_other_bytes_or_cut_after_one_byte_says_so() {
     );
 }
 
+/// A file compressed twice (`m.obj.gz.gz`, or gzip data inside a `.gz`)
+/// says so; it was read as text, and refused for "lines end in a carriage
+/// return alone".
+#[test]
+fn gzip_inside_gzip_says_so() {
+    let off = gzip(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    let e = maybe_gunzip(&gzip(&off), 1 << 20).unwrap_err();
+    assert_eq!(
+        e.what,
+        "the gzip data decompresses to gzip data (the file was compressed twice): decompress it once first (gunzip)"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.off.gz.gz");
+    std::fs::write(&path, gzip(&off)).unwrap();
+    let e = delmesh::io::read_obj(&path).unwrap_err().to_string();
+    assert!(e.contains("m.off.gz.gz") && e.contains("compressed twice"), "{e}");
+}
+
 #[test]
 fn gzip_bomb_is_limited() {
     let gz = gzip(&vec![b'0'; 50 << 20]);

@@ -260,6 +260,13 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
             "the gzip data decompresses to more than the limit of {max_bytes} bytes"
         )));
     }
+    let exact_stl =
+        named == Some(Format::Stl) && binary_stl_size(&out).is_some_and(|(_, size)| size == out.len() as u64);
+    if out.starts_with(&[0x1f, 0x8b]) && !exact_stl {
+        return Err(FormatError::new(
+            "the gzip data decompresses to gzip data (the file was compressed twice): decompress it once first (gunzip)",
+        ));
+    }
     Ok(Cow::Owned(out))
 }
 
