@@ -84,8 +84,10 @@ pub const MAX_DIM: usize = 4;
 /// decimals, normals to four), and compute it from positions before
 /// rounding those: the values of a textured flat polygon are then affine
 /// only to about 1e-7 to 1e-4, and with [`AFFINE_TOLERANCE`] alone its
-/// thin fan triangles could not be flipped (a fanned 64-gon cap: 6,291
-/// added vertices instead of none). 0 keeps every field exact.
+/// thin fan triangles, written as triangles, could not be flipped (64-gon
+/// caps written as fans: 6,128 added vertices instead of none). 0 keeps
+/// every field exact but inside polygons of the file, which are flipped
+/// inside at any tolerance ([`RegionCuts::polygon`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Texture coordinates: 1e-5 (a 25th of a texel of a 4096 texture).
@@ -656,6 +658,11 @@ pub struct AttributeCuts<'a> {
     /// Polygons flipped inside though their values are not one affine
     /// field over them, and their faces.
     loose: Cell<(usize, usize)>,
+    /// Of the `inexact` regions, those with two faces cut from one polygon
+    /// of the file, and those that are one polygon of the file: flipped
+    /// inside there at any tolerance ([`RegionCuts::polygon`]), so that
+    /// `--attribute-tolerance 0` does not keep their values exact there.
+    inexact_polygons: Cell<(usize, usize)>,
 }
 
 impl<'a> AttributeCuts<'a> {
@@ -693,6 +700,7 @@ impl<'a> AttributeCuts<'a> {
             relative_deviation: cells(),
             first_of_polygon: Vec::new(),
             loose: Cell::new((0, 0)),
+            inexact_polygons: Cell::new((0, 0)),
         }
     }
 
@@ -748,9 +756,23 @@ impl<'a> AttributeCuts<'a> {
         // Rounding explains deviations up to half an 8-bit step (colours
         // stored as bytes); larger ones are the values' own.
         let rounded = off.iter().all(|&(_, _, relative)| relative <= ROUNDING_LIKE);
+        // A polygon of the file is flipped inside at any tolerance: 0 keeps
+        // exact only what lies outside polygons.
+        let (in_polygons, one_polygon) = self.inexact_polygons.get();
+        let exact = if one_polygon == regions {
+            format!(
+                "{} of the file, flipped inside at any --attribute-tolerance: the corners keep their values",
+                if regions == 1 { "a polygon" } else { "polygons" }
+            )
+        } else if in_polygons > 0 {
+            "--attribute-tolerance 0 keeps them exact but inside polygons of the file, whose corners keep their values"
+                .to_string()
+        } else {
+            "--attribute-tolerance 0 keeps them exact".to_string()
+        };
         Some(format!(
             "{regions} flat region{} ({faces} faces) may be flipped as a whole: their {} are affine there only within \
-             {}{}, so the output's may move by up to {} (--attribute-tolerance 0 keeps them exact)",
+             {}{}, so the output's may move by up to {} ({exact})",
             if regions == 1 { "" } else { "s" },
             list(&|(name, _, _)| name.to_string()),
             list(&|(_, d, _)| format!("{d:.1e}")),
@@ -857,6 +879,13 @@ impl RegionCuts for AttributeCuts<'_> {
         {
             let (regions, n) = self.inexact.get();
             self.inexact.set((regions + 1, n + faces.len()));
+            let mut polygons: Vec<u32> = faces.iter().map(|&f| self.polygon(f)).collect();
+            polygons.sort_unstable();
+            let (in_polygons, one_polygon) = self.inexact_polygons.get();
+            self.inexact_polygons.set((
+                in_polygons + polygons.windows(2).any(|w| w[0] == w[1]) as usize,
+                one_polygon + (polygons[0] == polygons[polygons.len() - 1]) as usize,
+            ));
             for (((cell, relative), &d), &scale) in self
                 .deviation
                 .iter()

@@ -314,8 +314,10 @@ struct Settings {
     /// the region to be flipped as a whole, as without them: their fields
     /// then move by at most twice this there, and a note says how far.
     /// Rounded values, as exporters write them, are rarely affine exactly;
-    /// with 0 (exact) the thin fan triangles of a textured flat polygon get
-    /// split instead of flipped. One number sets all; `texcoords=REL`,
+    /// with 0 (exact) the thin fan triangles of a textured flat polygon
+    /// written as triangles get split instead of flipped (a polygon of the
+    /// file is flipped inside at any tolerance, its corners keeping their
+    /// values). One number sets all; `texcoords=REL`,
     /// `normals=REL`, `colors=REL`, `properties=REL` (comma separated) set
     /// some, the others keep their defaults. Default: 1e-5 for texture
     /// coordinates and vertex properties, 1e-3 for normals, 4e-3 for

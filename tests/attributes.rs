@@ -626,6 +626,7 @@ fn rounded_texture_on_a_fanned_polygon_is_flipped_within_the_tolerance() {
         .find(|l| l.contains("flipped as a whole"))
         .unwrap_or_else(|| panic!("no note: {printout}"));
     assert!(note.contains("2 flat regions (76 faces)"), "{note}");
+    assert!(note.ends_with("(--attribute-tolerance 0 keeps them exact)"), "{note}");
     let bound: f64 = note
         .split("move by up to ")
         .nth(1)
@@ -652,6 +653,109 @@ fn rounded_texture_on_a_fanned_polygon_is_flipped_within_the_tolerance() {
     check(&input, &exact);
     let worst = compare(&a, &read(&exact), 1000, 12);
     assert!(worst[0] <= 1e-9, "{worst:?}");
+}
+
+/// The note on regions flipped within the tolerance said that
+/// `--attribute-tolerance 0` keeps their values exact; but a polygon of the
+/// file is flipped inside at any tolerance, so on a cylinder whose textured
+/// caps are 64-gons, as Blender writes them, 0 changed nothing but the note
+/// (the same flips, its values following the new triangles). The note now
+/// says so, and promises exactness only outside the file's polygons.
+#[test]
+fn the_tolerance_note_does_not_promise_exactness_inside_polygons() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 64;
+    // An oval prism; its caps' texture coordinates a planar projection
+    // written with six decimals (affine to about 1e-7 only). `fan_bottom`
+    // writes the bottom cap as the triangles of a fan, the top always as a
+    // 64-gon.
+    let prism = |fan_bottom: bool| {
+        let mut obj = String::new();
+        for z in [0.0, 1.0] {
+            for i in 0..n {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                let (x, y) = (3.0 * a.cos(), a.sin());
+                writeln!(
+                    obj,
+                    "v {x:.6} {y:.6} {z}\nvt {:.6} {:.6}",
+                    x / 6.0 + 0.5,
+                    y / 2.0 + 0.5 + z
+                )
+                .unwrap();
+            }
+        }
+        let c = |i: usize, z: usize| format!("{0}/{0}", z * n + i % n + 1);
+        if fan_bottom {
+            for i in 1..n - 1 {
+                writeln!(obj, "f {} {} {}", c(0, 0), c(i + 1, 0), c(i, 0)).unwrap();
+            }
+        } else {
+            let corners: Vec<String> = (0..n).rev().map(|i| c(i, 0)).collect();
+            writeln!(obj, "f {}", corners.join(" ")).unwrap();
+        }
+        let corners: Vec<String> = (0..n).map(|i| c(i, 1)).collect();
+        writeln!(obj, "f {}", corners.join(" ")).unwrap();
+        // The sides, without texture coordinates.
+        for i in 0..n {
+            let (a, b) = (i + 1, (i + 1) % n + 1);
+            writeln!(obj, "f {a} {b} {} {}", b + n, a + n).unwrap();
+        }
+        obj
+    };
+    let note_of = |printout: &str| -> String {
+        printout
+            .lines()
+            .find(|l| l.contains("flipped as a whole"))
+            .unwrap_or_else(|| panic!("no note: {printout}"))
+            .to_string()
+    };
+
+    // Both caps 64-gons: 0 keeps nothing exact there.
+    let input = write(dir.path(), "polygons.obj", &prism(false));
+    let out = dir.path().join("polygons.out.obj");
+    let printout = run(&input, &out, &[]);
+    assert_eq!(work(&printout).0, 0, "{printout}");
+    let note = note_of(&printout);
+    assert!(
+        note.contains("2 flat regions (124 faces)")
+            && note.ends_with(
+                "(polygons of the file, flipped inside at any --attribute-tolerance: the corners keep their values)"
+            ),
+        "{note}"
+    );
+    check(&input, &out);
+    let exact = run(&input, &dir.path().join("exact.obj"), &["--attribute-tolerance", "0"]);
+    assert_eq!(work(&exact), work(&printout), "{exact}\n{printout}");
+    assert!(
+        exact.contains("2 polygon(s) of the file (124 triangles) may be flipped inside"),
+        "{exact}"
+    );
+
+    // The bottom cap a fan of triangles of the file: 0 keeps that one exact
+    // (by splitting its fan), not the top.
+    let input = write(dir.path(), "mixed.obj", &prism(true));
+    let out = dir.path().join("mixed.out.obj");
+    let printout = run(&input, &out, &[]);
+    assert_eq!(work(&printout).0, 0, "{printout}");
+    let note = note_of(&printout);
+    assert!(
+        note.contains("2 flat regions (124 faces)")
+            && note.ends_with(
+                "(--attribute-tolerance 0 keeps them exact but inside polygons of the file, whose corners keep their values)"
+            ),
+        "{note}"
+    );
+    check(&input, &out);
+    let exact = run(
+        &input,
+        &dir.path().join("mixed.exact.obj"),
+        &["--attribute-tolerance", "0"],
+    );
+    assert!(work(&exact).0 > 100, "{exact}");
+    assert!(
+        exact.contains("1 polygon(s) of the file (62 triangles) may be flipped inside"),
+        "{exact}"
+    );
 }
 
 /// The tolerance is relative to each object's own values: a floor tiled
