@@ -1327,9 +1327,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             written.push((flag.into(), path.clone()));
         }
     }
-    if let Some(chart) = &args.chart {
-        Format::of_picture(chart, &format!("--chart {}", chart.display())).map_err(anyhow::Error::msg)?;
-    }
     // With --check, an output that fails goes to OUTPUT.rejected instead:
     // that name may not be the input or another file of the run either.
     if args.check {
@@ -1342,6 +1339,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // (Without -o the output is the input, rewritten in place by design.)
     let in_place = (args.output.is_none() && !args.all && !from_stdin).then_some(0);
     refuse_same_files(input_path, in_place, &written)?;
+    if let Some(chart) = &args.chart {
+        Format::of_picture(chart, &format!("--chart {}", chart.display())).map_err(anyhow::Error::msg)?;
+    }
     // Any output on standard output: the printout goes to standard error.
     if written.iter().any(|(_, p)| io::standard_stream(p) == Some(1)) {
         PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
