@@ -920,8 +920,15 @@ impl RegionCuts for AttributeCuts<'_> {
 #[derive(Clone, Debug)]
 pub struct Transfer {
     attributes: Attributes,
-    /// (input vertex, region) → input corner (3·triangle + k), lowest first.
-    corner: FastMap<(u32, u32), u32>,
+    /// For each input vertex `v`, `corners[corner_start[v]..corner_start[v +
+    /// 1]]`: (region, input corner (3·triangle + k)), one per region around
+    /// `v`, the lowest corner of `v` in it, ordered by region (a vertex's
+    /// short list, not a hash map: [`Transfer::apply`] looks one up per
+    /// output corner, and a map of millions of entries costs a cache miss
+    /// or two each time).
+    corner_start: Vec<u32>,
+    /// See `corner_start`.
+    corners: Vec<(u32, u32)>,
     /// Any corner of each input vertex, for a region it is not in (which
     /// cannot happen on a valid surface, but must not panic).
     any_corner: Vec<u32>,
@@ -936,27 +943,70 @@ impl Transfer {
     /// `triangles`) to refinements of `surface`, built from those triangles
     /// (face `i` is triangle `i`) and not yet refined.
     pub fn new(attributes: Attributes, triangles: &[[u32; 3]], surface: &Surface) -> Transfer {
-        let mut corner = FastMap::default();
-        let mut any_corner = vec![u32::MAX; surface.n_input_vertices];
+        let n = surface.n_input_vertices;
+        let mut any_corner = vec![u32::MAX; n];
         let mut region_face = vec![0u32; surface.n_regions];
+        // Each vertex's corners, in corner order (a counting sort by vertex).
+        let mut corner_start = vec![0u32; n + 1];
+        for &v in triangles.iter().flatten().filter(|&&v| (v as usize) < n) {
+            corner_start[v as usize + 1] += 1;
+        }
+        for v in 0..n {
+            corner_start[v + 1] += corner_start[v];
+        }
+        let mut corners = vec![(0u32, 0u32); corner_start[n] as usize];
+        let mut next = corner_start.clone();
         for (f, t) in triangles.iter().enumerate() {
             let region = surface.face_region.get(f).copied().unwrap_or(0);
             if let Some(slot) = region_face.get_mut(region as usize) {
                 *slot = f as u32;
             }
-            for (k, &v) in t.iter().enumerate() {
+            for (k, &v) in t.iter().enumerate().filter(|&(_, &v)| (v as usize) < n) {
                 let c = (3 * f + k) as u32;
-                corner.entry((v, region)).or_insert(c);
-                if let Some(any) = any_corner.get_mut(v as usize) {
-                    *any = (*any).min(c);
+                corners[next[v as usize] as usize] = (region, c);
+                next[v as usize] += 1;
+                any_corner[v as usize] = any_corner[v as usize].min(c);
+            }
+        }
+        // By region, the lowest corner of each (a stable sort keeps corner
+        // order within a region), then compacted in place.
+        let mut kept = 0usize;
+        for v in 0..n {
+            let (start, end) = (corner_start[v] as usize, corner_start[v + 1] as usize);
+            let list = &mut corners[start..end];
+            list.sort_by_key(|&(region, _)| region);
+            corner_start[v] = kept as u32;
+            for i in start..end {
+                if i == start || corners[i].0 != corners[i - 1].0 {
+                    corners[kept] = corners[i];
+                    kept += 1;
                 }
             }
         }
+        corner_start[n] = kept as u32;
+        corners.truncate(kept);
+        corners.shrink_to_fit();
         Transfer {
             attributes,
-            corner,
+            corner_start,
+            corners,
             any_corner,
             region_face,
+        }
+    }
+
+    /// The input corner whose values input vertex `v` takes in `region`:
+    /// its lowest corner there, else its lowest anywhere (`usize::MAX` for
+    /// no vertex of the input).
+    fn corner_of(&self, v: u32, region: u32) -> usize {
+        let v = v as usize;
+        let list = match (self.corner_start.get(v), self.corner_start.get(v + 1)) {
+            (Some(&start), Some(&end)) => &self.corners[start as usize..end as usize],
+            _ => &[],
+        };
+        match list.binary_search_by_key(&region, |&(r, _)| r) {
+            Ok(i) => list[i].1 as usize,
+            Err(_) => self.any_corner.get(v).map_or(usize::MAX, |&c| c as usize),
         }
     }
 
@@ -970,12 +1020,6 @@ impl Transfer {
     pub fn apply(&self, surface: &Surface) -> Attributes {
         let n_faces = surface.topo.n_faces();
         let input = &self.attributes;
-        let corner_of = |v: u32, region: u32| {
-            self.corner
-                .get(&(v, region))
-                .or_else(|| self.any_corner.get(v as usize))
-                .map_or(usize::MAX, |&c| c as usize)
-        };
         // The input triangle whose group and face properties each face takes.
         let source: Vec<usize> = if input.face_group.is_empty() && input.face_properties.is_empty() {
             Vec::new()
@@ -1010,62 +1054,216 @@ impl Transfer {
                 .map(|&t| input.face_group.get(t).copied().unwrap_or(0))
                 .collect();
         }
-        for (kind, channel) in input.channels() {
-            let dim = channel.dim;
-            // Integer properties take the nearer end's value.
-            let nearest = match kind {
-                Kind::Property(i) => input.properties[i as usize].ty.is_integer(),
-                _ => false,
-            };
-            let mut pooled = Channel::new(dim);
-            pooled.corners.reserve(3 * n_faces);
-            // Equal values share an entry of the pool.
-            let mut index: FastMap<[u64; MAX_DIM], u32> = FastMap::default();
-            let mut value = [0.0f64; MAX_DIM];
-            for f in 0..n_faces {
-                let region = surface.face_region[f];
-                for v in surface.topo.face_vertices(FaceId(f as u32)) {
-                    match surface.carriers[v.idx()] {
-                        Carrier::Vertex(i) => {
-                            let x = channel.corner(corner_of(i, region));
-                            if x.is_empty() {
-                                // A region of faces without values.
-                                pooled.corners.push(NO_VALUE);
-                                continue;
-                            }
-                            value = [0.0; MAX_DIM];
-                            value[..x.len()].copy_from_slice(x);
-                        }
-                        Carrier::Edge { edge, t } => {
-                            let [i0, i1] = surface.input_edges[edge as usize];
-                            let x0 = channel.corner(corner_of(i0, region));
-                            let x1 = channel.corner(corner_of(i1, region));
-                            if x0.is_empty() || x1.is_empty() {
-                                pooled.corners.push(NO_VALUE);
-                                continue;
-                            }
-                            for (k, slot) in value.iter_mut().enumerate() {
-                                let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
-                                *slot = match nearest {
-                                    true if t <= 0.5 => a,
-                                    true => b,
-                                    false => interpolate(a, b, t),
-                                };
-                            }
-                        }
+        // Every channel in one pass over the faces: each output corner's
+        // input corners are found once for all channels.
+        struct Pool<'a> {
+            kind: Kind,
+            channel: &'a Channel,
+            /// Integer properties take the nearer end's value.
+            nearest: bool,
+            pooled: Channel,
+            /// Equal values share an entry of the pool.
+            index: ValueIndex,
+        }
+        let mut pools: Vec<Pool> = input
+            .channels()
+            .map(|(kind, channel)| {
+                let mut pooled = Channel::new(channel.dim);
+                pooled.corners.reserve(3 * n_faces);
+                Pool {
+                    kind,
+                    channel,
+                    nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
+                    pooled,
+                    index: ValueIndex::with_room(0),
+                }
+            })
+            .collect();
+        let n_channels = pools.len();
+        // A vertex's values depend on its region only, and are mostly the
+        // same in all its regions: its last corner's region and value
+        // numbers, which its next corners in that region take as they are,
+        // and its first value numbers, which a value found equal to one
+        // takes without a look in the pool's map (a cache miss or two on a
+        // large mesh, where the map holds millions of values).
+        let n_vertices = if n_channels == 0 { 0 } else { surface.positions.len() };
+        let mut last_region = vec![u32::MAX; n_vertices];
+        let mut last_value = vec![NO_VALUE; n_vertices * n_channels];
+        let mut first_value = vec![NO_VALUE; n_vertices * n_channels];
+        for pool in &mut pools {
+            // About one value per vertex: room made once, not regrown.
+            pool.index = ValueIndex::with_room(n_vertices);
+        }
+        for f in 0..n_faces {
+            if n_channels == 0 {
+                break;
+            }
+            let region = surface.face_region[f];
+            for v in surface.topo.face_vertices(FaceId(f as u32)) {
+                let slots = v.idx() * n_channels..(v.idx() + 1) * n_channels;
+                if last_region[v.idx()] == region {
+                    for (pool, &i) in pools.iter_mut().zip(&last_value[slots]) {
+                        pool.pooled.corners.push(i);
                     }
-                    let key = value.map(f64::to_bits);
-                    let next = pooled.n_values() as u32;
-                    let i = *index.entry(key).or_insert(next);
-                    if i == next {
-                        pooled.values.extend_from_slice(&value[..dim]);
+                    continue;
+                }
+                last_region[v.idx()] = region;
+                // The input corners the value comes from, and the parameter.
+                let (c0, c1, t) = match surface.carriers[v.idx()] {
+                    Carrier::Vertex(i) => (self.corner_of(i, region), None, 0.0),
+                    Carrier::Edge { edge, t } => {
+                        let [i0, i1] = surface.input_edges[edge as usize];
+                        (self.corner_of(i0, region), Some(self.corner_of(i1, region)), t)
                     }
-                    pooled.corners.push(i);
+                };
+                let memo = last_value[slots.clone()].iter_mut().zip(&mut first_value[slots]);
+                for (pool, (last, first)) in pools.iter_mut().zip(memo) {
+                    let i = pool.value_index(c0, c1, t, *first);
+                    pool.pooled.corners.push(i);
+                    *last = i;
+                    if *first == NO_VALUE {
+                        *first = i;
+                    }
                 }
             }
-            *out.channel_mut(kind) = Some(pooled);
+        }
+        impl Pool<'_> {
+            /// The pool number of the value at input corner `c0`, or at `t`
+            /// between corners `c0` and `c1`: `known` if the value there is
+            /// equal to it (bit for bit), else found in (or added to) the
+            /// pool; [`NO_VALUE`] where a corner has none (a region of faces
+            /// without values).
+            fn value_index(&mut self, c0: usize, c1: Option<usize>, t: f64, known: u32) -> u32 {
+                let mut value = [0.0f64; MAX_DIM];
+                let x0 = self.channel.corner(c0);
+                match c1 {
+                    None => {
+                        if x0.is_empty() {
+                            return NO_VALUE;
+                        }
+                        value[..x0.len()].copy_from_slice(x0);
+                    }
+                    Some(c1) => {
+                        let x1 = self.channel.corner(c1);
+                        if x0.is_empty() || x1.is_empty() {
+                            return NO_VALUE;
+                        }
+                        for (k, slot) in value.iter_mut().enumerate() {
+                            let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
+                            *slot = match self.nearest {
+                                true if t <= 0.5 => a,
+                                true => b,
+                                false => interpolate(a, b, t),
+                            };
+                        }
+                    }
+                }
+                let key = value.map(f64::to_bits);
+                // (A value in the pool is unique there: equal to `known`,
+                // it is the one the map holds.)
+                let dim = self.pooled.dim;
+                if known != NO_VALUE
+                    && self
+                        .pooled
+                        .value(known)
+                        .iter()
+                        .zip(&key[..dim])
+                        .all(|(x, k)| x.to_bits() == *k)
+                {
+                    return known;
+                }
+                let i = self.index.find_or_insert(&key[..dim], &self.pooled);
+                if i == self.pooled.n_values() as u32 {
+                    self.pooled.values.extend_from_slice(&value[..dim]);
+                }
+                i
+            }
+        }
+        for pool in pools {
+            *out.channel_mut(pool.kind) = Some(pool.pooled);
         }
         out
+    }
+}
+
+/// The number of each value of a pool ([`Channel::values`]), found by the
+/// value's bits: open addressing with linear probing, each slot 8 bytes (the
+/// value's number and 32 bits of its hash), the values themselves read from
+/// the pool. A map holding the values too took 40 bytes a slot; on a mesh
+/// of millions of values its page faults and cache misses were most of the
+/// time spent writing the output.
+struct ValueIndex {
+    /// `tag << 32 | number`, or [`ValueIndex::EMPTY`].
+    slots: Vec<u64>,
+    /// How many slots are taken.
+    len: usize,
+}
+
+impl ValueIndex {
+    const EMPTY: u64 = u64::MAX;
+
+    /// An index with room for about `values` values before it grows.
+    fn with_room(values: usize) -> ValueIndex {
+        // At most half full: a search then looks at 2.5 slots on average.
+        let n = (2 * values).max(16).next_power_of_two();
+        ValueIndex {
+            slots: vec![Self::EMPTY; n],
+            len: 0,
+        }
+    }
+
+    /// The hash of a value's bits.
+    fn hash(bits: &[u64]) -> u64 {
+        use std::hash::Hasher;
+        let mut h = crate::hash::FastHasher::default();
+        for &b in bits {
+            h.write_u64(b);
+        }
+        h.finish()
+    }
+
+    /// The number of the value whose bits are `bits` in `pool`, or, if it
+    /// has none, the number it will have once appended (`pool`'s count of
+    /// values), recorded as such.
+    fn find_or_insert(&mut self, bits: &[u64], pool: &Channel) -> u32 {
+        if 2 * (self.len + 1) > self.slots.len() {
+            self.grow(pool);
+        }
+        let h = Self::hash(bits);
+        let tag = h >> 32;
+        let mask = self.slots.len() - 1;
+        let mut i = h as usize & mask;
+        loop {
+            let slot = self.slots[i];
+            if slot == Self::EMPTY {
+                let next = pool.n_values() as u32;
+                self.slots[i] = tag << 32 | u64::from(next);
+                self.len += 1;
+                return next;
+            }
+            let number = slot as u32;
+            if slot >> 32 == tag && pool.value(number).iter().map(|x| x.to_bits()).eq(bits.iter().copied()) {
+                return number;
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    /// Twice the slots, every value of `pool` placed again.
+    fn grow(&mut self, pool: &Channel) {
+        let mut bigger = ValueIndex::with_room(self.slots.len());
+        let mask = bigger.slots.len() - 1;
+        for number in 0..pool.n_values() as u32 {
+            let bits: Vec<u64> = pool.value(number).iter().map(|x| x.to_bits()).collect();
+            let h = Self::hash(&bits);
+            let mut i = h as usize & mask;
+            while bigger.slots[i] != Self::EMPTY {
+                i = (i + 1) & mask;
+            }
+            bigger.slots[i] = (h >> 32) << 32 | u64::from(number);
+        }
+        bigger.len = pool.n_values();
+        *self = bigger;
     }
 }
 
@@ -1218,6 +1416,36 @@ mod tests {
         assert_eq!(interpolate(-big, big, 0.5), 0.0);
         assert_eq!(interpolate(-big, big, 0.0), -big);
         assert_eq!(interpolate(-big, big, 1.0), big);
+    }
+
+    /// The pool's index numbers values in order of first appearance, as a
+    /// map of the values would, through its growth (from 16 slots), with
+    /// values equal but for the sign of zero kept apart (bit for bit).
+    #[test]
+    fn value_index_numbers_values_in_order_of_first_appearance() {
+        let mut pool = Channel::new(2);
+        let mut index = ValueIndex::with_room(0);
+        let mut reference: FastMap<[u64; 2], u32> = FastMap::default();
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        for n in 0..20_000u32 {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let value = match n % 5 {
+                0 => [0.0, -0.0],
+                1 => [-0.0, 0.0],
+                _ => [(rng % 3000) as f64 / 7.0, 0.5],
+            };
+            let bits = value.map(f64::to_bits);
+            let expected = *reference.entry(bits).or_insert(pool.n_values() as u32);
+            let i = index.find_or_insert(&bits, &pool);
+            assert_eq!(i, expected, "value {n}");
+            if i == pool.n_values() as u32 {
+                pool.values.extend_from_slice(&value);
+            }
+        }
+        assert_eq!(pool.n_values(), reference.len());
+        assert!(index.slots.len() >= 2 * pool.n_values() && index.len == pool.n_values());
     }
 
     fn uv(values: &[[f64; 2]], corners: Vec<u32>) -> Channel {

@@ -1175,11 +1175,17 @@ pub fn write_obj_with_attributes(
     };
     for i in 0..n_written {
         let v = source.map_or(i, |s| s[i] as usize);
-        let mut xyz = positions[v].to_vec();
+        // The position, then the colour's first three numbers if any.
+        let mut xyzrgb = [0.0f64; 6];
+        xyzrgb[..3].copy_from_slice(&positions[v]);
+        let mut n = 3;
         if let (Some(s), Some(c)) = (&split, &attributes.colors) {
-            xyz.extend(c.value(s.values[0][i]).iter().take(3));
+            for &x in c.value(s.values[0][i]).iter().take(3) {
+                xyzrgb[n] = x;
+                n += 1;
+            }
         }
-        numbers(&mut line, b"v", &xyz);
+        numbers(&mut line, b"v", &xyzrgb[..n]);
         w.write_all(&line)?;
     }
     for (keyword, channel) in [(&b"vt"[..], &attributes.texcoords), (&b"vn"[..], &attributes.normals)] {
