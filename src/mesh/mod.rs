@@ -65,8 +65,8 @@ pub trait RegionCuts {
     /// [`whole`]: RegionCuts::whole
     fn apart_within(&self, f1: u32, f2: u32) -> bool;
 
-    /// The first face cut from the same polygon of the file as `f` (`f`
-    /// itself for a face of its own). A polygon's values are given at its
+    /// The first face cut from the same polygon of the file as `f` (so at
+    /// most `f`; `f` itself for a face of its own). A polygon's values are given at its
     /// corners only: how they spread inside it depends on how it is cut
     /// into triangles, which is delmesh's choice, not the file's. So the
     /// edges inside one flat polygon join its faces even where its values
@@ -442,23 +442,26 @@ impl Surface {
                     (f1, f2, exact)
                 })
                 .collect();
+            // (The first face of a polygon is at most any of its faces: a
+            // number past that, from another `RegionCuts`, is taken as none.)
+            let polygon = |f: u32| cuts.polygon(f).min(f);
             let mut loose = vec![false; n_faces];
             for &(f1, f2, exact) in &joins {
-                let p = cuts.polygon(f1);
-                if !exact && p == cuts.polygon(f2) {
+                let p = polygon(f1);
+                if !exact && p == polygon(f2) {
                     loose[p as usize] = true;
                 }
             }
             sets = UnionFind::new(n_faces);
             for &(f1, f2, exact) in &joins {
-                let (p1, p2) = (cuts.polygon(f1), cuts.polygon(f2));
+                let (p1, p2) = (polygon(f1), polygon(f2));
                 if p1 == p2 || (exact && !loose[p1 as usize] && !loose[p2 as usize]) {
                     sets.union(f1 as usize, f2 as usize);
                 }
             }
             let polygons = loose.iter().filter(|&&l| l).count();
             if polygons > 0 {
-                let faces = (0..n_faces as u32).filter(|&f| loose[cuts.polygon(f) as usize]).count();
+                let faces = (0..n_faces as u32).filter(|&f| loose[polygon(f) as usize]).count();
                 cuts.polygons_flipped_inside(polygons, faces);
             }
         }
