@@ -1075,7 +1075,8 @@ impl Transfer {
                     channel,
                     nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
                     pooled,
-                    index: ValueIndex::with_room(0),
+                    // About one value per vertex: room made once, not regrown.
+                    index: ValueIndex::with_room(surface.positions.len()),
                 }
             })
             .collect();
@@ -1090,10 +1091,6 @@ impl Transfer {
         let mut last_region = vec![u32::MAX; n_vertices];
         let mut last_value = vec![NO_VALUE; n_vertices * n_channels];
         let mut first_value = vec![NO_VALUE; n_vertices * n_channels];
-        for pool in &mut pools {
-            // About one value per vertex: room made once, not regrown.
-            pool.index = ValueIndex::with_room(n_vertices);
-        }
         for f in 0..n_faces {
             if n_channels == 0 {
                 break;
