@@ -710,20 +710,28 @@ fn the_tolerance_note_does_not_promise_exactness_inside_polygons() {
             .to_string()
     };
 
+    // Runs the prism; the default's output adds nothing and passes check,
+    // and its note ends with `ending`. Returns the input's path and the printout.
+    let with_note = |name: &str, fan_bottom: bool, ending: &str| {
+        let input = write(dir.path(), &format!("{name}.obj"), &prism(fan_bottom));
+        let out = dir.path().join(format!("{name}.out.obj"));
+        let printout = run(&input, &out, &[]);
+        assert_eq!(work(&printout).0, 0, "{printout}");
+        let note = note_of(&printout);
+        assert!(
+            note.contains("2 flat regions (124 faces)") && note.ends_with(ending),
+            "{note}"
+        );
+        check(&input, &out);
+        (input, printout)
+    };
+
     // Both caps 64-gons: 0 keeps nothing exact there.
-    let input = write(dir.path(), "polygons.obj", &prism(false));
-    let out = dir.path().join("polygons.out.obj");
-    let printout = run(&input, &out, &[]);
-    assert_eq!(work(&printout).0, 0, "{printout}");
-    let note = note_of(&printout);
-    assert!(
-        note.contains("2 flat regions (124 faces)")
-            && note.ends_with(
-                "(polygons of the file, flipped inside at any --attribute-tolerance: the corners keep their values)"
-            ),
-        "{note}"
+    let (input, printout) = with_note(
+        "polygons",
+        false,
+        "(polygons of the file, flipped inside at any --attribute-tolerance: the corners keep their values)",
     );
-    check(&input, &out);
     let exact = run(&input, &dir.path().join("exact.obj"), &["--attribute-tolerance", "0"]);
     assert_eq!(work(&exact), work(&printout), "{exact}\n{printout}");
     assert!(
@@ -733,19 +741,11 @@ fn the_tolerance_note_does_not_promise_exactness_inside_polygons() {
 
     // The bottom cap a fan of triangles of the file: 0 keeps that one exact
     // (by splitting its fan), not the top.
-    let input = write(dir.path(), "mixed.obj", &prism(true));
-    let out = dir.path().join("mixed.out.obj");
-    let printout = run(&input, &out, &[]);
-    assert_eq!(work(&printout).0, 0, "{printout}");
-    let note = note_of(&printout);
-    assert!(
-        note.contains("2 flat regions (124 faces)")
-            && note.ends_with(
-                "(--attribute-tolerance 0 keeps them exact but inside polygons of the file, whose corners keep their values)"
-            ),
-        "{note}"
+    let (input, _) = with_note(
+        "mixed",
+        true,
+        "(--attribute-tolerance 0 keeps them exact but inside polygons of the file, whose corners keep their values)",
     );
-    check(&input, &out);
     let exact = run(
         &input,
         &dir.path().join("mixed.exact.obj"),
