@@ -1075,7 +1075,8 @@ impl Transfer {
                     channel,
                     nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
                     pooled,
-                    // About one value per vertex: room made once, not regrown.
+                    // About one value per vertex (more at seams: then
+                    // regrown).
                     index: ValueIndex::with_room(surface.positions.len()),
                 }
             })
@@ -1210,10 +1211,10 @@ impl ValueIndex {
     }
 
     /// The hash of a value's bits.
-    fn hash(bits: &[u64]) -> u64 {
+    fn hash(bits: impl IntoIterator<Item = u64>) -> u64 {
         use std::hash::Hasher;
         let mut h = crate::hash::FastHasher::default();
-        for &b in bits {
+        for b in bits {
             h.write_u64(b);
         }
         h.finish()
@@ -1226,7 +1227,7 @@ impl ValueIndex {
         if 2 * (self.len + 1) > self.slots.len() {
             self.grow(pool);
         }
-        let h = Self::hash(bits);
+        let h = Self::hash(bits.iter().copied());
         let tag = h >> 32;
         let mask = self.slots.len() - 1;
         let mut i = h as usize & mask;
@@ -1251,8 +1252,7 @@ impl ValueIndex {
         let mut bigger = ValueIndex::with_room(self.slots.len());
         let mask = bigger.slots.len() - 1;
         for number in 0..pool.n_values() as u32 {
-            let bits: Vec<u64> = pool.value(number).iter().map(|x| x.to_bits()).collect();
-            let h = Self::hash(&bits);
+            let h = Self::hash(pool.value(number).iter().map(|x| x.to_bits()));
             let mut i = h as usize & mask;
             while bigger.slots[i] != Self::EMPTY {
                 i = (i + 1) & mask;
