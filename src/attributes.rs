@@ -735,6 +735,20 @@ impl<'a> AttributeCuts<'a> {
         &self.scales[n * piece..n * (piece + 1)]
     }
 
+    /// A line for the printout when polygons of the file were flipped
+    /// inside though their values are not one affine field over them
+    /// ([`RegionCuts::polygon`]).
+    pub fn polygon_note(&self) -> Option<String> {
+        let (polygons, faces) = self.loose.get();
+        (polygons > 0).then(|| {
+            format!(
+                "{polygons} polygon(s) of the file ({faces} triangles) may be flipped inside though their attributes \
+                 are not one affine field there: the file gives them at the corners only, which keep them exactly \
+                 (inside, they follow the new triangles)"
+            )
+        })
+    }
+
     /// A line for the printout when some flat regions were let be flipped as
     /// a whole though their values are affine only within the tolerance:
     /// how many, how far each attribute was from affine, and so how far
@@ -779,22 +793,6 @@ impl<'a> AttributeCuts<'a> {
             if rounded { " (rounded values)" } else { "" },
             list(&|(_, d, _)| format!("{:.1e}", 2.0 * d)),
         ))
-    }
-}
-
-impl AttributeCuts<'_> {
-    /// A line for the printout when polygons of the file were flipped
-    /// inside though their values are not one affine field over them
-    /// ([`RegionCuts::polygon`]).
-    pub fn polygon_note(&self) -> Option<String> {
-        let (polygons, faces) = self.loose.get();
-        (polygons > 0).then(|| {
-            format!(
-                "{polygons} polygon(s) of the file ({faces} triangles) may be flipped inside though their attributes \
-                 are not one affine field there: the file gives them at the corners only, which keep them exactly \
-                 (inside, they follow the new triangles)"
-            )
-        })
     }
 }
 
@@ -1056,125 +1054,51 @@ impl Transfer {
         }
         // Every channel in one pass over the faces: each output corner's
         // input corners are found once for all channels.
-        struct Pool<'a> {
-            kind: Kind,
-            channel: &'a Channel,
-            /// Integer properties take the nearer end's value.
-            nearest: bool,
-            pooled: Channel,
-            /// Equal values share an entry of the pool.
-            index: ValueIndex,
-        }
+        let n_vertices = surface.positions.len();
         let mut pools: Vec<Pool> = input
             .channels()
-            .map(|(kind, channel)| {
-                let mut pooled = Channel::new(channel.dim);
-                pooled.corners.reserve(3 * n_faces);
-                Pool {
-                    kind,
-                    channel,
-                    nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
-                    pooled,
-                    // About one value per vertex (more at seams: then
-                    // regrown).
-                    index: ValueIndex::with_room(surface.positions.len()),
-                }
-            })
+            .map(|(kind, channel)| Pool::new(kind, channel, input, 3 * n_faces, n_vertices))
             .collect();
         let n_channels = pools.len();
         // A vertex's values depend on its region only, and are mostly the
         // same in all its regions: its last corner's region and value
         // numbers, which its next corners in that region take as they are,
         // and its first value numbers, which a value found equal to one
-        // takes without a look in the pool's map (a cache miss or two on a
-        // large mesh, where the map holds millions of values).
-        let n_vertices = if n_channels == 0 { 0 } else { surface.positions.len() };
-        let mut last_region = vec![u32::MAX; n_vertices];
-        let mut last_value = vec![NO_VALUE; n_vertices * n_channels];
-        let mut first_value = vec![NO_VALUE; n_vertices * n_channels];
-        for f in 0..n_faces {
-            if n_channels == 0 {
-                break;
-            }
-            let region = surface.face_region[f];
-            for v in surface.topo.face_vertices(FaceId(f as u32)) {
-                let slots = v.idx() * n_channels..(v.idx() + 1) * n_channels;
-                if last_region[v.idx()] == region {
-                    for (pool, &i) in pools.iter_mut().zip(&last_value[slots]) {
+        // takes without a look in the pool's index (a cache miss or two on
+        // a large mesh, where the index holds millions of values).
+        if n_channels > 0 {
+            let mut last_region = vec![u32::MAX; n_vertices];
+            let mut last_value = vec![NO_VALUE; n_vertices * n_channels];
+            let mut first_value = vec![NO_VALUE; n_vertices * n_channels];
+            for f in 0..n_faces {
+                let region = surface.face_region[f];
+                for v in surface.topo.face_vertices(FaceId(f as u32)) {
+                    let slots = v.idx() * n_channels..(v.idx() + 1) * n_channels;
+                    if last_region[v.idx()] == region {
+                        for (pool, &i) in pools.iter_mut().zip(&last_value[slots]) {
+                            pool.pooled.corners.push(i);
+                        }
+                        continue;
+                    }
+                    last_region[v.idx()] = region;
+                    // The input corners the value comes from, and the parameter.
+                    let (c0, c1, t) = match surface.carriers[v.idx()] {
+                        Carrier::Vertex(i) => (self.corner_of(i, region), None, 0.0),
+                        Carrier::Edge { edge, t } => {
+                            let [i0, i1] = surface.input_edges[edge as usize];
+                            (self.corner_of(i0, region), Some(self.corner_of(i1, region)), t)
+                        }
+                    };
+                    let memo = last_value[slots.clone()].iter_mut().zip(&mut first_value[slots]);
+                    for (pool, (last, first)) in pools.iter_mut().zip(memo) {
+                        let i = pool.value_index(c0, c1, t, *first);
                         pool.pooled.corners.push(i);
-                    }
-                    continue;
-                }
-                last_region[v.idx()] = region;
-                // The input corners the value comes from, and the parameter.
-                let (c0, c1, t) = match surface.carriers[v.idx()] {
-                    Carrier::Vertex(i) => (self.corner_of(i, region), None, 0.0),
-                    Carrier::Edge { edge, t } => {
-                        let [i0, i1] = surface.input_edges[edge as usize];
-                        (self.corner_of(i0, region), Some(self.corner_of(i1, region)), t)
-                    }
-                };
-                let memo = last_value[slots.clone()].iter_mut().zip(&mut first_value[slots]);
-                for (pool, (last, first)) in pools.iter_mut().zip(memo) {
-                    let i = pool.value_index(c0, c1, t, *first);
-                    pool.pooled.corners.push(i);
-                    *last = i;
-                    if *first == NO_VALUE {
-                        *first = i;
-                    }
-                }
-            }
-        }
-        impl Pool<'_> {
-            /// The pool number of the value at input corner `c0`, or at `t`
-            /// between corners `c0` and `c1`: `known` if the value there is
-            /// equal to it (bit for bit), else found in (or added to) the
-            /// pool; [`NO_VALUE`] where a corner has none (a region of faces
-            /// without values).
-            fn value_index(&mut self, c0: usize, c1: Option<usize>, t: f64, known: u32) -> u32 {
-                let mut value = [0.0f64; MAX_DIM];
-                let x0 = self.channel.corner(c0);
-                match c1 {
-                    None => {
-                        if x0.is_empty() {
-                            return NO_VALUE;
-                        }
-                        value[..x0.len()].copy_from_slice(x0);
-                    }
-                    Some(c1) => {
-                        let x1 = self.channel.corner(c1);
-                        if x0.is_empty() || x1.is_empty() {
-                            return NO_VALUE;
-                        }
-                        for (k, slot) in value.iter_mut().enumerate() {
-                            let (a, b) = (x0.get(k).copied().unwrap_or(0.0), x1.get(k).copied().unwrap_or(0.0));
-                            *slot = match self.nearest {
-                                true if t <= 0.5 => a,
-                                true => b,
-                                false => interpolate(a, b, t),
-                            };
+                        *last = i;
+                        if *first == NO_VALUE {
+                            *first = i;
                         }
                     }
                 }
-                let key = value.map(f64::to_bits);
-                // (A value in the pool is unique there: equal to `known`,
-                // it is the one the map holds.)
-                let dim = self.pooled.dim;
-                if known != NO_VALUE
-                    && self
-                        .pooled
-                        .value(known)
-                        .iter()
-                        .zip(&key[..dim])
-                        .all(|(x, k)| x.to_bits() == *k)
-                {
-                    return known;
-                }
-                let i = self.index.find_or_insert(&key[..dim], &self.pooled);
-                if i == self.pooled.n_values() as u32 {
-                    self.pooled.values.extend_from_slice(&value[..dim]);
-                }
-                i
             }
         }
         for pool in pools {
@@ -1182,6 +1106,86 @@ impl Transfer {
         }
         out
     }
+}
+
+/// One channel's values on the output ([`Transfer::apply`]): the pool
+/// being filled, and its index.
+struct Pool<'a> {
+    kind: Kind,
+    /// The input's values.
+    channel: &'a Channel,
+    /// Integer properties take the nearer end's value.
+    nearest: bool,
+    /// The output's values, each once, and the value of each corner.
+    pooled: Channel,
+    /// Equal values share an entry of the pool.
+    index: ValueIndex,
+}
+
+impl<'a> Pool<'a> {
+    /// An empty pool for channel `kind` of `input`, with room for
+    /// `corners` corners and `vertices` values (about one per vertex; more
+    /// at seams, then regrown).
+    fn new(kind: Kind, channel: &'a Channel, input: &Attributes, corners: usize, vertices: usize) -> Pool<'a> {
+        let mut pooled = Channel::new(channel.dim);
+        pooled.corners.reserve(corners);
+        Pool {
+            kind,
+            channel,
+            nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
+            pooled,
+            index: ValueIndex::with_room(vertices),
+        }
+    }
+
+    /// The pool number of the value at input corner `c0`, or at `t`
+    /// between corners `c0` and `c1`: `known` if the value there is
+    /// equal to it (bit for bit), else found in (or added to) the
+    /// pool; [`NO_VALUE`] where a corner has none (a region of faces
+    /// without values).
+    fn value_index(&mut self, c0: usize, c1: Option<usize>, t: f64, known: u32) -> u32 {
+        let dim = self.pooled.dim;
+        let mut value = [0.0f64; MAX_DIM];
+        let x0 = self.channel.corner(c0);
+        match c1 {
+            None => {
+                if x0.is_empty() {
+                    return NO_VALUE;
+                }
+                value[..x0.len()].copy_from_slice(x0);
+            }
+            Some(c1) => {
+                let x1 = self.channel.corner(c1);
+                if x0.is_empty() || x1.is_empty() {
+                    return NO_VALUE;
+                }
+                for (slot, (&a, &b)) in value.iter_mut().zip(x0.iter().zip(x1)) {
+                    *slot = match self.nearest {
+                        true if t <= 0.5 => a,
+                        true => b,
+                        false => interpolate(a, b, t),
+                    };
+                }
+            }
+        }
+        let value = &value[..dim];
+        // (A value in the pool is unique there: equal to `known`, it is the
+        // one the index holds.)
+        if known != NO_VALUE && same_bits(self.pooled.value(known), value) {
+            return known;
+        }
+        let i = self.index.find_or_insert(value, &self.pooled);
+        if i == self.pooled.n_values() as u32 {
+            self.pooled.values.extend_from_slice(value);
+        }
+        i
+    }
+}
+
+/// Whether two values are equal bit for bit (so -0.0 is not 0.0, and a NaN
+/// equals itself): how a pool tells its values apart.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// The number of each value of a pool ([`Channel::values`]), found by the
@@ -1211,23 +1215,23 @@ impl ValueIndex {
     }
 
     /// The hash of a value's bits.
-    fn hash(bits: impl IntoIterator<Item = u64>) -> u64 {
+    fn hash(value: &[f64]) -> u64 {
         use std::hash::Hasher;
         let mut h = crate::hash::FastHasher::default();
-        for b in bits {
-            h.write_u64(b);
+        for x in value {
+            h.write_u64(x.to_bits());
         }
         h.finish()
     }
 
-    /// The number of the value whose bits are `bits` in `pool`, or, if it
-    /// has none, the number it will have once appended (`pool`'s count of
+    /// The number of `value` in `pool` (equal bit for bit), or, if it has
+    /// none, the number it will have once appended (`pool`'s count of
     /// values), recorded as such.
-    fn find_or_insert(&mut self, bits: &[u64], pool: &Channel) -> u32 {
+    fn find_or_insert(&mut self, value: &[f64], pool: &Channel) -> u32 {
         if 2 * (self.len + 1) > self.slots.len() {
             self.grow(pool);
         }
-        let h = Self::hash(bits.iter().copied());
+        let h = Self::hash(value);
         let tag = h >> 32;
         let mask = self.slots.len() - 1;
         let mut i = h as usize & mask;
@@ -1240,7 +1244,7 @@ impl ValueIndex {
                 return next;
             }
             let number = slot as u32;
-            if slot >> 32 == tag && pool.value(number).iter().map(|x| x.to_bits()).eq(bits.iter().copied()) {
+            if slot >> 32 == tag && same_bits(pool.value(number), value) {
                 return number;
             }
             i = (i + 1) & mask;
@@ -1252,7 +1256,7 @@ impl ValueIndex {
         let mut bigger = ValueIndex::with_room(self.slots.len());
         let mask = bigger.slots.len() - 1;
         for number in 0..pool.n_values() as u32 {
-            let h = Self::hash(pool.value(number).iter().map(|x| x.to_bits()));
+            let h = Self::hash(pool.value(number));
             let mut i = h as usize & mask;
             while bigger.slots[i] != Self::EMPTY {
                 i = (i + 1) & mask;
@@ -1433,9 +1437,10 @@ mod tests {
                 1 => [-0.0, 0.0],
                 _ => [(rng % 3000) as f64 / 7.0, 0.5],
             };
-            let bits = value.map(f64::to_bits);
-            let expected = *reference.entry(bits).or_insert(pool.n_values() as u32);
-            let i = index.find_or_insert(&bits, &pool);
+            let expected = *reference
+                .entry(value.map(f64::to_bits))
+                .or_insert(pool.n_values() as u32);
+            let i = index.find_or_insert(&value, &pool);
             assert_eq!(i, expected, "value {n}");
             if i == pool.n_values() as u32 {
                 pool.values.extend_from_slice(&value);

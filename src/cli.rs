@@ -2611,7 +2611,7 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> a
     );
     let canvas = delmesh::render::bar_chart(&title, &bars, &legend);
     let bytes = canvas
-        .encode(Format::of_path(path).unwrap_or(Format::Svg))
+        .encode(Format::of_picture(path, &path.display().to_string()).map_err(anyhow::Error::msg)?)
         .with_context(|| path.display().to_string())?;
     io::write_atomic(path, |w| w.write_all(&bytes))?;
     Ok(())

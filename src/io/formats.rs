@@ -219,14 +219,17 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
     // gzip magic too: a file named STL whose size is exactly the one its
     // facet count gives is taken as one (gzip data of a size that matches
     // its bytes 80..84 so has a chance of 2^-32).
-    let exact_stl =
-        || named == Some(Format::Stl) && binary_stl_size(bytes).is_some_and(|(_, size)| size == bytes.len() as u64);
+    // (The same for the decompressed bytes: gzip data inside is a file
+    // compressed twice, unless it is such an STL.)
+    let exact_stl = |data: &[u8]| {
+        named == Some(Format::Stl) && binary_stl_size(data).is_some_and(|(_, size)| size == data.len() as u64)
+    };
     if bytes == [0x1f] {
         return Err(FormatError::new(
             "the gzip data is truncated (the file has 1 byte, the first of the gzip magic)",
         ));
     }
-    if !bytes.starts_with(&[0x1f, 0x8b]) || exact_stl() {
+    if !bytes.starts_with(&[0x1f, 0x8b]) || exact_stl(bytes) {
         return Ok(Cow::Borrowed(bytes));
     }
     // A gzip member ends with its decompressed size modulo 2^32: exact for the usual single
@@ -260,9 +263,7 @@ pub(crate) fn gunzip_judged(bytes: &[u8], max_bytes: u64, named: Option<Format>)
             "the gzip data decompresses to more than the limit of {max_bytes} bytes"
         )));
     }
-    let exact_stl =
-        named == Some(Format::Stl) && binary_stl_size(&out).is_some_and(|(_, size)| size == out.len() as u64);
-    if out.starts_with(&[0x1f, 0x8b]) && !exact_stl {
+    if out.starts_with(&[0x1f, 0x8b]) && !exact_stl(&out) {
         return Err(FormatError::new(
             "the gzip data decompresses to gzip data (the file was compressed twice): decompress it once first (gunzip)",
         ));
