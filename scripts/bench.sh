@@ -36,7 +36,8 @@ else
   # loader). Skipped, with a note and the build's last error line, if it
   # fails (as where glibc's static libraries are missing).
   static_dir=${CARGO_TARGET_DIR:-$PWD/target}/static
-  if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- -C target-feature=+crt-static \
+  if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- \
+    -C target-feature=+crt-static -C relocation-model=static \
     2>"$out/static.err"; then
     static_bin=$static_dir/release/delmesh
   fi
