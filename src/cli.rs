@@ -1182,8 +1182,7 @@ fn mesh_streamed<'a>(staged: &io::Staged, output: &'a Path) -> impl Fn(anyhow::E
     }
 }
 
-/// The record of a run of `options` that failed with `e`.
-/// The record of a run that failed with `e`, after its phases took
+/// The record of a run of `options` that failed with `e`, after its phases took
 /// `seconds` (those that did not run: 0).
 pub(crate) fn failure_record(
     options: Options,
@@ -1210,7 +1209,8 @@ fn error_kind(e: &anyhow::Error) -> &'static str {
     }
 }
 
-/// What `--stats-json` and `--stats-csv` need besides the runs.
+/// A run's input, read and built, and where it goes: what the printout,
+/// `--stats-json` and `--stats-csv` need besides the runs themselves.
 struct Report<'a> {
     args: &'a RunArgs,
     input_path: &'a Path,
@@ -1264,10 +1264,91 @@ impl Report<'_> {
     }
 }
 
+/// The main command: read and build the input, then refine it once, with
+/// every setting of `-all`, or not at all (`--no-refine`), and write what
+/// was asked. Everything that can be refused before the work is
+/// ([`destinations`]), and nothing is put in place before the run has
+/// succeeded.
 fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let Some(input_path) = args.input.as_deref() else {
         bail!("no input: give one with -i FILE")
     };
+    let (output, in_place) = destinations(args, input_path)?;
+    io::set_sync_writes(args.settings.sync);
+    if let Some(jobs) = args.jobs {
+        delmesh::parallel::set_threads(usize::from(jobs));
+    }
+    crate::working_on(input_path);
+    let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
+    let t0 = Instant::now();
+    progress::phase(Phase::Read {
+        name: file_name(input_path),
+        size: std::fs::metadata(input_path).ok().map(|m| m.len()),
+    });
+    let mut input = args.settings.read(input_path, &output, !args.no_refine)?;
+    let read_s = t0.elapsed().as_secs_f64();
+    let t_build = Instant::now();
+    progress::phase(Phase::Build {
+        faces: input.triangles.len(),
+    });
+    let surface = args.settings.build(&mut input, input_path)?;
+    let transfer =
+        (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
+    let build_s = t_build.elapsed().as_secs_f64();
+    progress::phase(Phase::Idle);
+    // The input's non-Delaunay edges: the first pass of every run, and where
+    // the lower bound is counted.
+    let first_pass = FirstPass::new(&surface);
+    let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
+    if !args.quiet {
+        say_input(input_path, &input, &surface, lower_bound, transfer.as_ref());
+    }
+    // The repaired input: with -all put in place now (the sweep writes its
+    // files as it goes), otherwise staged and put in place with the other
+    // side files at the end, so that a run that fails leaves none.
+    let mut repaired_staged = None;
+    if let Some(repaired) = &args.repaired {
+        progress::phase(Phase::Write {
+            name: file_name(repaired),
+        });
+        let staged = io::stage_mesh_after(repaired, &Default::default(), &input.positions, &input.triangles)?;
+        progress::phase(Phase::Idle);
+        if args.all {
+            printout_intact(repaired, "not written")?;
+            staged.commit()?;
+            say_repaired(args);
+        } else {
+            repaired_staged = Some(staged);
+        }
+    }
+    let report = Report {
+        args,
+        input_path,
+        input: &input,
+        figures: surface.input_figures,
+        lower_bound,
+        constants: refine::sample_constants(&surface),
+        output: &output,
+        t0,
+        read_s,
+        build_s,
+    };
+    let side: SideFiles = repaired_staged.into_iter().collect();
+    if args.all {
+        run_sweep(&report, &surface, &first_pass, transfer.as_ref())
+    } else if args.no_refine {
+        run_unrefined(&report, &surface, transfer.as_ref(), side, in_place)
+    } else {
+        run_refined(&report, surface, &first_pass, transfer.as_ref(), side, in_place)
+    }
+}
+
+/// The output mesh of the main command (the input itself when rewritten in
+/// place, `-` for standard output), and whether it rewrites the input in
+/// place; or why the run is refused before any work: a folder that cannot
+/// be written, two of its files that are one, a printout that would go
+/// into its input or nowhere, a format that cannot hold what it would get.
+fn destinations(args: &RunArgs, input_path: &Path) -> anyhow::Result<(PathBuf, bool)> {
     let from_stdin = io::is_standard_input(input_path);
     // Without -o the output is the input, rewritten in place; standard
     // input has no file to rewrite, so its mesh goes to standard output.
@@ -1297,10 +1378,6 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     check_output_dir(&output)?;
-    io::set_sync_writes(args.settings.sync);
-    if let Some(jobs) = args.jobs {
-        delmesh::parallel::set_threads(usize::from(jobs));
-    }
     // Every file this run writes, with what it is: no two may be one file.
     let mut written: Vec<(String, PathBuf)> = Vec::new();
     if args.all {
@@ -1379,210 +1456,201 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             input_path.display()
         );
     }
-    crate::working_on(input_path);
-    let _progress = progress::start(progress::should_draw(args.progress, args.quiet));
-    let t0 = Instant::now();
-    progress::phase(Phase::Read {
-        name: file_name(input_path),
-        size: std::fs::metadata(input_path).ok().map(|m| m.len()),
-    });
-    let mut input = args.settings.read(input_path, &output, !args.no_refine)?;
-    let read_s = t0.elapsed().as_secs_f64();
-    let t_build = Instant::now();
-    progress::phase(Phase::Build {
-        faces: input.triangles.len(),
-    });
-    let surface = args.settings.build(&mut input, input_path)?;
-    let transfer =
-        (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
-    let build_s = t_build.elapsed().as_secs_f64();
-    progress::phase(Phase::Idle);
+    Ok((output, in_place.is_some()))
+}
+
+/// Prints the input's lines of the summary: its counts and figures, the
+/// lower bound, what repair did or the renumbering, its attributes, notes.
+fn say_input(
+    input_path: &Path,
+    input: &io::InputMesh,
+    surface: &Surface,
+    lower_bound: usize,
+    transfer: Option<&Transfer>,
+) {
     let figures = surface.input_figures;
-    // The input's non-Delaunay edges: the first pass of every run, and where
-    // the lower bound is counted.
-    let first_pass = FirstPass::new(&surface);
-    let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
+    // With --repair the counts are the repaired mesh's (what is refined),
+    // said so; the file's faces in brackets.
+    let counts = if input.repair.is_some() {
+        format!(
+            "{} vertices, {} triangles after repair ({} faces in the file)",
+            input.positions.len(),
+            input.triangles.len(),
+            input.faces_in_file
+        )
+    } else {
+        format!(
+            "{} vertices, {} faces ({} triangles)",
+            input.positions.len(),
+            input.faces_in_file,
+            input.triangles.len()
+        )
+    };
+    say!(
+        "input   {}: {counts}; min angle {} rad; edge length {} .. {}",
+        input_path.display(),
+        sig(figures.min_angle),
+        sig(figures.min_edge),
+        sig(figures.max_edge)
+    );
+    // Flat edges the attributes keep apart count as if they were not flat:
+    // the bound is then for meshes that keep the attributes.
+    let kept = match (surface.flat_edges_apart, lower_bound) {
+        (0, _) => "",
+        (_, 0) => " and these attributes",
+        _ => " and these attributes (--drop-attributes lets every flat edge flip)",
+    };
+    say!("bound   any Delaunay mesh with this geometry{kept} adds at least {lower_bound} vertices");
+    if let Some(report) = &input.repair {
+        if report.is_clean() {
+            say!("repair  nothing to repair");
+        }
+        for line in report.lines() {
+            say!("repair  {line}");
+        }
+    } else if input.welded > 0 || input.unreferenced > 0 {
+        say!("        {}", renumbered_line(input.welded, input.unreferenced));
+    }
+    if let Some(t) = transfer {
+        say!("        attributes: {}", describe_attributes(t.input()));
+    }
+    for note in input.notes.iter().chain(&near_coincident_note(&figures)) {
+        say!("note    {note}");
+    }
+}
+
+/// The summary's line for `--repaired`, unless `--quiet`.
+fn say_repaired(args: &RunArgs) {
+    if let (Some(repaired), false) = (&args.repaired, args.quiet) {
+        say!("        repaired input written to {}", repaired.display());
+    }
+}
+
+/// `-all`: the sweep of [`sweep_combinations`], each file written as it is
+/// made, then the reports and the chart.
+fn run_sweep(
+    report: &Report,
+    surface: &Surface,
+    first_pass: &FirstPass,
+    transfer: Option<&Transfer>,
+) -> anyhow::Result<ExitCode> {
+    let args = report.args;
+    let reference = (args.check)
+        .then(|| CheckReference::new(report.input_path, report.input, report.output))
+        .transpose()?;
+    let sweep = Sweep {
+        surface,
+        first_pass,
+        transfer,
+        input: report.input,
+        input_path: report.input_path,
+        check: reference.as_ref(),
+    };
+    let (code, rows) = run_all(&sweep, report.output, args)?;
+    let runs: Vec<stats_json::RunRecord> = rows
+        .iter()
+        .map(|r| stats_json::RunRecord {
+            options: Some(r.options),
+            output: r.file.display().to_string(),
+            result: match &r.result {
+                Ok(f) => Ok(stats_json::RunFigures {
+                    vertices: f.vertices,
+                    faces: f.faces,
+                    added_vertices: f.added,
+                    pruned: f.pruned,
+                    stats: Some(f.stats),
+                }),
+                Err(e) => Err((error_kind(e), one_line(e))),
+            },
+            seconds: r.seconds,
+        })
+        .collect();
+    report.write(&runs, true)?;
+    if let Some(chart) = &args.chart {
+        draw_chart(chart, report.input_path, &rows, args)?;
+        if !args.quiet {
+            say!("chart   {}", chart.display());
+        }
+    }
+    Ok(code)
+}
+
+/// `--no-refine`: the input written as read (converted, repaired), with
+/// its side files (`side`: the repaired input, if any, staged).
+fn run_unrefined(
+    report: &Report,
+    surface: &Surface,
+    transfer: Option<&Transfer>,
+    mut side: SideFiles,
+    in_place: bool,
+) -> anyhow::Result<ExitCode> {
+    let (args, output) = (report.args, report.output);
+    let t1 = Instant::now();
+    progress::phase(Phase::Write {
+        name: file_name(output),
+    });
+    let (written, staged) = write_output(output, surface, transfer, &Default::default())?;
+    let write_s = t1.elapsed().as_secs_f64();
+    progress::phase(Phase::Idle);
+    // The side files before the mesh is put in place (as in `run_refined`).
+    let streamed = mesh_streamed(&staged, output);
+    if let Some(map) = &args.vertex_map {
+        side.push(stage_vertex_map(map, surface, report.input, &written).map_err(streamed)?);
+    }
+    let run = stats_json::RunRecord {
+        options: None,
+        output: output.display().to_string(),
+        result: Ok(stats_json::RunFigures {
+            vertices: surface.positions.len(),
+            faces: surface.topo.n_faces(),
+            added_vertices: 0,
+            pruned: None,
+            stats: None,
+        }),
+        seconds: stats_json::RunSeconds {
+            write: write_s,
+            ..Default::default()
+        },
+    };
+    let (total, reports) = report.stage(&[run], false).map_err(streamed)?;
+    side.extend(reports);
+    // The summary before the files are put in place: a printout that
+    // cannot be written leaves them out (`commit_all`).
     if !args.quiet {
-        // With --repair the counts are the repaired mesh's (what is
-        // refined), said so; the file's faces in brackets.
-        let counts = if input.repair.is_some() {
-            format!(
-                "{} vertices, {} triangles after repair ({} faces in the file)",
-                input.positions.len(),
-                input.triangles.len(),
-                input.faces_in_file
-            )
-        } else {
-            format!(
-                "{} vertices, {} faces ({} triangles)",
-                input.positions.len(),
-                input.faces_in_file,
-                input.triangles.len()
-            )
-        };
-        say!(
-            "input   {}: {counts}; min angle {} rad; edge length {} .. {}",
-            input_path.display(),
-            sig(figures.min_angle),
-            sig(figures.min_edge),
-            sig(figures.max_edge)
-        );
-        // Flat edges the attributes keep apart count as if they were not
-        // flat: the bound is then for meshes that keep the attributes.
-        let kept = match (surface.flat_edges_apart, lower_bound) {
-            (0, _) => "",
-            (_, 0) => " and these attributes",
-            _ => " and these attributes (--drop-attributes lets every flat edge flip)",
-        };
-        say!("bound   any Delaunay mesh with this geometry{kept} adds at least {lower_bound} vertices");
-        if let Some(report) = &input.repair {
-            if report.is_clean() {
-                say!("repair  nothing to repair");
-            }
-            for line in report.lines() {
-                say!("repair  {line}");
-            }
-        } else if input.welded > 0 || input.unreferenced > 0 {
-            say!("        {}", renumbered_line(input.welded, input.unreferenced));
-        }
-        if let Some(t) = &transfer {
-            say!("        attributes: {}", describe_attributes(t.input()));
-        }
-        for note in input.notes.iter().chain(&near_coincident_note(&figures)) {
+        for note in &written.notes {
             say!("note    {note}");
         }
+        say!(
+            "output  {}: {} vertices, {} faces (not refined: --no-refine)",
+            output.display(),
+            surface.positions.len(),
+            surface.topo.n_faces()
+        );
+        say_repaired(args);
+        say!(
+            "seconds {:.4} total (read {:.4}, build {:.4}, write {:.4})",
+            total,
+            report.read_s,
+            report.build_s,
+            write_s
+        );
     }
-    // The repaired input: with -all put in place now (the sweep writes its
-    // files as it goes), otherwise staged and put in place with the other
-    // side files at the end, so that a run that fails leaves none.
-    let say_repaired = || {
-        if let (Some(repaired), false) = (&args.repaired, args.quiet) {
-            say!("        repaired input written to {}", repaired.display());
-        }
-    };
-    let mut repaired_staged = None;
-    if let Some(repaired) = &args.repaired {
-        progress::phase(Phase::Write {
-            name: file_name(repaired),
-        });
-        let staged = io::stage_mesh_after(repaired, &Default::default(), &input.positions, &input.triangles)?;
-        progress::phase(Phase::Idle);
-        if args.all {
-            printout_intact(repaired, "not written")?;
-            staged.commit()?;
-            say_repaired();
-        } else {
-            repaired_staged = Some(staged);
-        }
-    }
-    let report = Report {
-        args,
-        input_path,
-        input: &input,
-        figures,
-        lower_bound,
-        constants: refine::sample_constants(&surface),
-        output: &output,
-        t0,
-        read_s,
-        build_s,
-    };
-    if args.all {
-        let reference = (args.check)
-            .then(|| CheckReference::new(input_path, &input, &output))
-            .transpose()?;
-        let sweep = Sweep {
-            surface: &surface,
-            first_pass: &first_pass,
-            transfer: transfer.as_ref(),
-            input: &input,
-            input_path,
-            check: reference.as_ref(),
-        };
-        let (code, rows) = run_all(&sweep, &output, args)?;
-        let runs: Vec<stats_json::RunRecord> = rows
-            .iter()
-            .map(|r| stats_json::RunRecord {
-                options: Some(r.options),
-                output: r.file.display().to_string(),
-                result: match &r.result {
-                    Ok(f) => Ok(stats_json::RunFigures {
-                        vertices: f.vertices,
-                        faces: f.faces,
-                        added_vertices: f.added,
-                        pruned: f.pruned,
-                        stats: Some(f.stats),
-                    }),
-                    Err(e) => Err((error_kind(e), one_line(e))),
-                },
-                seconds: r.seconds,
-            })
-            .collect();
-        report.write(&runs, true)?;
-        if let Some(chart) = &args.chart {
-            draw_chart(chart, input_path, &rows, args)?;
-            if !args.quiet {
-                say!("chart   {}", chart.display());
-            }
-        }
-        return Ok(code);
-    }
-    if args.no_refine {
-        let t1 = Instant::now();
-        progress::phase(Phase::Write {
-            name: file_name(&output),
-        });
-        let (written, staged) = write_output(&output, &surface, transfer.as_ref(), &Default::default())?;
-        let write_s = t1.elapsed().as_secs_f64();
-        progress::phase(Phase::Idle);
-        // The side files before the mesh is put in place (as below).
-        let streamed = mesh_streamed(&staged, &output);
-        let mut side: SideFiles = repaired_staged.into_iter().collect();
-        if let Some(map) = &args.vertex_map {
-            side.push(stage_vertex_map(map, &surface, &input, &written).map_err(streamed)?);
-        }
-        let notes = written.notes;
-        let run = stats_json::RunRecord {
-            options: None,
-            output: output.display().to_string(),
-            result: Ok(stats_json::RunFigures {
-                vertices: surface.positions.len(),
-                faces: surface.topo.n_faces(),
-                added_vertices: 0,
-                pruned: None,
-                stats: None,
-            }),
-            seconds: stats_json::RunSeconds {
-                write: write_s,
-                ..Default::default()
-            },
-        };
-        let (total, reports) = report.stage(&[run], false).map_err(streamed)?;
-        side.extend(reports);
-        // The summary before the files are put in place: a printout that
-        // cannot be written leaves them out (`commit_all`).
-        if !args.quiet {
-            for note in &notes {
-                say!("note    {note}");
-            }
-            say!(
-                "output  {}: {} vertices, {} faces (not refined: --no-refine)",
-                output.display(),
-                surface.positions.len(),
-                surface.topo.n_faces()
-            );
-            say_repaired();
-            say!(
-                "seconds {:.4} total (read {:.4}, build {:.4}, write {:.4})",
-                total,
-                read_s,
-                build_s,
-                write_s
-            );
-        }
-        commit_all(staged, &output, side, in_place.is_some())?;
-        return Ok(ExitCode::SUCCESS);
-    }
+    commit_all(staged, output, side, in_place)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// One refinement (or `--smallest`'s best of 24), pruned if asked, written
+/// and checked if asked, with its side files (`side`: the repaired input,
+/// if any, staged).
+fn run_refined(
+    report: &Report,
+    surface: Surface,
+    first_pass: &FirstPass,
+    transfer: Option<&Transfer>,
+    mut side: SideFiles,
+    in_place: bool,
+) -> anyhow::Result<ExitCode> {
+    let (args, input_path, input, output) = (report.args, report.input_path, report.input, report.output);
     let mut options = args.settings.options();
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
@@ -1593,7 +1661,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let result = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
-        smallest(surface, &first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out, pruned)| {
+        smallest(surface, first_pass, input_path, &options, args.jobs, passes).map(|(o, mut out, pruned)| {
             options = o;
             pruned_settings = pruned;
             out.seconds = start.elapsed().as_secs_f64(); // all 24 runs
@@ -1606,7 +1674,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         // (The size first: asking for the cores reads cgroup files.)
         let ahead = input.positions.len() >= FORMAT_AHEAD_MIN_VERTICES
             && transfer.is_none()
-            && io::output_format(&output) == io::Format::Obj
+            && io::output_format(output) == io::Format::Obj
             && args.jobs.is_none_or(|j| j > 1)
             && delmesh::parallel::cores() > 1;
         std::thread::scope(|scope| {
@@ -1618,7 +1686,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
                     delmesh::parallel::try_spawn(scope, move || io::obj::VertexLines::new(positions))
                 })
                 .flatten();
-            let out = refine_once(surface, &first_pass, input_path, &options, args.settings.prune());
+            let out = refine_once(surface, first_pass, input_path, &options, args.settings.prune());
             vertex_lines = lines
                 .map(|h| h.join().expect("formatting does not panic"))
                 .unwrap_or_default();
@@ -1628,13 +1696,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let out = match result {
         Ok(out) => out,
         Err(e) => {
-            let e = name_stuck_edge(e, &input);
+            let e = name_stuck_edge(e, input);
             progress::phase(Phase::Idle);
             let seconds = stats_json::RunSeconds {
                 refine: first_pass.seconds + refine_start.elapsed().as_secs_f64(),
                 ..Default::default()
             };
-            report.write(&[failure_record(options, &output, &e, seconds)], true)?;
+            report.write(&[failure_record(options, output, &e, seconds)], true)?;
             // Which edges get stuck depends on the order of work and the
             // samples chosen: other settings often get through.
             if stuck_elsewhere(&e) && !args.smallest {
@@ -1648,17 +1716,17 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let t1 = Instant::now();
     progress::phase(Phase::Write {
-        name: file_name(&output),
+        name: file_name(output),
     });
-    let (written, mut staged) = write_output(&output, &out.surface, transfer.as_ref(), &vertex_lines)?;
+    let (written, mut staged) = write_output(output, &out.surface, transfer, &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let t_check = Instant::now();
     if args.check {
-        staged = match check_output(input_path, &input, staged, &output) {
+        staged = match check_output(input_path, input, staged, output) {
             Ok(staged) => staged,
             Err(e) => {
-                report.write(&[failure_record(options, &output, &e, out.seconds(write_s))], true)?;
+                report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
                 return Err(e);
             }
         };
@@ -1668,96 +1736,116 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // files are written before it is put in place, so that a side file
     // that cannot be written leaves no output, and the input of a run in
     // place untouched. (A mesh written to a stream is there already.)
-    let streamed = mesh_streamed(&staged, &output);
-    let mut side: SideFiles = repaired_staged.into_iter().collect();
+    let streamed = mesh_streamed(&staged, output);
     if let Some(map) = &args.vertex_map {
-        side.push(stage_vertex_map(map, &out.surface, &input, &written).map_err(streamed)?);
+        side.push(stage_vertex_map(map, &out.surface, input, &written).map_err(streamed)?);
     }
-    let added = out.surface.positions.len() - out.surface.n_input_vertices;
-    let run = out.record(options, &output, write_s);
+    let run = out.record(options, output, write_s);
     let (total, reports) = report.stage(&[run], true).map_err(streamed)?;
     side.extend(reports);
     // The summary before the files are put in place: a printout that cannot
     // be written leaves them out (`commit_all`), and an input to be
     // rewritten as it was.
     if !args.quiet {
-        let s = &out.stats;
-        let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
-        say!(
-            "run     {}, {}, {}{}",
-            ds_name(options.worklist),
-            score_name(options.score),
-            match (options.shells, options.median) {
-                (true, _) => "shells",
-                (false, true) => "median",
-                (false, false) => "no median",
-            },
-            if args.smallest {
-                smallest_note(pruned_settings)
-            } else {
-                String::new()
-            }
-        );
-        say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
-        for note in &written.notes {
-            say!("note    {note}");
+        let seconds = [total, write_s, check_s];
+        say_refined(report, &out, &options, pruned_settings, &written.notes, seconds);
+    }
+    commit_all(staged, output, side, in_place)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Prints the summary's lines of a refined run `out` made with `options`
+/// (with `--smallest`, the best of its settings, `pruned_settings` of
+/// them pruned): settings, constants, the writer's notes, the output's
+/// counts, the work, pruning, notes on growth, the check, and `seconds`
+/// (total, writing, checking).
+fn say_refined(
+    report: &Report,
+    out: &Outcome,
+    options: &Options,
+    pruned_settings: usize,
+    notes: &[String],
+    [total, write_s, check_s]: [f64; 3],
+) {
+    let args = report.args;
+    let s = &out.stats;
+    let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
+    say!(
+        "run     {}, {}, {}{}",
+        ds_name(options.worklist),
+        score_name(options.score),
+        match (options.shells, options.median) {
+            (true, _) => "shells",
+            (false, true) => "median",
+            (false, false) => "no median",
+        },
+        if args.smallest {
+            smallest_note(pruned_settings)
+        } else {
+            String::new()
         }
+    );
+    say!("samples rho_v {}, rho_e {}", sig(c.rho_v), sig(c.rho_e));
+    for note in notes {
+        say!("note    {note}");
+    }
+    say!(
+        "output  {}: {} vertices, {} faces, {} added vertices",
+        report.output.display(),
+        out.surface.positions.len(),
+        out.surface.topo.n_faces(),
+        out.surface.positions.len() - out.surface.n_input_vertices
+    );
+    say_repaired(args);
+    say!(
+        "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
+        s.splits,
+        s.flips,
+        s.non_delaunay_before,
+        s.non_delaunay_after
+    );
+    if let Some(note) = longest_first_note(s) {
+        say!("note    {note}");
+    }
+    if let Some(p) = &out.pruned {
         say!(
-            "output  {}: {} vertices, {} faces, {} added vertices",
-            output.display(),
-            out.surface.positions.len(),
-            out.surface.topo.n_faces(),
-            added
-        );
-        say_repaired();
-        say!(
-            "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
+            "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
+            p.removed,
             s.splits,
-            s.flips,
-            s.non_delaunay_before,
-            s.non_delaunay_after
+            p.tried,
+            p.flips,
+            p.passes,
+            if p.passes == 1 { "" } else { "es" }
         );
-        if let Some(note) = longest_first_note(s) {
-            say!("note    {note}");
-        }
-        if let Some(p) = &out.pruned {
-            say!(
-                "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
-                p.removed,
-                s.splits,
-                p.tried,
-                p.flips,
-                p.passes,
-                if p.passes == 1 { "" } else { "es" }
-            );
-        }
-        if let Some(note) = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest) {
-            say!("note    {note}");
-        }
-        if args.check {
-            say!(
-                "check   PASS: {} is a Delaunay mesh with the geometry of {}{}",
-                output.display(),
-                input_path.display(),
-                if input.repair.is_some() { " (as repaired)" } else { "" }
-            );
-        }
+    }
+    if let Some(note) = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest) {
+        say!("note    {note}");
+    }
+    if args.check {
         say!(
-            "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4}{})",
-            total,
-            read_s,
-            build_s,
-            out.seconds,
-            write_s,
-            if args.check {
-                format!(", check {check_s:.4}")
+            "check   PASS: {} is a Delaunay mesh with the geometry of {}{}",
+            report.output.display(),
+            report.input_path.display(),
+            if report.input.repair.is_some() {
+                " (as repaired)"
             } else {
-                String::new()
+                ""
             }
         );
     }
-    commit_all(staged, &output, side, in_place.is_some())?;
-    Ok(ExitCode::SUCCESS)
+    say!(
+        "seconds {:.4} total (read {:.4}, build {:.4}, refine {:.4}, write {:.4}{})",
+        total,
+        report.read_s,
+        report.build_s,
+        out.seconds,
+        write_s,
+        if args.check {
+            format!(", check {check_s:.4}")
+        } else {
+            String::new()
+        }
+    );
 }
 
 /// `--smallest`: refines with 24 settings (3 DS x scores 0-3 with the
