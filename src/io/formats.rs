@@ -1115,10 +1115,14 @@ impl OffAttributes {
             m.attribute_notes.push(format!("face colours dropped: {why}"));
             return;
         }
+        // (Beyond a float's range, as no colour is, they are kept as
+        // doubles: a float would make them infinite.)
         let ty = if off_colors_are_bytes(&self.face_colors) {
             ValueType::U8
-        } else {
+        } else if self.face_colors.iter().all(|&x| (x as f32).is_finite()) {
             ValueType::F32
+        } else {
+            ValueType::F64
         };
         let dim = self.face_color_dim;
         for (k, name) in ["red", "green", "blue", "alpha"].into_iter().enumerate().take(dim) {
@@ -1582,12 +1586,14 @@ fn carried_properties(
         *declared.entry(p.name.as_str()).or_default() += 1;
     }
     let (mut lists, mut twice, mut partial, mut beyond) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut unwritable = Vec::new();
     for (i, p) in el.props.iter().enumerate() {
         if roles[i] != Role::Skip {
             continue;
         }
         let unique = declared[p.name.as_str()] == 1;
         match p.ty {
+            PropType::Scalar(_) if !ply_name_is_one_word(&p.name) => unwritable.push(p.name.as_str()),
             // Vertex properties are numbered by `Kind::Property`'s u16.
             PropType::Scalar(_)
                 if unique
@@ -1642,6 +1648,15 @@ fn carried_properties(
         notes.push(said(
             &partial,
             "part of a colour, texture coordinates or normal without the rest",
+        ));
+    }
+    if let Some(first) = unwritable.first() {
+        notes.push(format!(
+            "{} {} propert{} left out ({first:?}{}): a property name must be one word, without control characters",
+            unwritable.len(),
+            el.name,
+            if unwritable.len() == 1 { "y" } else { "ies" },
+            if unwritable.len() > 1 { " and others" } else { "" }
         ));
     }
     if let Some(first) = beyond.first() {
@@ -2247,15 +2262,18 @@ impl VertexChannels {
             }
         }
         for p in self.face_properties {
-            match p.defect {
-                Some(defect) => m
-                    .attribute_notes
-                    .push(format!("face property {} dropped: {defect}", p.name)),
-                None => m.attributes.face_properties.push(FaceProperty {
+            let what = format!("face property {}", p.name);
+            if let Some(defect) = p.defect {
+                m.attribute_notes.push(format!("{what} dropped: {defect}"));
+            } else if p.values.iter().any(|x| !x.is_finite()) {
+                m.attribute_notes
+                    .push(format!("{what} dropped: a face has a non-finite value"));
+            } else {
+                m.attributes.face_properties.push(FaceProperty {
                     name: p.name,
                     ty: p.ty,
                     values: p.values,
-                }),
+                });
             }
         }
     }
@@ -3176,6 +3194,13 @@ pub fn write_ply_binary(
     w.flush()
 }
 
+/// Whether `name` can name a property in a PLY header: one word, without
+/// spaces or control characters (the reader leaves out a property whose
+/// name is not, with a note, so that every property read can be written).
+fn ply_name_is_one_word(name: &str) -> bool {
+    !name.is_empty() && !name.bytes().any(|b| b.is_ascii_whitespace() || b.is_ascii_control())
+}
+
 /// One more vertex or face property for [`write_ply_binary_columns`]: a
 /// name, the type it is written as, and one value per vertex or face.
 #[derive(Clone, Debug, PartialEq)]
@@ -3217,10 +3242,7 @@ pub fn write_ply_binary_columns(
                 c.name
             )));
         }
-        if let Some(c) = columns
-            .iter()
-            .find(|c| c.name.is_empty() || c.name.bytes().any(|b| b.is_ascii_whitespace() || b.is_ascii_control()))
-        {
+        if let Some(c) = columns.iter().find(|c| !ply_name_is_one_word(&c.name)) {
             return Err(invalid(format!("a PLY property name must be one word: {:?}", c.name)));
         }
     }
