@@ -1683,6 +1683,21 @@ struct PropertyColumn {
 }
 
 impl PropertyColumn {
+    /// The column, if it can be carried: one with a defect or a value that
+    /// is not finite is dropped, with a note in `notes` (`element`:
+    /// `vertex` or `face`).
+    fn carried(self, element: &str, notes: &mut Vec<String>) -> Option<Self> {
+        let why = match &self.defect {
+            Some(defect) => defect.clone(),
+            None if self.values.iter().any(|x| !x.is_finite()) => format!("a {element} has a non-finite value"),
+            None => return Some(self),
+        };
+        notes.push(format!("{element} property {} dropped: {why}", self.name));
+        None
+    }
+}
+
+impl PropertyColumn {
     /// Appends a value read as `value`; a defect (`Err(what)`, on `line`)
     /// is noted, and a NaN takes the value's place.
     fn push(&mut self, value: Result<f64, String>, line: u64) {
@@ -2243,13 +2258,7 @@ impl VertexChannels {
             });
         }
         for p in self.properties {
-            let what = format!("vertex property {}", p.name);
-            if let Some(defect) = p.defect {
-                m.attribute_notes.push(format!("{what} dropped: {defect}"));
-            } else if p.values.iter().any(|x| !x.is_finite()) {
-                m.attribute_notes
-                    .push(format!("{what} dropped: a vertex has a non-finite value"));
-            } else {
+            if let Some(p) = p.carried("vertex", &mut m.attribute_notes) {
                 m.attributes.properties.push(VertexProperty {
                     name: p.name,
                     ty: p.ty,
@@ -2262,13 +2271,7 @@ impl VertexChannels {
             }
         }
         for p in self.face_properties {
-            let what = format!("face property {}", p.name);
-            if let Some(defect) = p.defect {
-                m.attribute_notes.push(format!("{what} dropped: {defect}"));
-            } else if p.values.iter().any(|x| !x.is_finite()) {
-                m.attribute_notes
-                    .push(format!("{what} dropped: a face has a non-finite value"));
-            } else {
+            if let Some(p) = p.carried("face", &mut m.attribute_notes) {
                 m.attributes.face_properties.push(FaceProperty {
                     name: p.name,
                     ty: p.ty,
