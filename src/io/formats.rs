@@ -1695,9 +1695,7 @@ impl PropertyColumn {
         notes.push(format!("{element} property {} dropped: {why}", self.name));
         None
     }
-}
 
-impl PropertyColumn {
     /// Appends a value read as `value`; a defect (`Err(what)`, on `line`)
     /// is noted, and a NaN takes the value's place.
     fn push(&mut self, value: Result<f64, String>, line: u64) {
