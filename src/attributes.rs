@@ -801,6 +801,47 @@ impl RegionCuts for AttributeCuts<'_> {
         self.attributes.apart(self.triangles, f1, f2)
     }
 
+    /// Each vertex's corners sorted by region, each compared with the
+    /// first of its region there, in every channel.
+    fn regions_with_two_values(&self, region: &[u32]) -> Vec<u32> {
+        let channels: Vec<&Channel> = self.attributes.channels().map(|(_, ch)| ch).collect();
+        if channels.is_empty() {
+            return Vec::new();
+        }
+        // The corners of each vertex (a counting sort by vertex).
+        let n = self.positions.len();
+        let mut start = vec![0u32; n + 1];
+        for t in self.triangles {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            start[v + 1] += start[v];
+        }
+        let mut next = start.clone();
+        let mut corners = vec![0u32; 3 * self.triangles.len()];
+        for (c, &v) in self.triangles.iter().flatten().enumerate() {
+            corners[next[v as usize] as usize] = c as u32;
+            next[v as usize] += 1;
+        }
+        let mut out = Vec::new();
+        for v in 0..n {
+            let at = &mut corners[start[v] as usize..start[v + 1] as usize];
+            at.sort_unstable_by_key(|&c| region[c as usize / 3]);
+            for run in at.chunk_by(|&a, &b| region[a as usize / 3] == region[b as usize / 3]) {
+                let first = run[0] as usize;
+                let differs = |c: &u32| channels.iter().any(|ch| ch.corner(*c as usize) != ch.corner(first));
+                if run[1..].iter().any(differs) {
+                    out.push(region[first / 3]);
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
     /// Fits each component of each attribute over the faces' corners by
     /// least squares, as an affine function of the position in the
     /// faces' plane, and requires every corner within the tolerance of it.

@@ -37,7 +37,7 @@
 //! Environment: `FUZZ_SECONDS` per target (default 2), `FUZZ_SEED` (default
 //! fixed), `FUZZ_STRICT=1` to fail on the known bugs of `KNOWN_BUGS` too (by
 //! default they are counted and reported but tolerated: each has an ignored
-//! regression test). Two are open, both of attributes (see `KNOWN_BUGS`);
+//! regression test). One is open, of attributes (see `KNOWN_BUGS`);
 //! every other finding fails the run with or without them.
 //! Run long with e.g.
 //! `FUZZ_SECONDS=600 cargo test --release --test fuzz fuzz_ply -- --nocapture`.
@@ -2427,8 +2427,9 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
                 let there = theirs.get(p).map_or(&[][..], |v| &v[..]);
                 if let Some(x) = values.iter().find(|x| !there.iter().any(|b| kept(x, b))) {
                     // A vertex with two values in one planar region (faces
-                    // on either side of a seam joined around it) takes one
-                    // of them there: KNOWN_BUGS.
+                    // on either side of a seam joined around it) took one of
+                    // them there (fixed in session 44: such a region is
+                    // taken apart).
                     let two = if two_values.contains(&(what.clone(), *p)) {
                         "[two values in one region] "
                     } else {
@@ -2579,16 +2580,10 @@ fn special_attributes(rng: &mut Rng, corpus: &[Vec<u8>]) -> Vec<u8> {
 /// A new entry is `("[tag]", "short name")`, the tag being one that
 /// `precision_tag`, `target_pipeline` or `target_attributes` puts in the
 /// finding.
-const KNOWN_BUGS: &[(&str, &str)] = &[
-    (
-        "[two values in one region]",
-        "a vertex's two values in one planar region (regression_attributes_seam_inside_region)",
-    ),
-    (
-        "[coincident vertices and seam copies]",
-        "check welds distinct coincident vertices with seam copies (regression_attributes_coincident_copies)",
-    ),
-];
+const KNOWN_BUGS: &[(&str, &str)] = &[(
+    "[coincident vertices and seam copies]",
+    "check welds distinct coincident vertices with seam copies (regression_attributes_coincident_copies)",
+)];
 
 fn known_bug(finding: &str) -> Option<&'static str> {
     KNOWN_BUGS
@@ -3945,10 +3940,10 @@ fn replay() {
 /// normal in the third: (0.02, -0.0667, 1) instead of (0.02, -0.1, 1), even
 /// with `--no-refine`, where nothing is flipped. The README says an input
 /// vertex keeps, bit for bit, its own value in the face's region, and that
-/// regions do not join across a seam. Open (src/attributes.rs:
-/// `AttributeCuts` joins faces by shared edges only; `Transfer::corner_of`).
+/// regions do not join across a seam. Fixed: a region in which a vertex
+/// has two values is taken apart into its faces
+/// (`RegionCuts::regions_with_two_values`, src/mesh/mod.rs `find_regions`).
 #[test]
-#[ignore = "open: a vertex with two values in one planar region takes one (KNOWN_BUGS)"]
 fn regression_attributes_seam_inside_region() {
     let path = regression_file("fuzz-attributes-seam-inside-region.obj");
     let mut input = io::read_mesh(&path, &ReadOptions::default()).unwrap();

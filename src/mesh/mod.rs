@@ -78,6 +78,14 @@ pub trait RegionCuts {
     /// Told how many polygons (and how many faces in them) are flipped
     /// inside though their values are not one affine field over them.
     fn polygons_flipped_inside(&self, _polygons: usize, _faces: usize) {}
+
+    /// The regions, given as each face's `region` (any numbering), in
+    /// which a vertex has two values: faces joined around it, never across
+    /// a seam at it, which only a flat region that overlaps itself allows.
+    /// Sorted, each once; none by default.
+    fn regions_with_two_values(&self, _region: &[u32]) -> Vec<u32> {
+        Vec::new()
+    }
 }
 
 /// The [`RegionCuts`] of a mesh without attributes: every flat edge joins.
@@ -452,11 +460,27 @@ impl Surface {
                     loose[p as usize] = true;
                 }
             }
+            let joined = |f1: u32, f2: u32, exact: bool| {
+                let (p1, p2) = (polygon(f1), polygon(f2));
+                p1 == p2 || (exact && !loose[p1 as usize] && !loose[p2 as usize])
+            };
             sets = UnionFind::new(n_faces);
             for &(f1, f2, exact) in &joins {
-                let (p1, p2) = (polygon(f1), polygon(f2));
-                if p1 == p2 || (exact && !loose[p1 as usize] && !loose[p2 as usize]) {
+                if joined(f1, f2, exact) {
                     sets.union(f1 as usize, f2 as usize);
+                }
+            }
+            // A region in which a vertex has two values (joined around it
+            // where the region overlaps itself) is taken apart into its
+            // faces: a flip there could spread either value over the other.
+            let roots: Vec<u32> = (0..n_faces).map(|f| sets.find(f) as u32).collect();
+            let two_values = cuts.regions_with_two_values(&roots);
+            if !two_values.is_empty() {
+                sets = UnionFind::new(n_faces);
+                for &(f1, f2, exact) in &joins {
+                    if joined(f1, f2, exact) && two_values.binary_search(&roots[f1 as usize]).is_err() {
+                        sets.union(f1 as usize, f2 as usize);
+                    }
                 }
             }
             let polygons = loose.iter().filter(|&&l| l).count();
