@@ -808,23 +808,8 @@ impl RegionCuts for AttributeCuts<'_> {
         if channels.is_empty() {
             return Vec::new();
         }
-        // The corners of each vertex (a counting sort by vertex).
         let n = self.positions.len();
-        let mut start = vec![0u32; n + 1];
-        for t in self.triangles {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut next = start.clone();
-        let mut corners = vec![0u32; 3 * self.triangles.len()];
-        for (c, &v) in self.triangles.iter().flatten().enumerate() {
-            corners[next[v as usize] as usize] = c as u32;
-            next[v as usize] += 1;
-        }
+        let (start, mut corners) = corners_by_vertex(self.triangles, n);
         let mut out = Vec::new();
         for v in 0..n {
             let at = &mut corners[start[v] as usize..start[v + 1] as usize];
@@ -952,6 +937,28 @@ impl RegionCuts for AttributeCuts<'_> {
     }
 }
 
+/// The corners (3·triangle + k) of each vertex below `n` of `triangles`,
+/// in increasing order: those of vertex `v` are
+/// `corners[start[v]..start[v + 1]]` (a counting sort by vertex).
+fn corners_by_vertex(triangles: &[[u32; 3]], n: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n + 1];
+    for &v in triangles.iter().flatten().filter(|&&v| (v as usize) < n) {
+        start[v as usize + 1] += 1;
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut corners = vec![0u32; start[n] as usize];
+    for (c, &v) in triangles.iter().flatten().enumerate() {
+        if (v as usize) < n {
+            corners[next[v as usize] as usize] = c as u32;
+            next[v as usize] += 1;
+        }
+    }
+    (start, corners)
+}
+
 /// What the output's attributes are computed from: the input's attributes
 /// and, for every input vertex and planar region around it, the corner whose
 /// values it takes there. Made from the surface before refinement (which
@@ -983,30 +990,22 @@ impl Transfer {
     /// (face `i` is triangle `i`) and not yet refined.
     pub fn new(attributes: Attributes, triangles: &[[u32; 3]], surface: &Surface) -> Transfer {
         let n = surface.n_input_vertices;
-        let mut any_corner = vec![u32::MAX; n];
+        let region_of = |f: usize| surface.face_region.get(f).copied().unwrap_or(0);
         let mut region_face = vec![0u32; surface.n_regions];
-        // Each vertex's corners, in corner order (a counting sort by vertex).
-        let mut corner_start = vec![0u32; n + 1];
-        for &v in triangles.iter().flatten().filter(|&&v| (v as usize) < n) {
-            corner_start[v as usize + 1] += 1;
-        }
-        for v in 0..n {
-            corner_start[v + 1] += corner_start[v];
-        }
-        let mut corners = vec![(0u32, 0u32); corner_start[n] as usize];
-        let mut next = corner_start.clone();
-        for (f, t) in triangles.iter().enumerate() {
-            let region = surface.face_region.get(f).copied().unwrap_or(0);
-            if let Some(slot) = region_face.get_mut(region as usize) {
+        for f in 0..triangles.len() {
+            if let Some(slot) = region_face.get_mut(region_of(f) as usize) {
                 *slot = f as u32;
             }
-            for (k, &v) in t.iter().enumerate().filter(|&(_, &v)| (v as usize) < n) {
-                let c = (3 * f + k) as u32;
-                corners[next[v as usize] as usize] = (region, c);
-                next[v as usize] += 1;
-                any_corner[v as usize] = any_corner[v as usize].min(c);
-            }
         }
+        // Each vertex's corners, in corner order: its lowest first.
+        let (mut corner_start, by_vertex) = corners_by_vertex(triangles, n);
+        let any_corner: Vec<u32> = (0..n)
+            .map(|v| {
+                let (start, end) = (corner_start[v] as usize, corner_start[v + 1] as usize);
+                by_vertex[start..end].first().copied().unwrap_or(u32::MAX)
+            })
+            .collect();
+        let mut corners: Vec<(u32, u32)> = by_vertex.iter().map(|&c| (region_of(c as usize / 3), c)).collect();
         // By region, the lowest corner of each (a stable sort keeps corner
         // order within a region), then compacted in place.
         let mut kept = 0usize;
