@@ -4003,7 +4003,7 @@ fn regression_attributes_coincident_copies() {
 /// where the README says a defect in an attribute drops it with a note,
 /// never refusing a mesh. Fixed: the reader leaves out a property whose
 /// name the writer would refuse (one rule for both, `ply_name_is_one_word`
-/// in src/io/formats.rs), with a note.
+/// in src/io/formats/ply.rs), with a note.
 #[test]
 fn regression_attributes_property_name_nul() {
     let path = regression_file("fuzz-attributes-property-name-nul.ply");

@@ -1,0 +1,637 @@
+//! Reading and writing OFF (with the `[ST][C][N][4][n]OFF` keywords' colours,
+//! normals and texture coordinates).
+
+use super::*;
+
+/// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
+/// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
+/// normal (`N`) after x y z, in the order normal, colour, texture
+/// coordinates.
+#[derive(Clone, Copy, Default)]
+pub(super) struct OffKeyword {
+    four: bool,
+    ndim: bool,
+    texcoords: bool,
+    color: bool,
+    normal: bool,
+}
+
+pub(super) fn off_keyword(tok: &[u8]) -> Option<OffKeyword> {
+    if tok == b"off" {
+        return Some(OffKeyword::default());
+    }
+    let mut rest = tok.strip_suffix(b"OFF")?;
+    let mut kw = OffKeyword::default();
+    let (mut st, mut c, mut n) = (false, false, false);
+    while !rest.is_empty() {
+        let (flag, len) = if rest.starts_with(b"ST") {
+            (&mut st, 2)
+        } else {
+            match rest[0] {
+                b'C' => (&mut c, 1),
+                b'N' => (&mut n, 1),
+                b'4' => (&mut kw.four, 1),
+                b'n' => (&mut kw.ndim, 1),
+                _ => return None,
+            }
+        };
+        if *flag {
+            return None;
+        }
+        *flag = true;
+        rest = &rest[len..];
+    }
+    (kw.texcoords, kw.color, kw.normal) = (st, c, n);
+    Some(kw)
+}
+
+/// The attributes of an OFF file as they are read: the vertices' normals,
+/// colours and texture coordinates its keyword announces, and the faces'
+/// colours (numbers after a face's indices).
+#[derive(Default)]
+struct OffAttributes {
+    /// Per vertex, if the keyword announces them: 3, 3 or 4, and 2 numbers.
+    normals: Option<Vec<f64>>,
+    colors: Option<Vec<f64>>,
+    texcoords: Option<Vec<f64>>,
+    /// Colour components per vertex (3 or 4), from the first vertex.
+    color_dim: usize,
+    /// The first defect of normals, colours, texture coordinates and face
+    /// colours: that attribute is dropped, with a note.
+    defects: [Option<String>; 4],
+    /// The faces' colours, 3 or 4 numbers each (from the first face that
+    /// has one), and how many faces have none.
+    face_colors: Vec<f64>,
+    face_color_dim: usize,
+    faces_without: usize,
+}
+
+/// The numbers among the rest of a line's words, without allocating: the
+/// first `N` (`N` at most 32), which of those are not numbers (and their
+/// words), how many words there are, and the first word that is not a
+/// number, with its place.
+struct LineNumbers<'a, const N: usize> {
+    values: [f64; N],
+    words: [&'a [u8]; N],
+    /// Bit k: word k is not a number.
+    not_numbers: u32,
+    count: usize,
+    bad: Option<(usize, &'a [u8])>,
+}
+
+impl<'a, const N: usize> LineNumbers<'a, N> {
+    fn read(words: impl Iterator<Item = &'a [u8]>) -> Self {
+        let mut numbers = LineNumbers {
+            values: [f64::NAN; N],
+            words: [b""; N],
+            not_numbers: 0,
+            count: 0,
+            bad: None,
+        };
+        for (k, w) in words.enumerate() {
+            numbers.count += 1;
+            let x = parse_f64(w);
+            if x.is_none() {
+                numbers.bad.get_or_insert((k, w));
+            }
+            if k < N {
+                numbers.words[k] = w;
+                match x {
+                    Some(x) => numbers.values[k] = x,
+                    None => numbers.not_numbers |= 1 << k,
+                }
+            }
+        }
+        numbers
+    }
+}
+
+impl OffAttributes {
+    fn new(kw: OffKeyword) -> OffAttributes {
+        let has = |x: bool| x.then(Vec::new);
+        OffAttributes {
+            normals: has(kw.normal),
+            colors: has(kw.color),
+            texcoords: has(kw.texcoords),
+            ..OffAttributes::default()
+        }
+    }
+
+    /// Notes the first defect of attribute `slot` (see `defects`).
+    fn defect(&mut self, slot: usize, line: u64, what: impl FnOnce() -> String) {
+        self.defects[slot].get_or_insert_with(|| format!("line {line}: {}", what()));
+    }
+
+    /// Reads what follows vertex `i`'s coordinates on its line.
+    fn vertex<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, i: usize, line: u64) {
+        if self.normals.is_none() && self.colors.is_none() && self.texcoords.is_none() {
+            return;
+        }
+        // At most a normal, an RGBA colour and texture coordinates.
+        let numbers = LineNumbers::<16>::read(rest);
+        let mut at = 0;
+        if self.normals.is_some() {
+            self.take(0, &numbers, at..at + 3, i, line, "normal (NOFF: 3 numbers after x y z)");
+            at += 3;
+        }
+        let texcoords = usize::from(self.texcoords.is_some()) * 2;
+        if self.colors.is_some() {
+            let n = numbers.count.saturating_sub(at + texcoords);
+            if self.color_dim == 0 && (3..=4).contains(&n) {
+                self.color_dim = n;
+            }
+            if n > 0 && n == self.color_dim {
+                self.take(1, &numbers, at..at + n, i, line, "colour");
+            } else {
+                let dim = self.color_dim;
+                self.defect(1, line, || match dim {
+                    0 => format!("vertex {i} has {n} colour components (3 or 4 expected)"),
+                    _ => format!("vertex {i} has {n} colour components, the vertices before it {dim}"),
+                });
+            }
+            at += n;
+        }
+        if self.texcoords.is_some() {
+            self.take(
+                2,
+                &numbers,
+                at..at + 2,
+                i,
+                line,
+                "texture coordinates (STOFF: 2 numbers)",
+            );
+        }
+    }
+
+    /// Appends `numbers[span]`, of vertex `i`'s line, to the values of
+    /// attribute `slot` (0 normals, 1 colours, 2 texture coordinates), or
+    /// notes its defect: the line has no such numbers, or a word there is
+    /// not a number.
+    fn take<const N: usize>(
+        &mut self,
+        slot: usize,
+        numbers: &LineNumbers<N>,
+        span: std::ops::Range<usize>,
+        i: usize,
+        line: u64,
+        what: &str,
+    ) {
+        if span.end > numbers.count.min(N) {
+            return self.defect(slot, line, || format!("vertex {i} has no {what}"));
+        }
+        if let Some(k) = span.clone().find(|&k| numbers.not_numbers & (1 << k) != 0) {
+            let w = numbers.words[k];
+            return self.defect(slot, line, || {
+                format!("vertex {i} {what} `{}` is not a number", show(w))
+            });
+        }
+        let values = [&mut self.normals, &mut self.colors, &mut self.texcoords][slot].get_or_insert_with(Vec::new);
+        values.extend_from_slice(&numbers.values[span]);
+    }
+
+    /// Reads what follows face `f`'s indices on its line: a colour (3 or 4
+    /// numbers) or nothing.
+    fn face<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, f: usize, line: u64) {
+        let c = LineNumbers::<4>::read(rest);
+        match (c.count, c.bad) {
+            (0, _) => self.faces_without += 1,
+            (_, Some((_, w))) => self.defect(3, line, || {
+                format!(
+                    "face {f}: `{}` after its indices is not a number (a colour is 3 or 4)",
+                    show(w)
+                )
+            }),
+            (n @ 3..=4, None) if self.face_color_dim == 0 || n == self.face_color_dim => {
+                self.face_color_dim = n;
+                self.face_colors.extend_from_slice(&c.values[..n]);
+            }
+            (n @ 3..=4, None) => {
+                let dim = self.face_color_dim;
+                self.defect(3, line, || {
+                    format!("face {f} has a colour of {n} numbers, the faces before it of {dim}")
+                })
+            }
+            (1, None) => self.defect(3, line, || {
+                format!("face {f} gives a colour map index, which delmesh does not read")
+            }),
+            (n, None) => self.defect(3, line, || {
+                format!("face {f} has {n} numbers after its indices (a colour is 3 or 4)")
+            }),
+        }
+    }
+
+    /// Moves the attributes into `m`, each with a defect or a non-finite
+    /// value dropped with a note. Face colours become the face properties
+    /// `red green blue [alpha]`: `uchar` if they are whole numbers up to
+    /// 255 (as most files write them), else `float`.
+    fn finish(self, m: &mut RawMesh) {
+        let [n, c, t, fc] = self.defects;
+        let vertex_channels = [
+            (Kind::Normal, self.normals, 3, n),
+            (Kind::Color, self.colors, self.color_dim, c),
+            (Kind::TexCoord, self.texcoords, 2, t),
+        ];
+        for (kind, values, dim, defect) in vertex_channels {
+            let Some(mut values) = values else {
+                continue;
+            };
+            let why = match defect {
+                Some(d) => Some(d),
+                None if values.iter().any(|x| !x.is_finite()) => Some("a vertex has a non-finite one".to_owned()),
+                None => None,
+            };
+            match why {
+                // (A vertex line without a colour of 3 or 4 numbers leaves
+                // no colour dimension, but has its defect noted: said too.)
+                Some(why) => m.attribute_notes.push(format!("{} dropped: {why}", kind.name())),
+                // No colour dimension and no defect: no vertex.
+                None if dim == 0 => {}
+                None => {
+                    // Bytes (`off_colors_are_bytes`) are scaled to 0..1, as
+                    // the OFF format says, and typed `uchar`, so that an
+                    // output writes them as bytes again. Others are kept as
+                    // they are.
+                    if kind == Kind::Color && off_colors_are_bytes(&values) {
+                        values.iter_mut().for_each(|x| *x /= 255.0);
+                        m.attributes.color_type = Some(ValueType::U8);
+                    }
+                    *m.attributes.channel_mut(kind) = Some(Channel {
+                        dim,
+                        values,
+                        corners: m.indices.clone(),
+                    })
+                }
+            }
+        }
+        if self.face_colors.is_empty() && fc.is_none() {
+            return;
+        }
+        let faces = m.face_start.len().saturating_sub(1);
+        let why = match fc {
+            Some(d) => Some(d),
+            None if self.faces_without > 0 => Some(format!(
+                "{} of {faces} faces {} none",
+                self.faces_without,
+                if self.faces_without == 1 { "has" } else { "have" }
+            )),
+            None if self.face_colors.iter().any(|x| !x.is_finite()) => Some("a face has a non-finite one".to_owned()),
+            None => None,
+        };
+        if let Some(why) = why {
+            m.attribute_notes.push(format!("face colours dropped: {why}"));
+            return;
+        }
+        // (Beyond a float's range, as no colour is, they are kept as
+        // doubles: a float would make them infinite.)
+        let ty = if off_colors_are_bytes(&self.face_colors) {
+            ValueType::U8
+        } else if self.face_colors.iter().all(|&x| (x as f32).is_finite()) {
+            ValueType::F32
+        } else {
+            ValueType::F64
+        };
+        let dim = self.face_color_dim;
+        for (k, name) in ["red", "green", "blue", "alpha"].into_iter().enumerate().take(dim) {
+            m.attributes.face_properties.push(FaceProperty {
+                name: name.to_owned(),
+                ty,
+                values: self.face_colors.iter().skip(k).step_by(dim).copied().collect(),
+            });
+        }
+    }
+}
+
+/// Whether an OFF file's colour numbers `values` are bytes, 0..255, as
+/// most COFF files write them: all whole numbers in that range and one
+/// beyond 1 (else, as Geomview reads them, numbers in 0..1).
+fn off_colors_are_bytes(values: &[f64]) -> bool {
+    values.iter().all(|&x| x.fract() == 0.0 && (0.0..=255.0).contains(&x)) && values.iter().any(|&x| x > 1.0)
+}
+
+/// The vertex count glued to the keyword of a header such as `OFF490 518 0` (written so by the
+/// tool that made the ModelNet datasets): the digits after `OFF`, if nothing else follows it.
+pub(super) fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
+    let digits = head.strip_prefix(b"OFF")?;
+    (!digits.is_empty() && digits.iter().all(u8::is_ascii_digit)).then_some(digits)
+}
+
+/// Reads an OFF file (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`... and headerless files starting with the
+/// counts; also `OFF490 518 0`, the keyword glued to the counts as in the ModelNet datasets). Vertex
+/// lines give x y z first, then what the keyword announces: a normal (`N`), a colour of 3 or 4
+/// numbers (`C`) and texture coordinates (`ST`), read as attributes. Face lines are `n i1 .. in
+/// [colour]`, the colours read as the face properties `red green blue [alpha]`. An attribute with a
+/// defect is dropped with a note. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
+pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    let text = strip_bom(bytes);
+    if let Some(line) = lone_cr_line(text) {
+        return Err(FormatError::at(line, LONE_CR));
+    }
+    let mut lines = Lines::new(text);
+    let Some((first_line, first)) = lines.next_meaningful() else {
+        return Err(FormatError::new("the file is empty (no OFF header)"));
+    };
+    let mut first_words = words(first);
+    let head = first_words.next().unwrap_or(b"");
+    let mut attributes = OffAttributes::default();
+    let (counts_line, counts): (u64, Vec<&[u8]>) = if let Some(n_vertices) = glued_vertex_count(head) {
+        // `OFF490 518 0`: the keyword and the counts on one line with no
+        // space between them, as in many files of the ModelNet datasets.
+        (
+            first_line,
+            std::iter::once(n_vertices).chain(first_words.take(3)).collect(),
+        )
+    } else if let Some(kw) = off_keyword(head) {
+        if kw.four || kw.ndim {
+            return Err(FormatError::at(
+                first_line,
+                format!(
+                    "OFF variant `{}` (4D or n-dimensional vertices) is not supported",
+                    show(head)
+                ),
+            ));
+        }
+        attributes = OffAttributes::new(kw);
+        let rest: Vec<&[u8]> = first_words.take(4).collect();
+        if rest.first().is_some_and(|w| w.eq_ignore_ascii_case(b"BINARY")) {
+            return Err(FormatError::at(first_line, "binary OFF is not supported"));
+        }
+        if rest.is_empty() {
+            match lines.next_meaningful() {
+                Some((line, text)) => (line, words(text).take(4).collect()),
+                None => return Err(FormatError::at(first_line, "the OFF file ends before its counts line")),
+            }
+        } else {
+            (first_line, rest)
+        }
+    } else if parse_int(head).is_some() {
+        (first_line, words(first).take(4).collect())
+    } else {
+        return Err(FormatError::at(
+            first_line,
+            format!("not an OFF file: it starts with `{}`", show(head)),
+        ));
+    };
+    if !(2..=3).contains(&counts.len()) {
+        return Err(FormatError::at(
+            counts_line,
+            "the OFF counts line must be `vertices faces edges`",
+        ));
+    }
+    let count = |i: usize, what: &str| -> Result<u64, FormatError> {
+        let w = counts[i];
+        std::str::from_utf8(w)
+            .ok()
+            .and_then(|s| s.parse::<u64>().ok())
+            .ok_or_else(|| {
+                FormatError::at(
+                    counts_line,
+                    format!("the OFF {what} count `{}` is not a non-negative integer", show(w)),
+                )
+            })
+    };
+    let (nv, nf) = (count(0, "vertex")?, count(1, "face")?);
+    if counts.len() == 3 {
+        count(2, "edge")?;
+    }
+
+    // Every vertex or face takes a line of at least two bytes: refuse absurd counts at once. Reservations
+    // assume the shortest real lines: 6 bytes for a vertex ("0 0 0\n"), 8 for a face ("3 0 1 2\n").
+    let remaining = lines.remaining() as u64;
+    if nv.saturating_add(nf).saturating_mul(2) > remaining.saturating_add(1) {
+        return Err(FormatError::at(
+            counts_line,
+            format!("the OFF header declares {nv} vertices and {nf} faces but only {remaining} bytes follow"),
+        ));
+    }
+    // Both counts are now bounded by the input size.
+    let (nv, nf) = (nv as usize, nf as usize);
+    let mut b = Builder::new(OriginKind::Line, Numbering::FromZero);
+    b.reserve_vertices(nv.min(remaining as usize / 6));
+    b.reserve_faces(
+        nf.min(remaining as usize / 8),
+        nf.saturating_mul(3).min(remaining as usize / 2),
+    );
+
+    for i in 0..nv {
+        let Some((line, text)) = lines.next_meaningful() else {
+            return Err(FormatError::at(
+                lines.line,
+                format!("the OFF file ends after {i} of {nv} vertices"),
+            ));
+        };
+        let mut p = [0.0; 3];
+        let mut ws = words(text);
+        for (k, c) in p.iter_mut().enumerate() {
+            let w = ws
+                .next()
+                .ok_or_else(|| FormatError::at(line, format!("vertex {i} has {k} coordinates (3 needed)")))?;
+            *c = parse_f64(w)
+                .ok_or_else(|| FormatError::at(line, format!("vertex {i} coordinate `{}` is not a number", show(w))))?;
+        }
+        b.vertex(p, line, || format!("vertex {i}"))?;
+        attributes.vertex(ws, i, line);
+    }
+
+    for f in 0..nf {
+        let Some((line, text)) = lines.next_meaningful() else {
+            return Err(FormatError::at(
+                lines.line,
+                format!("the OFF file ends after {f} of {nf} faces"),
+            ));
+        };
+        let mut ws = words(text);
+        let head = ws.next().unwrap_or(b"");
+        let n = parse_int(head).ok_or_else(|| {
+            FormatError::at(
+                line,
+                format!("face {f} vertex count `{}` is not an integer", show(head)),
+            )
+        })?;
+        if n < 3 {
+            return Err(FormatError::at(
+                line,
+                format!("face {f} has {n} vertices (at least 3 needed)"),
+            ));
+        }
+        b.start_face();
+        for k in 0..n {
+            let Some(w) = ws.next() else {
+                return Err(FormatError::at(
+                    line,
+                    format!("face {f} declares {n} vertices but its line has only {k} indices"),
+                ));
+            };
+            let i = parse_int(w)
+                .ok_or_else(|| FormatError::at(line, format!("face {f} index `{}` is not an integer", show(w))))?;
+            b.index(checked_index(i, f, Some(line), nv)?);
+        }
+        b.end_face(line)?;
+        attributes.face(ws, f, line);
+    }
+    // More after the declared faces is ignored, as other readers do; but
+    // the header's counts may be wrong, and the mesh then has holes: said.
+    let after = lines.next_meaningful().map(|(line, _)| line);
+    let mut m = b.finish()?;
+    attributes.finish(&mut m);
+    if let Some(line) = after {
+        m.notes.push(format!(
+            "line {line}: data after the {nf} faces the OFF header declares ignored (if its counts are wrong, faces are missing)"
+        ));
+    }
+    Ok(m)
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------
+
+/// Writes an OFF file; coordinates in shortest round-trip form, so that [`read_off`] gives them back bit
+/// for bit. Non-finite coordinates and out-of-range indices are refused (`InvalidInput`).
+pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
+    write_off_with(w, positions, triangles, &OffExtras::default())
+}
+
+/// How [`write_off_with`] writes colour components.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorText {
+    /// Whole numbers 0..255 (each value rounded and clamped to that range):
+    /// 8-bit colours, as most COFF files hold them, and as MeshLab, Open3D
+    /// and libigl write and read them.
+    Bytes,
+    /// Numbers in shortest round-trip form, always with a decimal point
+    /// (`1.0`, not `1`): MeshLab tells floats in 0..1 from bytes by it.
+    Floats,
+}
+
+/// Colours for [`write_off_with`]: `dim` (3 or 4) numbers per vertex or
+/// face, written as `text` says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OffColors {
+    /// Numbers per colour: 3 (RGB) or 4 (RGBA).
+    pub dim: usize,
+    /// How they are written.
+    pub text: ColorText,
+    /// `dim` numbers per vertex or face (for [`ColorText::Bytes`], in 0..255).
+    pub values: Vec<f64>,
+}
+
+/// What an OFF file holds besides positions and faces, for
+/// [`write_off_with`]: per vertex, in the order of its line, a normal, a
+/// colour and texture coordinates (announced by the keyword's `N`, `C` and
+/// `ST`); per face, a colour after its indices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OffExtras {
+    /// 3 numbers per vertex.
+    pub normals: Option<Vec<f64>>,
+    /// A colour per vertex.
+    pub colors: Option<OffColors>,
+    /// 2 numbers per vertex.
+    pub texcoords: Option<Vec<f64>>,
+    /// A colour per face.
+    pub face_colors: Option<OffColors>,
+}
+
+/// Writes an OFF file with vertex normals, colours and texture coordinates
+/// and face colours (Geomview's `[ST][C][N]OFF`: the vertex line is `x y z
+/// [nx ny nz] [r g b [a]] [s t]`, the face line `3 i j k [r g b [a]]`);
+/// numbers in shortest round-trip form, so that [`read_off`] gives them
+/// back bit for bit (colours written as bytes: the bytes). Refuses what
+/// [`write_off`] refuses, and extras whose count does not match the vertex
+/// or face count, colours of other than 3 or 4 numbers and non-finite
+/// values (`InvalidInput`). Without extras, the same file as [`write_off`].
+pub fn write_off_with(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    extras: &OffExtras,
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    let (n, nf) = (positions.len(), triangles.len());
+    fn colors(c: &Option<OffColors>) -> Option<(&[f64], usize)> {
+        c.as_ref().map(|c| (&c.values[..], c.dim))
+    }
+    let columns = [
+        ("normals", extras.normals.as_deref().map(|v| (v, 3)), n),
+        ("colours", colors(&extras.colors), n),
+        ("texture coordinates", extras.texcoords.as_deref().map(|v| (v, 2)), n),
+        ("face colours", colors(&extras.face_colors), nf),
+    ];
+    for (what, column, count) in columns {
+        let Some((values, dim)) = column else { continue };
+        if what.ends_with("colours") && !(3..=4).contains(&dim) {
+            return Err(invalid(format!("{what} of {dim} numbers (3 or 4)")));
+        }
+        if values.len() != dim * count {
+            return Err(invalid(format!(
+                "{} numbers of {what} for {count} × {dim}",
+                values.len()
+            )));
+        }
+        if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+            return Err(invalid(format!("{what}: number {i} is not finite")));
+        }
+    }
+    let mut w = BufWriter::new(w);
+    let mut num = zmij::Buffer::new();
+    let keyword = [
+        (extras.texcoords.is_some(), "ST"),
+        (extras.colors.is_some(), "C"),
+        (extras.normals.is_some(), "N"),
+    ];
+    for (has, prefix) in keyword {
+        if has {
+            w.write_all(prefix.as_bytes())?;
+        }
+    }
+    writeln!(w, "OFF\n{n} {nf} 0")?;
+    for (i, p) in positions.iter().enumerate() {
+        write_xyz(&mut w, &mut num, p)?;
+        if let Some(normals) = &extras.normals {
+            write_numbers(&mut w, &mut num, &normals[3 * i..3 * i + 3])?;
+        }
+        if let Some(c) = &extras.colors {
+            write_color(&mut w, &mut num, c, i)?;
+        }
+        if let Some(st) = &extras.texcoords {
+            write_numbers(&mut w, &mut num, &st[2 * i..2 * i + 2])?;
+        }
+        w.write_all(b"\n")?;
+    }
+    for (f, t) in triangles.iter().enumerate() {
+        write!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+        if let Some(c) = &extras.face_colors {
+            write_color(&mut w, &mut num, c, f)?;
+        }
+        w.write_all(b"\n")?;
+    }
+    w.flush()
+}
+
+/// Writes " a b ..." in shortest round-trip form (the numbers are finite).
+fn write_numbers(w: &mut dyn Write, num: &mut zmij::Buffer, values: &[f64]) -> io::Result<()> {
+    for &x in values {
+        w.write_all(b" ")?;
+        w.write_all(num.format_finite(x).as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Writes " r g b [a]", colour `i` of `c`.
+fn write_color(w: &mut dyn Write, num: &mut zmij::Buffer, c: &OffColors, i: usize) -> io::Result<()> {
+    for &x in &c.values[c.dim * i..c.dim * (i + 1)] {
+        match c.text {
+            // (`as` saturates; the values are finite.)
+            ColorText::Bytes => write!(w, " {}", x.round().clamp(0.0, 255.0) as u8)?,
+            ColorText::Floats => {
+                let text = num.format_finite(x);
+                w.write_all(b" ")?;
+                match text.find(['.', 'e', 'E']) {
+                    Some(at) if text.as_bytes()[at] == b'.' => w.write_all(text.as_bytes())?,
+                    Some(at) => write!(w, "{}.0{}", &text[..at], &text[at..])?,
+                    None => write!(w, "{text}.0")?,
+                }
+            }
+        }
+    }
+    Ok(())
+}
