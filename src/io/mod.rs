@@ -25,6 +25,7 @@ pub mod polygon;
 pub mod temporary;
 
 mod atomic;
+mod lines;
 mod read;
 mod write;
 

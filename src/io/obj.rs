@@ -10,6 +10,7 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
+use super::lines::{put_decimal, write_lines, write_numbered_lines};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -956,181 +957,6 @@ fn push_index(line: &mut Vec<u8>, i: u32) {
     line.extend_from_slice(&digits[..len]);
 }
 
-/// "00", "01", .., "99": two digits per division.
-const DIGIT_PAIRS: [u8; 200] = {
-    let mut pairs = [0u8; 200];
-    let mut i = 0;
-    while i < 100 {
-        pairs[2 * i] = b'0' + (i / 10) as u8;
-        pairs[2 * i + 1] = b'0' + (i % 10) as u8;
-        i += 1;
-    }
-    pairs
-};
-
-/// Writes the decimal digits of `v` into `buf` from `at`; returns how many.
-#[inline]
-fn put_decimal(buf: &mut [u8], at: usize, mut v: u64) -> usize {
-    let len = v.checked_ilog10().unwrap_or(0) as usize + 1;
-    let mut i = at + len;
-    while v >= 100 {
-        let r = 2 * (v % 100) as usize;
-        v /= 100;
-        i -= 2;
-        buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
-    }
-    if v >= 10 {
-        let r = 2 * v as usize;
-        buf[i - 2..i].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
-    } else {
-        buf[i - 1] = b'0' + v as u8;
-    }
-    len
-}
-
-/// Lines per block of [`write_lines`]: about 1 MB of text.
-const BLOCK_LINES: usize = 1 << 14;
-
-/// Writes one line per item, appended to a buffer by `line`. Formatting
-/// (shortest round-trip floats, mostly) costs more than writing, so on
-/// several cores the items are cut into blocks of [`BLOCK_LINES`], which
-/// worker threads (started once) format in turn while the calling thread
-/// writes the finished ones in order, formatting too whenever the next one
-/// is not ready: the bytes are exactly those of a sequential loop. Workers
-/// stay at most two blocks each ahead of the writer, so memory stays a
-/// few blocks per thread.
-///
-/// ```text
-///   blocks   0 1 2 3 4 5 6 ...
-///            ^written  ^next to format (< written + window)
-/// ```
-fn write_lines<T: Sync>(w: &mut dyn Write, items: &[T], line: impl Fn(&T, &mut Vec<u8>) + Sync) -> std::io::Result<()> {
-    use std::sync::{Condvar, Mutex, PoisonError};
-    let n_blocks = items.len().div_ceil(BLOCK_LINES);
-    let fill = |block: usize, buffer: &mut Vec<u8>| {
-        let block = &items[block * BLOCK_LINES..((block + 1) * BLOCK_LINES).min(items.len())];
-        buffer.clear();
-        // About 64 bytes a line (three shortest round-trip coordinates):
-        // growing by doubling would copy the block once or twice more.
-        buffer.reserve(64 * block.len());
-        for item in block {
-            line(item, buffer);
-        }
-    };
-    // (One block needs no thread, nor asking how many there may be: that
-    // reads cgroup files.)
-    let threads = if n_blocks <= 1 {
-        1
-    } else {
-        crate::parallel::threads().min(n_blocks)
-    };
-    if threads <= 1 {
-        let mut buffer = Vec::new();
-        for block in 0..n_blocks {
-            fill(block, &mut buffer);
-            w.write_all(&buffer)?;
-        }
-        return Ok(());
-    }
-    let window = 2 * threads;
-    /// What the writer and the workers share.
-    struct Shared {
-        /// The next block nobody formats yet.
-        next: usize,
-        /// Blocks written so far.
-        written: usize,
-        /// Formatted blocks not yet written, block b at b % window.
-        ready: Vec<Option<Vec<u8>>>,
-        /// Buffers written out, for reuse.
-        spare: Vec<Vec<u8>>,
-        /// The writer is done (finished, or failed) or a thread panicked
-        /// (the writer or a worker): everybody stops.
-        stop: bool,
-    }
-    let shared = Mutex::new(Shared {
-        next: 0,
-        written: 0,
-        ready: vec![None; window],
-        spare: Vec::new(),
-        stop: false,
-    });
-    let changed = Condvar::new();
-    let lock = || shared.lock().unwrap_or_else(PoisonError::into_inner);
-    let wait = |guard| changed.wait(guard).unwrap_or_else(PoisonError::into_inner);
-    // Claims the next block if it is within the window: its number and a buffer.
-    let claim = |s: &mut Shared| {
-        (s.next < n_blocks && s.next < s.written + window).then(|| {
-            s.next += 1;
-            (s.next - 1, s.spare.pop().unwrap_or_default())
-        })
-    };
-    let deliver = |block: usize, buffer: Vec<u8>| {
-        lock().ready[block % window] = Some(buffer);
-        changed.notify_all();
-    };
-    // A panic in `line` on any thread stops the others (which could be
-    // waiting for it), and the scope then resumes it.
-    struct StopOnPanic<'a>(&'a Mutex<Shared>, &'a Condvar);
-    impl Drop for StopOnPanic<'_> {
-        fn drop(&mut self) {
-            if std::thread::panicking() {
-                self.0.lock().unwrap_or_else(PoisonError::into_inner).stop = true;
-                self.1.notify_all();
-            }
-        }
-    }
-    let worker = || {
-        let _guard = StopOnPanic(&shared, &changed);
-        loop {
-            let mut s = lock();
-            let (block, mut buffer) = loop {
-                if s.stop || s.next >= n_blocks {
-                    return;
-                }
-                match claim(&mut s) {
-                    Some(job) => break job,
-                    None => s = wait(s),
-                }
-            };
-            drop(s);
-            fill(block, &mut buffer);
-            deliver(block, buffer);
-        }
-    };
-    std::thread::scope(|scope| {
-        for _ in 1..threads {
-            // One that cannot start leaves its blocks to the others.
-            let _ = crate::parallel::try_spawn(scope, worker);
-        }
-        let _guard = StopOnPanic(&shared, &changed);
-        let result = (|| {
-            let mut s = lock();
-            while s.written < n_blocks && !s.stop {
-                let slot = s.written % window;
-                if let Some(buffer) = s.ready[slot].take() {
-                    drop(s);
-                    w.write_all(&buffer)?;
-                    s = lock();
-                    s.spare.push(buffer);
-                    s.written += 1;
-                    changed.notify_all();
-                } else if let Some((block, mut buffer)) = claim(&mut s) {
-                    drop(s);
-                    fill(block, &mut buffer);
-                    deliver(block, buffer);
-                    s = lock();
-                } else {
-                    s = wait(s);
-                }
-            }
-            Ok(())
-        })();
-        lock().stop = true;
-        changed.notify_all();
-        result
-    })
-}
-
 /// Writes a triangle mesh with attributes (per corner of `triangles`) as
 /// OBJ: the `mtllib` lines, `v` lines (with `r g b` when there are colours;
 /// a vertex whose corners have different colours is written once per
@@ -1148,8 +974,6 @@ pub fn write_obj_with_attributes(
         return write_obj(w, positions, triangles);
     }
     super::formats::check_for_writing(positions, triangles, None)?;
-    let mut fmt = zmij::Buffer::new();
-    let mut line = Vec::with_capacity(128);
     for lib in &attributes.mtllib {
         writeln!(w, "mtllib {lib}")?;
     }
@@ -1162,18 +986,9 @@ pub fn write_obj_with_attributes(
         Some(s) => (Some(&s.source), &s.triangles[..]),
         None => (None, triangles),
     };
+    // Each kind of line on both cores ([`write_numbered_lines`]), in order.
     let n_written = source.map_or(positions.len(), |s| s.len());
-    let mut numbers = |line: &mut Vec<u8>, keyword: &[u8], values: &[f64]| {
-        line.clear();
-        line.extend_from_slice(keyword);
-        for &x in values {
-            line.push(b' ');
-            // `format`, not `format_finite`: an interpolated value may overflow.
-            line.extend_from_slice(fmt.format(x).as_bytes());
-        }
-        line.push(b'\n');
-    };
-    for i in 0..n_written {
+    write_numbered_lines(w, n_written, |i, line| {
         let v = source.map_or(i, |s| s[i] as usize);
         // The position, then the colour's first three numbers if any.
         let mut xyzrgb = [0.0f64; 6];
@@ -1185,15 +1000,13 @@ pub fn write_obj_with_attributes(
                 n += 1;
             }
         }
-        numbers(&mut line, b"v", &xyzrgb[..n]);
-        w.write_all(&line)?;
-    }
+        numbers_line(line, b"v", &xyzrgb[..n]);
+    })?;
     for (keyword, channel) in [(&b"vt"[..], &attributes.texcoords), (&b"vn"[..], &attributes.normals)] {
         if let Some(c) = channel {
-            for i in 0..c.n_values() {
-                numbers(&mut line, keyword, c.value(i as u32));
-                w.write_all(&line)?;
-            }
+            write_numbered_lines(w, c.n_values(), |i, line| {
+                numbers_line(line, keyword, c.value(i as u32))
+            })?;
         }
     }
     // Faces by group, in group order, each group in face order.
@@ -1201,47 +1014,60 @@ pub fn write_obj_with_attributes(
     let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
     order.sort_by_key(|&f| group_of(f));
     let mut written = Group::default();
-    let mut current_group = None;
-    for f in order {
-        let g = group_of(f);
-        if current_group != Some(g) {
-            current_group = Some(g);
-            if let Some(group) = attributes.groups.get(g as usize) {
-                write_group_change(w, &mut written, group)?;
-            }
+    for run in order.chunk_by(|&a, &b| group_of(a) == group_of(b)) {
+        if let Some(group) = attributes.groups.get(group_of(run[0]) as usize) {
+            write_group_change(w, &mut written, group)?;
         }
-        line.clear();
-        line.push(b'f');
-        for (k, &v) in triangles[f].iter().enumerate() {
-            line.push(b' ');
-            push_index(&mut line, v);
-            // (No value: a face of an object that has none.)
-            let corner = |c: &Option<Channel>| {
-                c.as_ref()
-                    .and_then(|c| c.corners.get(3 * f + k))
-                    .copied()
-                    .filter(|&i| i != NO_VALUE)
-            };
-            match (corner(&attributes.texcoords), corner(&attributes.normals)) {
-                (None, None) => {}
-                (Some(t), None) => {
-                    line.push(b'/');
-                    push_index(&mut line, t);
-                }
-                (t, Some(n)) => {
-                    line.push(b'/');
-                    if let Some(t) = t {
-                        push_index(&mut line, t);
-                    }
-                    line.push(b'/');
-                    push_index(&mut line, n);
-                }
-            }
-        }
-        line.push(b'\n');
-        w.write_all(&line)?;
+        write_numbered_lines(w, run.len(), |k, line| {
+            face_line_with_attributes(line, run[k], &triangles[run[k]], attributes)
+        })?;
     }
     Ok(())
+}
+
+/// Appends the line `keyword x y z...` of `values` (shortest round-trip;
+/// `format`, not `format_finite`: an interpolated value may overflow).
+fn numbers_line(line: &mut Vec<u8>, keyword: &[u8], values: &[f64]) {
+    let mut fmt = zmij::Buffer::new();
+    line.extend_from_slice(keyword);
+    for &x in values {
+        line.push(b' ');
+        line.extend_from_slice(fmt.format(x).as_bytes());
+    }
+    line.push(b'\n');
+}
+
+/// Appends the `f` line of triangle `f`, `t`, with its corners' `v/vt/vn`,
+/// `v/vt` or `v//vn` numbers as `attributes` give them.
+fn face_line_with_attributes(line: &mut Vec<u8>, f: usize, t: &[u32; 3], attributes: &Attributes) {
+    line.push(b'f');
+    for (k, &v) in t.iter().enumerate() {
+        line.push(b' ');
+        push_index(line, v);
+        // (No value: a face of an object that has none.)
+        let corner = |c: &Option<Channel>| {
+            c.as_ref()
+                .and_then(|c| c.corners.get(3 * f + k))
+                .copied()
+                .filter(|&i| i != NO_VALUE)
+        };
+        match (corner(&attributes.texcoords), corner(&attributes.normals)) {
+            (None, None) => {}
+            (Some(t), None) => {
+                line.push(b'/');
+                push_index(line, t);
+            }
+            (t, Some(n)) => {
+                line.push(b'/');
+                if let Some(t) = t {
+                    push_index(line, t);
+                }
+                line.push(b'/');
+                push_index(line, n);
+            }
+        }
+    }
+    line.push(b'\n');
 }
 
 /// Writes the `o`, `g` and `usemtl` lines that take `written` to `group`.
@@ -1277,6 +1103,7 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::lines::BLOCK_LINES;
 
     /// The parsed mesh (or error) in a comparable form: positions by their
     /// bits, everything else as read.
@@ -1466,80 +1293,6 @@ mod tests {
         crate::parallel::set_threads(0);
         assert!(threaded == alone);
         assert_eq!(threaded.iter().filter(|&&b| b == b'\n').count(), 2 * n - 2);
-    }
-
-    /// A sink that takes `limit` bytes, then fails; optionally slowly, so
-    /// that the formatting threads run a full window ahead of it.
-    struct Sink {
-        bytes: Vec<u8>,
-        limit: usize,
-        slow: bool,
-    }
-
-    impl Write for Sink {
-        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-            if self.slow {
-                std::thread::sleep(std::time::Duration::from_millis(2));
-            }
-            if self.bytes.len() + buf.len() > self.limit {
-                return Err(std::io::Error::other("disk full"));
-            }
-            self.bytes.extend_from_slice(buf);
-            Ok(buf.len())
-        }
-        fn flush(&mut self) -> std::io::Result<()> {
-            Ok(())
-        }
-    }
-
-    #[test]
-    fn blocks_are_written_in_order_past_the_window_and_failures_stop_the_threads() {
-        // More blocks than the formatting threads may run ahead (two each).
-        let items: Vec<u32> = (0..13 * BLOCK_LINES as u32 + 77).collect();
-        let line = |i: &u32, out: &mut Vec<u8>| push_index(out, *i);
-        let expected: Vec<u8> = {
-            let mut out = Vec::new();
-            items.iter().for_each(|i| line(i, &mut out));
-            out
-        };
-        let _settings = crate::parallel::settings_lock_for_tests();
-        for threads in [1, 2, 3] {
-            crate::parallel::set_threads(threads);
-            for slow in [false, true] {
-                let mut sink = Sink {
-                    bytes: Vec::new(),
-                    limit: usize::MAX,
-                    slow,
-                };
-                write_lines(&mut sink, &items, line).unwrap();
-                assert!(sink.bytes == expected, "{threads} threads, slow {slow}");
-                // A write that fails half way is the result, and returns.
-                let mut sink = Sink {
-                    bytes: Vec::new(),
-                    limit: expected.len() / 2,
-                    slow,
-                };
-                let error = write_lines(&mut sink, &items, line).unwrap_err();
-                assert_eq!(error.to_string(), "disk full");
-                assert!(expected.starts_with(&sink.bytes));
-            }
-            // A panic while formatting reaches the caller instead of leaving
-            // the writer waiting for a block that never comes.
-            let panicking = |i: &u32, out: &mut Vec<u8>| {
-                assert!(*i != 5 * BLOCK_LINES as u32 + 3, "formatting failed");
-                line(i, out)
-            };
-            let mut sink = Sink {
-                bytes: Vec::new(),
-                limit: usize::MAX,
-                slow: false,
-            };
-            let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                let _ = write_lines(&mut sink, &items, panicking);
-            }));
-            assert!(caught.is_err(), "{threads} threads");
-        }
-        crate::parallel::set_threads(0);
     }
 
     #[test]

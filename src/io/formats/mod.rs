@@ -877,15 +877,14 @@ fn checked_index(i: i64, f: usize, line: Option<u64>, vertices: usize) -> Result
 // What the writers share
 // ---------------------------------------------------------------------------
 
-/// Writes "x y z" in shortest round-trip form (the coordinates are finite).
-fn write_xyz(w: &mut dyn Write, num: &mut zmij::Buffer, p: &[f64; 3]) -> io::Result<()> {
+/// Appends "x y z" in shortest round-trip form (the coordinates are finite).
+fn push_xyz(line: &mut Vec<u8>, num: &mut zmij::Buffer, p: &[f64; 3]) {
     for (k, &c) in p.iter().enumerate() {
         if k > 0 {
-            w.write_all(b" ")?;
+            line.push(b' ');
         }
-        w.write_all(num.format_finite(c).as_bytes())?;
+        line.extend_from_slice(num.format_finite(c).as_bytes());
     }
-    Ok(())
 }
 
 /// The error of a writer asked to write what no reader would take back.

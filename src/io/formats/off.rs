@@ -2,6 +2,7 @@
 //! normals and texture coordinates).
 
 use super::*;
+use crate::io::lines::{put_decimal, write_numbered_lines};
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -571,67 +572,87 @@ pub fn write_off_with(
             return Err(invalid(format!("{what}: number {i} is not finite")));
         }
     }
-    let mut w = BufWriter::new(w);
-    let mut num = zmij::Buffer::new();
     let keyword = [
         (extras.texcoords.is_some(), "ST"),
         (extras.colors.is_some(), "C"),
         (extras.normals.is_some(), "N"),
     ];
+    let mut header = Vec::new();
     for (has, prefix) in keyword {
         if has {
-            w.write_all(prefix.as_bytes())?;
+            header.extend_from_slice(prefix.as_bytes());
         }
     }
-    writeln!(w, "OFF\n{n} {nf} 0")?;
-    for (i, p) in positions.iter().enumerate() {
-        write_xyz(&mut w, &mut num, p)?;
+    writeln!(header, "OFF\n{n} {nf} 0")?;
+    w.write_all(&header)?;
+    // Each kind of line on both cores ([`write_numbered_lines`]), in order.
+    write_numbered_lines(w, n, |i, line| {
+        let mut num = zmij::Buffer::new();
+        push_xyz(line, &mut num, &positions[i]);
         if let Some(normals) = &extras.normals {
-            write_numbers(&mut w, &mut num, &normals[3 * i..3 * i + 3])?;
+            push_numbers(line, &mut num, &normals[3 * i..3 * i + 3]);
         }
         if let Some(c) = &extras.colors {
-            write_color(&mut w, &mut num, c, i)?;
+            push_color(line, &mut num, c, i);
         }
         if let Some(st) = &extras.texcoords {
-            write_numbers(&mut w, &mut num, &st[2 * i..2 * i + 2])?;
+            push_numbers(line, &mut num, &st[2 * i..2 * i + 2]);
         }
-        w.write_all(b"\n")?;
-    }
-    for (f, t) in triangles.iter().enumerate() {
-        write!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+        line.push(b'\n');
+    })?;
+    write_numbered_lines(w, nf, |f, line| {
+        // "3", three times a blank and at most 10 digits.
+        let mut buf = [0u8; 34];
+        buf[0] = b'3';
+        let mut k = 1;
+        for &v in &triangles[f] {
+            buf[k] = b' ';
+            k += 1 + put_decimal(&mut buf, k + 1, u64::from(v));
+        }
+        line.extend_from_slice(&buf[..k]);
         if let Some(c) = &extras.face_colors {
-            write_color(&mut w, &mut num, c, f)?;
+            push_color(line, &mut zmij::Buffer::new(), c, f);
         }
-        w.write_all(b"\n")?;
-    }
+        line.push(b'\n');
+    })?;
     w.flush()
 }
 
-/// Writes " a b ..." in shortest round-trip form (the numbers are finite).
-fn write_numbers(w: &mut dyn Write, num: &mut zmij::Buffer, values: &[f64]) -> io::Result<()> {
+/// Appends " a b ..." in shortest round-trip form (the numbers are finite).
+fn push_numbers(line: &mut Vec<u8>, num: &mut zmij::Buffer, values: &[f64]) {
     for &x in values {
-        w.write_all(b" ")?;
-        w.write_all(num.format_finite(x).as_bytes())?;
+        line.push(b' ');
+        line.extend_from_slice(num.format_finite(x).as_bytes());
     }
-    Ok(())
 }
 
-/// Writes " r g b [a]", colour `i` of `c`.
-fn write_color(w: &mut dyn Write, num: &mut zmij::Buffer, c: &OffColors, i: usize) -> io::Result<()> {
+/// Appends " r g b [a]", colour `i` of `c`.
+fn push_color(line: &mut Vec<u8>, num: &mut zmij::Buffer, c: &OffColors, i: usize) {
     for &x in &c.values[c.dim * i..c.dim * (i + 1)] {
+        line.push(b' ');
         match c.text {
             // (`as` saturates; the values are finite.)
-            ColorText::Bytes => write!(w, " {}", x.round().clamp(0.0, 255.0) as u8)?,
+            ColorText::Bytes => {
+                let mut digits = [0u8; 3];
+                let len = put_decimal(&mut digits, 0, u64::from(x.round().clamp(0.0, 255.0) as u8));
+                line.extend_from_slice(&digits[..len]);
+            }
             ColorText::Floats => {
                 let text = num.format_finite(x);
-                w.write_all(b" ")?;
+                // A float as a float: with a point (1.0, 1.0e-5).
                 match text.find(['.', 'e', 'E']) {
-                    Some(at) if text.as_bytes()[at] == b'.' => w.write_all(text.as_bytes())?,
-                    Some(at) => write!(w, "{}.0{}", &text[..at], &text[at..])?,
-                    None => write!(w, "{text}.0")?,
+                    Some(at) if text.as_bytes()[at] == b'.' => line.extend_from_slice(text.as_bytes()),
+                    Some(at) => {
+                        line.extend_from_slice(&text.as_bytes()[..at]);
+                        line.extend_from_slice(b".0");
+                        line.extend_from_slice(&text.as_bytes()[at..]);
+                    }
+                    None => {
+                        line.extend_from_slice(text.as_bytes());
+                        line.extend_from_slice(b".0");
+                    }
                 }
             }
         }
     }
-    Ok(())
 }

@@ -2,6 +2,7 @@
 //! and face properties.
 
 use super::*;
+use crate::io::lines::{put_decimal, write_numbered_lines};
 
 /// A PLY scalar type: the attributes' [`ValueType`], which a carried
 /// property keeps.
@@ -1504,18 +1505,31 @@ pub fn write_ply_ascii(
     colors: Option<&[[u8; 3]]>,
 ) -> io::Result<()> {
     check_for_writing(positions, triangles, colors)?;
-    let mut w = BufWriter::new(w);
-    ply_header(&mut w, "ascii", positions.len(), triangles.len(), colors.is_some())?;
-    let mut num = zmij::Buffer::new();
-    for (i, p) in positions.iter().enumerate() {
-        write_xyz(&mut w, &mut num, p)?;
-        if let Some([r, g, b]) = colors.and_then(|c| c.get(i)) {
-            write!(w, " {r} {g} {b}")?;
+    let mut header = Vec::new();
+    ply_header(&mut header, "ascii", positions.len(), triangles.len(), colors.is_some())?;
+    w.write_all(&header)?;
+    // Each kind of line on both cores ([`write_numbered_lines`]), in order.
+    write_numbered_lines(w, positions.len(), |i, line| {
+        push_xyz(line, &mut zmij::Buffer::new(), &positions[i]);
+        if let Some(rgb) = colors.and_then(|c| c.get(i)) {
+            for &x in rgb {
+                let mut digits = [0u8; 3];
+                let len = put_decimal(&mut digits, 0, u64::from(x));
+                line.push(b' ');
+                line.extend_from_slice(&digits[..len]);
+            }
         }
-        w.write_all(b"\n")?;
-    }
-    for t in triangles {
-        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
-    }
+        line.push(b'\n');
+    })?;
+    write_numbered_lines(w, triangles.len(), |f, line| {
+        line.push(b'3');
+        for &v in &triangles[f] {
+            let mut digits = [0u8; 10];
+            let len = put_decimal(&mut digits, 0, u64::from(v));
+            line.push(b' ');
+            line.extend_from_slice(&digits[..len]);
+        }
+        line.push(b'\n');
+    })?;
     w.flush()
 }

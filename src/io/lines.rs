@@ -1,0 +1,322 @@
+//! Text output on both cores: [`write_lines`] formats blocks of lines on
+//! worker threads while the calling thread writes the finished ones in
+//! order (the bytes are those of a sequential loop), and [`put_decimal`]
+//! writes an index's digits without `fmt`. Shared by the OBJ and OFF writers.
+
+use std::io::Write;
+
+/// "00", "01", .., "99": two digits per division.
+const DIGIT_PAIRS: [u8; 200] = {
+    let mut pairs = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        pairs[2 * i] = b'0' + (i / 10) as u8;
+        pairs[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    pairs
+};
+
+/// Writes the decimal digits of `v` into `buf` from `at`; returns how many.
+#[inline]
+pub(crate) fn put_decimal(buf: &mut [u8], at: usize, mut v: u64) -> usize {
+    let len = v.checked_ilog10().unwrap_or(0) as usize + 1;
+    let mut i = at + len;
+    while v >= 100 {
+        let r = 2 * (v % 100) as usize;
+        v /= 100;
+        i -= 2;
+        buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
+    }
+    if v >= 10 {
+        let r = 2 * v as usize;
+        buf[i - 2..i].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
+    } else {
+        buf[i - 1] = b'0' + v as u8;
+    }
+    len
+}
+
+/// Lines per block of [`write_lines`]: about 1 MB of text.
+pub(crate) const BLOCK_LINES: usize = 1 << 14;
+
+/// Writes one line per item, appended to a buffer by `line`. Formatting
+/// (shortest round-trip floats, mostly) costs more than writing, so on
+/// several cores the items are cut into blocks of [`BLOCK_LINES`], which
+/// worker threads (started once) format in turn while the calling thread
+/// writes the finished ones in order, formatting too whenever the next one
+/// is not ready: the bytes are exactly those of a sequential loop. Workers
+/// stay at most two blocks each ahead of the writer, so memory stays a
+/// few blocks per thread.
+///
+/// ```text
+///   blocks   0 1 2 3 4 5 6 ...
+///            ^written  ^next to format (< written + window)
+/// ```
+pub(crate) fn write_lines<T: Sync>(
+    w: &mut dyn Write,
+    items: &[T],
+    line: impl Fn(&T, &mut Vec<u8>) + Sync,
+) -> std::io::Result<()> {
+    write_numbered_lines(w, items.len(), |i, buffer| line(&items[i], buffer))
+}
+
+/// [`write_lines`] of the items `0..n`: line `i` appended by `line(i, ..)`.
+pub(crate) fn write_numbered_lines(
+    w: &mut dyn Write,
+    n: usize,
+    line: impl Fn(usize, &mut Vec<u8>) + Sync,
+) -> std::io::Result<()> {
+    use std::sync::{Condvar, Mutex, PoisonError};
+    let n_blocks = n.div_ceil(BLOCK_LINES);
+    let fill = |block: usize, buffer: &mut Vec<u8>| {
+        let block = block * BLOCK_LINES..((block + 1) * BLOCK_LINES).min(n);
+        buffer.clear();
+        // About 64 bytes a line (three shortest round-trip coordinates):
+        // growing by doubling would copy the block once or twice more.
+        buffer.reserve(64 * block.len());
+        for i in block {
+            line(i, buffer);
+        }
+    };
+    // (One block needs no thread, nor asking how many there may be: that
+    // reads cgroup files.)
+    let threads = if n_blocks <= 1 {
+        1
+    } else {
+        crate::parallel::threads().min(n_blocks)
+    };
+    if threads <= 1 {
+        let mut buffer = Vec::new();
+        for block in 0..n_blocks {
+            fill(block, &mut buffer);
+            w.write_all(&buffer)?;
+        }
+        return Ok(());
+    }
+    let window = 2 * threads;
+    /// What the writer and the workers share.
+    struct Shared {
+        /// The next block nobody formats yet.
+        next: usize,
+        /// Blocks written so far.
+        written: usize,
+        /// Formatted blocks not yet written, block b at b % window.
+        ready: Vec<Option<Vec<u8>>>,
+        /// Buffers written out, for reuse.
+        spare: Vec<Vec<u8>>,
+        /// The writer is done (finished, or failed) or a thread panicked
+        /// (the writer or a worker): everybody stops.
+        stop: bool,
+    }
+    let shared = Mutex::new(Shared {
+        next: 0,
+        written: 0,
+        ready: vec![None; window],
+        spare: Vec::new(),
+        stop: false,
+    });
+    let changed = Condvar::new();
+    let lock = || shared.lock().unwrap_or_else(PoisonError::into_inner);
+    let wait = |guard| changed.wait(guard).unwrap_or_else(PoisonError::into_inner);
+    // Claims the next block if it is within the window: its number and a buffer.
+    let claim = |s: &mut Shared| {
+        (s.next < n_blocks && s.next < s.written + window).then(|| {
+            s.next += 1;
+            (s.next - 1, s.spare.pop().unwrap_or_default())
+        })
+    };
+    let deliver = |block: usize, buffer: Vec<u8>| {
+        lock().ready[block % window] = Some(buffer);
+        changed.notify_all();
+    };
+    // A panic in `line` on any thread stops the others (which could be
+    // waiting for it), and the scope then resumes it.
+    struct StopOnPanic<'a>(&'a Mutex<Shared>, &'a Condvar);
+    impl Drop for StopOnPanic<'_> {
+        fn drop(&mut self) {
+            if std::thread::panicking() {
+                self.0.lock().unwrap_or_else(PoisonError::into_inner).stop = true;
+                self.1.notify_all();
+            }
+        }
+    }
+    let worker = || {
+        let _guard = StopOnPanic(&shared, &changed);
+        loop {
+            let mut s = lock();
+            let (block, mut buffer) = loop {
+                if s.stop || s.next >= n_blocks {
+                    return;
+                }
+                match claim(&mut s) {
+                    Some(job) => break job,
+                    None => s = wait(s),
+                }
+            };
+            drop(s);
+            fill(block, &mut buffer);
+            deliver(block, buffer);
+        }
+    };
+    std::thread::scope(|scope| {
+        for _ in 1..threads {
+            // One that cannot start leaves its blocks to the others.
+            let _ = crate::parallel::try_spawn(scope, worker);
+        }
+        let _guard = StopOnPanic(&shared, &changed);
+        let result = (|| {
+            let mut s = lock();
+            while s.written < n_blocks && !s.stop {
+                let slot = s.written % window;
+                if let Some(buffer) = s.ready[slot].take() {
+                    drop(s);
+                    w.write_all(&buffer)?;
+                    s = lock();
+                    s.spare.push(buffer);
+                    s.written += 1;
+                    changed.notify_all();
+                } else if let Some((block, mut buffer)) = claim(&mut s) {
+                    drop(s);
+                    fill(block, &mut buffer);
+                    deliver(block, buffer);
+                    s = lock();
+                } else {
+                    s = wait(s);
+                }
+            }
+            Ok(())
+        })();
+        lock().stop = true;
+        changed.notify_all();
+        result
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sink that takes `limit` bytes, then fails; optionally slowly, so
+    /// that the formatting threads run a full window ahead of it.
+    struct Sink {
+        bytes: Vec<u8>,
+        limit: usize,
+        slow: bool,
+    }
+
+    impl Write for Sink {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.slow {
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+            if self.bytes.len() + buf.len() > self.limit {
+                return Err(std::io::Error::other("disk full"));
+            }
+            self.bytes.extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn blocks_are_written_in_order_past_the_window_and_failures_stop_the_threads() {
+        // More blocks than the formatting threads may run ahead (two each).
+        let items: Vec<u32> = (0..13 * BLOCK_LINES as u32 + 77).collect();
+        let line = |i: &u32, out: &mut Vec<u8>| {
+            let mut digits = [0u8; 10];
+            let len = put_decimal(&mut digits, 0, u64::from(*i));
+            out.extend_from_slice(&digits[..len]);
+        };
+        let expected: Vec<u8> = {
+            let mut out = Vec::new();
+            items.iter().for_each(|i| line(i, &mut out));
+            out
+        };
+        let _settings = crate::parallel::settings_lock_for_tests();
+        for threads in [1, 2, 3] {
+            crate::parallel::set_threads(threads);
+            for slow in [false, true] {
+                let mut sink = Sink {
+                    bytes: Vec::new(),
+                    limit: usize::MAX,
+                    slow,
+                };
+                write_lines(&mut sink, &items, line).unwrap();
+                assert!(sink.bytes == expected, "{threads} threads, slow {slow}");
+                // A write that fails half way is the result, and returns.
+                let mut sink = Sink {
+                    bytes: Vec::new(),
+                    limit: expected.len() / 2,
+                    slow,
+                };
+                let error = write_lines(&mut sink, &items, line).unwrap_err();
+                assert_eq!(error.to_string(), "disk full");
+                assert!(expected.starts_with(&sink.bytes));
+            }
+            // A panic while formatting reaches the caller instead of leaving
+            // the writer waiting for a block that never comes.
+            let panicking = |i: &u32, out: &mut Vec<u8>| {
+                assert!(*i != 5 * BLOCK_LINES as u32 + 3, "formatting failed");
+                line(i, out)
+            };
+            let mut sink = Sink {
+                bytes: Vec::new(),
+                limit: usize::MAX,
+                slow: false,
+            };
+            let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let _ = write_lines(&mut sink, &items, panicking);
+            }));
+            assert!(caught.is_err(), "{threads} threads");
+        }
+        crate::parallel::set_threads(0);
+    }
+
+    /// The OFF writer (all four extras) and the ASCII PLY writer give the
+    /// same bytes whether their lines are formatted on threads or not, over
+    /// several blocks, and read back to what was written.
+    #[test]
+    fn off_and_ascii_ply_lines_are_the_same_whether_or_not_threads_start() {
+        use crate::io::formats::{self, ColorText, OffColors, OffExtras};
+        let n = 2 * BLOCK_LINES + 9;
+        let positions: Vec<[f64; 3]> = (0..n)
+            .map(|i| [i as f64 * 0.1, (i % 7) as f64, -1e-7 * i as f64])
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..n as u32 - 2).map(|i| [i, i + 1, i + 2]).collect();
+        let colors = |count: usize, text| OffColors {
+            dim: 4,
+            text,
+            values: (0..4 * count).map(|k| (k % 256) as f64).collect(),
+        };
+        let extras = OffExtras {
+            normals: Some((0..3 * n).map(|k| (k as f64).sin()).collect()),
+            colors: Some(colors(n, ColorText::Bytes)),
+            texcoords: Some((0..2 * n).map(|k| k as f64 / 3.0).collect()),
+            face_colors: Some(colors(triangles.len(), ColorText::Floats)),
+        };
+        let bytes: Vec<[u8; 3]> = (0..n).map(|i| [i as u8, (i / 3) as u8, 7]).collect();
+        let write = || {
+            let (mut off, mut ply) = (Vec::new(), Vec::new());
+            formats::write_off_with(&mut off, &positions, &triangles, &extras).unwrap();
+            formats::write_ply_ascii(&mut ply, &positions, &triangles, Some(&bytes)).unwrap();
+            (off, ply)
+        };
+        let _settings = crate::parallel::settings_lock_for_tests();
+        crate::parallel::set_threads(3);
+        let threaded = write();
+        crate::parallel::refuse_threads(true);
+        let alone = write();
+        crate::parallel::refuse_threads(false);
+        crate::parallel::set_threads(0);
+        assert!(threaded == alone);
+        let off = formats::read_off(&threaded.0).unwrap();
+        assert_eq!(off.positions, positions);
+        assert_eq!(off.face_start.len(), triangles.len() + 1);
+        let ply = formats::read_ply(&threaded.1).unwrap();
+        assert_eq!(ply.positions, positions);
+        assert_eq!(ply.face_start.len(), triangles.len() + 1);
+    }
+}
