@@ -3347,6 +3347,10 @@ fn excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 }
 
 /// Rule 6 on every interior output edge (see [`DelaunayStats::report`]).
+///
+/// [`excess`] (two `atan2`) is computed only for the edges that [`ExcessBound`] cannot place
+/// below the largest excess found so far: the others change neither the maximum nor the list
+/// of non-Delaunay edges, so the result is the same as computing every edge's.
 fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     let p = |v: u32| output.positions[v as usize];
     let mut stats = DelaunayStats {
@@ -3354,12 +3358,21 @@ fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
         max_excess: f64::NEG_INFINITY,
         bad: Vec::new(),
     };
+    let mut bound = ExcessBound::below(stats.max_excess);
     for e in edges.iter().filter(|e| e.is_interior()) {
         let (a, b, f, g) = e.oriented();
         let c = third(&output.triangles[f as usize], a, b);
         let d = third(&output.triangles[g as usize], a, b);
-        let x = excess(p(a), p(b), p(c), p(d));
         stats.interior += 1;
+        let quad = [p(a), p(b), p(c), p(d)];
+        if bound.holds(quad) {
+            continue;
+        }
+        let [a, b, c, d] = quad;
+        let x = excess(a, b, c, d);
+        if x > stats.max_excess {
+            bound = ExcessBound::below(x);
+        }
         stats.max_excess = stats.max_excess.max(x);
         let delaunay = x <= DELAUNAY_TOLERANCE; // false for NaN too
         if !delaunay {
@@ -3368,6 +3381,56 @@ fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     }
     stats.bad.sort_by(|x, y| y.0.total_cmp(&x.0));
     stats
+}
+
+/// A cheap test, without `atan2`, that an interior edge's [`excess`] is certainly below a
+/// threshold `t` (the largest excess found so far) and not above [`DELAUNAY_TOLERANCE`]: that
+/// `alpha + beta <= pi - m` with `m = max(-t, 0) + 1e-12`, where `excess` is within `1e-14` of
+/// the exact `alpha + beta - pi` of its (rounded) edge vectors.
+///
+/// With `C = |u x v|` and `D = u . v` for the two vectors `u, v` of a face from its third
+/// corner, `D + iC` is `|u| |v| e^(i alpha)`, so the product `R + iS` of the two faces' is
+/// `|u1| |v1| |u2| |v2| e^(i (alpha + beta))`. For `alpha + beta` in `[0, 2 pi]`, `S > 0` puts it
+/// in `(0, pi)`, and then `alpha + beta <= pi - m` iff `S + R tan(m) >= 0`. Both are required to
+/// exceed their rounding error with a wide margin: `C` and `D` are within about 8 units of
+/// roundoff of `|u| |v| <= |C| + |D|`, so `R` and `S` within 40 units of the product of those
+/// sums, and the margin is 10^-12 of it (4,500 units). Vectors whose largest coordinate is 0 or
+/// outside `[2^-200, 2^200]` (where products could underflow or overflow) are left to `excess`.
+#[derive(Clone, Copy)]
+struct ExcessBound {
+    /// `tan(m)`, or `None` when no edge is to be skipped (no threshold yet, or one so low that
+    /// `m` nears `pi / 2`).
+    tan_margin: Option<f64>,
+}
+
+impl ExcessBound {
+    /// The bound for threshold `t` (`f64::NEG_INFINITY`: none).
+    fn below(t: f64) -> ExcessBound {
+        let margin = t.min(0.0).abs() + 1e-12;
+        ExcessBound {
+            tan_margin: (margin < 1.4).then(|| margin.tan()),
+        }
+    }
+
+    /// Whether the excess of the edge `(a, b)` with faces `(a, b, c)` and `(b, a, d)` is
+    /// certainly below the threshold (`false` when unsure).
+    fn holds(&self, [a, b, c, d]: [DVec3; 4]) -> bool {
+        let Some(k) = self.tan_margin else {
+            return false;
+        };
+        let (u1, v1, u2, v2) = (a - c, b - c, a - d, b - d);
+        const LOW: f64 = 6.223015277861142e-61; // 2^-200
+        const HIGH: f64 = 1.6069380442589903e60; // 2^200
+        let plain = |w: DVec3| (LOW..=HIGH).contains(&w.abs().max_element());
+        if !(plain(u1) && plain(v1) && plain(u2) && plain(v2)) {
+            return false;
+        }
+        let (c1, d1) = (u1.cross(v1).length(), u1.dot(v1));
+        let (c2, d2) = (u2.cross(v2).length(), u2.dot(v2));
+        let (r, s) = (d1 * d2 - c1 * c2, c1 * d2 + d1 * c2);
+        let error = 1e-12 * (c1 + d1.abs()) * (c2 + d2.abs());
+        s > error && s + k * r > error * (1.0 + k)
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -3665,6 +3728,118 @@ mod tests {
             assert!((angle(u, v) - PI / 2.0).abs() < 1e-15, "{k}");
         }
         assert_eq!(angle(DVec3::ZERO, DVec3::X), 0.0);
+    }
+
+    /// `ExcessBound` only skips edges whose excess is below its threshold and Delaunay:
+    /// random quads near cocircular (excess near 0) and far from it, at scales from 1e-150
+    /// to 1e150, some needles, against thresholds around each quad's own excess.
+    #[test]
+    fn excess_bound_skips_only_edges_below_the_threshold() {
+        let mut rng = Rng(0x5eed_0d1e);
+        let mut skipped = 0;
+        for i in 0..20_000 {
+            let scale = 10f64.powi(rng.int(150) as i32);
+            let offset = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * scale * rng.int(1e6 as u64);
+            let on_circle = |t: f64, r: f64| DVec3::new(t.cos() * r, t.sin() * r, 0.0);
+            let (ta, tb) = (rng.centered() * 6.0, rng.centered() * 6.0);
+            let near = 10f64.powi(-(rng.below(17) as i32));
+            let tilt = if i % 3 == 0 {
+                rng.centered() * near
+            } else {
+                rng.centered()
+            };
+            let mut quad = [
+                on_circle(ta, 1.0),
+                on_circle(tb, 1.0),
+                on_circle(rng.centered() * 6.0, 1.0 + rng.centered() * near),
+                on_circle(rng.centered() * 6.0, 1.0 + rng.centered() * near) + DVec3::Z * tilt,
+            ];
+            if i % 7 == 0 {
+                quad[2] = quad[0].lerp(quad[1], 0.5 + rng.centered()) + DVec3::Z * near * 1e-6;
+            }
+            let quad = quad.map(|p| p * scale + offset);
+            let [a, b, c, d] = quad;
+            let x = excess(a, b, c, d);
+            for t in [
+                f64::NEG_INFINITY,
+                -1.5,
+                -1.0,
+                -1e-3,
+                -1e-9,
+                -1e-12,
+                0.0,
+                1e-12,
+                1e-9,
+                0.5,
+                3.0,
+            ]
+            .into_iter()
+            .chain([x, x - 1e-12, x + 1e-12, x - 1e-11, x - 1e-6, x + 1e-6])
+            {
+                if ExcessBound::below(t).holds(quad) {
+                    skipped += 1;
+                    assert!(x < t && x <= DELAUNAY_TOLERANCE, "{quad:?} {x} {t}");
+                }
+            }
+        }
+        assert!(skipped > 50_000, "{skipped}");
+    }
+
+    /// `delaunay_edges` finds what computing every edge's excess finds: on grids regular
+    /// (cocircular quads, excess 0 up to rounding), jittered, and lifted into curved surfaces.
+    #[test]
+    fn delaunay_edges_agree_with_every_edge_computed() {
+        let mut rng = Rng(0x00de_1a07);
+        for (jitter, height) in [
+            (0.0, 0.0),
+            (1e-9, 0.0),
+            (0.3, 0.0),
+            (0.0, 0.2),
+            (0.2, 1.0),
+            (1e-3, 1e-3),
+        ] {
+            let n = 30;
+            let mut mesh = Mesh3::default();
+            for y in 0..=n {
+                for x in 0..=n {
+                    let j = DVec3::new(rng.centered(), rng.centered(), 0.0) * jitter;
+                    let z = height * rng.centered();
+                    mesh.positions.push(DVec3::new(x as f64, y as f64, z) + j);
+                }
+            }
+            let v = |x: u32, y: u32| y * (n + 1) + x;
+            for y in 0..n {
+                for x in 0..n {
+                    let (p, q, r, s) = (v(x, y), v(x + 1, y), v(x + 1, y + 1), v(x, y + 1));
+                    if rng.below(2) == 0 {
+                        mesh.triangles.extend([[p, q, r], [p, r, s]]);
+                    } else {
+                        mesh.triangles.extend([[p, q, s], [q, r, s]]);
+                    }
+                }
+            }
+            let naming = Naming::default();
+            let names = Names::new("output", &mesh, &naming);
+            let edges = build_edges(&names, &mut Failures::default());
+            let stats = delaunay_edges(&mesh, &edges);
+            let p = |v: u32| mesh.positions[v as usize];
+            let mut every: Vec<(f64, u32, u32)> = Vec::new();
+            let mut max = f64::NEG_INFINITY;
+            for e in edges.iter().filter(|e| e.is_interior()) {
+                let (a, b, f, g) = e.oriented();
+                let c = third(&mesh.triangles[f as usize], a, b);
+                let d = third(&mesh.triangles[g as usize], a, b);
+                let x = excess(p(a), p(b), p(c), p(d));
+                max = max.max(x);
+                every.push((x, e.lo, e.hi));
+            }
+            every.retain(|e| e.0 > DELAUNAY_TOLERANCE || e.0.is_nan());
+            every.sort_by(|x, y| y.0.total_cmp(&x.0));
+            assert_eq!(stats.interior, 3 * n as usize * n as usize - 2 * n as usize);
+            assert_eq!(stats.max_excess.to_bits(), max.to_bits(), "{jitter} {height}");
+            let bits = |list: &[(f64, u32, u32)]| list.iter().map(|e| (e.0.to_bits(), e.1, e.2)).collect::<Vec<_>>();
+            assert_eq!(bits(&stats.bad), bits(&every), "{jitter} {height}");
+        }
     }
 
     #[test]
