@@ -294,7 +294,8 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let read_input = || {
         read_welded(input).map(|mut welded| {
             let in_file = welded.mesh.positions.len();
-            let mesh = settle(welded.mesh, &welded.file_corners);
+            let Settled { mesh, around } = settle(welded.mesh, &welded.file_corners);
+            drop(welded.file_corners);
             welded.naming.name_copies(&mesh.positions, in_file);
             // The vertices no face uses, after all the others (their own numbers are not the
             // file's): an output one must still be an input vertex or lie on an input edge.
@@ -303,7 +304,8 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
             mesh.positions.extend(welded.strays);
             // (Validated while the output may still be read: its error, if any, is reported
             // only once both files are read.)
-            let prepared = prepare_input(&mesh, &welded.naming);
+            let prepared = prepare_input(&mesh, Some(&around), &welded.naming);
+            drop(around);
             (mesh, settled, welded.naming, in_file, prepared)
         })
     };
@@ -312,7 +314,11 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let mut welded = output_read?;
     let output_in_file = welded.mesh.positions.len();
     let input_positions = &input_mesh.positions[..input_settled];
-    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
+    let Settled {
+        mesh: mut output_mesh,
+        around: output_around,
+    } = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
+    drop(welded.file_corners);
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
@@ -325,6 +331,7 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
         output: &output_mesh,
         input_naming: &input_naming,
         output_naming: &output_naming,
+        output_around: Some(&output_around),
     };
     let mut report = check_core(meshes, Some(input_prepared)).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
@@ -356,6 +363,7 @@ pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
         output,
         input_naming: &naming,
         output_naming: &naming,
+        output_around: None,
     };
     let mut report = check_core(meshes, None).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
@@ -380,7 +388,7 @@ impl Mesh3 {
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle(welded.mesh, &welded.file_corners))
+        Ok(settle(welded.mesh, &welded.file_corners).mesh)
     }
 
     /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
@@ -390,7 +398,7 @@ impl Mesh3 {
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0))
+        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0).mesh)
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -412,7 +420,7 @@ impl Mesh3 {
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
         let welded = read_obj_welded(path, bytes)?;
-        Ok(settle(welded.mesh, &welded.file_corners))
+        Ok(settle(welded.mesh, &welded.file_corners).mesh)
     }
 }
 
@@ -582,7 +590,7 @@ impl<'a> Names<'a> {
 /// positions of the input's vertices. Only `input[first_copy..]` may repeat a position of the
 /// input (0 for any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies last,
 /// after the file's welded vertices, and usually none).
-fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Mesh3 {
+fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Settled {
     // How many vertices the input has at each position it has several at (usually none).
     let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
@@ -607,7 +615,7 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_
         return settle(welded, file_corners);
     }
     let settled = settle(welded.clone(), file_corners);
-    for p in &settled.positions {
+    for p in &settled.mesh.positions {
         if let Some(c) = count.get_mut(&bits(*p)) {
             *c -= 1;
         }
@@ -742,20 +750,12 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
     for (i, &id) in ids.iter().enumerate().rev() {
         first_in_file[id as usize] = i as u32;
     }
-    let mut new_id = vec![u32::MAX; used.len()];
-    let mut positions = Vec::new();
-    let mut file_vertex = Vec::new();
-    let mut strays = Vec::new();
-    for (i, p) in welder.positions.iter().enumerate() {
-        if used[i] {
-            new_id[i] = positions.len() as u32;
-            positions.push(*p);
-            file_vertex.push(first_in_file[i]);
-        } else {
-            strays.push(*p);
-        }
-    }
-    let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+    let (positions, file_vertex, strays, triangles) = if used.contains(&false) {
+        drop_unused(welder.positions, &used, &first_in_file, triangles)
+    } else {
+        // (Every vertex used, as in every file delmesh writes: nothing to renumber.)
+        (welder.positions, first_in_file, Vec::new(), triangles)
+    };
     let naming = Naming {
         numbering: raw.numbering,
         vertex: identity_or(file_vertex),
@@ -770,6 +770,31 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
         strays,
         naming,
     }))
+}
+
+/// The welded `positions` that `used` marks, in order, with their first file vertex (of
+/// `first_in_file`), the others (the strays), and the `triangles` renumbered to the former.
+fn drop_unused(
+    positions: Vec<DVec3>,
+    used: &[bool],
+    first_in_file: &[u32],
+    triangles: Vec<[u32; 3]>,
+) -> (Vec<DVec3>, Vec<u32>, Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut new_id = vec![u32::MAX; used.len()];
+    let mut kept = Vec::new();
+    let mut file_vertex = Vec::new();
+    let mut strays = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        if used[i] {
+            new_id[i] = kept.len() as u32;
+            kept.push(*p);
+            file_vertex.push(first_in_file[i]);
+        } else {
+            strays.push(*p);
+        }
+    }
+    let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+    (kept, file_vertex, strays, triangles)
 }
 
 /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
@@ -1002,9 +1027,40 @@ fn first_binary_line(bytes: &[u8]) -> Option<usize> {
 }
 
 /// The last steps of reading a welded mesh: [`split_welded_sheets`], then
-/// [`split_pinched_vertices`].
-fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
+/// [`split_pinched_vertices`]; with the faces around every vertex of the result.
+fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Settled {
     split_pinched_vertices(split_welded_sheets(mesh, file_corners))
+}
+
+/// A mesh as read, with the faces around each of its vertices.
+struct Settled {
+    mesh: Mesh3,
+    around: VertexFaces,
+}
+
+/// The faces around every vertex of a mesh (whose indices are valid), in increasing order: a
+/// counting sort of the corners by vertex, made once and used by the pinch rule, the edges and
+/// the fans (a face repeating a vertex is listed once per corner there). Vertices past those it
+/// was made for (the ones no face uses, appended later) have no faces.
+struct VertexFaces {
+    start: Vec<usize>,
+    faces: Vec<u32>,
+}
+
+impl VertexFaces {
+    fn new(mesh: &Mesh3) -> VertexFaces {
+        let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
+        let (start, faces) = grouped(mesh.positions.len(), corners);
+        VertexFaces { start, faces }
+    }
+
+    /// The faces around vertex `v`.
+    fn of(&self, v: usize) -> &[u32] {
+        match (self.start.get(v), self.start.get(v + 1)) {
+            (Some(&a), Some(&b)) => &self.faces[a..b],
+            _ => &[],
+        }
+    }
 }
 
 /// At every vertex flagged in `at`, the first file vertex welded into it (in corner order)
@@ -1131,11 +1187,9 @@ fn grouped<T: Copy + Default, I: Iterator<Item = (usize, T)>>(n: usize, items: i
 /// separate fans makes such a file read back as the surface it was written from, and leaves
 /// manifold meshes unchanged. Fans are ordered by their lowest face index, so the rule is
 /// deterministic; edges with more than two faces are not cut (they stay errors).
-fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
+fn split_pinched_vertices(mut mesh: Mesh3) -> Settled {
     let n = mesh.positions.len();
-    // Faces around each vertex.
-    let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
-    let (start, around) = grouped(n, corners);
+    let around = VertexFaces::new(&mesh);
     // Which fan every face of a pinched vertex is in, found on all threads: a vertex's fans
     // do not depend on how the pinches before it were cut (faces sharing a neighbour that was
     // cut are in one of its fans, so they still share its copy), so each vertex's are found
@@ -1145,7 +1199,7 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
         let mut fans = Fans::default();
         let mut found = Vec::new();
         for v in range {
-            let faces = &around[start[v]..start[v + 1]];
+            let faces = around.of(v);
             if faces.len() >= 2 {
                 fans.find(v, faces, triangles, &mut found);
             }
@@ -1176,7 +1230,13 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
             }
         }
     }
-    mesh
+    // (Made again where pinches were cut, which moves faces to new vertices: rare.)
+    let around = if pinched.is_empty() {
+        around
+    } else {
+        VertexFaces::new(&mesh)
+    };
+    Settled { mesh, around }
 }
 
 /// The fans of one vertex, with buffers reused from vertex to vertex.
@@ -1307,6 +1367,8 @@ struct Meshes<'a> {
     output: &'a Mesh3,
     input_naming: &'a Naming,
     output_naming: &'a Naming,
+    /// The faces around the output's vertices, if already known (from reading it).
+    output_around: Option<&'a VertexFaces>,
 }
 
 /// Runs every check, naming the meshes' vertices and faces as their files do; `Err` carries
@@ -1320,13 +1382,14 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
     // recorded in the same order either way (only one side of each pair records any).
     let worth_it = input.triangles.len() + output.triangles.len() >= PARALLEL_FACES;
     let mut fail = Failures::default();
-    let prepared = input_prepared.unwrap_or_else(|| prepare_input(input, meshes.input_naming))?;
+    let prepared = input_prepared.unwrap_or_else(|| prepare_input(input, None, meshes.input_naming))?;
     let out_referenced = validate(&output_names, &mut fail);
     let ((regions, out), search) = crate::parallel::join(
         worth_it,
         || {
             let regions = input_regions(input, &prepared);
-            let out = (out_referenced.as_ref()).map(|r| Prepared::build(&output_names, r.clone(), &mut fail));
+            let around = meshes.output_around;
+            let out = (out_referenced.as_ref()).map(|r| Prepared::build(&output_names, r.clone(), around, &mut fail));
             (regions, out)
         },
         || (out_referenced.as_ref()).map(|r| VertexSearch::new(input, &prepared, output, r)),
@@ -1370,14 +1433,14 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
 }
 
 /// Validates the input (indices, finite coordinates, oriented manifold): its edges and
-/// topology, or why it is invalid.
-fn prepare_input(mesh: &Mesh3, naming: &Naming) -> Result<Prepared, String> {
+/// topology, or why it is invalid. `around`: the faces around its vertices, if known.
+fn prepare_input(mesh: &Mesh3, around: Option<&VertexFaces>, naming: &Naming) -> Result<Prepared, String> {
     if mesh.triangles.is_empty() {
         return Err("the mesh has no faces".into());
     }
     let names = Names::new("input", mesh, naming);
     let mut problems = Failures::default();
-    match Prepared::new(&names, &mut problems) {
+    match Prepared::new(&names, around, &mut problems) {
         Some(p) if problems.is_empty() => Ok(p),
         _ => Err(problems.summary(5)),
     }
@@ -1413,7 +1476,7 @@ impl<'a> InputModel<'a> {
     /// planar regions.
     #[cfg(test)]
     fn new(mesh: &'a Mesh3, naming: &'a Naming) -> Result<InputModel<'a>, String> {
-        let prepared = prepare_input(mesh, naming)?;
+        let prepared = prepare_input(mesh, None, naming)?;
         let (regions, vertex_regions) = input_regions(mesh, &prepared);
         Ok(InputModel {
             mesh,
@@ -1450,16 +1513,26 @@ struct Prepared {
 
 impl Prepared {
     /// Validates indices and coordinates (failures and `None` when wrong), then builds the edges
-    /// and topology, reporting non-manifold features as failures.
-    fn new(names: &Names, fail: &mut Failures) -> Option<Prepared> {
-        validate(names, fail).map(|referenced| Prepared::build(names, referenced, fail))
+    /// and topology, reporting non-manifold features as failures. `around`: the faces around
+    /// the vertices, if known.
+    fn new(names: &Names, around: Option<&VertexFaces>, fail: &mut Failures) -> Option<Prepared> {
+        validate(names, fail).map(|referenced| Prepared::build(names, referenced, around, fail))
     }
 
     /// The edges and topology of a mesh whose indices and coordinates are valid (`referenced`:
-    /// [`validate`]), reporting non-manifold features as failures.
-    fn build(names: &Names, referenced: Vec<bool>, fail: &mut Failures) -> Prepared {
-        let edges = build_edges(names, fail);
-        let stats = topology_stats(names, &referenced, &edges, fail);
+    /// [`validate`]), reporting non-manifold features as failures. `around`: the faces around
+    /// the vertices, made here if not given.
+    fn build(names: &Names, referenced: Vec<bool>, around: Option<&VertexFaces>, fail: &mut Failures) -> Prepared {
+        let made;
+        let around = match around {
+            Some(around) => around,
+            None => {
+                made = VertexFaces::new(names.mesh);
+                &made
+            }
+        };
+        let edges = build_edges(names, around, fail);
+        let stats = topology_stats(names, &referenced, &edges, around, fail);
         Prepared {
             referenced,
             edges,
@@ -1564,7 +1637,8 @@ fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
 
 /// Builds the undirected edges of the non-degenerate faces (sorted by vertex pair), reporting
 /// degenerate faces, edges with more than two faces and edges used twice in one direction.
-fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
+/// `around`: the faces around each vertex.
+fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> Vec<Edge> {
     let (mesh, who) = (names.mesh, names.who);
     for (f, t) in mesh.triangles.iter().enumerate() {
         if is_degenerate(t) {
@@ -1573,23 +1647,28 @@ fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
             });
         }
     }
-    // Group the half-edges by their lower vertex, then sort each (small) row by upper vertex.
-    // (Grouped as generated, never stored ungrouped: a mesh's half-edges take 16 bytes each.)
-    let halves = || {
-        (mesh.triangles.iter().enumerate())
-            .filter(|(_, t)| !is_degenerate(t))
-            .flat_map(|(f, t)| {
-                [0, 1, 2].map(|k| {
-                    let (a, b) = (t[k], t[(k + 1) % 3]);
-                    (a.min(b) as usize, (a.max(b), f as u32, a < b))
-                })
-            })
-    };
-    let (starts, mut by_lo) = grouped(mesh.positions.len(), halves);
+    // The half-edges whose lower vertex is `lo`, as `(higher, face, forward)`, are those of the
+    // faces around `lo` to a higher vertex: gathered and sorted one (small) row at a time.
     // (Most edges have two faces.)
-    let mut edges = Vec::with_capacity(by_lo.len() / 2 + 1);
+    let mut edges = Vec::with_capacity(3 * mesh.triangles.len() / 2 + 1);
+    let mut row = Vec::new();
     for lo in 0..mesh.positions.len() {
-        let row = &mut by_lo[starts[lo]..starts[lo + 1]];
+        row.clear();
+        for &f in around.of(lo) {
+            let t = &mesh.triangles[f as usize];
+            if is_degenerate(t) {
+                continue;
+            }
+            let k = t.iter().position(|&v| v as usize == lo).unwrap_or(0);
+            // The half-edges (lo, next) and (previous, lo) of the face.
+            let (next, previous) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            if next as usize > lo {
+                row.push((next, f, true));
+            }
+            if previous as usize > lo {
+                row.push((previous, f, false));
+            }
+        }
         row.sort_unstable();
         for group in row.chunk_by(|x, y| x.0 == y.0) {
             push_edge(lo as u32, group, &mut edges, names, fail);
@@ -1661,10 +1740,16 @@ struct TopologyStats {
 }
 
 /// Computes the invariants, reporting vertices whose faces do not form a single fan.
-fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut Failures) -> TopologyStats {
+fn topology_stats(
+    names: &Names,
+    referenced: &[bool],
+    edges: &[Edge],
+    around: &VertexFaces,
+    fail: &mut Failures,
+) -> TopologyStats {
     let mesh = names.mesh;
     let errors_before = fail.total();
-    check_vertex_fans(names, fail);
+    check_vertex_fans(names, around, fail);
     let manifold = fail.total() == errors_before && edges.iter().all(|e| e.count == 1 || e.is_interior());
     let vertices = referenced.iter().filter(|&&r| r).count();
     TopologyStats {
@@ -1677,17 +1762,22 @@ fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut
     }
 }
 
-/// Reports every vertex whose faces do not form a single fan (a disk or half-disk).
-fn check_vertex_fans(names: &Names, fail: &mut Failures) {
+/// Reports every vertex whose faces do not form a single fan (a disk or half-disk). `around`:
+/// the faces around each vertex.
+fn check_vertex_fans(names: &Names, around: &VertexFaces, fail: &mut Failures) {
     let (mesh, who) = (names.mesh, names.who);
-    let corners = || {
-        (mesh.triangles.iter().filter(|t| !is_degenerate(t)))
-            .flat_map(|t| [0, 1, 2].map(|k| (t[k] as usize, (t[(k + 1) % 3], t[(k + 2) % 3]))))
-    };
-    let (counts, mut links) = grouped(mesh.positions.len(), corners);
+    // The link edges of a vertex, one per non-degenerate face (v, x, y): (x, y).
+    let (mut link, mut heads) = (Vec::new(), Vec::new());
     for v in 0..mesh.positions.len() {
-        let link = &mut links[counts[v]..counts[v + 1]];
-        if !link.is_empty() && is_single_fan(link) == Some(false) {
+        link.clear();
+        for &f in around.of(v) {
+            let t = &mesh.triangles[f as usize];
+            if !is_degenerate(t) {
+                let k = t.iter().position(|&w| w as usize == v).unwrap_or(0);
+                link.push((t[(k + 1) % 3], t[(k + 2) % 3]));
+            }
+        }
+        if !link.is_empty() && is_single_fan(&mut link, &mut heads) == Some(false) {
             fail.push(KIND_MANIFOLD, || {
                 let v = v as u32;
                 format!(
@@ -1702,13 +1792,15 @@ fn check_vertex_fans(names: &Names, fail: &mut Failures) {
 
 /// Given the link edges `x -> y` of a vertex (one per face `(v, x, y)`), tells whether they form
 /// one path or one cycle. `None` when a link vertex has two successors or two predecessors
-/// (a non-manifold or misoriented edge, reported elsewhere).
-fn is_single_fan(link: &mut [(u32, u32)]) -> Option<bool> {
+/// (a non-manifold or misoriented edge, reported elsewhere). `heads` is a buffer, reused from
+/// vertex to vertex.
+fn is_single_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> {
     link.sort_unstable();
     if link.windows(2).any(|w| w[0].0 == w[1].0) {
         return None;
     }
-    let mut heads: Vec<u32> = link.iter().map(|e| e.1).collect();
+    heads.clear();
+    heads.extend(link.iter().map(|e| e.1));
     heads.sort_unstable();
     if heads.windows(2).any(|w| w[0] == w[1]) {
         return None;
@@ -3138,8 +3230,15 @@ fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidate
         if is_degenerate(t) {
             continue;
         }
-        let mut known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
-        let all_known = known.len() == 3;
+        // (In a small array, not a vector: nothing is allocated per face.)
+        let mut known = [0u32; 3];
+        let mut count = 0;
+        for &v in t.iter().filter(|&&v| candidates.known[v as usize]) {
+            known[count] = v;
+            count += 1;
+        }
+        let known = &mut known[..count];
+        let all_known = count == 3;
         // The common regions are found by walking the shortest list (sorted: the same result
         // from any of them): a vertex of high valence can have thousands.
         known.sort_by_key(|&v| candidates.regions.row(v as usize).len());
@@ -3820,7 +3919,7 @@ mod tests {
             }
             let naming = Naming::default();
             let names = Names::new("output", &mesh, &naming);
-            let edges = build_edges(&names, &mut Failures::default());
+            let edges = build_edges(&names, &VertexFaces::new(&mesh), &mut Failures::default());
             let stats = delaunay_edges(&mesh, &edges);
             let p = |v: u32| mesh.positions[v as usize];
             let mut every: Vec<(f64, u32, u32)> = Vec::new();
