@@ -1250,19 +1250,11 @@ impl Fans {
     /// Appends `(v, face, fan)` for every face of `faces` (the faces around `v`, in
     /// increasing order) that is not in the fan of the lowest face, `fan` naming its fan
     /// (the root of its faces joined across shared edges `(v, w)`).
+    /// Every fan is named by its lowest index into `faces`, whatever the order of the joins.
     fn find(&mut self, v: usize, faces: &[u32], triangles: &[[u32; 3]], found: &mut Vec<(u32, u32, u32)>) {
         let parent = &mut self.parent;
         parent.clear();
         parent.extend(0..faces.len());
-        self.by_neighbour.clear();
-        for (i, &f) in faces.iter().enumerate() {
-            for &w in &triangles[f as usize] {
-                if w as usize != v {
-                    self.by_neighbour.push((w, i));
-                }
-            }
-        }
-        self.by_neighbour.sort_unstable();
         fn root(parent: &mut [usize], mut x: usize) -> usize {
             while parent[x] != x {
                 parent[x] = parent[parent[x]];
@@ -1270,10 +1262,37 @@ impl Fans {
             }
             x
         }
-        for pair in self.by_neighbour.windows(2) {
-            if pair[0].0 == pair[1].0 {
-                let (a, b) = (root(parent, pair[0].1), root(parent, pair[1].1));
-                parent[a.max(b)] = a.min(b);
+        let join = |parent: &mut [usize], i: usize, j: usize| {
+            let (a, b) = (root(parent, i), root(parent, j));
+            parent[a.max(b)] = a.min(b);
+        };
+        if faces.len() <= SMALL_FAN {
+            // Every pair of faces compared: fewer steps than sorting their neighbours.
+            let mut corners = [[0u32; 3]; SMALL_FAN];
+            for (c, &f) in corners.iter_mut().zip(faces) {
+                *c = triangles[f as usize];
+            }
+            for i in 1..faces.len() {
+                for j in 0..i {
+                    if corners[i].iter().any(|&w| w as usize != v && corners[j].contains(&w)) {
+                        join(parent, i, j);
+                    }
+                }
+            }
+        } else {
+            self.by_neighbour.clear();
+            for (i, &f) in faces.iter().enumerate() {
+                for &w in &triangles[f as usize] {
+                    if w as usize != v {
+                        self.by_neighbour.push((w, i));
+                    }
+                }
+            }
+            self.by_neighbour.sort_unstable();
+            for pair in self.by_neighbour.windows(2) {
+                if pair[0].0 == pair[1].0 {
+                    join(parent, pair[0].1, pair[1].1);
+                }
             }
         }
         // Faces are listed in increasing order, so root 0 is the fan of the lowest face.
@@ -1285,6 +1304,10 @@ impl Fans {
         }
     }
 }
+
+/// Fans of at most this many faces (nearly every vertex's) are found by comparing every pair
+/// of faces ([`Fans::find`], [`is_single_small_fan`]) rather than by sorting.
+const SMALL_FAN: usize = 16;
 
 /// Welds positions by their bit patterns while models are appended: an open-addressing table
 /// (linear probing, at most half full) of indices into `positions`, whose bits are the keys.
@@ -1795,6 +1818,14 @@ fn check_vertex_fans(names: &Names, around: &VertexFaces, fail: &mut Failures) {
 /// (a non-manifold or misoriented edge, reported elsewhere). `heads` is a buffer, reused from
 /// vertex to vertex.
 fn is_single_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> {
+    if link.len() <= SMALL_FAN {
+        return is_single_small_fan(link);
+    }
+    is_single_sorted_fan(link, heads)
+}
+
+/// [`is_single_fan`] by sorting the link edges and their heads.
+fn is_single_sorted_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> {
     link.sort_unstable();
     if link.windows(2).any(|w| w[0].0 == w[1].0) {
         return None;
@@ -1821,6 +1852,33 @@ fn is_single_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> 
         }
     }
     Some(steps == link.len())
+}
+
+/// [`is_single_fan`] of a short link, by comparing every pair of link edges instead of
+/// sorting them. The answer is the same: without two successors or two predecessors, the link
+/// is disjoint paths and cycles, and the walk covers every edge iff it is one of them, starting
+/// from a path's start (an `x` that is no edge's `y`) if there is one, else anywhere.
+fn is_single_small_fan(link: &[(u32, u32)]) -> Option<bool> {
+    let n = link.len();
+    for i in 1..n {
+        if link[..i].iter().any(|e| e.0 == link[i].0 || e.1 == link[i].1) {
+            return None;
+        }
+    }
+    let start = (link.iter().map(|e| e.0))
+        .find(|&x| link.iter().all(|e| e.1 != x))
+        .unwrap_or(link[0].0);
+    let successor = |x: u32| link.iter().find(|e| e.0 == x).map(|e| e.1);
+    let mut steps = 0;
+    let mut current = start;
+    while let Some(next) = successor(current) {
+        steps += 1;
+        current = next;
+        if current == start || steps > n {
+            break;
+        }
+    }
+    Some(steps == n)
 }
 
 /// Number of connected components of the referenced vertices, joined through faces.
@@ -3939,6 +3997,75 @@ mod tests {
             let bits = |list: &[(f64, u32, u32)]| list.iter().map(|e| (e.0.to_bits(), e.1, e.2)).collect::<Vec<_>>();
             assert_eq!(bits(&stats.bad), bits(&every), "{jitter} {height}");
         }
+    }
+
+    /// The pairwise rules for small fans answer as the sorting ones: random links and fans
+    /// over a few vertices (repeats, paths, cycles, several pieces).
+    #[test]
+    fn small_fans_are_judged_as_by_sorting() {
+        let mut rng = Rng(0x00fa_4a11);
+        let mut heads = Vec::new();
+        let (mut single, mut several, mut bad) = (0, 0, 0);
+        for _ in 0..20_000 {
+            let n = 1 + rng.below(SMALL_FAN as u64) as usize;
+            let alphabet = 2 + rng.below(2 * n as u64);
+            let mut link: Vec<(u32, u32)> = (0..n)
+                .map(|_| (rng.below(alphabet) as u32, rng.below(alphabet) as u32))
+                .filter(|e| e.0 != e.1)
+                .collect();
+            if rng.below(2) == 0 {
+                // A path or cycle, cut or not, in random order.
+                let cycle = rng.below(2) == 0;
+                link = (0..n as u32)
+                    .map(|i| (i, if cycle && i + 1 == n as u32 { 0 } else { i + 1 }))
+                    .collect();
+                link.retain(|_| rng.below(8) != 0);
+                for i in (1..link.len()).rev() {
+                    link.swap(i, rng.below(i as u64 + 1) as usize);
+                }
+            }
+            if link.is_empty() {
+                continue;
+            }
+            let small = is_single_small_fan(&link);
+            assert_eq!(small, is_single_sorted_fan(&mut link.clone(), &mut heads), "{link:?}");
+            match small {
+                Some(true) => single += 1,
+                Some(false) => several += 1,
+                None => bad += 1,
+            }
+            // The fans of a vertex 0 whose faces are (0, x, y), some repeating a vertex.
+            let faces: Vec<[u32; 3]> = link
+                .iter()
+                .map(|&(x, y)| {
+                    if rng.below(10) == 0 {
+                        [0, x + 1, x + 1]
+                    } else {
+                        [0, x + 1, y + 1]
+                    }
+                })
+                .collect();
+            let ids: Vec<u32> = (0..faces.len() as u32).collect();
+            let mut fans = Fans::default();
+            let (mut pairwise, mut sorted) = (Vec::new(), Vec::new());
+            fans.find(0, &ids, &faces, &mut pairwise);
+            let many: Vec<u32> = (0..2 * faces.len() as u32).collect();
+            let doubled: Vec<[u32; 3]> = faces.iter().flat_map(|&t| [t; 2]).collect();
+            // (Each face twice, joined to its copy: more than SMALL_FAN faces, found by sorting.)
+            fans.find(0, &many, &doubled, &mut sorted);
+            if faces.len() * 2 > SMALL_FAN {
+                let halved: Vec<(u32, u32, u32)> = sorted
+                    .iter()
+                    .filter(|e| e.1 % 2 == 0)
+                    .map(|&(v, f, r)| (v, f / 2, r / 2))
+                    .collect();
+                assert_eq!(pairwise, halved, "{faces:?}");
+            }
+        }
+        assert!(
+            single > 1000 && several > 1000 && bad > 1000,
+            "{single} {several} {bad}"
+        );
     }
 
     #[test]
