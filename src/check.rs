@@ -2487,6 +2487,11 @@ struct VertexSearch {
     /// The grid, once built: at once when some output vertex is not at an input vertex's
     /// position, else when first needed (if ever).
     grid: Option<EdgeGrid>,
+    /// The input edges containing each output vertex used by a face and not at an input
+    /// vertex's position, looked up in the grid as soon as it is built (a row per output
+    /// vertex, empty for the others): on the thread that builds the grid, beside the input's
+    /// regions and the output's edges.
+    added_edges: Csr,
 }
 
 impl VertexSearch {
@@ -2522,6 +2527,17 @@ impl VertexSearch {
         }
         // Every vertex of `added_points` is looked up in the grid.
         let grid = (!added_points.is_empty()).then(|| EdgeGrid::new(input, &prepared.edges, &added_points));
+        let mut added_edges = CsrBuilder::default();
+        if let Some(grid) = &grid {
+            let mut on_edges = Vec::new();
+            for (v, p) in output.positions.iter().enumerate() {
+                if out_referenced[v] && !lookup.contains_key(&bits(*p)) {
+                    grid.edges_containing(input, &prepared.edges, *p, &mut on_edges);
+                    added_edges.extend(&on_edges);
+                }
+                added_edges.finish_row();
+            }
+        }
         VertexSearch {
             lookup,
             same_next,
@@ -2529,6 +2545,7 @@ impl VertexSearch {
             added_points,
             unused_input,
             grid,
+            added_edges: added_edges.build(),
         }
     }
 }
@@ -2552,6 +2569,7 @@ fn classify_output_vertices(
         added_points,
         unused_input,
         grid,
+        added_edges,
     } = search;
     let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
     let mut seen = vec![false; input.positions.len()];
@@ -2613,8 +2631,9 @@ fn classify_output_vertices(
             regions.extend(&set);
         } else {
             added += 1;
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, added_points));
-            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+            // (Looked up when the grid was built, which it was: `p` is among its points.)
+            on_edges.clear();
+            on_edges.extend_from_slice(added_edges.row(v));
             if on_edges.is_empty() {
                 fail.push(KIND_VERTEX, || {
                     format!(
