@@ -2870,13 +2870,18 @@ impl EdgeGrid {
         grid
     }
 
-    /// The bucket of a cell.
+    /// The bucket of a cell: the cells of a block of 16 x 16 x 16 get consecutive buckets (its
+    /// low 12 bits), and blocks a well-mixed hash of their coordinates (the others), so that
+    /// nearby pieces and points (edges and vertices come in file order, mostly near the previous
+    /// ones) count and look up nearby buckets, which stay in cache.
     fn bucket(&self, c: [i64; 3]) -> usize {
-        let h = (c[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            ^ (c[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-            ^ (c[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+        let low = (c[0] & 15) | (c[1] & 15) << 4 | (c[2] & 15) << 8;
+        let block = c.map(|x| (x >> 4) as u64);
+        let h = block[0].wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ block[1].wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ block[2].wrapping_mul(0x1656_67B1_9E37_79F9);
         let h = (h ^ (h >> 31)).wrapping_mul(0xD6E8_FEB8_6659_FD93);
-        ((h ^ (h >> 32)) as usize) & self.mask
+        ((h ^ (h >> 32)) << 12 ^ low as u64) as usize & self.mask
     }
 
     /// The edges registered in the bucket of a cell (an edge may come more than once).
