@@ -941,7 +941,7 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
             // (A corner without a vertex index, `/3`, is refused whole.)
             let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
             let text = if vertex.is_empty() { corner } else { vertex };
-            let index = std::str::from_utf8(text).ok().and_then(|t| t.parse::<i64>().ok());
+            let index = parse_index(text);
             let resolved = match index {
                 None => return Err(error(format!("face index '{}' is not an integer", show(text)))),
                 Some(0) => return Err(error("face index 0 (OBJ indices start at 1)".to_string())),
@@ -977,6 +977,21 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
         raw.face_start.clear();
     }
     Ok(raw)
+}
+
+/// `text` read as an `i64`, as `str::parse` reads it (an optional sign, then decimal digits):
+/// directly when it has at most 18 digits (every face index of a real file), else by `parse`.
+fn parse_index(text: &[u8]) -> Option<i64> {
+    let (negative, digits) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, text),
+    };
+    if (1..=18).contains(&digits.len()) && digits.iter().all(u8::is_ascii_digit) {
+        let value = digits.iter().fold(0, |v, &d| v * 10 + i64::from(d - b'0'));
+        return Some(if negative { -value } else { value });
+    }
+    std::str::from_utf8(text).ok().and_then(|t| t.parse().ok())
 }
 
 /// Why the values of a `v` line (vertex `number` of the file) cannot be read, if they cannot.
@@ -4090,6 +4105,40 @@ mod tests {
             single > 1000 && several > 1000 && bad > 1000,
             "{single} {several} {bad}"
         );
+    }
+
+    /// Face indices are read as `str::parse` reads them.
+    #[test]
+    fn indices_are_read_as_parse_reads_them() {
+        let texts = [
+            "1",
+            "0",
+            "-0",
+            "+7",
+            "-12",
+            "007",
+            "123456789012345678",
+            "-999999999999999999",
+            "1234567890123456789",
+            "9223372036854775807",
+            "9223372036854775808",
+            "-9223372036854775808",
+            "+",
+            "-",
+            "",
+            "+-1",
+            "1.0",
+            "1e3",
+            " 1",
+            "1 ",
+            "٣",
+            "0x10",
+            "--1",
+            "++1",
+        ];
+        for text in texts {
+            assert_eq!(parse_index(text.as_bytes()), text.parse::<i64>().ok(), "{text:?}");
+        }
     }
 
     #[test]
