@@ -1569,8 +1569,8 @@ impl Prepared {
                 &made
             }
         };
-        let edges = build_edges(names, around, fail);
-        let stats = topology_stats(names, &referenced, &edges, around, fail);
+        let EdgesAndFans { edges, not_single_fans } = build_edges(names, around, fail);
+        let stats = topology_stats(names, &referenced, &edges, &not_single_fans, fail);
         Prepared {
             referenced,
             edges,
@@ -1673,10 +1673,19 @@ fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
     t.iter().copied().find(|&v| v != a && v != b).unwrap_or(a)
 }
 
+/// The edges of a mesh, and the vertices whose faces do not form a single fan (a disk or
+/// half-disk), found in one pass over the faces around each vertex.
+struct EdgesAndFans {
+    edges: Vec<Edge>,
+    /// In increasing order; reported by [`topology_stats`], after the edges' failures.
+    not_single_fans: Vec<u32>,
+}
+
 /// Builds the undirected edges of the non-degenerate faces (sorted by vertex pair), reporting
-/// degenerate faces, edges with more than two faces and edges used twice in one direction.
-/// `around`: the faces around each vertex.
-fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> Vec<Edge> {
+/// degenerate faces, edges with more than two faces and edges used twice in one direction,
+/// and finds the vertices whose faces do not form a single fan. `around`: the faces around
+/// each vertex.
+fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> EdgesAndFans {
     let (mesh, who) = (names.mesh, names.who);
     for (f, t) in mesh.triangles.iter().enumerate() {
         if is_degenerate(t) {
@@ -1686,12 +1695,14 @@ fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> Vec<
         }
     }
     // The half-edges whose lower vertex is `lo`, as `(higher, face, forward)`, are those of the
-    // faces around `lo` to a higher vertex: gathered and sorted one (small) row at a time.
-    // (Most edges have two faces.)
+    // faces around `lo` to a higher vertex: gathered and sorted one (small) row at a time. The
+    // vertex's link edges, one per face `(lo, x, y)`: `(x, y)`. (Most edges have two faces.)
     let mut edges = Vec::with_capacity(3 * mesh.triangles.len() / 2 + 1);
-    let mut row = Vec::new();
+    let mut not_single_fans = Vec::new();
+    let (mut row, mut link, mut heads) = (Vec::new(), Vec::new(), Vec::new());
     for lo in 0..mesh.positions.len() {
         row.clear();
+        link.clear();
         for &f in around.of(lo) {
             let t = &mesh.triangles[f as usize];
             if is_degenerate(t) {
@@ -1706,13 +1717,17 @@ fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> Vec<
             if previous as usize > lo {
                 row.push((previous, f, false));
             }
+            link.push((next, previous));
         }
         row.sort_unstable();
         for group in row.chunk_by(|x, y| x.0 == y.0) {
             push_edge(lo as u32, group, &mut edges, names, fail);
         }
+        if !link.is_empty() && is_single_fan(&mut link, &mut heads) == Some(false) {
+            not_single_fans.push(lo as u32);
+        }
     }
-    edges
+    EdgesAndFans { edges, not_single_fans }
 }
 
 /// Appends the edge `(lo, hi)` made of `group` (all `(hi, face, forward)` entries of one vertex
@@ -1782,12 +1797,12 @@ fn topology_stats(
     names: &Names,
     referenced: &[bool],
     edges: &[Edge],
-    around: &VertexFaces,
+    not_single_fans: &[u32],
     fail: &mut Failures,
 ) -> TopologyStats {
     let mesh = names.mesh;
     let errors_before = fail.total();
-    check_vertex_fans(names, around, fail);
+    report_vertex_fans(names, not_single_fans, fail);
     let manifold = fail.total() == errors_before && edges.iter().all(|e| e.count == 1 || e.is_interior());
     let vertices = referenced.iter().filter(|&&r| r).count();
     TopologyStats {
@@ -1800,31 +1815,17 @@ fn topology_stats(
     }
 }
 
-/// Reports every vertex whose faces do not form a single fan (a disk or half-disk). `around`:
-/// the faces around each vertex.
-fn check_vertex_fans(names: &Names, around: &VertexFaces, fail: &mut Failures) {
-    let (mesh, who) = (names.mesh, names.who);
-    // The link edges of a vertex, one per non-degenerate face (v, x, y): (x, y).
-    let (mut link, mut heads) = (Vec::new(), Vec::new());
-    for v in 0..mesh.positions.len() {
-        link.clear();
-        for &f in around.of(v) {
-            let t = &mesh.triangles[f as usize];
-            if !is_degenerate(t) {
-                let k = t.iter().position(|&w| w as usize == v).unwrap_or(0);
-                link.push((t[(k + 1) % 3], t[(k + 2) % 3]));
-            }
-        }
-        if !link.is_empty() && is_single_fan(&mut link, &mut heads) == Some(false) {
-            fail.push(KIND_MANIFOLD, || {
-                let v = v as u32;
-                format!(
-                    "{}{who} {}: its faces do not form a single fan (non-manifold vertex)",
-                    names.vertex_at(v),
-                    names.vertex(v)
-                )
-            });
-        }
+/// Reports every vertex whose faces do not form a single fan (found by [`build_edges`]).
+fn report_vertex_fans(names: &Names, not_single_fans: &[u32], fail: &mut Failures) {
+    let who = names.who;
+    for &v in not_single_fans {
+        fail.push(KIND_MANIFOLD, || {
+            format!(
+                "{}{who} {}: its faces do not form a single fan (non-manifold vertex)",
+                names.vertex_at(v),
+                names.vertex(v)
+            )
+        });
     }
 }
 
@@ -4016,7 +4017,7 @@ mod tests {
             }
             let naming = Naming::default();
             let names = Names::new("output", &mesh, &naming);
-            let edges = build_edges(&names, &VertexFaces::new(&mesh), &mut Failures::default());
+            let edges = build_edges(&names, &VertexFaces::new(&mesh), &mut Failures::default()).edges;
             let stats = delaunay_edges(&mesh, &edges);
             let p = |v: u32| mesh.positions[v as usize];
             let mut every: Vec<(f64, u32, u32)> = Vec::new();
