@@ -3457,21 +3457,24 @@ fn check_areas(model: &InputModel, assignment: &mut Assignment, rounding_of: &[f
     let mut before = vec![CompensatedSum::default(); n];
     let mut after = vec![CompensatedSum::default(); n];
     let mut rounding = vec![0.0; n];
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let roots: Vec<usize> = (0..n).map(|r| assignment.groups.find(r as u32) as usize).collect();
     for (r, &allowance) in rounding_of.iter().enumerate() {
-        let root = assignment.groups.find(r as u32) as usize;
+        let root = roots[r];
         before[root].add(regions.area[r]);
         after[root].add(assignment.area[r]);
         rounding[root] += allowance;
-        members[root].push(r);
     }
+    // The regions of every group, in increasing order (a counting sort by root: no vector per
+    // region, of which a curved input has about one per face).
+    let (start, by_root) = grouped(n, || roots.iter().enumerate().map(|(r, &root)| (root, r)));
+    let members = |root: usize| &by_root[start[root]..start[root + 1]];
     let floor = AREA_FLOOR * regions.total_area;
-    for root in (0..n).filter(|&r| !members[r].is_empty()) {
+    for root in (0..n).filter(|&r| !members(r).is_empty()) {
         let (before, after) = (before[root].value(), after[root].value());
         let tolerance = AREA_TOLERANCE * before + floor + rounding[root];
         let kept = (after - before).abs() <= tolerance; // false for NaN too
         if !kept {
-            fail.push(KIND_AREA, || match members[root].as_slice() {
+            fail.push(KIND_AREA, || match members(root) {
                 [r] => format!("{} area {before} became {after}", regions.name(*r, &model.names)),
                 group => {
                     let names: Vec<String> = group.iter().take(6).map(|&r| regions.name(r, &model.names)).collect();
