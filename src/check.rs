@@ -294,7 +294,8 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let read_input = || {
         read_welded(input).map(|mut welded| {
             let in_file = welded.mesh.positions.len();
-            let mesh = settle(welded.mesh, &welded.file_corners);
+            let Settled { mesh, around } = settle(welded.mesh, &welded.file_corners);
+            drop(welded.file_corners);
             welded.naming.name_copies(&mesh.positions, in_file);
             // The vertices no face uses, after all the others (their own numbers are not the
             // file's): an output one must still be an input vertex or lie on an input edge.
@@ -303,7 +304,8 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
             mesh.positions.extend(welded.strays);
             // (Validated while the output may still be read: its error, if any, is reported
             // only once both files are read.)
-            let prepared = prepare_input(&mesh, &welded.naming);
+            let prepared = prepare_input(&mesh, Some(&around), &welded.naming);
+            drop(around);
             (mesh, settled, welded.naming, in_file, prepared)
         })
     };
@@ -312,7 +314,11 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let mut welded = output_read?;
     let output_in_file = welded.mesh.positions.len();
     let input_positions = &input_mesh.positions[..input_settled];
-    let mut output_mesh = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
+    let Settled {
+        mesh: mut output_mesh,
+        around: output_around,
+    } = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
+    drop(welded.file_corners);
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
@@ -325,6 +331,7 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
         output: &output_mesh,
         input_naming: &input_naming,
         output_naming: &output_naming,
+        output_around: Some(&output_around),
     };
     let mut report = check_core(meshes, Some(input_prepared)).map_err(|reason| CheckError::InvalidInput {
         path: input.to_path_buf(),
@@ -356,6 +363,7 @@ pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
         output,
         input_naming: &naming,
         output_naming: &naming,
+        output_around: None,
     };
     let mut report = check_core(meshes, None).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
@@ -380,7 +388,7 @@ impl Mesh3 {
     /// by the same welding and pinch rule as OBJ.
     pub fn read(path: impl AsRef<Path>) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle(welded.mesh, &welded.file_corners))
+        Ok(settle(welded.mesh, &welded.file_corners).mesh)
     }
 
     /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
@@ -390,7 +398,7 @@ impl Mesh3 {
     /// kept apart instead of welded.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0))
+        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0).mesh)
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -412,7 +420,7 @@ impl Mesh3 {
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
         let welded = read_obj_welded(path, bytes)?;
-        Ok(settle(welded.mesh, &welded.file_corners))
+        Ok(settle(welded.mesh, &welded.file_corners).mesh)
     }
 }
 
@@ -582,7 +590,7 @@ impl<'a> Names<'a> {
 /// positions of the input's vertices. Only `input[first_copy..]` may repeat a position of the
 /// input (0 for any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies last,
 /// after the file's welded vertices, and usually none).
-fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Mesh3 {
+fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Settled {
     // How many vertices the input has at each position it has several at (usually none).
     let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
@@ -607,7 +615,7 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_
         return settle(welded, file_corners);
     }
     let settled = settle(welded.clone(), file_corners);
-    for p in &settled.positions {
+    for p in &settled.mesh.positions {
         if let Some(c) = count.get_mut(&bits(*p)) {
             *c -= 1;
         }
@@ -742,20 +750,12 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
     for (i, &id) in ids.iter().enumerate().rev() {
         first_in_file[id as usize] = i as u32;
     }
-    let mut new_id = vec![u32::MAX; used.len()];
-    let mut positions = Vec::new();
-    let mut file_vertex = Vec::new();
-    let mut strays = Vec::new();
-    for (i, p) in welder.positions.iter().enumerate() {
-        if used[i] {
-            new_id[i] = positions.len() as u32;
-            positions.push(*p);
-            file_vertex.push(first_in_file[i]);
-        } else {
-            strays.push(*p);
-        }
-    }
-    let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+    let (positions, file_vertex, strays, triangles) = if used.contains(&false) {
+        drop_unused(welder.positions, &used, &first_in_file, triangles)
+    } else {
+        // (Every vertex used, as in every file delmesh writes: nothing to renumber.)
+        (welder.positions, first_in_file, Vec::new(), triangles)
+    };
     let naming = Naming {
         numbering: raw.numbering,
         vertex: identity_or(file_vertex),
@@ -770,6 +770,31 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
         strays,
         naming,
     }))
+}
+
+/// The welded `positions` that `used` marks, in order, with their first file vertex (of
+/// `first_in_file`), the others (the strays), and the `triangles` renumbered to the former.
+fn drop_unused(
+    positions: Vec<DVec3>,
+    used: &[bool],
+    first_in_file: &[u32],
+    triangles: Vec<[u32; 3]>,
+) -> (Vec<DVec3>, Vec<u32>, Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut new_id = vec![u32::MAX; used.len()];
+    let mut kept = Vec::new();
+    let mut file_vertex = Vec::new();
+    let mut strays = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        if used[i] {
+            new_id[i] = kept.len() as u32;
+            kept.push(*p);
+            file_vertex.push(first_in_file[i]);
+        } else {
+            strays.push(*p);
+        }
+    }
+    let triangles = triangles.iter().map(|t| t.map(|v| new_id[v as usize])).collect();
+    (kept, file_vertex, strays, triangles)
 }
 
 /// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
@@ -916,7 +941,7 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
             // (A corner without a vertex index, `/3`, is refused whole.)
             let vertex = corner.split(|&c| c == b'/').next().unwrap_or(&[]);
             let text = if vertex.is_empty() { corner } else { vertex };
-            let index = std::str::from_utf8(text).ok().and_then(|t| t.parse::<i64>().ok());
+            let index = parse_index(text);
             let resolved = match index {
                 None => return Err(error(format!("face index '{}' is not an integer", show(text)))),
                 Some(0) => return Err(error("face index 0 (OBJ indices start at 1)".to_string())),
@@ -952,6 +977,21 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
         raw.face_start.clear();
     }
     Ok(raw)
+}
+
+/// `text` read as an `i64`, as `str::parse` reads it (an optional sign, then decimal digits):
+/// directly when it has at most 18 digits (every face index of a real file), else by `parse`.
+fn parse_index(text: &[u8]) -> Option<i64> {
+    let (negative, digits) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, text),
+    };
+    if (1..=18).contains(&digits.len()) && digits.iter().all(u8::is_ascii_digit) {
+        let value = digits.iter().fold(0, |v, &d| v * 10 + i64::from(d - b'0'));
+        return Some(if negative { -value } else { value });
+    }
+    std::str::from_utf8(text).ok().and_then(|t| t.parse().ok())
 }
 
 /// Why the values of a `v` line (vertex `number` of the file) cannot be read, if they cannot.
@@ -1002,9 +1042,40 @@ fn first_binary_line(bytes: &[u8]) -> Option<usize> {
 }
 
 /// The last steps of reading a welded mesh: [`split_welded_sheets`], then
-/// [`split_pinched_vertices`].
-fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
+/// [`split_pinched_vertices`]; with the faces around every vertex of the result.
+fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Settled {
     split_pinched_vertices(split_welded_sheets(mesh, file_corners))
+}
+
+/// A mesh as read, with the faces around each of its vertices.
+struct Settled {
+    mesh: Mesh3,
+    around: VertexFaces,
+}
+
+/// The faces around every vertex of a mesh (whose indices are valid), in increasing order: a
+/// counting sort of the corners by vertex, made once and used by the pinch rule, the edges and
+/// the fans (a face repeating a vertex is listed once per corner there). Vertices past those it
+/// was made for (the ones no face uses, appended later) have no faces.
+struct VertexFaces {
+    start: Vec<usize>,
+    faces: Vec<u32>,
+}
+
+impl VertexFaces {
+    fn new(mesh: &Mesh3) -> VertexFaces {
+        let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
+        let (start, faces) = grouped(mesh.positions.len(), corners);
+        VertexFaces { start, faces }
+    }
+
+    /// The faces around vertex `v`.
+    fn of(&self, v: usize) -> &[u32] {
+        match (self.start.get(v), self.start.get(v + 1)) {
+            (Some(&a), Some(&b)) => &self.faces[a..b],
+            _ => &[],
+        }
+    }
 }
 
 /// At every vertex flagged in `at`, the first file vertex welded into it (in corner order)
@@ -1131,11 +1202,9 @@ fn grouped<T: Copy + Default, I: Iterator<Item = (usize, T)>>(n: usize, items: i
 /// separate fans makes such a file read back as the surface it was written from, and leaves
 /// manifold meshes unchanged. Fans are ordered by their lowest face index, so the rule is
 /// deterministic; edges with more than two faces are not cut (they stay errors).
-fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
+fn split_pinched_vertices(mut mesh: Mesh3) -> Settled {
     let n = mesh.positions.len();
-    // Faces around each vertex.
-    let corners = || (mesh.triangles.iter().enumerate()).flat_map(|(f, t)| t.map(|v| (v as usize, f as u32)));
-    let (start, around) = grouped(n, corners);
+    let around = VertexFaces::new(&mesh);
     // Which fan every face of a pinched vertex is in, found on all threads: a vertex's fans
     // do not depend on how the pinches before it were cut (faces sharing a neighbour that was
     // cut are in one of its fans, so they still share its copy), so each vertex's are found
@@ -1145,7 +1214,7 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
         let mut fans = Fans::default();
         let mut found = Vec::new();
         for v in range {
-            let faces = &around[start[v]..start[v + 1]];
+            let faces = around.of(v);
             if faces.len() >= 2 {
                 fans.find(v, faces, triangles, &mut found);
             }
@@ -1176,7 +1245,13 @@ fn split_pinched_vertices(mut mesh: Mesh3) -> Mesh3 {
             }
         }
     }
-    mesh
+    // (Made again where pinches were cut, which moves faces to new vertices: rare.)
+    let around = if pinched.is_empty() {
+        around
+    } else {
+        VertexFaces::new(&mesh)
+    };
+    Settled { mesh, around }
 }
 
 /// The fans of one vertex, with buffers reused from vertex to vertex.
@@ -1190,19 +1265,11 @@ impl Fans {
     /// Appends `(v, face, fan)` for every face of `faces` (the faces around `v`, in
     /// increasing order) that is not in the fan of the lowest face, `fan` naming its fan
     /// (the root of its faces joined across shared edges `(v, w)`).
+    /// Every fan is named by its lowest index into `faces`, whatever the order of the joins.
     fn find(&mut self, v: usize, faces: &[u32], triangles: &[[u32; 3]], found: &mut Vec<(u32, u32, u32)>) {
         let parent = &mut self.parent;
         parent.clear();
         parent.extend(0..faces.len());
-        self.by_neighbour.clear();
-        for (i, &f) in faces.iter().enumerate() {
-            for &w in &triangles[f as usize] {
-                if w as usize != v {
-                    self.by_neighbour.push((w, i));
-                }
-            }
-        }
-        self.by_neighbour.sort_unstable();
         fn root(parent: &mut [usize], mut x: usize) -> usize {
             while parent[x] != x {
                 parent[x] = parent[parent[x]];
@@ -1210,10 +1277,37 @@ impl Fans {
             }
             x
         }
-        for pair in self.by_neighbour.windows(2) {
-            if pair[0].0 == pair[1].0 {
-                let (a, b) = (root(parent, pair[0].1), root(parent, pair[1].1));
-                parent[a.max(b)] = a.min(b);
+        let join = |parent: &mut [usize], i: usize, j: usize| {
+            let (a, b) = (root(parent, i), root(parent, j));
+            parent[a.max(b)] = a.min(b);
+        };
+        if faces.len() <= SMALL_FAN {
+            // Every pair of faces compared: fewer steps than sorting their neighbours.
+            let mut corners = [[0u32; 3]; SMALL_FAN];
+            for (c, &f) in corners.iter_mut().zip(faces) {
+                *c = triangles[f as usize];
+            }
+            for i in 1..faces.len() {
+                for j in 0..i {
+                    if corners[i].iter().any(|&w| w as usize != v && corners[j].contains(&w)) {
+                        join(parent, i, j);
+                    }
+                }
+            }
+        } else {
+            self.by_neighbour.clear();
+            for (i, &f) in faces.iter().enumerate() {
+                for &w in &triangles[f as usize] {
+                    if w as usize != v {
+                        self.by_neighbour.push((w, i));
+                    }
+                }
+            }
+            self.by_neighbour.sort_unstable();
+            for pair in self.by_neighbour.windows(2) {
+                if pair[0].0 == pair[1].0 {
+                    join(parent, pair[0].1, pair[1].1);
+                }
             }
         }
         // Faces are listed in increasing order, so root 0 is the fan of the lowest face.
@@ -1225,6 +1319,10 @@ impl Fans {
         }
     }
 }
+
+/// Fans of at most this many faces (nearly every vertex's) are found by comparing every pair
+/// of faces ([`Fans::find`], [`is_single_small_fan`]) rather than by sorting.
+const SMALL_FAN: usize = 16;
 
 /// Welds positions by their bit patterns while models are appended: an open-addressing table
 /// (linear probing, at most half full) of indices into `positions`, whose bits are the keys.
@@ -1307,6 +1405,8 @@ struct Meshes<'a> {
     output: &'a Mesh3,
     input_naming: &'a Naming,
     output_naming: &'a Naming,
+    /// The faces around the output's vertices, if already known (from reading it).
+    output_around: Option<&'a VertexFaces>,
 }
 
 /// Runs every check, naming the meshes' vertices and faces as their files do; `Err` carries
@@ -1320,13 +1420,14 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
     // recorded in the same order either way (only one side of each pair records any).
     let worth_it = input.triangles.len() + output.triangles.len() >= PARALLEL_FACES;
     let mut fail = Failures::default();
-    let prepared = input_prepared.unwrap_or_else(|| prepare_input(input, meshes.input_naming))?;
+    let prepared = input_prepared.unwrap_or_else(|| prepare_input(input, None, meshes.input_naming))?;
     let out_referenced = validate(&output_names, &mut fail);
     let ((regions, out), search) = crate::parallel::join(
         worth_it,
         || {
             let regions = input_regions(input, &prepared);
-            let out = (out_referenced.as_ref()).map(|r| Prepared::build(&output_names, r.clone(), &mut fail));
+            let around = meshes.output_around;
+            let out = (out_referenced.as_ref()).map(|r| Prepared::build(&output_names, r.clone(), around, &mut fail));
             (regions, out)
         },
         || (out_referenced.as_ref()).map(|r| VertexSearch::new(input, &prepared, output, r)),
@@ -1370,14 +1471,14 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
 }
 
 /// Validates the input (indices, finite coordinates, oriented manifold): its edges and
-/// topology, or why it is invalid.
-fn prepare_input(mesh: &Mesh3, naming: &Naming) -> Result<Prepared, String> {
+/// topology, or why it is invalid. `around`: the faces around its vertices, if known.
+fn prepare_input(mesh: &Mesh3, around: Option<&VertexFaces>, naming: &Naming) -> Result<Prepared, String> {
     if mesh.triangles.is_empty() {
         return Err("the mesh has no faces".into());
     }
     let names = Names::new("input", mesh, naming);
     let mut problems = Failures::default();
-    match Prepared::new(&names, &mut problems) {
+    match Prepared::new(&names, around, &mut problems) {
         Some(p) if problems.is_empty() => Ok(p),
         _ => Err(problems.summary(5)),
     }
@@ -1413,7 +1514,7 @@ impl<'a> InputModel<'a> {
     /// planar regions.
     #[cfg(test)]
     fn new(mesh: &'a Mesh3, naming: &'a Naming) -> Result<InputModel<'a>, String> {
-        let prepared = prepare_input(mesh, naming)?;
+        let prepared = prepare_input(mesh, None, naming)?;
         let (regions, vertex_regions) = input_regions(mesh, &prepared);
         Ok(InputModel {
             mesh,
@@ -1450,16 +1551,26 @@ struct Prepared {
 
 impl Prepared {
     /// Validates indices and coordinates (failures and `None` when wrong), then builds the edges
-    /// and topology, reporting non-manifold features as failures.
-    fn new(names: &Names, fail: &mut Failures) -> Option<Prepared> {
-        validate(names, fail).map(|referenced| Prepared::build(names, referenced, fail))
+    /// and topology, reporting non-manifold features as failures. `around`: the faces around
+    /// the vertices, if known.
+    fn new(names: &Names, around: Option<&VertexFaces>, fail: &mut Failures) -> Option<Prepared> {
+        validate(names, fail).map(|referenced| Prepared::build(names, referenced, around, fail))
     }
 
     /// The edges and topology of a mesh whose indices and coordinates are valid (`referenced`:
-    /// [`validate`]), reporting non-manifold features as failures.
-    fn build(names: &Names, referenced: Vec<bool>, fail: &mut Failures) -> Prepared {
-        let edges = build_edges(names, fail);
-        let stats = topology_stats(names, &referenced, &edges, fail);
+    /// [`validate`]), reporting non-manifold features as failures. `around`: the faces around
+    /// the vertices, made here if not given.
+    fn build(names: &Names, referenced: Vec<bool>, around: Option<&VertexFaces>, fail: &mut Failures) -> Prepared {
+        let made;
+        let around = match around {
+            Some(around) => around,
+            None => {
+                made = VertexFaces::new(names.mesh);
+                &made
+            }
+        };
+        let EdgesAndFans { edges, not_single_fans } = build_edges(names, around, fail);
+        let stats = topology_stats(names, &referenced, &edges, &not_single_fans, fail);
         Prepared {
             referenced,
             edges,
@@ -1562,9 +1673,19 @@ fn third(t: &[u32; 3], a: u32, b: u32) -> u32 {
     t.iter().copied().find(|&v| v != a && v != b).unwrap_or(a)
 }
 
+/// The edges of a mesh, and the vertices whose faces do not form a single fan (a disk or
+/// half-disk), found in one pass over the faces around each vertex.
+struct EdgesAndFans {
+    edges: Vec<Edge>,
+    /// In increasing order; reported by [`topology_stats`], after the edges' failures.
+    not_single_fans: Vec<u32>,
+}
+
 /// Builds the undirected edges of the non-degenerate faces (sorted by vertex pair), reporting
-/// degenerate faces, edges with more than two faces and edges used twice in one direction.
-fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
+/// degenerate faces, edges with more than two faces and edges used twice in one direction,
+/// and finds the vertices whose faces do not form a single fan. `around`: the faces around
+/// each vertex.
+fn build_edges(names: &Names, around: &VertexFaces, fail: &mut Failures) -> EdgesAndFans {
     let (mesh, who) = (names.mesh, names.who);
     for (f, t) in mesh.triangles.iter().enumerate() {
         if is_degenerate(t) {
@@ -1573,29 +1694,40 @@ fn build_edges(names: &Names, fail: &mut Failures) -> Vec<Edge> {
             });
         }
     }
-    // Group the half-edges by their lower vertex, then sort each (small) row by upper vertex.
-    // (Grouped as generated, never stored ungrouped: a mesh's half-edges take 16 bytes each.)
-    let halves = || {
-        (mesh.triangles.iter().enumerate())
-            .filter(|(_, t)| !is_degenerate(t))
-            .flat_map(|(f, t)| {
-                [0, 1, 2].map(|k| {
-                    let (a, b) = (t[k], t[(k + 1) % 3]);
-                    (a.min(b) as usize, (a.max(b), f as u32, a < b))
-                })
-            })
-    };
-    let (starts, mut by_lo) = grouped(mesh.positions.len(), halves);
-    // (Most edges have two faces.)
-    let mut edges = Vec::with_capacity(by_lo.len() / 2 + 1);
+    // The half-edges whose lower vertex is `lo`, as `(higher, face, forward)`, are those of the
+    // faces around `lo` to a higher vertex: gathered and sorted one (small) row at a time. The
+    // vertex's link edges, one per face `(lo, x, y)`: `(x, y)`. (Most edges have two faces.)
+    let mut edges = Vec::with_capacity(3 * mesh.triangles.len() / 2 + 1);
+    let mut not_single_fans = Vec::new();
+    let (mut row, mut link, mut heads) = (Vec::new(), Vec::new(), Vec::new());
     for lo in 0..mesh.positions.len() {
-        let row = &mut by_lo[starts[lo]..starts[lo + 1]];
+        row.clear();
+        link.clear();
+        for &f in around.of(lo) {
+            let t = &mesh.triangles[f as usize];
+            if is_degenerate(t) {
+                continue;
+            }
+            let k = t.iter().position(|&v| v as usize == lo).unwrap_or(0);
+            // The half-edges (lo, next) and (previous, lo) of the face.
+            let (next, previous) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            if next as usize > lo {
+                row.push((next, f, true));
+            }
+            if previous as usize > lo {
+                row.push((previous, f, false));
+            }
+            link.push((next, previous));
+        }
         row.sort_unstable();
         for group in row.chunk_by(|x, y| x.0 == y.0) {
             push_edge(lo as u32, group, &mut edges, names, fail);
         }
+        if !link.is_empty() && is_single_fan(&mut link, &mut heads) == Some(false) {
+            not_single_fans.push(lo as u32);
+        }
     }
-    edges
+    EdgesAndFans { edges, not_single_fans }
 }
 
 /// Appends the edge `(lo, hi)` made of `group` (all `(hi, face, forward)` entries of one vertex
@@ -1661,10 +1793,16 @@ struct TopologyStats {
 }
 
 /// Computes the invariants, reporting vertices whose faces do not form a single fan.
-fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut Failures) -> TopologyStats {
+fn topology_stats(
+    names: &Names,
+    referenced: &[bool],
+    edges: &[Edge],
+    not_single_fans: &[u32],
+    fail: &mut Failures,
+) -> TopologyStats {
     let mesh = names.mesh;
     let errors_before = fail.total();
-    check_vertex_fans(names, fail);
+    report_vertex_fans(names, not_single_fans, fail);
     let manifold = fail.total() == errors_before && edges.iter().all(|e| e.count == 1 || e.is_interior());
     let vertices = referenced.iter().filter(|&&r| r).count();
     TopologyStats {
@@ -1677,38 +1815,39 @@ fn topology_stats(names: &Names, referenced: &[bool], edges: &[Edge], fail: &mut
     }
 }
 
-/// Reports every vertex whose faces do not form a single fan (a disk or half-disk).
-fn check_vertex_fans(names: &Names, fail: &mut Failures) {
-    let (mesh, who) = (names.mesh, names.who);
-    let corners = || {
-        (mesh.triangles.iter().filter(|t| !is_degenerate(t)))
-            .flat_map(|t| [0, 1, 2].map(|k| (t[k] as usize, (t[(k + 1) % 3], t[(k + 2) % 3]))))
-    };
-    let (counts, mut links) = grouped(mesh.positions.len(), corners);
-    for v in 0..mesh.positions.len() {
-        let link = &mut links[counts[v]..counts[v + 1]];
-        if !link.is_empty() && is_single_fan(link) == Some(false) {
-            fail.push(KIND_MANIFOLD, || {
-                let v = v as u32;
-                format!(
-                    "{}{who} {}: its faces do not form a single fan (non-manifold vertex)",
-                    names.vertex_at(v),
-                    names.vertex(v)
-                )
-            });
-        }
+/// Reports every vertex whose faces do not form a single fan (found by [`build_edges`]).
+fn report_vertex_fans(names: &Names, not_single_fans: &[u32], fail: &mut Failures) {
+    let who = names.who;
+    for &v in not_single_fans {
+        fail.push(KIND_MANIFOLD, || {
+            format!(
+                "{}{who} {}: its faces do not form a single fan (non-manifold vertex)",
+                names.vertex_at(v),
+                names.vertex(v)
+            )
+        });
     }
 }
 
 /// Given the link edges `x -> y` of a vertex (one per face `(v, x, y)`), tells whether they form
 /// one path or one cycle. `None` when a link vertex has two successors or two predecessors
-/// (a non-manifold or misoriented edge, reported elsewhere).
-fn is_single_fan(link: &mut [(u32, u32)]) -> Option<bool> {
+/// (a non-manifold or misoriented edge, reported elsewhere). `heads` is a buffer, reused from
+/// vertex to vertex.
+fn is_single_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> {
+    if link.len() <= SMALL_FAN {
+        return is_single_small_fan(link);
+    }
+    is_single_sorted_fan(link, heads)
+}
+
+/// [`is_single_fan`] by sorting the link edges and their heads.
+fn is_single_sorted_fan(link: &mut [(u32, u32)], heads: &mut Vec<u32>) -> Option<bool> {
     link.sort_unstable();
     if link.windows(2).any(|w| w[0].0 == w[1].0) {
         return None;
     }
-    let mut heads: Vec<u32> = link.iter().map(|e| e.1).collect();
+    heads.clear();
+    heads.extend(link.iter().map(|e| e.1));
     heads.sort_unstable();
     if heads.windows(2).any(|w| w[0] == w[1]) {
         return None;
@@ -1729,6 +1868,33 @@ fn is_single_fan(link: &mut [(u32, u32)]) -> Option<bool> {
         }
     }
     Some(steps == link.len())
+}
+
+/// [`is_single_fan`] of a short link, by comparing every pair of link edges instead of
+/// sorting them. The answer is the same: without two successors or two predecessors, the link
+/// is disjoint paths and cycles, and the walk covers every edge iff it is one of them, starting
+/// from a path's start (an `x` that is no edge's `y`) if there is one, else anywhere.
+fn is_single_small_fan(link: &[(u32, u32)]) -> Option<bool> {
+    let n = link.len();
+    for i in 1..n {
+        if link[..i].iter().any(|e| e.0 == link[i].0 || e.1 == link[i].1) {
+            return None;
+        }
+    }
+    let start = (link.iter().map(|e| e.0))
+        .find(|&x| link.iter().all(|e| e.1 != x))
+        .unwrap_or(link[0].0);
+    let successor = |x: u32| link.iter().find(|e| e.0 == x).map(|e| e.1);
+    let mut steps = 0;
+    let mut current = start;
+    while let Some(next) = successor(current) {
+        steps += 1;
+        current = next;
+        if current == start || steps > n {
+            break;
+        }
+    }
+    Some(steps == n)
 }
 
 /// Number of connected components of the referenced vertices, joined through faces.
@@ -2337,6 +2503,11 @@ struct VertexSearch {
     /// The grid, once built: at once when some output vertex is not at an input vertex's
     /// position, else when first needed (if ever).
     grid: Option<EdgeGrid>,
+    /// The input edges containing each output vertex used by a face and not at an input
+    /// vertex's position, looked up in the grid as soon as it is built (a row per output
+    /// vertex, empty for the others): on the thread that builds the grid, beside the input's
+    /// regions and the output's edges.
+    added_edges: Csr,
 }
 
 impl VertexSearch {
@@ -2372,6 +2543,17 @@ impl VertexSearch {
         }
         // Every vertex of `added_points` is looked up in the grid.
         let grid = (!added_points.is_empty()).then(|| EdgeGrid::new(input, &prepared.edges, &added_points));
+        let mut added_edges = CsrBuilder::default();
+        if let Some(grid) = &grid {
+            let mut on_edges = Vec::new();
+            for (v, p) in output.positions.iter().enumerate() {
+                if out_referenced[v] && !lookup.contains_key(&bits(*p)) {
+                    grid.edges_containing(input, &prepared.edges, *p, &mut on_edges);
+                    added_edges.extend(&on_edges);
+                }
+                added_edges.finish_row();
+            }
+        }
         VertexSearch {
             lookup,
             same_next,
@@ -2379,6 +2561,7 @@ impl VertexSearch {
             added_points,
             unused_input,
             grid,
+            added_edges: added_edges.build(),
         }
     }
 }
@@ -2402,6 +2585,7 @@ fn classify_output_vertices(
         added_points,
         unused_input,
         grid,
+        added_edges,
     } = search;
     let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
     let mut seen = vec![false; input.positions.len()];
@@ -2463,8 +2647,9 @@ fn classify_output_vertices(
             regions.extend(&set);
         } else {
             added += 1;
-            let grid = grid.get_or_insert_with(|| EdgeGrid::new(input, &model.prepared.edges, added_points));
-            grid.edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+            // (Looked up when the grid was built, which it was: `p` is among its points.)
+            on_edges.clear();
+            on_edges.extend_from_slice(added_edges.row(v));
             if on_edges.is_empty() {
                 fail.push(KIND_VERTEX, || {
                     format!(
@@ -2701,13 +2886,18 @@ impl EdgeGrid {
         grid
     }
 
-    /// The bucket of a cell.
+    /// The bucket of a cell: the cells of a block of 16 x 16 x 16 get consecutive buckets (its
+    /// low 12 bits), and blocks a well-mixed hash of their coordinates (the others), so that
+    /// nearby pieces and points (edges and vertices come in file order, mostly near the previous
+    /// ones) count and look up nearby buckets, which stay in cache.
     fn bucket(&self, c: [i64; 3]) -> usize {
-        let h = (c[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            ^ (c[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-            ^ (c[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+        let low = (c[0] & 15) | (c[1] & 15) << 4 | (c[2] & 15) << 8;
+        let block = c.map(|x| (x >> 4) as u64);
+        let h = block[0].wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ block[1].wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ block[2].wrapping_mul(0x1656_67B1_9E37_79F9);
         let h = (h ^ (h >> 31)).wrapping_mul(0xD6E8_FEB8_6659_FD93);
-        ((h ^ (h >> 32)) as usize) & self.mask
+        ((h ^ (h >> 32)) << 12 ^ low as u64) as usize & self.mask
     }
 
     /// The edges registered in the bucket of a cell (an edge may come more than once).
@@ -3138,8 +3328,15 @@ fn assign_faces(model: &InputModel, output_names: &Names, candidates: &Candidate
         if is_degenerate(t) {
             continue;
         }
-        let mut known: Vec<u32> = t.iter().copied().filter(|&v| candidates.known[v as usize]).collect();
-        let all_known = known.len() == 3;
+        // (In a small array, not a vector: nothing is allocated per face.)
+        let mut known = [0u32; 3];
+        let mut count = 0;
+        for &v in t.iter().filter(|&&v| candidates.known[v as usize]) {
+            known[count] = v;
+            count += 1;
+        }
+        let known = &mut known[..count];
+        let all_known = count == 3;
         // The common regions are found by walking the shortest list (sorted: the same result
         // from any of them): a vertex of high valence can have thousands.
         known.sort_by_key(|&v| candidates.regions.row(v as usize).len());
@@ -3260,21 +3457,24 @@ fn check_areas(model: &InputModel, assignment: &mut Assignment, rounding_of: &[f
     let mut before = vec![CompensatedSum::default(); n];
     let mut after = vec![CompensatedSum::default(); n];
     let mut rounding = vec![0.0; n];
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let roots: Vec<usize> = (0..n).map(|r| assignment.groups.find(r as u32) as usize).collect();
     for (r, &allowance) in rounding_of.iter().enumerate() {
-        let root = assignment.groups.find(r as u32) as usize;
+        let root = roots[r];
         before[root].add(regions.area[r]);
         after[root].add(assignment.area[r]);
         rounding[root] += allowance;
-        members[root].push(r);
     }
+    // The regions of every group, in increasing order (a counting sort by root: no vector per
+    // region, of which a curved input has about one per face).
+    let (start, by_root) = grouped(n, || roots.iter().enumerate().map(|(r, &root)| (root, r)));
+    let members = |root: usize| &by_root[start[root]..start[root + 1]];
     let floor = AREA_FLOOR * regions.total_area;
-    for root in (0..n).filter(|&r| !members[r].is_empty()) {
+    for root in (0..n).filter(|&r| !members(r).is_empty()) {
         let (before, after) = (before[root].value(), after[root].value());
         let tolerance = AREA_TOLERANCE * before + floor + rounding[root];
         let kept = (after - before).abs() <= tolerance; // false for NaN too
         if !kept {
-            fail.push(KIND_AREA, || match members[root].as_slice() {
+            fail.push(KIND_AREA, || match members(root) {
                 [r] => format!("{} area {before} became {after}", regions.name(*r, &model.names)),
                 group => {
                     let names: Vec<String> = group.iter().take(6).map(|&r| regions.name(r, &model.names)).collect();
@@ -3347,6 +3547,10 @@ fn excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 }
 
 /// Rule 6 on every interior output edge (see [`DelaunayStats::report`]).
+///
+/// [`excess`] (two `atan2`) is computed only for the edges that [`ExcessBound`] cannot place
+/// below the largest excess found so far: the others change neither the maximum nor the list
+/// of non-Delaunay edges, so the result is the same as computing every edge's.
 fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     let p = |v: u32| output.positions[v as usize];
     let mut stats = DelaunayStats {
@@ -3354,12 +3558,21 @@ fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
         max_excess: f64::NEG_INFINITY,
         bad: Vec::new(),
     };
+    let mut bound = ExcessBound::below(stats.max_excess);
     for e in edges.iter().filter(|e| e.is_interior()) {
         let (a, b, f, g) = e.oriented();
         let c = third(&output.triangles[f as usize], a, b);
         let d = third(&output.triangles[g as usize], a, b);
-        let x = excess(p(a), p(b), p(c), p(d));
         stats.interior += 1;
+        let quad = [p(a), p(b), p(c), p(d)];
+        if bound.holds(quad) {
+            continue;
+        }
+        let [a, b, c, d] = quad;
+        let x = excess(a, b, c, d);
+        if x > stats.max_excess {
+            bound = ExcessBound::below(x);
+        }
         stats.max_excess = stats.max_excess.max(x);
         let delaunay = x <= DELAUNAY_TOLERANCE; // false for NaN too
         if !delaunay {
@@ -3368,6 +3581,56 @@ fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     }
     stats.bad.sort_by(|x, y| y.0.total_cmp(&x.0));
     stats
+}
+
+/// A cheap test, without `atan2`, that an interior edge's [`excess`] is certainly below a
+/// threshold `t` (the largest excess found so far) and not above [`DELAUNAY_TOLERANCE`]: that
+/// `alpha + beta <= pi - m` with `m = max(-t, 0) + 1e-12`, where `excess` is within `1e-14` of
+/// the exact `alpha + beta - pi` of its (rounded) edge vectors.
+///
+/// With `C = |u x v|` and `D = u . v` for the two vectors `u, v` of a face from its third
+/// corner, `D + iC` is `|u| |v| e^(i alpha)`, so the product `R + iS` of the two faces' is
+/// `|u1| |v1| |u2| |v2| e^(i (alpha + beta))`. For `alpha + beta` in `[0, 2 pi]`, `S > 0` puts it
+/// in `(0, pi)`, and then `alpha + beta <= pi - m` iff `S + R tan(m) >= 0`. Both are required to
+/// exceed their rounding error with a wide margin: `C` and `D` are within about 8 units of
+/// roundoff of `|u| |v| <= |C| + |D|`, so `R` and `S` within 40 units of the product of those
+/// sums, and the margin is 10^-12 of it (4,500 units). Vectors whose largest coordinate is 0 or
+/// outside `[2^-200, 2^200]` (where products could underflow or overflow) are left to `excess`.
+#[derive(Clone, Copy)]
+struct ExcessBound {
+    /// `tan(m)`, or `None` when no edge is to be skipped (no threshold yet, or one so low that
+    /// `m` nears `pi / 2`).
+    tan_margin: Option<f64>,
+}
+
+impl ExcessBound {
+    /// The bound for threshold `t` (`f64::NEG_INFINITY`: none).
+    fn below(t: f64) -> ExcessBound {
+        let margin = t.min(0.0).abs() + 1e-12;
+        ExcessBound {
+            tan_margin: (margin < 1.4).then(|| margin.tan()),
+        }
+    }
+
+    /// Whether the excess of the edge `(a, b)` with faces `(a, b, c)` and `(b, a, d)` is
+    /// certainly below the threshold (`false` when unsure).
+    fn holds(&self, [a, b, c, d]: [DVec3; 4]) -> bool {
+        let Some(k) = self.tan_margin else {
+            return false;
+        };
+        let (u1, v1, u2, v2) = (a - c, b - c, a - d, b - d);
+        const LOW: f64 = 6.223015277861142e-61; // 2^-200
+        const HIGH: f64 = 1.6069380442589903e60; // 2^200
+        let plain = |w: DVec3| (LOW..=HIGH).contains(&w.abs().max_element());
+        if !(plain(u1) && plain(v1) && plain(u2) && plain(v2)) {
+            return false;
+        }
+        let (c1, d1) = (u1.cross(v1).length(), u1.dot(v1));
+        let (c2, d2) = (u2.cross(v2).length(), u2.dot(v2));
+        let (r, s) = (d1 * d2 - c1 * c2, c1 * d2 + d1 * c2);
+        let error = 1e-12 * (c1 + d1.abs()) * (c2 + d2.abs());
+        s > error && s + k * r > error * (1.0 + k)
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -3665,6 +3928,221 @@ mod tests {
             assert!((angle(u, v) - PI / 2.0).abs() < 1e-15, "{k}");
         }
         assert_eq!(angle(DVec3::ZERO, DVec3::X), 0.0);
+    }
+
+    /// `ExcessBound` only skips edges whose excess is below its threshold and Delaunay:
+    /// random quads near cocircular (excess near 0) and far from it, at scales from 1e-150
+    /// to 1e150, some needles, against thresholds around each quad's own excess.
+    #[test]
+    fn excess_bound_skips_only_edges_below_the_threshold() {
+        let mut rng = Rng(0x5eed_0d1e);
+        let mut skipped = 0;
+        for i in 0..20_000 {
+            let scale = 10f64.powi(rng.int(150) as i32);
+            let offset = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * scale * rng.int(1e6 as u64);
+            let on_circle = |t: f64, r: f64| DVec3::new(t.cos() * r, t.sin() * r, 0.0);
+            let (ta, tb) = (rng.centered() * 6.0, rng.centered() * 6.0);
+            let near = 10f64.powi(-(rng.below(17) as i32));
+            let tilt = if i % 3 == 0 {
+                rng.centered() * near
+            } else {
+                rng.centered()
+            };
+            let mut quad = [
+                on_circle(ta, 1.0),
+                on_circle(tb, 1.0),
+                on_circle(rng.centered() * 6.0, 1.0 + rng.centered() * near),
+                on_circle(rng.centered() * 6.0, 1.0 + rng.centered() * near) + DVec3::Z * tilt,
+            ];
+            if i % 7 == 0 {
+                quad[2] = quad[0].lerp(quad[1], 0.5 + rng.centered()) + DVec3::Z * near * 1e-6;
+            }
+            let quad = quad.map(|p| p * scale + offset);
+            let [a, b, c, d] = quad;
+            let x = excess(a, b, c, d);
+            for t in [
+                f64::NEG_INFINITY,
+                -1.5,
+                -1.0,
+                -1e-3,
+                -1e-9,
+                -1e-12,
+                0.0,
+                1e-12,
+                1e-9,
+                0.5,
+                3.0,
+            ]
+            .into_iter()
+            .chain([x, x - 1e-12, x + 1e-12, x - 1e-11, x - 1e-6, x + 1e-6])
+            {
+                if ExcessBound::below(t).holds(quad) {
+                    skipped += 1;
+                    assert!(x < t && x <= DELAUNAY_TOLERANCE, "{quad:?} {x} {t}");
+                }
+            }
+        }
+        assert!(skipped > 50_000, "{skipped}");
+    }
+
+    /// `delaunay_edges` finds what computing every edge's excess finds: on grids regular
+    /// (cocircular quads, excess 0 up to rounding), jittered, and lifted into curved surfaces.
+    #[test]
+    fn delaunay_edges_agree_with_every_edge_computed() {
+        let mut rng = Rng(0x00de_1a07);
+        for (jitter, height) in [
+            (0.0, 0.0),
+            (1e-9, 0.0),
+            (0.3, 0.0),
+            (0.0, 0.2),
+            (0.2, 1.0),
+            (1e-3, 1e-3),
+        ] {
+            let n = 30;
+            let mut mesh = Mesh3::default();
+            for y in 0..=n {
+                for x in 0..=n {
+                    let j = DVec3::new(rng.centered(), rng.centered(), 0.0) * jitter;
+                    let z = height * rng.centered();
+                    mesh.positions.push(DVec3::new(x as f64, y as f64, z) + j);
+                }
+            }
+            let v = |x: u32, y: u32| y * (n + 1) + x;
+            for y in 0..n {
+                for x in 0..n {
+                    let (p, q, r, s) = (v(x, y), v(x + 1, y), v(x + 1, y + 1), v(x, y + 1));
+                    if rng.below(2) == 0 {
+                        mesh.triangles.extend([[p, q, r], [p, r, s]]);
+                    } else {
+                        mesh.triangles.extend([[p, q, s], [q, r, s]]);
+                    }
+                }
+            }
+            let naming = Naming::default();
+            let names = Names::new("output", &mesh, &naming);
+            let edges = build_edges(&names, &VertexFaces::new(&mesh), &mut Failures::default()).edges;
+            let stats = delaunay_edges(&mesh, &edges);
+            let p = |v: u32| mesh.positions[v as usize];
+            let mut every: Vec<(f64, u32, u32)> = Vec::new();
+            let mut max = f64::NEG_INFINITY;
+            for e in edges.iter().filter(|e| e.is_interior()) {
+                let (a, b, f, g) = e.oriented();
+                let c = third(&mesh.triangles[f as usize], a, b);
+                let d = third(&mesh.triangles[g as usize], a, b);
+                let x = excess(p(a), p(b), p(c), p(d));
+                max = max.max(x);
+                every.push((x, e.lo, e.hi));
+            }
+            every.retain(|e| e.0 > DELAUNAY_TOLERANCE || e.0.is_nan());
+            every.sort_by(|x, y| y.0.total_cmp(&x.0));
+            assert_eq!(stats.interior, 3 * n as usize * n as usize - 2 * n as usize);
+            assert_eq!(stats.max_excess.to_bits(), max.to_bits(), "{jitter} {height}");
+            let bits = |list: &[(f64, u32, u32)]| list.iter().map(|e| (e.0.to_bits(), e.1, e.2)).collect::<Vec<_>>();
+            assert_eq!(bits(&stats.bad), bits(&every), "{jitter} {height}");
+        }
+    }
+
+    /// The pairwise rules for small fans answer as the sorting ones: random links and fans
+    /// over a few vertices (repeats, paths, cycles, several pieces).
+    #[test]
+    fn small_fans_are_judged_as_by_sorting() {
+        let mut rng = Rng(0x00fa_4a11);
+        let mut heads = Vec::new();
+        let (mut single, mut several, mut bad) = (0, 0, 0);
+        for _ in 0..20_000 {
+            let n = 1 + rng.below(SMALL_FAN as u64) as usize;
+            let alphabet = 2 + rng.below(2 * n as u64);
+            let mut link: Vec<(u32, u32)> = (0..n)
+                .map(|_| (rng.below(alphabet) as u32, rng.below(alphabet) as u32))
+                .filter(|e| e.0 != e.1)
+                .collect();
+            if rng.below(2) == 0 {
+                // A path or cycle, cut or not, in random order.
+                let cycle = rng.below(2) == 0;
+                link = (0..n as u32)
+                    .map(|i| (i, if cycle && i + 1 == n as u32 { 0 } else { i + 1 }))
+                    .collect();
+                link.retain(|_| rng.below(8) != 0);
+                for i in (1..link.len()).rev() {
+                    link.swap(i, rng.below(i as u64 + 1) as usize);
+                }
+            }
+            if link.is_empty() {
+                continue;
+            }
+            let small = is_single_small_fan(&link);
+            assert_eq!(small, is_single_sorted_fan(&mut link.clone(), &mut heads), "{link:?}");
+            match small {
+                Some(true) => single += 1,
+                Some(false) => several += 1,
+                None => bad += 1,
+            }
+            // The fans of a vertex 0 whose faces are (0, x, y), some repeating a vertex.
+            let faces: Vec<[u32; 3]> = link
+                .iter()
+                .map(|&(x, y)| {
+                    if rng.below(10) == 0 {
+                        [0, x + 1, x + 1]
+                    } else {
+                        [0, x + 1, y + 1]
+                    }
+                })
+                .collect();
+            let ids: Vec<u32> = (0..faces.len() as u32).collect();
+            let mut fans = Fans::default();
+            let (mut pairwise, mut sorted) = (Vec::new(), Vec::new());
+            fans.find(0, &ids, &faces, &mut pairwise);
+            let many: Vec<u32> = (0..2 * faces.len() as u32).collect();
+            let doubled: Vec<[u32; 3]> = faces.iter().flat_map(|&t| [t; 2]).collect();
+            // (Each face twice, joined to its copy: more than SMALL_FAN faces, found by sorting.)
+            fans.find(0, &many, &doubled, &mut sorted);
+            if faces.len() * 2 > SMALL_FAN {
+                let halved: Vec<(u32, u32, u32)> = sorted
+                    .iter()
+                    .filter(|e| e.1 % 2 == 0)
+                    .map(|&(v, f, r)| (v, f / 2, r / 2))
+                    .collect();
+                assert_eq!(pairwise, halved, "{faces:?}");
+            }
+        }
+        assert!(
+            single > 1000 && several > 1000 && bad > 1000,
+            "{single} {several} {bad}"
+        );
+    }
+
+    /// Face indices are read as `str::parse` reads them.
+    #[test]
+    fn indices_are_read_as_parse_reads_them() {
+        let texts = [
+            "1",
+            "0",
+            "-0",
+            "+7",
+            "-12",
+            "007",
+            "123456789012345678",
+            "-999999999999999999",
+            "1234567890123456789",
+            "9223372036854775807",
+            "9223372036854775808",
+            "-9223372036854775808",
+            "+",
+            "-",
+            "",
+            "+-1",
+            "1.0",
+            "1e3",
+            " 1",
+            "1 ",
+            "٣",
+            "0x10",
+            "--1",
+            "++1",
+        ];
+        for text in texts {
+            assert_eq!(parse_index(text.as_bytes()), text.parse::<i64>().ok(), "{text:?}");
+        }
     }
 
     #[test]
