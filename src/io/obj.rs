@@ -925,7 +925,7 @@ pub fn write_obj_after(
     triangles: &[[u32; 3]],
 ) -> std::io::Result<()> {
     super::formats::check_for_writing(positions, triangles, None)?;
-    w.write_all(&done.text)?;
+    super::lines::write_in_pieces(w, &done.text)?;
     write_lines(w, &positions[done.count.min(positions.len())..], vertex_line)?;
     write_lines(w, triangles, face_line)
 }
