@@ -10,7 +10,7 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
-use super::lines::{put_decimal, write_lines, write_numbered_lines};
+use super::lines::{push_decimal, push_face, write_lines, write_numbered_lines};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -930,31 +930,16 @@ pub fn write_obj_after(
     write_lines(w, triangles, face_line)
 }
 
-/// Appends the `f` line of `t` (indices written from 1). The line is built
-/// in a fixed-size array and appended with one fixed-size copy: three
-/// variable-length copies per line, each a call into libc, cost more than
-/// the digits (5% of the dragon's whole run).
+/// Appends the `f` line of `t` (indices written from 1).
 #[inline]
 fn face_line(t: &[u32; 3], line: &mut Vec<u8>) {
-    // "f", three times a blank and at most 10 digits, a newline: 1 + 3 × 11 + 1.
-    let mut buf = [0u8; 40];
-    buf[0] = b'f';
-    let mut n = 1;
-    for &v in t {
-        buf[n] = b' ';
-        n += 1 + put_decimal(&mut buf, n + 1, u64::from(v) + 1);
-    }
-    buf[n] = b'\n';
-    let end = line.len() + n + 1;
-    line.extend_from_slice(&buf);
-    line.truncate(end);
+    push_face(line, b'f', t, 1);
+    line.push(b'\n');
 }
 
 /// Appends index `i` as OBJ writes it (from 1).
 fn push_index(line: &mut Vec<u8>, i: u32) {
-    let mut digits = [0u8; 10];
-    let len = put_decimal(&mut digits, 0, u64::from(i) + 1);
-    line.extend_from_slice(&digits[..len]);
+    push_decimal(line, u64::from(i) + 1);
 }
 
 /// Writes a triangle mesh with attributes (per corner of `triangles`) as
@@ -1103,7 +1088,7 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::lines::BLOCK_LINES;
+    use crate::io::lines::{put_decimal, BLOCK_LINES};
 
     /// The parsed mesh (or error) in a comparable form: positions by their
     /// bits, everything else as read.
@@ -1284,13 +1269,7 @@ mod tests {
             write_obj(&mut out, &positions, &triangles).unwrap();
             out
         };
-        let _settings = crate::parallel::settings_lock_for_tests();
-        crate::parallel::set_threads(4);
-        let threaded = write();
-        crate::parallel::refuse_threads(true);
-        let alone = write();
-        crate::parallel::refuse_threads(false);
-        crate::parallel::set_threads(0);
+        let (threaded, alone) = crate::io::lines::threaded_and_alone(4, write);
         assert!(threaded == alone);
         assert_eq!(threaded.iter().filter(|&&b| b == b'\n').count(), 2 * n - 2);
     }

@@ -2,7 +2,7 @@
 //! normals and texture coordinates).
 
 use super::*;
-use crate::io::lines::{put_decimal, write_numbered_lines};
+use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -601,15 +601,7 @@ pub fn write_off_with(
         line.push(b'\n');
     })?;
     write_numbered_lines(w, nf, |f, line| {
-        // "3", three times a blank and at most 10 digits.
-        let mut buf = [0u8; 34];
-        buf[0] = b'3';
-        let mut k = 1;
-        for &v in &triangles[f] {
-            buf[k] = b' ';
-            k += 1 + put_decimal(&mut buf, k + 1, u64::from(v));
-        }
-        line.extend_from_slice(&buf[..k]);
+        push_face(line, b'3', &triangles[f], 0);
         if let Some(c) = &extras.face_colors {
             push_color(line, &mut zmij::Buffer::new(), c, f);
         }
@@ -633,9 +625,7 @@ fn push_color(line: &mut Vec<u8>, num: &mut zmij::Buffer, c: &OffColors, i: usiz
         match c.text {
             // (`as` saturates; the values are finite.)
             ColorText::Bytes => {
-                let mut digits = [0u8; 3];
-                let len = put_decimal(&mut digits, 0, u64::from(x.round().clamp(0.0, 255.0) as u8));
-                line.extend_from_slice(&digits[..len]);
+                push_decimal(line, u64::from(x.round().clamp(0.0, 255.0) as u8));
             }
             ColorText::Floats => {
                 let text = num.format_finite(x);

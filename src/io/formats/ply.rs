@@ -2,7 +2,7 @@
 //! and face properties.
 
 use super::*;
-use crate::io::lines::{put_decimal, write_numbered_lines};
+use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
 
 /// A PLY scalar type: the attributes' [`ValueType`], which a carried
 /// property keeps.
@@ -1513,22 +1513,14 @@ pub fn write_ply_ascii(
         push_xyz(line, &mut zmij::Buffer::new(), &positions[i]);
         if let Some(rgb) = colors.and_then(|c| c.get(i)) {
             for &x in rgb {
-                let mut digits = [0u8; 3];
-                let len = put_decimal(&mut digits, 0, u64::from(x));
                 line.push(b' ');
-                line.extend_from_slice(&digits[..len]);
+                push_decimal(line, u64::from(x));
             }
         }
         line.push(b'\n');
     })?;
     write_numbered_lines(w, triangles.len(), |f, line| {
-        line.push(b'3');
-        for &v in &triangles[f] {
-            let mut digits = [0u8; 10];
-            let len = put_decimal(&mut digits, 0, u64::from(v));
-            line.push(b' ');
-            line.extend_from_slice(&digits[..len]);
-        }
+        push_face(line, b'3', &triangles[f], 0);
         line.push(b'\n');
     })?;
     w.flush()
