@@ -590,7 +590,7 @@ impl<'a> Names<'a> {
 /// positions of the input's vertices. Only `input[first_copy..]` may repeat a position of the
 /// input (0 for any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies last,
 /// after the file's welded vertices, and usually none).
-fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_copy: usize) -> Settled {
+fn settle_like(welded: Mesh3, file_corners: &FileVertices, input: &[DVec3], first_copy: usize) -> Settled {
     // How many vertices the input has at each position it has several at (usually none).
     let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
@@ -615,17 +615,22 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_
         return settle(welded, file_corners);
     }
     let settled = settle(welded.clone(), file_corners);
+    let in_input = count.clone();
     for p in &settled.mesh.positions {
         if let Some(c) = count.get_mut(&bits(*p)) {
             *c -= 1;
         }
     }
-    let short: Vec<bool> = welded
+    // Where the output has fewer vertices than the input, the input's count is kept.
+    let short: Vec<u32> = welded
         .positions
         .iter()
-        .map(|p| count.get(&bits(*p)).is_some_and(|&c| c > 0))
+        .map(|p| match count.get(&bits(*p)) {
+            Some(&c) if c > 0 => in_input[&bits(*p)] as u32,
+            _ => 0,
+        })
         .collect();
-    if !short.contains(&true) {
+    if !short.iter().any(|&c| c > 0) {
         return settled;
     }
     settle(unweld(welded, file_corners, &short), file_corners)
@@ -635,12 +640,61 @@ fn settle_like(welded: Mesh3, file_corners: &[[u32; 3]], input: &[DVec3], first_
 struct Welded {
     /// The mesh.
     mesh: Mesh3,
-    /// The file's own vertex of each corner of its triangles.
-    file_corners: Vec<[u32; 3]>,
+    /// The file's own vertex of each corner of its triangles, and what else it says of them.
+    file_corners: FileVertices,
     /// The positions of its vertices that no face uses (in file order, each once).
     strays: Vec<DVec3>,
     /// How the file numbers the mesh's vertices and faces.
     naming: Naming,
+}
+
+/// The file's own vertices of a [`Welded`] mesh: which one each corner of its triangles is,
+/// and, for a file that gives a vertex one record per attribute value (OFF and PLY with
+/// texture coordinates, normals, colours or other vertex properties), a hash of each one's
+/// values, which tells seam copies (whose values differ) from copies at a cut.
+struct FileVertices {
+    /// The file vertex of each corner of the mesh's triangles.
+    corners: Vec<[u32; 3]>,
+    /// A hash of each file vertex's attribute values; empty where the file gives none, or is
+    /// not an OFF or PLY file.
+    looks: Vec<u64>,
+}
+
+impl FileVertices {
+    /// Whether the file vertices `a` and `b`, at one position, may be copies of one vertex
+    /// that a seam made: the same vertex, or two with different attribute values.
+    fn seam_copies(&self, a: u32, b: u32) -> bool {
+        a == b || (!self.looks.is_empty() && self.looks[a as usize] != self.looks[b as usize])
+    }
+}
+
+/// A hash of each vertex's attribute values in `raw` (the first corner's, per channel; a
+/// vertex of OFF or PLY has one); empty when `raw` has none.
+fn attribute_looks(raw: &RawMesh) -> Vec<u64> {
+    use std::hash::Hasher;
+    let channels: Vec<&crate::attributes::Channel> = raw.attributes.channels().map(|(_, c)| c).collect();
+    if channels.is_empty() && raw.colors.is_none() {
+        return Vec::new();
+    }
+    let mut first_corner = vec![u32::MAX; raw.positions.len()];
+    for (c, &v) in raw.indices.iter().enumerate().rev() {
+        first_corner[v as usize] = c as u32;
+    }
+    (0..raw.positions.len())
+        .map(|v| {
+            let mut h = crate::hash::FastHasher::default();
+            if let Some(colors) = &raw.colors {
+                colors[v].iter().for_each(|&x| h.write_u8(x));
+            }
+            let c = first_corner[v];
+            if c != u32::MAX {
+                for channel in &channels {
+                    channel.corner(c as usize).iter().for_each(|x| h.write_u64(x.to_bits()));
+                }
+            }
+            h.finish()
+        })
+        .collect()
 }
 
 /// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
@@ -697,7 +751,8 @@ fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::
     // share (every facet lists its own corners), so there its vertices are
     // only ever welded.
     let shares_vertices = format != Some(formats::Format::Stl);
-    weld(raw, shares_vertices)
+    // (OFF and PLY copy a vertex at seams.)
+    weld(raw, shares_vertices, shares_vertices)
         .map_err(parse_error)?
         .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
@@ -707,8 +762,9 @@ fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::
 /// Triangulates the polygons of `raw` and welds its bit-identical positions, keeping the
 /// vertices some face uses in file order; `None` when it has no faces. With
 /// `shares_vertices`, a corner's file vertex is its index in the file's vertex list (OFF,
-/// PLY, OBJ); without (STL), its welded vertex.
-fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, String> {
+/// PLY, OBJ); without (STL), its welded vertex. With `seam_copies`, [`FileVertices::looks`]
+/// are found where welding joins file vertices.
+fn weld(mut raw: RawMesh, shares_vertices: bool, seam_copies: bool) -> Result<Option<Welded>, String> {
     // (Sized for every position at once, as growing the table rehashes all it holds; but
     // not for STL, whose facets repeat each position about six times.)
     let mut welder = Welder::with_capacity(if shares_vertices { raw.positions.len() } else { 0 });
@@ -742,6 +798,11 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
     if triangles.is_empty() {
         return Ok(None);
     }
+    let looks = if seam_copies && welder.positions.len() < raw.positions.len() {
+        attribute_looks(&raw)
+    } else {
+        Vec::new()
+    };
     // Keep only used vertices, in file order (welded ids are already in first-seen order).
     let mut used = vec![false; welder.positions.len()];
     triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
@@ -766,7 +827,10 @@ fn weld(mut raw: RawMesh, shares_vertices: bool) -> Result<Option<Welded>, Strin
     };
     Ok(Some(Welded {
         mesh: Mesh3 { positions, triangles },
-        file_corners,
+        file_corners: FileVertices {
+            corners: file_corners,
+            looks,
+        },
         strays,
         naming,
     }))
@@ -820,7 +884,7 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
     let raw = obj_surface(&joined).map_err(parse_error)?;
-    let welded = weld(raw, true)
+    let welded = weld(raw, true, false)
         .map_err(parse_error)?
         .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
@@ -1043,7 +1107,7 @@ fn first_binary_line(bytes: &[u8]) -> Option<usize> {
 
 /// The last steps of reading a welded mesh: [`split_welded_sheets`], then
 /// [`split_pinched_vertices`]; with the faces around every vertex of the result.
-fn settle(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Settled {
+fn settle(mesh: Mesh3, file_corners: &FileVertices) -> Settled {
     split_pinched_vertices(split_welded_sheets(mesh, file_corners))
 }
 
@@ -1078,25 +1142,123 @@ impl VertexFaces {
     }
 }
 
-/// At every vertex flagged in `at`, the first file vertex welded into it (in corner order)
-/// keeps it and every other gets a new vertex at the same position, in all its faces.
-fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
+/// At every vertex flagged in `at` (not 0), the file vertices welded into it are kept apart
+/// again, except those a seam joins: the class of the first file vertex (in corner order) keeps
+/// the vertex and every other class gets a new vertex at the same position, in all its faces.
+///
+/// A PLY or OFF file gives a vertex one record per attribute value, so a vertex on a seam has
+/// copies, and a seam's edge is open in the file on both sides:
+///
+/// ```text
+///        f             face f's edge x1 -> y1 and face g's edge y2 -> x2: each open in
+///   x1 -----> y1       the file (one face), at the same positions, running opposite
+///   x2 <----- y2       ways; one edge of the surface, cut by a seam, so x1 and x2 are
+///        g             one vertex, and y1 and y2 another
+/// ```
+///
+/// So where a welded edge has exactly two faces whose file edges are open, running opposite
+/// ways, and the file vertices at each end are seam copies ([`FileVertices::seam_copies`]:
+/// the same, or with different attribute values, as a seam's copies are), those are one class
+/// (whatever other faces the welded edge has: a seam on one of two sheets that meet along one
+/// line). Where it has more, which pairs belong together is not known, and they stay apart. A
+/// file with no copies (OBJ, STL, or PLY and OFF without attributes) joins nothing: every file
+/// vertex is its own class, as welding found it.
+///
+/// Copies that `delmesh --repair` makes where it cuts look the same, but have the same values,
+/// and a seam is not joined either where that would leave a vertex fewer classes than `at`
+/// asks for there (the input's count of vertices at that position, where the output was found
+/// to have fewer), or crowd an edge ([`joining_crowds`]): `--repair` cuts a single face off a
+/// non-manifold edge by giving it a copy of one end only, and its other edges at that copy
+/// then look like a seam.
+fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
+    let file_corners = &file.corners;
     debug_assert_eq!(mesh.triangles.len(), file_corners.len());
-    let mut first_file = vec![u32::MAX; mesh.positions.len()];
+    let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
+    let file_count = file_corners.iter().flatten().max().map_or(0, |&m| m as usize + 1);
+    let mut class = UnionFind::new(file_count);
+    // The corners' edges at a flagged vertex, as (low, high, file vertex at low, at high,
+    // whether the face runs low to high), grouped by welded edge.
+    let mut edges: Vec<CornerEdge> = Vec::new();
+    for (t, file) in mesh.triangles.iter().zip(file_corners) {
+        for i in 0..3 {
+            let (a, b, j) = (t[i], t[(i + 1) % 3], (i + 1) % 3);
+            if a != b && (flagged(a) || flagged(b)) {
+                let (fa, fb) = (file[i], file[j]);
+                edges.push(if a < b {
+                    (a, b, fa, fb, true)
+                } else {
+                    (b, a, fb, fa, false)
+                });
+            }
+        }
+    }
+    edges.sort_unstable();
+    // Which of `edges` touch each flagged vertex: a union there is checked against them.
+    let mut touching: FastMap<u32, Vec<usize>> = FastMap::default();
+    for (i, e) in edges.iter().enumerate() {
+        for v in [e.0, e.1].into_iter().filter(|&v| flagged(v)) {
+            touching.entry(v).or_default().push(i);
+        }
+    }
+    // How many classes each flagged vertex has so far (at first, its file vertices).
+    let mut at_flagged: Vec<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .zip(file_corners)
+        .flat_map(|(t, f)| t.iter().copied().zip(f.iter().copied()))
+        .filter(|&(v, _)| flagged(v))
+        .collect();
+    at_flagged.sort_unstable();
+    at_flagged.dedup();
+    let mut classes: FastMap<u32, u32> = FastMap::default();
+    for &(v, _) in &at_flagged {
+        *classes.entry(v).or_insert(0) += 1;
+    }
+    drop(at_flagged);
+    for group in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        // (Sorted, so a file edge's faces are next to each other.)
+        let open: Vec<_> = group
+            .chunk_by(|x, y| (x.2, x.3) == (y.2, y.3))
+            .filter(|same| same.len() == 1)
+            .map(|same| same[0])
+            .collect();
+        if let [p, q] = open[..] {
+            if p.4 == q.4 || !file.seam_copies(p.2, q.2) || !file.seam_copies(p.3, q.3) {
+                continue;
+            }
+            // The ends where the seam would join two classes into one.
+            let ends = [(p.0, p.2, q.2), (p.1, p.3, q.3)];
+            let merging: Vec<u32> = ends
+                .iter()
+                .filter(|&&(v, x, y)| flagged(v) && class.find(x) != class.find(y))
+                .map(|&(v, _, _)| v)
+                .collect();
+            if merging.iter().any(|v| classes[v] <= at[*v as usize])
+                || joining_crowds(&edges, &touching, &flagged, &mut class, p, q)
+            {
+                continue;
+            }
+            merging.iter().for_each(|v| *classes.get_mut(v).expect("counted") -= 1);
+            class.union(p.2, q.2);
+            class.union(p.3, q.3);
+        }
+    }
+    let mut first_class = vec![u32::MAX; mesh.positions.len()];
     let mut own: FastMap<u32, u32> = FastMap::default();
     for (t, file) in mesh.triangles.iter_mut().zip(file_corners) {
         for (v, &fv) in t.iter_mut().zip(file) {
-            if !at.get(*v as usize).copied().unwrap_or(false) {
+            if !flagged(*v) {
                 continue;
             }
-            let first = &mut first_file[*v as usize];
+            let c = class.find(fv);
+            let first = &mut first_class[*v as usize];
             if *first == u32::MAX {
-                *first = fv;
+                *first = c;
             }
-            if *first != fv {
+            if *first != c {
                 let p = mesh.positions[*v as usize];
                 let next = mesh.positions.len() as u32;
-                *v = *own.entry(fv).or_insert(next);
+                *v = *own.entry(c).or_insert(next);
                 if *v == next {
                     mesh.positions.push(p);
                 }
@@ -1104,6 +1266,51 @@ fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
         }
     }
     mesh
+}
+
+/// One corner edge at a flagged vertex, as [`unweld`] lists them: (low, high, file vertex at
+/// low, at high, whether the face runs low to high).
+type CornerEdge = (u32, u32, u32, u32, bool);
+
+/// Whether joining the seam `p`, `q` (two open file edges of one welded edge) would crowd an
+/// edge at either of its ends: give it more than two faces, or two running the same way, with
+/// the file vertices kept apart as `class` has them so far (as joining a cut of `delmesh
+/// --repair` would put the cut edge's faces back together).
+fn joining_crowds(
+    edges: &[CornerEdge],
+    touching: &FastMap<u32, Vec<usize>>,
+    flagged: &impl Fn(u32) -> bool,
+    class: &mut UnionFind,
+    p: CornerEdge,
+    q: CornerEdge,
+) -> bool {
+    let joined = [(class.find(q.2), class.find(p.2)), (class.find(q.3), class.find(p.3))];
+    let mut near: Vec<usize> = [p.0, p.1]
+        .iter()
+        .filter_map(|v| touching.get(v))
+        .flatten()
+        .copied()
+        .collect();
+    near.sort_unstable();
+    near.dedup();
+    // A corner's ends as the classes they would be in (an unflagged vertex stays one vertex).
+    let mut side = |welded: u32, file: u32| {
+        if !flagged(welded) {
+            return u32::MAX;
+        }
+        let c = class.find(file);
+        joined.iter().find(|&&(from, _)| from == c).map_or(c, |&(_, to)| to)
+    };
+    let mut keys: Vec<CornerEdge> = near
+        .iter()
+        .map(|&i| {
+            let e = edges[i];
+            (e.0, e.1, side(e.0, e.2), side(e.1, e.3), e.4)
+        })
+        .collect();
+    keys.sort_unstable();
+    keys.chunk_by(|x, y| (x.0, x.1, x.2, x.3) == (y.0, y.1, y.2, y.3))
+        .any(|run| run.len() > 2 || (run.len() == 2 && run[0].4 == run[1].4))
 }
 
 /// Undoes welding where it would put more than two faces on an edge, or two faces running along
@@ -1119,7 +1326,8 @@ fn unweld(mut mesh: Mesh3, file_corners: &[[u32; 3]], at: &[bool]) -> Mesh3 {
 /// was written from; a mesh whose welded edges have at most two faces, oppositely oriented
 /// (every mesh the construction accepts without `--repair`), is unchanged, and an edge the
 /// file itself gives more than two faces, or two the same way, stays an error.
-fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
+fn split_welded_sheets(mesh: Mesh3, file: &FileVertices) -> Mesh3 {
+    let file_corners = &file.corners;
     // Where welding joined no two file vertices there is nothing to undo (every mesh whose
     // file gives each position once): one pass over the corners instead of grouping edges.
     let n = mesh.positions.len();
@@ -1169,9 +1377,9 @@ fn split_welded_sheets(mesh: Mesh3, file_corners: &[[u32; 3]]) -> Mesh3 {
     if ends.is_empty() {
         return mesh;
     }
-    let mut crowded = vec![false; n];
-    ends.iter().for_each(|&v| crowded[v as usize] = true);
-    unweld(mesh, file_corners, &crowded)
+    let mut crowded = vec![0; n];
+    ends.iter().for_each(|&v| crowded[v as usize] = 1);
+    unweld(mesh, file, &crowded)
 }
 
 /// The values of `items()` (pairs of a key below `n` and a value) grouped by key, in order:

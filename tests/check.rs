@@ -681,6 +681,90 @@ fn reading_merges_objects_welds_and_numbers_by_v_lines() {
     assert_eq!(mesh.triangles, vec![[2, 3, 0], [2, 0, 1], [1, 4, 2]]);
 }
 
+/// Two sheets that meet along one line, P-U, with distinct vertices at P (as a refined
+/// self-overlapping input can have): sheet 1's faces (P,U,a) and (U,P,b), with a texture seam
+/// along P-U, so that an OFF or PLY file gives each its own copies of P and U (with different
+/// values); sheet 2's faces (Q,U,c) and (U,Q,d), Q at P's position. Welded by position P-U has
+/// four faces, so the file's vertices at its ends are kept apart, but the seam's copies stay
+/// one vertex: sheet 1 has one P and one U, Q stays apart, and U, where the sheets then only
+/// touch, is one vertex per sheet (the pinch rule). Once, every file vertex at P and U was kept
+/// apart, the seam's copies too. Copies with the same values are not a seam's (`--repair`
+/// makes such copies where it cuts): they stay apart.
+#[test]
+fn seam_copies_stay_one_vertex_where_sheets_are_kept_apart() {
+    let dir = TempDir::new().expect("tempdir");
+    let (p, u) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+    let (a, b, c, d) = ([0.5, 1.0, 0.0], [0.5, -1.0, 0.0], [0.5, 0.0, 1.0], [0.5, 0.0, -1.0]);
+    // Records: P1 U1 a P2 U2 b Q c d, the seam's sides at values 0 and 1.
+    let vertices = [p, u, a, p, u, b, p, c, d];
+    let values = [0, 0, 0, 1, 1, 1, 2, 2, 2];
+    let faces = [[0, 1, 2], [4, 3, 5], [6, 1, 7], [1, 6, 8]];
+    let files = |values: &[u8]| {
+        [
+            ("m.off", coloured_off(&vertices, values, &faces)),
+            ("m.ply", textured_ply(&vertices, values, &faces)),
+        ]
+    };
+    for (name, text) in files(&values) {
+        let mesh = Mesh3::read(write(&dir, name, &text)).expect("valid");
+        assert_eq!(mesh.positions.len(), 8, "{name}: {:?}", mesh.triangles);
+        let at = |f: usize, q: [f64; 3]| {
+            let t = mesh.triangles[f];
+            t.into_iter()
+                .find(|&v| mesh.positions[v as usize] == DVec3::from_array(q))
+                .expect("a vertex there")
+        };
+        assert_eq!(at(0, p), at(1, p), "{name}: the seam's copies of P are one vertex");
+        assert_eq!(at(0, u), at(1, u), "{name}: the seam's copies of U are one vertex");
+        assert_eq!(at(2, p), at(3, p), "{name}: Q is one vertex");
+        assert_ne!(at(0, p), at(2, p), "{name}: P and Q stay apart");
+    }
+    // The same copies with the same values, or with none: not a seam's, all kept apart.
+    let mut texts = files(&[0; 9]).to_vec();
+    texts.push(("plain.off", off(&vertices, &faces)));
+    for (name, text) in texts {
+        let mesh = Mesh3::read(write(&dir, name, &text)).expect("valid");
+        assert_eq!(mesh.positions.len(), 10, "{name}: {:?}", mesh.triangles);
+    }
+    // Seams on both sheets: which open edges pair is not known, all stay apart.
+    let vertices = [p, u, a, p, u, b, p, u, c, p, u, d];
+    let values = [0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3];
+    let faces = [[0, 1, 2], [4, 3, 5], [6, 7, 8], [10, 9, 11]];
+    let text = coloured_off(&vertices, &values, &faces);
+    let mesh = Mesh3::read(write(&dir, "both.off", &text)).expect("valid");
+    assert_eq!(mesh.positions.len(), 12, "{:?}", mesh.triangles);
+}
+
+/// COFF text of a mesh whose vertex `i` has the grey level `values[i]`.
+fn coloured_off(vertices: &[[f64; 3]], values: &[u8], faces: &[[u32; 3]]) -> String {
+    let mut text = format!("COFF\n{} {} 0\n", vertices.len(), faces.len());
+    for (v, g) in vertices.iter().zip(values) {
+        text.push_str(&format!("{:?} {:?} {:?} {g} {g} {g} 255\n", v[0], v[1], v[2]));
+    }
+    faces
+        .iter()
+        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
+    text
+}
+
+/// ASCII PLY text of a mesh whose vertex `i` has the texture coordinates (`values[i]`, 0).
+fn textured_ply(vertices: &[[f64; 3]], values: &[u8], faces: &[[u32; 3]]) -> String {
+    let mut text = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\
+         property double z\nproperty float s\nproperty float t\nelement face {}\n\
+         property list uchar int vertex_indices\nend_header\n",
+        vertices.len(),
+        faces.len()
+    );
+    for (v, s) in vertices.iter().zip(values) {
+        text.push_str(&format!("{:?} {:?} {:?} {s} 0\n", v[0], v[1], v[2]));
+    }
+    faces
+        .iter()
+        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
+    text
+}
+
 // ---------------------------------------------------------------------------------------------
 // Larger sanity test
 // ---------------------------------------------------------------------------------------------

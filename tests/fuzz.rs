@@ -37,7 +37,7 @@
 //! Environment: `FUZZ_SECONDS` per target (default 2), `FUZZ_SEED` (default
 //! fixed), `FUZZ_STRICT=1` to fail on the known bugs of `KNOWN_BUGS` too (by
 //! default they are counted and reported but tolerated: each has an ignored
-//! regression test). One is open, of attributes (see `KNOWN_BUGS`);
+//! regression test). None is open now (see `KNOWN_BUGS`);
 //! every other finding fails the run with or without them.
 //! Run long with e.g.
 //! `FUZZ_SECONDS=600 cargo test --release --test fuzz fuzz_ply -- --nocapture`.
@@ -2294,7 +2294,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
             return Err(format!("{tag}: the output's channels are not the input's"));
         }
         // The input vertices (by channel and position) with two values in
-        // one region: KNOWN_BUGS.
+        // one region (once a known bug, tagged apart).
         let mut two_values: HashSet<(String, [u64; 3])> = HashSet::new();
         for ((what, _, c_in), (_, _, c_out)) in in_channels.iter().zip(&out_channels) {
             if c_out.corners.len() != 3 * triangles.len() || c_out.dim != c_in.dim {
@@ -2473,8 +2473,8 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         match delmesh::check::check_files(&input_file, &file) {
             Ok(report) if report.passed() => {}
             Ok(report) => {
-                // Distinct vertices at one position, and copies at seams
-                // that `check` welds back by position: KNOWN_BUGS.
+                // (Distinct vertices at one position with copies at seams,
+                // which `check` once welded together, are tagged apart.)
                 let welded = if coincident && out_format != Format::Obj {
                     "[coincident vertices and seam copies] "
                 } else {
@@ -2557,33 +2557,27 @@ fn special_attributes(rng: &mut Rng, corpus: &[Vec<u8>]) -> Vec<u8> {
 
 /// Known library bugs: a finding whose text contains the pattern is counted
 /// under the bug's name (and tolerated unless `FUZZ_STRICT=1`); each must
-/// have an ignored regression test. Five are open, all found by
-/// `fuzz_attributes` (session 44): `float` properties of an ASCII PLY file
-/// (and an OFF file's fractional face colours, typed `float`) are read as
-/// written, in f64, and written as floats, so an input vertex's value is not
-/// kept exactly (`regression_attributes_text_float_property_kept`); a PLY
-/// face property is read with `inf`, `nan` or `1e400` as its value
+/// have an ignored regression test. None is open. The last five were found
+/// by `fuzz_attributes` (session 44) and fixed in sessions 44 and 46: `float`
+/// properties of an ASCII PLY file kept as their type holds them
+/// (`regression_attributes_text_float_property_kept`); a PLY face property
+/// read with `inf`, `nan` or `1e400` as its value
 /// (`regression_attributes_face_property_not_finite`); a vertex with two
-/// values in one planar region (a seam whose faces join around another
-/// vertex) takes one of them (`regression_attributes_seam_inside_region`);
-/// `check` welds distinct vertices at one position with a PLY or OFF
+/// values in one planar region (`regression_attributes_seam_inside_region`);
+/// `check` welding distinct vertices at one position with a PLY or OFF
 /// output's seam copies (`regression_attributes_coincident_copies`); and a
-/// PLY property named with a control character is read, and refused by the
-/// PLY writer (`regression_attributes_property_name_nul`). Before them the
-/// list was empty: the last two, sample
+/// PLY property named with a control character
+/// (`regression_attributes_property_name_nul`). Before them: sample
 /// constants computed as 0 (`regression_refine_degenerate_sample_constants`)
 /// and sample spacing below f64 resolution
-/// (`regression_refine_samples_below_f64_resolution`), were fixed in commit
+/// (`regression_refine_samples_below_f64_resolution`), fixed in commit
 /// 3a32675 (splits and flips keep each face's exact orientation in its
 /// region), after the pillow (`regression_refine_pillow_duplicate_edge`) and
 /// the faces on one input edge (`regression_refine_face_on_one_input_edge`).
 /// A new entry is `("[tag]", "short name")`, the tag being one that
 /// `precision_tag`, `target_pipeline` or `target_attributes` puts in the
 /// finding.
-const KNOWN_BUGS: &[(&str, &str)] = &[(
-    "[coincident vertices and seam copies]",
-    "check welds distinct coincident vertices with seam copies (regression_attributes_coincident_copies)",
-)];
+const KNOWN_BUGS: &[(&str, &str)] = &[];
 
 fn known_bug(finding: &str) -> Option<&'static str> {
     KNOWN_BUGS
@@ -3970,15 +3964,15 @@ fn regression_attributes_seam_inside_region() {
 /// quads with normals, some folded (their fan triangles overlap), refined
 /// with `--ds stack -s 0 --nomedian` into a mesh with two distinct vertices
 /// at one position (an added vertex on each of two overlapping input
-/// edges). Written as PLY or OFF, whose vertices are copied at seams,
-/// `check` welds the copies back by position and the two distinct vertices
-/// with them: "Euler characteristic 1 became 0 ... (and 1 more)", so
-/// `delmesh -i ... -o out.ply --ds stack -s 0 --nomedian --check` rejects
-/// its own output; the same mesh as OBJ (no copies) passes. Open (src/check.rs
-/// welding of PLY/OFF copies, or the writers' copies of coincident
-/// vertices); only inputs that overlap themselves give such meshes.
+/// edges, which share an end). Written as PLY or OFF, whose vertices are
+/// copied at seams, `check` welded by position, found the edge from that
+/// position to the shared end with four faces, and kept every file vertex at
+/// its ends apart, the seam copies of one vertex too: "Euler characteristic
+/// 1 became 0 ... (and 1 more)", so `delmesh -i ... -o out.ply --ds stack -s
+/// 0 --nomedian --check` rejected its own output; the same mesh as OBJ (no
+/// copies) passed. Fixed (session 46): file vertices that a seam joins stay
+/// one vertex (`unweld` in src/check.rs).
 #[test]
-#[ignore = "open: check welds coincident distinct vertices with seam copies (KNOWN_BUGS)"]
 fn regression_attributes_coincident_copies() {
     let path = regression_file("fuzz-attributes-coincident-copies.obj");
     let mut input = io::read_mesh(&path, &ReadOptions::default()).unwrap();
