@@ -1171,19 +1171,51 @@ impl VertexFaces {
 /// non-manifold edge by giving it a copy of one end only, and its other edges at that copy
 /// then look like a seam.
 fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
-    let file_corners = &file.corners;
-    debug_assert_eq!(mesh.triangles.len(), file_corners.len());
+    debug_assert_eq!(mesh.triangles.len(), file.corners.len());
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
-    let file_count = file_corners.iter().flatten().max().map_or(0, |&m| m as usize + 1);
+    let file_count = file.corners.iter().flatten().max().map_or(0, |&m| m as usize + 1);
     let mut class = UnionFind::new(file_count);
+    if !file.looks.is_empty() {
+        join_seams(&mesh, file, at, &mut class);
+    }
+    let mut first_class = vec![u32::MAX; mesh.positions.len()];
+    let mut own: FastMap<u32, u32> = FastMap::default();
+    for (t, f) in mesh.triangles.iter_mut().zip(&file.corners) {
+        for (v, &fv) in t.iter_mut().zip(f) {
+            if !flagged(*v) {
+                continue;
+            }
+            let c = class.find(fv);
+            let first = &mut first_class[*v as usize];
+            if *first == u32::MAX {
+                *first = c;
+            }
+            if *first != c {
+                let p = mesh.positions[*v as usize];
+                let next = mesh.positions.len() as u32;
+                *v = *own.entry(c).or_insert(next);
+                if *v == next {
+                    mesh.positions.push(p);
+                }
+            }
+        }
+    }
+    mesh
+}
+
+/// Joins in `class` the file vertices at the flagged vertices of `mesh` (see [`unweld`]) that
+/// a seam joins, one welded edge at a time, in order.
+fn join_seams(mesh: &Mesh3, file: &FileVertices, at: &[u32], class: &mut UnionFind) {
+    let file_corners = &file.corners;
+    let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
     // The corners' edges at a flagged vertex, as (low, high, file vertex at low, at high,
     // whether the face runs low to high), grouped by welded edge.
     let mut edges: Vec<CornerEdge> = Vec::new();
-    for (t, file) in mesh.triangles.iter().zip(file_corners) {
+    for (t, f) in mesh.triangles.iter().zip(file_corners) {
         for i in 0..3 {
             let (a, b, j) = (t[i], t[(i + 1) % 3], (i + 1) % 3);
             if a != b && (flagged(a) || flagged(b)) {
-                let (fa, fb) = (file[i], file[j]);
+                let (fa, fb) = (f[i], f[j]);
                 edges.push(if a < b {
                     (a, b, fa, fb, true)
                 } else {
@@ -1234,7 +1266,7 @@ fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
                 .map(|&(v, _, _)| v)
                 .collect();
             if merging.iter().any(|v| classes[v] <= at[*v as usize])
-                || joining_crowds(&edges, &touching, &flagged, &mut class, p, q)
+                || joining_crowds(&edges, &touching, &flagged, class, p, q)
             {
                 continue;
             }
@@ -1243,29 +1275,6 @@ fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
             class.union(p.3, q.3);
         }
     }
-    let mut first_class = vec![u32::MAX; mesh.positions.len()];
-    let mut own: FastMap<u32, u32> = FastMap::default();
-    for (t, file) in mesh.triangles.iter_mut().zip(file_corners) {
-        for (v, &fv) in t.iter_mut().zip(file) {
-            if !flagged(*v) {
-                continue;
-            }
-            let c = class.find(fv);
-            let first = &mut first_class[*v as usize];
-            if *first == u32::MAX {
-                *first = c;
-            }
-            if *first != c {
-                let p = mesh.positions[*v as usize];
-                let next = mesh.positions.len() as u32;
-                *v = *own.entry(c).or_insert(next);
-                if *v == next {
-                    mesh.positions.push(p);
-                }
-            }
-        }
-    }
-    mesh
 }
 
 /// One corner edge at a flagged vertex, as [`unweld`] lists them: (low, high, file vertex at
