@@ -741,10 +741,7 @@ fn coloured_off(vertices: &[[f64; 3]], values: &[u8], faces: &[[u32; 3]]) -> Str
     for (v, g) in vertices.iter().zip(values) {
         text.push_str(&format!("{:?} {:?} {:?} {g} {g} {g} 255\n", v[0], v[1], v[2]));
     }
-    faces
-        .iter()
-        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
-    text
+    text + &face_lines(faces)
 }
 
 /// ASCII PLY text of a mesh whose vertex `i` has the texture coordinates (`values[i]`, 0).
@@ -759,10 +756,7 @@ fn textured_ply(vertices: &[[f64; 3]], values: &[u8], faces: &[[u32; 3]]) -> Str
     for (v, s) in vertices.iter().zip(values) {
         text.push_str(&format!("{:?} {:?} {:?} {s} 0\n", v[0], v[1], v[2]));
     }
-    faces
-        .iter()
-        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
-    text
+    text + &face_lines(faces)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1145,10 +1139,7 @@ fn off(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> String {
     vertices
         .iter()
         .for_each(|v| text.push_str(&format!("{:?} {:?} {:?}\n", v[0], v[1], v[2])));
-    faces
-        .iter()
-        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
-    text
+    text + &face_lines(faces)
 }
 
 /// ASCII PLY text of a mesh with 0-based faces: a header of 9 lines, then a line per vertex
@@ -1163,10 +1154,15 @@ fn ply(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> String {
     vertices
         .iter()
         .for_each(|v| text.push_str(&format!("{:?} {:?} {:?}\n", v[0], v[1], v[2])));
+    text + &face_lines(faces)
+}
+
+/// The face lines of OFF and ASCII PLY text: `3 a b c`, 0-based.
+fn face_lines(faces: &[[u32; 3]]) -> String {
     faces
         .iter()
-        .for_each(|f| text.push_str(&format!("3 {} {} {}\n", f[0], f[1], f[2])));
-    text
+        .map(|f| format!("3 {} {} {}\n", f[0], f[1], f[2]))
+        .collect()
 }
 
 /// Binary STL bytes of triangles.
