@@ -3970,8 +3970,9 @@ fn regression_attributes_seam_inside_region() {
 /// its ends apart, the seam copies of one vertex too: "Euler characteristic
 /// 1 became 0 ... (and 1 more)", so `delmesh -i ... -o out.ply --ds stack -s
 /// 0 --nomedian --check` rejected its own output; the same mesh as OBJ (no
-/// copies) passed. Fixed (session 46): file vertices that a seam joins stay
-/// one vertex (`unweld` in src/check.rs).
+/// copies) passed. Fixed (sessions 46-47): file vertices that a seam joins
+/// (open edges running opposite ways, copies whose values differ) stay one
+/// vertex (`join_seams` in src/check.rs).
 #[test]
 fn regression_attributes_coincident_copies() {
     let path = regression_file("fuzz-attributes-coincident-copies.obj");
