@@ -727,6 +727,13 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
                     reason: content.misnamed_reason(),
                 }
             }
+            (CheckError::Parse { path, .. } | CheckError::NoFaces { path }, _) if formats::is_utf16_text(&bytes) => {
+                CheckError::Parse {
+                    path,
+                    format: format.map_or("OBJ", |f| f.name()),
+                    reason: formats::UTF16_REASON.to_owned(),
+                }
+            }
             (e, _) => e,
         }
     })

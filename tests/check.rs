@@ -638,7 +638,7 @@ fn unreadable_files_are_errors() {
     }
     // Bytes that are not text (UTF-16, here with its byte order mark; a
     // binary file) are refused as the construction's reader refuses them,
-    // not read as a mesh without faces.
+    // not read as a mesh without faces; UTF-16 with a word on converting it.
     let utf16: Vec<u8> = [0xff, 0xfe]
         .into_iter()
         .chain(octahedron().bytes().flat_map(|b| [b, 0]))
@@ -648,7 +648,7 @@ fn unreadable_files_are_errors() {
     let err = check_files(&good, &utf16_path).expect_err("UTF-16");
     assert!(
         err.to_string()
-            .contains("utf16.obj: not a valid OBJ mesh: line 1 is not text"),
+            .contains("utf16.obj: not a valid OBJ mesh: the file is UTF-16 text"),
         "{err}"
     );
     // Not UTF-8 where it is no statement's business (a Latin-1 group

@@ -1902,6 +1902,64 @@ fn two_outputs_naming_one_file_are_refused() {
     }
 }
 
+/// A mesh saved as UTF-16 text (Windows PowerShell's `>` writes it so) is
+/// refused in one line that says so and how to convert it, with or without
+/// a byte order mark, little- or big-endian, from a file or standard input
+/// (also past the 64 KiB a stream is judged by), and by `check`; nothing is
+/// written.
+#[test]
+fn utf16_text_is_refused_with_a_way_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = std::fs::read_to_string(common::data_dir().join("cube.obj")).unwrap();
+    let off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let le = |text: &str| text.bytes().flat_map(|b| [b, 0]).collect::<Vec<u8>>();
+    let be = |text: &str| text.bytes().flat_map(|b| [0, b]).collect::<Vec<u8>>();
+    let with_bom = |text: &str| [0xff, 0xfe].into_iter().chain(le(text)).collect::<Vec<u8>>();
+    let big = cube.repeat(200); // over 64 KiB
+    let cases = [
+        ("bom.obj", with_bom(&cube)),
+        ("le.obj", le(&cube)),
+        ("be.off", be(off)),
+        ("big.obj", with_bom(&big)),
+    ];
+    for (name, bytes) in cases {
+        let input = dir.path().join(name);
+        std::fs::write(&input, &bytes).unwrap();
+        let out = dir.path().join("out.obj");
+        let run = refine(&input, &out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{name}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+        assert!(
+            stderr.contains("UTF-16 text") && stderr.contains("iconv"),
+            "{name}: {stderr}"
+        );
+        assert!(!out.exists(), "{name}: an output was written");
+        let piped = delmesh()
+            .args(["-i", "-", "-o", "-", "-q"])
+            .write_stdin(bytes)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&piped.stderr);
+        assert_eq!(piped.status.code(), Some(1), "{name} piped: {stderr}");
+        assert!(
+            stderr.contains("UTF-16 text") && piped.stdout.is_empty(),
+            "{name} piped: {stderr}"
+        );
+        let checked = delmesh()
+            .arg("check")
+            .arg(common::data_dir().join("cube.obj"))
+            .arg(&input)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&checked.stderr);
+        assert!(
+            !checked.status.success() && stderr.contains("UTF-16 text"),
+            "{name} check: {stderr}"
+        );
+    }
+}
+
 /// An output named `.gz` is gzip-compressed (as inputs may be), and an OBJ
 /// or PLY that starts with a UTF-8 byte order mark reads like one without.
 #[test]

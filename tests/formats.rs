@@ -5,9 +5,9 @@ use std::io::Write;
 use std::time::{Duration, Instant};
 
 use delmesh::io::formats::{
-    format_from_name, maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off, write_off_with,
-    write_ply_ascii, write_ply_binary, write_stl_binary, ColorText, Format, FormatError, Numbering, OffColors,
-    OffExtras, OriginKind, RawMesh,
+    format_from_name, is_utf16_text, maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off,
+    write_off_with, write_ply_ascii, write_ply_binary, write_stl_binary, ColorText, Format, FormatError, Numbering,
+    OffColors, OffExtras, OriginKind, RawMesh,
 };
 
 // ---------------------------------------------------------------------------
@@ -2024,4 +2024,22 @@ fn off_with_attributes_is_written_in_geomview_order() {
         let e = write_off_with(&mut Vec::new(), &p, &t, &bad).unwrap_err();
         assert_eq!(e.to_string(), why);
     }
+}
+
+/// UTF-16 text is told apart from other bytes a reader refuses: ASCII with
+/// a zero byte after or before each character, a byte order mark or not;
+/// not UTF-8 text, a binary PLY, zeros, a binary STL's header, or a few bytes.
+#[test]
+fn utf16_text_is_recognised() {
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let le: Vec<u8> = text.bytes().flat_map(|b| [b, 0]).collect();
+    let be: Vec<u8> = text.bytes().flat_map(|b| [0, b]).collect();
+    assert!(is_utf16_text(&le) && is_utf16_text(&be));
+    assert!(is_utf16_text(&[&[0xff, 0xfe][..], &le].concat()));
+    assert!(is_utf16_text(&[&[0xfe, 0xff][..], &be].concat()));
+    assert!(!is_utf16_text(text.as_bytes()));
+    assert!(!is_utf16_text(b"ply\nformat binary_little_endian 1.0\n"));
+    assert!(!is_utf16_text(&[0; 100]));
+    assert!(!is_utf16_text(&[&[0xff, 0xfe][..], &[0x80; 78][..]].concat()));
+    assert!(!is_utf16_text(&le[..2]));
 }

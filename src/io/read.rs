@@ -169,6 +169,10 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
             path: path.to_owned(),
             what,
         },
+        None if formats::is_utf16_text(&bytes) => Error::Mesh {
+            path: path.to_owned(),
+            what: formats::UTF16_REASON.to_owned(),
+        },
         None => format_error(path, e),
     })
 }

@@ -422,6 +422,7 @@ pub(crate) fn read_judged(
         return Ok(None);
     }
     match judge_start(named, out) {
+        Start::Refused(_) if is_utf16_text(out) => return Ok(Some(UTF16_REASON.to_owned())),
         Start::Refused(what) => return Ok(Some(format!("not {what}: its first 64 KiB cannot start one"))),
         Start::AtMost(limit, what) => {
             // Only a binary STL of the size its header says is left.
@@ -529,6 +530,28 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
     (n == 0 && zeros())
         || (exact && need < prefix.len() as u64)
         || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
+}
+
+/// Why a file of UTF-16 text is refused, and what to do ([`is_utf16_text`]).
+pub const UTF16_REASON: &str = "the file is UTF-16 text (as Windows PowerShell's `>` writes it), and delmesh \
+     reads ASCII or UTF-8 text: convert it first, e.g. `iconv -f UTF-16 -t UTF-8 FILE > NEW`";
+
+/// Whether `bytes` look like UTF-16 text: ASCII characters each with a
+/// zero byte after it (little-endian) or before it (big-endian), after a
+/// UTF-16 byte order mark if there is one. Asked only of a file that a
+/// reader refused, to say why in terms its writer can act on.
+pub fn is_utf16_text(bytes: &[u8]) -> bool {
+    let text = bytes
+        .strip_prefix(b"\xFF\xFE")
+        .or_else(|| bytes.strip_prefix(b"\xFE\xFF"))
+        .unwrap_or(bytes);
+    let head = &text[..text.len().min(64) & !1];
+    if head.len() < 4 {
+        return false;
+    }
+    let ascii = |b: u8| matches!(b, b'\t' | b'\n' | b'\r' | 0x20..=0x7e);
+    let mut pairs = head.chunks_exact(2);
+    pairs.clone().all(|p| ascii(p[0]) && p[1] == 0) || pairs.all(|p| p[0] == 0 && ascii(p[1]))
 }
 
 /// `bytes` without a leading UTF-8 byte order mark.
