@@ -1072,7 +1072,8 @@ fn vertex_syntax_error(values: &[&[u8]], number: i64) -> Option<String> {
         return Some(format!("vertex has {} coordinates, needs 3", values.len()));
     }
     if let Some(w) = values[..3].iter().find(|w| number_of(w).is_none()) {
-        return Some(format!("vertex coordinate '{}' is not a number", show(w)));
+        let hint = crate::io::formats::decimal_comma_hint(w);
+        return Some(format!("vertex coordinate '{}' is not a number{hint}", show(w)));
     }
     match values.len() {
         3 | 6 => None,

@@ -1960,6 +1960,52 @@ fn utf16_text_is_refused_with_a_way_out() {
     }
 }
 
+/// A coordinate written with a decimal comma (`0,5`, as exporters in some
+/// locales write numbers) is refused with a hint, in every text format and
+/// by `check`; other words that are not numbers get none.
+#[test]
+fn a_decimal_comma_is_named_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply_header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                      element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let cases = [
+        ("c.obj", "v 0,5 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".to_owned()),
+        ("c.off", "OFF\n3 1 0\n-0,5 0 0\n1 0 0\n0 1 0\n3 0 1 2\n".to_owned()),
+        ("c.ply", format!("{ply_header}0,5 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")),
+        (
+            "c.stl",
+            "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0,5 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n\
+             endfacet\nendsolid x\n"
+                .to_owned(),
+        ),
+    ];
+    let hint = "decimal comma";
+    for (name, text) in &cases {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).unwrap();
+        let run = refine(&input, dir.path().join("o.obj")).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            run.status.code() == Some(1) && stderr.contains(hint),
+            "{name}: {stderr}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+    }
+    let cube = common::data_dir().join("cube.obj");
+    let checked = delmesh()
+        .arg("check")
+        .arg(&cube)
+        .arg(dir.path().join("c.obj"))
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&checked.stderr).contains(hint));
+    let other = dir.path().join("x.obj");
+    std::fs::write(&other, "v 0;5 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let run = refine(&other, dir.path().join("o.obj")).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("is not a number") && !stderr.contains(hint), "{stderr}");
+}
+
 /// An output named `.gz` is gzip-compressed (as inputs may be), and an OBJ
 /// or PLY that starts with a UTF-8 byte order mark reads like one without.
 #[test]

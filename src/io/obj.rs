@@ -262,7 +262,11 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                     *c = parse_f64(tok.as_bytes()).ok_or_else(|| {
                         error(
                             line_no,
-                            format!("vertex coordinate '{}' is not a number", show(tok.as_bytes())),
+                            format!(
+                                "vertex coordinate '{}' is not a number{}",
+                                show(tok.as_bytes()),
+                                crate::io::formats::decimal_comma_hint(tok.as_bytes())
+                            ),
                         )
                     })?;
                     if !c.is_finite() {

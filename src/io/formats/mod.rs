@@ -532,6 +532,20 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
         || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
 }
 
+/// What to add to "is not a number" for a word `tok` written with a decimal
+/// comma (`0,5`, as some locales' exporters write numbers): a hint, or
+/// nothing.
+pub(crate) fn decimal_comma_hint(tok: &[u8]) -> &'static str {
+    let digits = |w: &[u8]| !w.is_empty() && w.iter().all(u8::is_ascii_digit);
+    let unsigned = tok.strip_prefix(b"-").or_else(|| tok.strip_prefix(b"+")).unwrap_or(tok);
+    match unsigned.iter().position(|&b| b == b',') {
+        Some(k) if digits(&unsigned[..k]) && digits(&unsigned[k + 1..]) => {
+            " (a decimal comma? numbers need a decimal point: 0.5, not 0,5)"
+        }
+        _ => "",
+    }
+}
+
 /// Why a file of UTF-16 text is refused, and what to do ([`is_utf16_text`]).
 pub const UTF16_REASON: &str = "the file is UTF-16 text (as Windows PowerShell's `>` writes it), and delmesh \
      reads ASCII or UTF-8 text: convert it first, e.g. `iconv -f UTF-16 -t UTF-8 FILE > NEW`";

@@ -183,7 +183,11 @@ impl OffAttributes {
         if let Some(k) = span.clone().find(|&k| numbers.not_numbers & (1 << k) != 0) {
             let w = numbers.words[k];
             return self.defect(slot, line, || {
-                format!("vertex {i} {what} `{}` is not a number", show(w))
+                format!(
+                    "vertex {i} {what} `{}` is not a number{}",
+                    show(w),
+                    super::decimal_comma_hint(w)
+                )
             });
         }
         let values = [&mut self.normals, &mut self.colors, &mut self.texcoords][slot].get_or_insert_with(Vec::new);
@@ -426,8 +430,13 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             let w = ws
                 .next()
                 .ok_or_else(|| FormatError::at(line, format!("vertex {i} has {k} coordinates (3 needed)")))?;
-            *c = parse_f64(w)
-                .ok_or_else(|| FormatError::at(line, format!("vertex {i} coordinate `{}` is not a number", show(w))))?;
+            *c = parse_f64(w).ok_or_else(|| {
+                let hint = super::decimal_comma_hint(w);
+                FormatError::at(
+                    line,
+                    format!("vertex {i} coordinate `{}` is not a number{hint}", show(w)),
+                )
+            })?;
         }
         b.vertex(p, line, || format!("vertex {i}"))?;
         attributes.vertex(ws, i, line);

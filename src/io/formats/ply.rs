@@ -1080,7 +1080,7 @@ fn read_ascii_element(
                     // A number that the declared type holds; else why not.
                     let value = match parse_f64(tok) {
                         Some(x) => ty.misfit(x).map_or(Ok(x), Err),
-                        None => Err("is not a number".to_owned()),
+                        None => Err(format!("is not a number{}", super::decimal_comma_hint(tok))),
                     };
                     let what = |why: String| format!("{name} {i} property {}: `{}` {why}", p.name, show(tok));
                     match (*role, value) {

@@ -214,7 +214,11 @@ fn read_stl_ascii(bytes: &[u8]) -> Result<(RawMesh, usize), FormatError> {
                     *c = parse_f64(tok).ok_or_else(|| {
                         FormatError::at(
                             line,
-                            format!("facet {facet} vertex {k} coordinate `{}` is not a number", show(tok)),
+                            format!(
+                                "facet {facet} vertex {k} coordinate `{}` is not a number{}",
+                                show(tok),
+                                super::decimal_comma_hint(tok)
+                            ),
                         )
                     })?;
                 }
