@@ -1962,7 +1962,8 @@ fn utf16_text_is_refused_with_a_way_out() {
 
 /// A coordinate written with a decimal comma (`0,5`, as exporters in some
 /// locales write numbers) is refused with a hint, in every text format and
-/// by `check`; other words that are not numbers get none.
+/// by `check`, and so are numbers separated by commas; other words that are
+/// not numbers get none.
 #[test]
 fn a_decimal_comma_is_named_as_such() {
     let dir = tempfile::tempdir().unwrap();
@@ -1999,6 +2000,10 @@ fn a_decimal_comma_is_named_as_such() {
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&checked.stderr).contains(hint));
+    let listed = dir.path().join("l.obj");
+    std::fs::write(&listed, "v 1.5,2,3\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let run = refine(&listed, dir.path().join("o.obj")).output().unwrap();
+    assert!(String::from_utf8_lossy(&run.stderr).contains("separated by commas"));
     let other = dir.path().join("x.obj");
     std::fs::write(&other, "v 0;5 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let run = refine(&other, dir.path().join("o.obj")).output().unwrap();

@@ -532,16 +532,19 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
         || !prefix[84..].chunks_exact(50).take(n as usize).all(finite)
 }
 
-/// What to add to "is not a number" for a word `tok` written with a decimal
-/// comma (`0,5`, as some locales' exporters write numbers): a hint, or
+/// What to add to "is not a number" for a word `tok` with commas in it: for
+/// a number written with a decimal comma (`0,5`, as some locales' exporters
+/// write numbers) or numbers separated by commas (`1.5,2,3`), a hint; else
 /// nothing.
 pub(crate) fn decimal_comma_hint(tok: &[u8]) -> &'static str {
     let digits = |w: &[u8]| !w.is_empty() && w.iter().all(u8::is_ascii_digit);
     let unsigned = tok.strip_prefix(b"-").or_else(|| tok.strip_prefix(b"+")).unwrap_or(tok);
+    let number = |w: &[u8]| std::str::from_utf8(w).is_ok_and(|t| t.parse::<f64>().is_ok());
     match unsigned.iter().position(|&b| b == b',') {
         Some(k) if digits(&unsigned[..k]) && digits(&unsigned[k + 1..]) => {
             " (a decimal comma? numbers need a decimal point: 0.5, not 0,5)"
         }
+        Some(_) if tok.split(|&b| b == b',').all(number) => " (numbers separated by commas? separate them by spaces)",
         _ => "",
     }
 }
