@@ -2558,7 +2558,7 @@ fn special_attributes(rng: &mut Rng, corpus: &[Vec<u8>]) -> Vec<u8> {
 /// Known library bugs: a finding whose text contains the pattern is counted
 /// under the bug's name (and tolerated unless `FUZZ_STRICT=1`); each must
 /// have an ignored regression test. None is open. The last five were found
-/// by `fuzz_attributes` (session 44) and fixed in sessions 44 and 46: `float`
+/// by `fuzz_attributes` (session 44) and fixed in sessions 44 and 47: `float`
 /// properties of an ASCII PLY file kept as their type holds them
 /// (`regression_attributes_text_float_property_kept`); a PLY face property
 /// read with `inf`, `nan` or `1e400` as its value

@@ -539,12 +539,13 @@ fn binary_stl_refused(prefix: &[u8], exact: bool) -> bool {
 pub(crate) fn decimal_comma_hint(tok: &[u8]) -> &'static str {
     let digits = |w: &[u8]| !w.is_empty() && w.iter().all(u8::is_ascii_digit);
     let unsigned = tok.strip_prefix(b"-").or_else(|| tok.strip_prefix(b"+")).unwrap_or(tok);
-    let number = |w: &[u8]| std::str::from_utf8(w).is_ok_and(|t| t.parse::<f64>().is_ok());
     match unsigned.iter().position(|&b| b == b',') {
         Some(k) if digits(&unsigned[..k]) && digits(&unsigned[k + 1..]) => {
             " (a decimal comma? numbers need a decimal point: 0.5, not 0,5)"
         }
-        Some(_) if tok.split(|&b| b == b',').all(number) => " (numbers separated by commas? separate them by spaces)",
+        Some(_) if tok.split(|&b| b == b',').all(|w| parse_f64(w).is_some()) => {
+            " (numbers separated by commas? separate them by spaces)"
+        }
         _ => "",
     }
 }
