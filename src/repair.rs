@@ -225,6 +225,9 @@ pub struct Repaired {
     pub source_vertex: Vec<u32>,
     /// For each output triangle, the input triangle it comes from. Increasing.
     pub source_triangle: Vec<u32>,
+    /// For each output triangle, whether it was reoriented: its corners are then those of its
+    /// source triangle in the order 0, 2, 1, else in the order 0, 1, 2.
+    pub flipped: Vec<bool>,
     /// What was changed.
     pub report: RepairReport,
 }
@@ -369,6 +372,7 @@ fn unchanged_topology(
         positions: out_positions,
         triangles,
         source_vertex,
+        flipped: vec![false; faces.source.len()],
         source_triangle: faces.source.clone(),
         report,
     };
@@ -1179,6 +1183,7 @@ fn assemble(
         triangles,
         source_vertex,
         source_triangle: faces.source,
+        flipped: flip.to_vec(),
         report,
     }
 }

@@ -481,11 +481,11 @@ fn ply_round_trip() {
     assert!(b.welded >= seam.len(), "{} welded", b.welded);
 }
 
-/// `--repair` drops attributes with a note; OFF output leaves out what it
-/// cannot hold (groups and materials; it keeps the texture coordinates),
-/// and says so.
+/// `--repair` carries attributes (once it dropped them, with a note); OFF
+/// output leaves out what it cannot hold (groups and materials; it keeps
+/// the texture coordinates), and says so.
 #[test]
-fn attributes_dropped_with_a_note() {
+fn attributes_kept_by_repair_and_dropped_with_a_note() {
     let dir = tempfile::tempdir().unwrap();
     let grid = Grid::new(4, 6);
     let input = write(
@@ -494,10 +494,9 @@ fn attributes_dropped_with_a_note() {
         &grid.obj(|p, _| [p.x / 8.0, p.y / 16.0], false, false, false),
     );
     let printout = run(&input, &dir.path().join("r.obj"), &["--repair"]);
-    assert!(
-        printout.contains("note    texture coordinates, groups and materials dropped: --repair does not carry them\n"),
-        "{printout}"
-    );
+    assert!(!printout.contains("dropped"), "{printout}");
+    let repaired = read(&dir.path().join("r.obj"));
+    assert!(repaired.attributes.texcoords.is_some() && !repaired.attributes.face_group.is_empty());
     let printout = run(&input, &dir.path().join("o.off"), &[]);
     assert!(
         printout.contains("note    groups and materials left out: OFF cannot hold them"),
@@ -1386,5 +1385,74 @@ fn ply_colours_keep_their_declared_type() {
         }
         let worst = compare(&a, &b, 500, 3);
         assert!(worst[2] <= step, "{ty}: {worst:?}");
+    }
+}
+
+/// `--repair` carries texture coordinates through what it changes: faces it
+/// reorients keep each corner's value at its own corner, and the faces it
+/// cuts off a non-manifold edge keep theirs. The texture here is affine in
+/// x and y (u = x/6, v = y/6) on a sheared, bumpy height field, with every fifth
+/// face written the wrong way round and a fin on an interior edge: every
+/// output corner, also at the vertices refining adds, must have the value
+/// of its position, in OBJ and in PLY (whose copies at seams come back as
+/// corners).
+#[test]
+fn repair_keeps_each_corners_texture_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 6;
+    let mut text = String::new();
+    let vertex = |text: &mut String, x: f64, y: f64, z: f64| {
+        text.push_str(&format!("v {x:?} {y:?} {z:?}\nvt {:?} {:?}\n", x / 6.0, y / 6.0));
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            let z = 2.0 * (((i * 7 + j * 3) % 5) as f64) / 5.0;
+            // (Sheared: obtuse triangles, which refining must split or flip.)
+            vertex(&mut text, i as f64 + 0.8 * j as f64, j as f64, z);
+        }
+    }
+    // The fin's apex, above the middle of the interior edge (2,2)-(3,2).
+    vertex(&mut text, 4.1, 2.0, 3.0);
+    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
+    let mut face = 0;
+    for j in 0..n {
+        for i in 0..n {
+            for t in [
+                [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+            ] {
+                face += 1;
+                let t = if face % 5 == 0 { [t[0], t[2], t[1]] } else { t };
+                text.push_str(&format!("f {0}/{0} {1}/{1} {2}/{2}\n", t[0], t[1], t[2]));
+            }
+        }
+    }
+    let apex = (n + 1) * (n + 1) + 1;
+    text.push_str(&format!("f {0}/{0} {1}/{1} {2}/{2}\n", id(2, 2), id(3, 2), apex));
+    let input = write(dir.path(), "bumpy.obj", &text);
+    for ext in ["obj", "ply"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let printout = run(&input, &out, &["--repair", "--check"]);
+        assert!(
+            printout.contains("reoriented") && printout.contains("non-manifold edge"),
+            "{printout}"
+        );
+        assert!(!printout.contains("dropped"), "{printout}");
+        let output = read(&out);
+        assert!(
+            output.positions.len() > (n + 1) * (n + 1) + 1,
+            "{ext}: nothing added: {printout}"
+        );
+        let texcoords = output.attributes.texcoords.as_ref().expect("texture coordinates");
+        for (t, tri) in output.triangles.iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                let p = output.positions[v as usize];
+                let uv = texcoords.corner(3 * t + k);
+                assert!(
+                    (uv[0] - p.x / 6.0).abs() < 1e-9 && (uv[1] - p.y / 6.0).abs() < 1e-9,
+                    "{ext}: triangle {t} corner {k} at {p:?} has {uv:?}"
+                );
+            }
+        }
     }
 }

@@ -199,6 +199,13 @@ fn check_triangles_kept(positions: &[[f64; 3]], triangles: &[[u32; 3]], out: &Re
     if max_move > 0.0 {
         return;
     }
+    // Each corner in its source triangle's order, or in the order 0, 2, 1 where `flipped`.
+    assert_eq!(out.flipped.len(), out.triangles.len());
+    for ((t, &s), &flipped) in out.triangles.iter().zip(&out.source_triangle).zip(&out.flipped) {
+        let [a, b, c] = triangles[s as usize].map(|v| positions[v as usize]);
+        let expected = if flipped { [a, c, b] } else { [a, b, c] };
+        assert_eq!(t.map(|v| out.positions[v as usize]), expected, "triangle {s}'s corners");
+    }
     let point_key = |p: [f64; 3]| p.map(|x| (x + 0.0).to_bits());
     let kept: BTreeSet<u32> = out.source_triangle.iter().copied().collect();
     let kept_sets: BTreeSet<[[u64; 3]; 3]> = out

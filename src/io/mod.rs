@@ -38,7 +38,6 @@ pub use read::{
     build_surface, build_surface_with, detect_format, edges_in_supported_scale, finish, in_supported_range, parse_obj,
     read_bytes, read_mesh, read_obj, read_raw, InputMesh, ReadOptions, MAX_COORDINATE, MIN_EDGE,
 };
-use write::attributes_format_cannot_hold;
 pub use write::{
     drop_attributes_format_cannot_hold, output_format, stage_mesh_after, stage_mesh_with_attributes, write_mesh,
     write_mesh_after, write_mesh_with_attributes, write_obj, write_obj_to, Written,

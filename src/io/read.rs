@@ -559,11 +559,19 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     let mut repeated_corners = 0;
     let mut scratch = Vec::new();
     let mut outline = Vec::new();
+    // Each triangle's corners as entries of `raw.indices`, where the attributes' values are.
+    let keep_attributes = !raw.attributes.is_empty();
+    let mut raw_corners: Vec<[u32; 3]> = Vec::new();
     for f in 0..n_faces {
-        let mut p = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
+        let start = raw.face_start[f];
+        let polygon = &raw.indices[start as usize..raw.face_start[f + 1] as usize];
+        let mut p = polygon;
         if let &[a, b, c] = p {
             triangles.push([a, b, c]);
             triangle_face.push(f);
+            if keep_attributes {
+                raw_corners.push([start, start + 1, start + 2]);
+            }
             continue;
         }
         // A corner at the position of the one before it (`f 1 2 2 3`, or
@@ -580,6 +588,14 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         for &[a, b, c] in &pieces {
             triangles.push([p[a], p[b], p[c]]);
             triangle_face.push(f);
+            if keep_attributes {
+                // (A corner of the outline is the polygon's first at that vertex.)
+                let entry = |k: usize| {
+                    let at = polygon.iter().position(|&v| v == p[k]).unwrap_or(k);
+                    start + at as u32
+                };
+                raw_corners.push([entry(a), entry(b), entry(c)]);
+            }
         }
     }
     let (mut fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
@@ -611,6 +627,21 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         }
     }
     let origin_of = |f: usize| raw.face_origin.get(f).copied().unwrap_or(f as u32);
+    // The attributes of the triangles kept, each corner's value where the file gives it (a
+    // reoriented triangle's corners in its own order; copies at cuts keep their corners').
+    let mut corners = Vec::new();
+    let mut triangle_polygon = Vec::new();
+    if keep_attributes {
+        for (&t, &flipped) in fixed.source_triangle.iter().zip(&fixed.flipped) {
+            let [a, b, c] = raw_corners[t as usize];
+            corners.push(if flipped { [a, c, b] } else { [a, b, c] });
+            triangle_polygon.push(triangle_face[t as usize] as u32);
+        }
+    }
+    let (attributes, mut notes) = triangle_attributes(raw, &corners, &triangle_polygon);
+    if unseen_polygons > 0 {
+        notes.push(unseen_note(unseen_polygons));
+    }
     Ok(InputMesh {
         positions: fixed.positions.iter().map(|p| DVec3::from_array(*p)).collect(),
         triangle_origin: fixed
@@ -620,27 +651,15 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
             .collect(),
         vertex_number: fixed.source_vertex.iter().map(|&v| v + 1).collect(),
         triangles: fixed.triangles,
-        // (No attributes after a repair.)
-        triangle_polygon: Vec::new(),
+        triangle_polygon,
         origin_kind: raw.origin_kind,
         numbering: raw.numbering,
         faces_in_file: n_faces,
         welded: fixed.report.welded_vertices,
         unreferenced: fixed.report.unreferenced_vertices,
         repair: Some(fixed.report),
-        attributes: Attributes::default(),
-        notes: {
-            // The reader's notes (data it ignored) first, as without repair.
-            let mut notes = raw.notes.clone();
-            // What the file has, named as an STL output's note names it.
-            if let Some((lost, them)) = attributes_format_cannot_hold(&raw.attributes, Format::Stl) {
-                notes.push(format!("{lost} dropped: --repair does not carry {them}"));
-            }
-            if unseen_polygons > 0 {
-                notes.push(unseen_note(unseen_polygons));
-            }
-            notes
-        },
+        attributes,
+        notes,
         topology,
     })
 }
