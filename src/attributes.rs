@@ -419,6 +419,43 @@ impl Attributes {
             && self.face_properties.is_empty()
     }
 
+    /// Keeps only the groups some face uses, numbered by first use, and none at all when every
+    /// face is in the default group (no `o`, `g` or `usemtl` before it), as a file read afresh
+    /// would have them: after faces were dropped, the groups left are those of the faces kept.
+    pub fn compact_groups(&mut self) {
+        let mut order = vec![u32::MAX; self.groups.len()];
+        let mut used = Vec::new();
+        for g in &mut self.face_group {
+            let Some(slot) = order.get_mut(*g as usize) else {
+                // (Not a group: taken as the default one.)
+                *g = u32::MAX;
+                continue;
+            };
+            if *slot == u32::MAX {
+                *slot = used.len() as u32;
+                used.push(std::mem::take(&mut self.groups[*g as usize]));
+            }
+            *g = *slot;
+        }
+        if self.face_group.contains(&u32::MAX) {
+            let default = used.iter().position(|g| *g == Group::default()).unwrap_or_else(|| {
+                used.push(Group::default());
+                used.len() - 1
+            }) as u32;
+            for g in &mut self.face_group {
+                if *g == u32::MAX {
+                    *g = default;
+                }
+            }
+        }
+        if used.len() > 1 || used.first().is_some_and(|g| *g != Group::default()) {
+            self.groups = used;
+        } else {
+            self.face_group = Vec::new();
+            self.groups = Vec::new();
+        }
+    }
+
     /// The channels present: texture coordinates, normals, colours, then
     /// the vertex properties.
     pub fn channels(&self) -> impl Iterator<Item = (Kind, &Channel)> {

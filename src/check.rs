@@ -45,8 +45,11 @@
 //! copies of vertices at one position, is kept apart: where welding would put more than two
 //! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
 //! ends stay apart; a vertex whose faces form several fans becomes one vertex per fan; and
-//! [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it has fewer
-//! vertices at one position than the INPUT ([`Mesh3::read_like`]). A mesh the construction accepts
+//! [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it has another
+//! count of vertices at one position than the INPUT ([`Mesh3::read_like`]), except the copies
+//! a seam made (OFF and PLY give a vertex one record per attribute value, OBJ one per vertex
+//! colour): where a seam meets a cut and the file leaves a choice of which copies go together,
+//! the one that gives the INPUT's counts and shape is taken. A mesh the construction accepts
 //! without `--repair` is read welded, nothing kept apart.
 //!
 //! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind).
@@ -64,6 +67,7 @@ use std::f64::consts::PI;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::attributes::Channel;
 use crate::hash::FastMap;
 use crate::io::formats::{show, Numbering, OriginKind, RawMesh};
 use crate::io::number::point_text;
@@ -317,7 +321,13 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let Settled {
         mesh: mut output_mesh,
         around: output_around,
-    } = settle_like(welded.mesh, &welded.file_corners, input_positions, input_in_file);
+    } = settle_like(
+        welded.mesh,
+        &welded.file_corners,
+        &input_mesh,
+        input_positions,
+        input_in_file,
+    );
     drop(welded.file_corners);
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
@@ -392,13 +402,13 @@ impl Mesh3 {
     }
 
     /// Reads the output of a run on `input` (read with [`Mesh3::read`]) as [`Mesh3::read`]
-    /// does, except where that gives fewer vertices at a position than `input` has (a surface
-    /// `--repair` cut apart there, whose refined copy need not keep the edges that tell where
-    /// welding must be undone, see `split_welded_sheets`): there the file's own vertices are
-    /// kept apart instead of welded.
+    /// does, except where that gives another count of vertices at a position than `input` has
+    /// (a surface `--repair` cut apart there, whose refined copy need not keep the edges that
+    /// tell where welding must be undone, see `split_welded_sheets`): there the file's own
+    /// vertices are kept apart instead of welded, but for the copies a seam made.
     pub fn read_like(path: impl AsRef<Path>, input: &Mesh3) -> Result<Mesh3, CheckError> {
         let welded = read_welded(path.as_ref())?;
-        Ok(settle_like(welded.mesh, &welded.file_corners, &input.positions, 0).mesh)
+        Ok(settle_like(welded.mesh, &welded.file_corners, input, &input.positions, 0).mesh)
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
@@ -587,10 +597,24 @@ impl<'a> Names<'a> {
 }
 
 /// [`Mesh3::read_like`] on a file already read by [`read_welded`], `input` being the
-/// positions of the input's vertices. Only `input[first_copy..]` may repeat a position of the
-/// input (0 for any mesh; a mesh read by [`read_welded`] and [`settle`] has its copies last,
-/// after the file's welded vertices, and usually none).
-fn settle_like(welded: Mesh3, file_corners: &FileVertices, input: &[DVec3], first_copy: usize) -> Settled {
+/// positions of the input's vertices (those of `input_mesh` that faces use). Only
+/// `input[first_copy..]` may repeat a position of the input (0 for any mesh; a mesh read by
+/// [`read_welded`] and [`settle`] has its copies last, after the file's welded vertices, and
+/// usually none).
+///
+/// Where the output read as [`settle`] reads it has another count of vertices than the input
+/// at a position the input has several at (or the output has), welding is undone there again
+/// ([`unweld`]) with the input's count as the aim. Where a seam meets a cut, which copies a
+/// seam joins is a choice that the file alone does not settle: the first pairing that comes
+/// out with the input's counts and [`Shape`] is kept, or the nearest found (a few dozen tried
+/// at most, one choice changed at a time).
+fn settle_like(
+    welded: Mesh3,
+    file_corners: &FileVertices,
+    input_mesh: &Mesh3,
+    input: &[DVec3],
+    first_copy: usize,
+) -> Settled {
     // How many vertices the input has at each position it has several at (usually none).
     let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
@@ -615,25 +639,157 @@ fn settle_like(welded: Mesh3, file_corners: &FileVertices, input: &[DVec3], firs
         return settle(welded, file_corners);
     }
     let settled = settle(welded.clone(), file_corners);
+    // The positions where the output has several vertices (its copies, last) count too, with
+    // the input's count there: where welding was undone, it may have kept too many apart.
+    let mut extra: FastMap<[u64; 3], i64> = FastMap::default();
+    for p in &settled.mesh.positions[welded.positions.len().min(settled.mesh.positions.len())..] {
+        if !count.contains_key(&bits(*p)) {
+            extra.insert(bits(*p), 0);
+        }
+    }
+    if !extra.is_empty() {
+        for p in input {
+            if let Some(c) = extra.get_mut(&bits(*p)) {
+                *c += 1;
+            }
+        }
+        count.extend(extra.into_iter().filter(|&(_, c)| c > 0));
+    }
     let in_input = count.clone();
     for p in &settled.mesh.positions {
         if let Some(c) = count.get_mut(&bits(*p)) {
             *c -= 1;
         }
     }
-    // Where the output has fewer vertices than the input, the input's count is kept.
-    let short: Vec<u32> = welded
-        .positions
-        .iter()
-        .map(|p| match count.get(&bits(*p)) {
-            Some(&c) if c > 0 => in_input[&bits(*p)] as u32,
-            _ => 0,
-        })
-        .collect();
-    if !short.iter().any(|&c| c > 0) {
+    // Where the output has fewer vertices than the input, or more, the input's count is the
+    // aim: there, and at every position the input has several at (a cut next to one where the
+    // count came out right is undone with it).
+    if count.values().all(|&c| c == 0) {
         return settled;
     }
-    settle(unweld(welded, file_corners, &short), file_corners)
+    let differ: Vec<u32> = welded
+        .positions
+        .iter()
+        .map(|p| in_input.get(&bits(*p)).map_or(0, |&c| c as u32))
+        .collect();
+    // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): one
+    // changed at a time while the outcome comes nearer the input's counts and shape.
+    let target = Shape::of(input_mesh);
+    let attempt = |choices: &[usize]| {
+        let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(choices));
+        let settled = settle(mesh, file_corners);
+        let miss = (choices.excess, Shape::of(&settled.mesh).distance(&target));
+        (settled, choices, miss)
+    };
+    let mut best = attempt(&[]);
+    // (Each attempt reads the mesh again: a few dozen at most, fewer on a large one.)
+    let mut attempts = 64.min(8 + (1 << 24) / (welded.triangles.len() + 1));
+    // The welded edges with a choice, and their options, are the file's: the same in every
+    // attempt. Every combination when there are few, else one choice changed at a time.
+    let options = best.1.options.clone();
+    let combinations = options.iter().try_fold(1usize, |n, &o| n.checked_mul(o));
+    if combinations.is_some_and(|n| n <= attempts) {
+        for n in 1..combinations.unwrap_or(1) {
+            if best.2 == (0, 0) {
+                break;
+            }
+            let mut rest = n;
+            let trial: Vec<usize> = options
+                .iter()
+                .map(|&o| {
+                    let c = rest % o;
+                    rest /= o;
+                    c
+                })
+                .collect();
+            let outcome = attempt(&trial);
+            if outcome.2 < best.2 {
+                best = outcome;
+            }
+        }
+        return best.0;
+    }
+    let mut k = 0;
+    while best.2 != (0, 0) && k < options.len() && attempts > 0 {
+        let mut improved = false;
+        for c in (0..options[k]).filter(|&c| c != best.1.chosen[k]) {
+            if attempts == 0 {
+                break;
+            }
+            attempts -= 1;
+            let mut trial = best.1.chosen.clone();
+            trial[k] = c;
+            let outcome = attempt(&trial);
+            if outcome.2 < best.2 {
+                (best, improved) = (outcome, true);
+                break;
+            }
+        }
+        // (After a change, the choices before it are worth another look.)
+        k = if improved { 0 } else { k + 1 };
+    }
+    best.0
+}
+
+/// What a mesh's refinement keeps, cheap to find: its connected components, Euler
+/// characteristic and boundary loops (counted as cycles of the edges with one face, which is
+/// the number of boundary loops on a manifold).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Shape {
+    components: i64,
+    euler: i64,
+    boundary_loops: i64,
+}
+
+impl Shape {
+    fn of(mesh: &Mesh3) -> Shape {
+        let mut referenced = vec![false; mesh.positions.len()];
+        mesh.triangles
+            .iter()
+            .flatten()
+            .for_each(|&v| referenced[v as usize] = true);
+        let mut edges: Vec<(u32, u32, bool)> = mesh
+            .triangles
+            .iter()
+            .flat_map(|t| [0, 1, 2].map(|i| (t[i], t[(i + 1) % 3])))
+            .map(|(a, b)| (a.min(b), a.max(b), a < b))
+            .collect();
+        edges.sort_unstable();
+        let mut next: FastMap<u32, u32> = FastMap::default();
+        let mut distinct = 0;
+        for run in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            distinct += 1;
+            if let [(lo, hi, forward)] = *run {
+                let (a, b) = if forward { (lo, hi) } else { (hi, lo) };
+                next.insert(a, b);
+            }
+        }
+        let mut loops = 0;
+        let mut seen: HashSet<u32> = HashSet::new();
+        for &start in next.keys() {
+            if seen.contains(&start) {
+                continue;
+            }
+            loops += 1;
+            let mut current = Some(start);
+            while let Some(v) = current.filter(|v| seen.insert(*v)) {
+                current = next.get(&v).copied();
+            }
+        }
+        let vertices = referenced.iter().filter(|&&r| r).count() as i64;
+        Shape {
+            components: count_components(mesh, &referenced) as i64,
+            euler: vertices - distinct + mesh.triangles.len() as i64,
+            boundary_loops: loops,
+        }
+    }
+
+    /// How far `self` is from `other`: the sum of the differences.
+    fn distance(&self, other: &Shape) -> u64 {
+        (self.components.abs_diff(other.components))
+            + self.euler.abs_diff(other.euler)
+            + self.boundary_loops.abs_diff(other.boundary_loops)
+    }
 }
 
 /// A mesh read with bit-identical positions welded, before any welding is undone.
@@ -891,7 +1047,9 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
     let raw = obj_surface(&joined).map_err(parse_error)?;
-    let welded = weld(raw, true, false)
+    // (Texture coordinates and normals are the corners', but a colour is the vertex's: OBJ
+    // copies a vertex at a colour seam.)
+    let welded = weld(raw, true, true)
         .map_err(parse_error)?
         .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
@@ -951,6 +1109,8 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
     // Indices past the vertices read so far, which only the whole file can decide: (line,
     // index).
     let mut forward: Vec<(usize, i64)> = Vec::new();
+    // The vertices' colours, 3 numbers each, once a `v` line has one.
+    let mut colors: Option<Vec<f64>> = None;
     for (i, line) in bytes.split(|&c| c == b'\n').enumerate() {
         let line_number = i + 1;
         let separator = |c: &u8| matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c);
@@ -1001,6 +1161,14 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
             };
             raw.positions.push(p);
             raw.vertex_origin.push(line_number as u32);
+            // A vertex colour (`v x y z r g b`): a vertex with two colours is written as two
+            // vertices, copies at a seam that `looks` tells apart (NaN: none, or unreadable).
+            if let [_, _, _, r, g, b] = values {
+                let colors = colors.get_or_insert_with(|| vec![f64::NAN; 3 * (raw.positions.len() - 1)]);
+                colors.extend([r, g, b].map(|w| number(w).unwrap_or(f64::NAN)));
+            } else if let Some(colors) = &mut colors {
+                colors.extend([f64::NAN; 3]);
+            }
             continue;
         }
         if values.len() < 3 {
@@ -1046,6 +1214,14 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
     }
     if raw.face_start.len() == 1 {
         raw.face_start.clear();
+    }
+    if let Some(values) = colors {
+        // (Each corner's value is its vertex's.)
+        raw.attributes.colors = Some(Channel {
+            dim: 3,
+            values,
+            corners: raw.indices.clone(),
+        });
     }
     Ok(raw)
 }
@@ -1168,24 +1344,30 @@ impl VertexFaces {
 /// ways, and the file vertices at each end are seam copies ([`FileVertices::seam_copies`]:
 /// the same, or with different attribute values, as a seam's copies are), those are one class
 /// (whatever other faces the welded edge has: a seam on one of two sheets that meet along one
-/// line). Where it has more, which pairs belong together is not known, and they stay apart. A
-/// file with no copies (OBJ, STL, or PLY and OFF without attributes) joins nothing: every file
-/// vertex is its own class, as welding found it.
+/// line). Where it has more (a seam on an edge that `--repair` cut), which pairs belong
+/// together is not known: without `choices` they stay apart; with them (when the input's
+/// counts are the aim, see [`settle_like`]), pairs are taken in order, each open file edge in
+/// one at most, starting at the pair `choices` names (see [`join_seams`]), and which choices
+/// were made is returned. A file with no copies (OBJ without
+/// vertex colours, STL, or PLY and OFF without attributes) joins nothing: every file vertex is
+/// its own class, as welding found it.
 ///
 /// Copies that `delmesh --repair` makes where it cuts look the same, but have the same values,
 /// and a seam is not joined either where that would leave a vertex fewer classes than `at`
 /// asks for there (the input's count of vertices at that position, where the output was found
-/// to have fewer), or crowd an edge ([`joining_crowds`]): `--repair` cuts a single face off a
-/// non-manifold edge by giving it a copy of one end only, and its other edges at that copy
+/// to have another), or crowd an edge ([`joining_crowds`]): `--repair` cuts a single face off
+/// a non-manifold edge by giving it a copy of one end only, and its other edges at that copy
 /// then look like a seam.
-fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
+fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], choices: Option<&[usize]>) -> (Mesh3, Choices) {
     debug_assert_eq!(mesh.triangles.len(), file.corners.len());
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
     let file_count = file.corners.iter().flatten().max().map_or(0, |&m| m as usize + 1);
     let mut class = UnionFind::new(file_count);
-    if !file.looks.is_empty() {
-        join_seams(&mesh, file, at, &mut class);
-    }
+    let choices = if file.looks.is_empty() {
+        Choices::default()
+    } else {
+        join_seams(&mesh, file, at, choices, &mut class)
+    };
     let mut first_class = vec![u32::MAX; mesh.positions.len()];
     let mut own: FastMap<u32, u32> = FastMap::default();
     for (t, f) in mesh.triangles.iter_mut().zip(&file.corners) {
@@ -1208,79 +1390,192 @@ fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32]) -> Mesh3 {
             }
         }
     }
-    mesh
+    (mesh, choices)
 }
 
 /// Joins in `class` the file vertices at the flagged vertices of `mesh` (see [`unweld`]) that
-/// a seam joins, one welded edge at a time, in order.
-fn join_seams(mesh: &Mesh3, file: &FileVertices, at: &[u32], class: &mut UnionFind) {
-    let file_corners = &file.corners;
+/// a seam joins, one welded edge at a time, in order; returns what it chose.
+///
+/// Where a welded edge has more than two open file edges (a seam on an edge `--repair` cut,
+/// or at a vertex it cut), which of them pair up is a choice: `choices` says which pair is
+/// tried first at each such welded edge (see [`Seams::pair`]; past its end: the first, in
+/// order), and [`settle_like`] tries others where the outcome is not the input's. Without
+/// `choices` (no input to aim at), such edges' copies stay apart.
+fn join_seams(
+    mesh: &Mesh3,
+    file: &FileVertices,
+    at: &[u32],
+    choices: Option<&[usize]>,
+    class: &mut UnionFind,
+) -> Choices {
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
-    // The corners' edges at a flagged vertex, as (low, high, file vertex at low, at high,
-    // whether the face runs low to high), grouped by welded edge.
-    let mut edges: Vec<CornerEdge> = Vec::new();
-    for (t, f) in mesh.triangles.iter().zip(file_corners) {
-        for i in 0..3 {
-            let (a, b, j) = (t[i], t[(i + 1) % 3], (i + 1) % 3);
-            if a != b && (flagged(a) || flagged(b)) {
-                let (fa, fb) = (f[i], f[j]);
-                edges.push(if a < b {
-                    (a, b, fa, fb, true)
-                } else {
-                    (b, a, fb, fa, false)
-                });
+    let Some(seams) = Seams::new(mesh, file, &flagged) else {
+        return Choices::default();
+    };
+    let mut pairing = seams.pair(file, at, choices);
+    for (i, &f) in seams.files.iter().enumerate() {
+        let root = pairing.class.find(i as u32);
+        class.union(f, seams.files[root as usize]);
+    }
+    pairing.choices
+}
+
+/// The choices of one pass of [`join_seams`]: for each welded edge where one was made, how
+/// many options it had and which was taken; and how many classes above `at` the flagged
+/// vertices have in all.
+#[derive(Clone, Debug, Default)]
+struct Choices {
+    options: Vec<usize>,
+    chosen: Vec<usize>,
+    excess: u64,
+}
+
+/// The corner edges at flagged vertices that [`join_seams`] pairs, with their file vertices
+/// numbered among themselves (`files`), so that each attempt at a pairing is small.
+struct Seams {
+    /// The corner edges, as [`CornerEdge`] with file vertices as indices into `files`, sorted.
+    edges: Vec<CornerEdge>,
+    /// Which of `edges` touch each flagged vertex: a union there is checked against them.
+    touching: FastMap<u32, Vec<usize>>,
+    /// How many file vertices each flagged vertex has.
+    classes: FastMap<u32, u32>,
+    /// The file vertices `edges` name, in increasing order.
+    files: Vec<u32>,
+    /// Whether each welded vertex is flagged.
+    flagged: Vec<bool>,
+}
+
+/// One pairing of [`Seams`]: its classes (of `Seams::files`) and its choices.
+struct Pairing {
+    class: UnionFind,
+    choices: Choices,
+}
+
+impl Seams {
+    fn new(mesh: &Mesh3, file: &FileVertices, flagged: &impl Fn(u32) -> bool) -> Option<Seams> {
+        // The corners' edges at a flagged vertex, as (low, high, file vertex at low, at high,
+        // whether the face runs low to high), grouped by welded edge.
+        let mut edges: Vec<CornerEdge> = Vec::new();
+        for (t, f) in mesh.triangles.iter().zip(&file.corners) {
+            for i in 0..3 {
+                let (a, b, j) = (t[i], t[(i + 1) % 3], (i + 1) % 3);
+                if a != b && (flagged(a) || flagged(b)) {
+                    let (fa, fb) = (f[i], f[j]);
+                    edges.push(if a < b {
+                        (a, b, fa, fb, true)
+                    } else {
+                        (b, a, fb, fa, false)
+                    });
+                }
             }
         }
-    }
-    edges.sort_unstable();
-    // Which of `edges` touch each flagged vertex: a union there is checked against them.
-    let mut touching: FastMap<u32, Vec<usize>> = FastMap::default();
-    for (i, e) in edges.iter().enumerate() {
-        for v in [e.0, e.1].into_iter().filter(|&v| flagged(v)) {
-            touching.entry(v).or_default().push(i);
+        if edges.is_empty() {
+            return None;
         }
-    }
-    // How many classes each flagged vertex has so far (at first, its file vertices).
-    let mut at_flagged: Vec<(u32, u32)> = mesh
-        .triangles
-        .iter()
-        .zip(file_corners)
-        .flat_map(|(t, f)| t.iter().copied().zip(f.iter().copied()))
-        .filter(|&(v, _)| flagged(v))
-        .collect();
-    at_flagged.sort_unstable();
-    at_flagged.dedup();
-    let mut classes: FastMap<u32, u32> = FastMap::default();
-    for &(v, _) in &at_flagged {
-        *classes.entry(v).or_insert(0) += 1;
-    }
-    drop(at_flagged);
-    for group in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-        // (Sorted, so a file edge's faces are next to each other.)
-        let open: Vec<_> = group
-            .chunk_by(|x, y| (x.2, x.3) == (y.2, y.3))
-            .filter(|same| same.len() == 1)
-            .map(|same| same[0])
-            .collect();
-        if let [p, q] = open[..] {
-            if p.4 == q.4 || !file.seam_copies(p.2, q.2) || !file.seam_copies(p.3, q.3) {
-                continue;
+        edges.sort_unstable();
+        let mut files: Vec<u32> = edges.iter().flat_map(|e| [e.2, e.3]).collect();
+        files.sort_unstable();
+        files.dedup();
+        let local = |f: u32| files.binary_search(&f).expect("listed") as u32;
+        let mut touching: FastMap<u32, Vec<usize>> = FastMap::default();
+        let mut at_flagged: Vec<(u32, u32)> = Vec::new();
+        for (i, e) in edges.iter_mut().enumerate() {
+            (e.2, e.3) = (local(e.2), local(e.3));
+            for (v, f) in [(e.0, e.2), (e.1, e.3)].into_iter().filter(|&(v, _)| flagged(v)) {
+                touching.entry(v).or_default().push(i);
+                at_flagged.push((v, f));
             }
-            // The ends where the seam would join two classes into one.
-            let ends = [(p.0, p.2, q.2), (p.1, p.3, q.3)];
-            let merging: Vec<u32> = ends
-                .iter()
-                .filter(|&&(v, x, y)| flagged(v) && class.find(x) != class.find(y))
-                .map(|&(v, _, _)| v)
+        }
+        // How many classes each flagged vertex has at first: its file vertices.
+        at_flagged.sort_unstable();
+        at_flagged.dedup();
+        let mut classes: FastMap<u32, u32> = FastMap::default();
+        for &(v, _) in &at_flagged {
+            *classes.entry(v).or_insert(0) += 1;
+        }
+        let flagged = (0..mesh.positions.len() as u32).map(flagged).collect();
+        Some(Seams {
+            edges,
+            touching,
+            classes,
+            files,
+            flagged,
+        })
+    }
+
+    /// Pairs the open file edges of each welded edge, in order: where some file edge could
+    /// pair with several, the `choices[k]`-th of those pairs (for the `k`-th such welded
+    /// edge; 0 if not given) is tried first, then the others in turn. Without `choices`, only
+    /// a welded edge with exactly two open file edges pairs them.
+    fn pair(&self, file: &FileVertices, at: &[u32], choices: Option<&[usize]>) -> Pairing {
+        let flagged = |v: u32| self.flagged.get(v as usize).copied().unwrap_or(false);
+        let mut class = UnionFind::new(self.files.len());
+        let mut classes = self.classes.clone();
+        let mut options = Vec::new();
+        let mut chosen = Vec::new();
+        let seam_copies = |a: u32, b: u32| file.seam_copies(self.files[a as usize], self.files[b as usize]);
+        for group in self.edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            // (Sorted, so a file edge's faces are next to each other.)
+            let open: Vec<CornerEdge> = group
+                .chunk_by(|x, y| (x.2, x.3) == (y.2, y.3))
+                .filter(|same| same.len() == 1)
+                .map(|same| same[0])
                 .collect();
-            if merging.iter().any(|v| classes[v] <= at[*v as usize])
-                || joining_crowds(&edges, &touching, &flagged, class, p, q)
-            {
+            if choices.is_none() && open.len() != 2 {
                 continue;
             }
-            merging.iter().for_each(|v| *classes.get_mut(v).expect("counted") -= 1);
-            class.union(p.2, q.2);
-            class.union(p.3, q.3);
+            // Two open file edges running opposite ways, the copies at each end differing in
+            // values: they may be one edge of the surface that a seam cut.
+            let mut candidates: Vec<(usize, usize)> = Vec::new();
+            for i in 0..open.len() {
+                for j in i + 1..open.len() {
+                    let (p, q) = (open[i], open[j]);
+                    if p.4 != q.4 && seam_copies(p.2, q.2) && seam_copies(p.3, q.3) {
+                        candidates.push((i, j));
+                    }
+                }
+            }
+            let shared = (0..open.len()).any(|i| candidates.iter().filter(|&&(a, b)| a == i || b == i).count() > 1);
+            if shared {
+                let c = choices.and_then(|c| c.get(options.len())).copied().unwrap_or(0) % candidates.len();
+                candidates.rotate_left(c);
+                options.push(candidates.len());
+                chosen.push(c);
+            }
+            let mut paired = vec![false; open.len()];
+            for (i, j) in candidates {
+                if paired[i] || paired[j] {
+                    continue;
+                }
+                let (p, q) = (open[i], open[j]);
+                // The ends where the seam would join two classes into one.
+                let merging: Vec<u32> = [(p.0, p.2, q.2), (p.1, p.3, q.3)]
+                    .iter()
+                    .filter(|&&(v, x, y)| flagged(v) && class.find(x) != class.find(y))
+                    .map(|&(v, _, _)| v)
+                    .collect();
+                if merging.iter().any(|v| classes[v] <= at[*v as usize])
+                    || joining_crowds(&self.edges, &self.touching, &flagged, &mut class, p, q)
+                {
+                    continue;
+                }
+                merging.iter().for_each(|v| *classes.get_mut(v).expect("counted") -= 1);
+                class.union(p.2, q.2);
+                class.union(p.3, q.3);
+                (paired[i], paired[j]) = (true, true);
+            }
+        }
+        let excess = classes
+            .iter()
+            .map(|(&v, &c)| u64::from(c.saturating_sub(at[v as usize])))
+            .sum();
+        Pairing {
+            class,
+            choices: Choices {
+                options,
+                chosen,
+                excess,
+            },
         }
     }
 }
@@ -1396,7 +1691,7 @@ fn split_welded_sheets(mesh: Mesh3, file: &FileVertices) -> Mesh3 {
     }
     let mut crowded = vec![0; n];
     ends.iter().for_each(|&v| crowded[v as usize] = 1);
-    unweld(mesh, file, &crowded)
+    unweld(mesh, file, &crowded, None).0
 }
 
 /// The values of `items()` (pairs of a key below `n` and a value) grouped by key, in order:

@@ -12,6 +12,7 @@ use assert_cmd::Command;
 use common::{barycentric, channel, Rng};
 use delmesh::attributes::{Channel, Kind};
 use delmesh::io::{self, InputMesh, ReadOptions};
+use delmesh::repair::RepairOptions;
 use glam::DVec3;
 
 fn delmesh() -> Command {
@@ -1453,6 +1454,101 @@ fn repair_keeps_each_corners_texture_coordinates() {
                     "{ext}: triangle {t} corner {k} at {p:?} has {uv:?}"
                 );
             }
+        }
+    }
+}
+
+/// A face `--repair` drops takes its group with it: the output's groups are
+/// those of the faces kept, and a mesh whose kept faces are all outside any
+/// group is written without `g` or `usemtl` at all, as it would be read.
+#[test]
+fn repair_keeps_the_groups_of_the_faces_it_keeps() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.1\n";
+    for (name, text, expected) in [
+        // The duplicate, the only face of group b, goes.
+        (
+            "named.obj",
+            format!("{square}g a\nf 1 2 3\nf 1 3 4\ng b\nf 1 2 3\n"),
+            vec![Some("a")],
+        ),
+        // The duplicate, the only face in a group, goes: no group is left.
+        (
+            "none.obj",
+            format!("{square}f 1 2 3\nf 1 3 4\ng b\nusemtl red\nf 1 2 3\n"),
+            vec![],
+        ),
+    ] {
+        let input = write(dir.path(), name, &text);
+        let out = dir.path().join(format!("out-{name}"));
+        let printout = run(&input, &out, &["--repair"]);
+        assert!(printout.contains("duplicate face"), "{name}: {printout}");
+        let written = std::fs::read_to_string(&out).unwrap();
+        // As read with repair (what refining carries) and as written.
+        let repaired = io::read_mesh(
+            &input,
+            &ReadOptions {
+                repair: Some(RepairOptions::default()),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        for (mesh, what) in [(repaired, "read"), (read(&out), "written")] {
+            let groups: Vec<Option<&str>> = mesh.attributes.groups.iter().map(|g| g.group.as_deref()).collect();
+            assert_eq!(groups, expected, "{name}, {what}: {written}");
+            assert_eq!(
+                mesh.attributes.face_group.is_empty(),
+                expected.is_empty(),
+                "{name}, {what}"
+            );
+        }
+        assert!(
+            !written.contains("g b") && !written.contains("usemtl"),
+            "{name}: {written}"
+        );
+    }
+}
+
+/// A texture seam on an edge `--repair` cuts: three faces on one edge, the
+/// middle one's texture coordinates (or colours) differing from the other
+/// two's there. A PLY output gives its corners copies of the edge's
+/// vertices (an OBJ output too, for colours), which `check` (seeing three
+/// open file edges on one welded edge) must join to one of the two faces
+/// running the other way, not keep apart.
+#[test]
+fn a_seam_on_an_edge_repair_cuts_passes_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(
+        dir.path(),
+        "fin.obj",
+        "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\n\
+         vt 0 0\nvt 1 0\nvt 0.5 1\nvt 0 0.5\nvt 1 0.5\nvt 0.5 -1\nvt 0.5 2\n\
+         f 2/1 1/2 3/3\nf 1/4 2/5 4/6\nf 2/1 1/2 5/7\n",
+    );
+    // The same with vertex colours, which an OBJ output copies too: the middle face's ends
+    // are green copies that repair welds to the red ones.
+    let colours = write(
+        dir.path(),
+        "colours.obj",
+        "v 0 0 0 1 0 0\nv 1 0 0 1 0 0\nv 0.5 1 0 1 0 0\nv 0.5 -1 0 0 1 0\nv 0.5 0 1 1 0 0\n\
+         v 0 0 0 0 1 0\nv 1 0 0 0 1 0\n\
+         f 2 1 3\nf 6 7 4\nf 2 1 5\n",
+    );
+    let repaired = dir.path().join("repaired.obj");
+    for input in [input, colours] {
+        for ext in ["ply", "off", "obj"] {
+            let out = dir.path().join(format!("out.{ext}"));
+            let printout = run(&input, &out, &["--repair", "--repaired", repaired.to_str().unwrap()]);
+            assert!(printout.contains("non-manifold edge"), "{printout}");
+            if ext == "ply" {
+                assert!(printout.contains("copies of vertices at attribute seams"), "{printout}");
+            }
+            if ext == "obj" && input.ends_with("colours.obj") {
+                // (Two copies of the edge's ends: the green ones.)
+                let written = std::fs::read_to_string(&out).unwrap();
+                assert_eq!(written.lines().filter(|l| l.starts_with("v ")).count(), 9, "{written}");
+            }
+            check(&repaired, &out);
         }
     }
 }

@@ -611,25 +611,15 @@ impl Extras {
             mtllib: std::mem::take(&mut self.mtllib),
             ..Attributes::default()
         };
-        if self.grouped && self.groups.len() > 1 {
+        if self.grouped {
             let mut groups = vec![Group::default(); self.groups.len()];
             for (g, i) in std::mem::take(&mut self.groups) {
                 groups[i as usize] = g;
             }
-            // Number groups by first use (group 0, "none", may be unused).
-            let mut order = vec![u32::MAX; groups.len()];
-            let mut used = Vec::new();
-            for g in &mut self.face_group {
-                if order[*g as usize] == u32::MAX {
-                    order[*g as usize] = used.len() as u32;
-                    used.push(std::mem::take(&mut groups[*g as usize]));
-                }
-                *g = order[*g as usize];
-            }
-            if used.len() > 1 || used.first().is_some_and(|g| *g != Group::default()) {
-                a.face_group = std::mem::take(&mut self.face_group);
-                a.groups = used;
-            }
+            a.groups = groups;
+            a.face_group = std::mem::take(&mut self.face_group);
+            // (Group 0, "none", may be unused.)
+            a.compact_groups();
         }
         let texcoord_dim = self.texcoord_dim.max(1);
         let color_corners = if self.colored == vertices {

@@ -457,6 +457,8 @@ fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &
             .iter()
             .map(|&f| raw.attributes.face_group.get(f as usize).copied().unwrap_or(0))
             .collect();
+        // (Repair may have dropped every face of a group.)
+        a.compact_groups();
     }
     for (kind, channel) in raw.attributes.channels() {
         let corners: Vec<u32> = raw_corners
