@@ -1353,11 +1353,12 @@ impl VertexFaces {
 /// its own class, as welding found it.
 ///
 /// Copies that `delmesh --repair` makes where it cuts look the same, but have the same values,
-/// and a seam is not joined either where that would leave a vertex fewer classes than `at`
-/// asks for there (the input's count of vertices at that position, where the output was found
-/// to have another), or crowd an edge ([`joining_crowds`]): `--repair` cuts a single face off
-/// a non-manifold edge by giving it a copy of one end only, and its other edges at that copy
-/// then look like a seam.
+/// and a seam is not joined where the edge it would make is not Delaunay (a seam of a
+/// Delaunay mesh is a Delaunay edge; two cut boundaries folded onto each other make none), nor
+/// where that would leave a vertex fewer classes than `at` asks for there (the input's count
+/// of vertices at that position, where the output was found to have another), or crowd an
+/// edge ([`joining_crowds`]): `--repair` cuts a single face off a non-manifold edge by giving
+/// it a copy of one end only, and its other edges at that copy then look like a seam.
 fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], choices: Option<&[usize]>) -> (Mesh3, Choices) {
     debug_assert_eq!(mesh.triangles.len(), file.corners.len());
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
@@ -1432,7 +1433,9 @@ struct Choices {
 
 /// The corner edges at flagged vertices that [`join_seams`] pairs, with their file vertices
 /// numbered among themselves (`files`), so that each attempt at a pairing is small.
-struct Seams {
+struct Seams<'a> {
+    /// The welded mesh's positions.
+    positions: &'a [DVec3],
     /// The corner edges, as [`CornerEdge`] with file vertices as indices into `files`, sorted.
     edges: Vec<CornerEdge>,
     /// Which of `edges` touch each flagged vertex: a union there is checked against them.
@@ -1451,20 +1454,19 @@ struct Pairing {
     choices: Choices,
 }
 
-impl Seams {
-    fn new(mesh: &Mesh3, file: &FileVertices, flagged: &impl Fn(u32) -> bool) -> Option<Seams> {
-        // The corners' edges at a flagged vertex, as (low, high, file vertex at low, at high,
-        // whether the face runs low to high), grouped by welded edge.
+impl Seams<'_> {
+    fn new<'a>(mesh: &'a Mesh3, file: &FileVertices, flagged: &impl Fn(u32) -> bool) -> Option<Seams<'a>> {
+        // The corners' edges at a flagged vertex, as [`CornerEdge`]s, grouped by welded edge.
         let mut edges: Vec<CornerEdge> = Vec::new();
         for (t, f) in mesh.triangles.iter().zip(&file.corners) {
             for i in 0..3 {
                 let (a, b, j) = (t[i], t[(i + 1) % 3], (i + 1) % 3);
                 if a != b && (flagged(a) || flagged(b)) {
-                    let (fa, fb) = (f[i], f[j]);
+                    let (fa, fb, c) = (f[i], f[j], t[(i + 2) % 3]);
                     edges.push(if a < b {
-                        (a, b, fa, fb, true)
+                        (a, b, fa, fb, true, c)
                     } else {
-                        (b, a, fb, fa, false)
+                        (b, a, fb, fa, false, c)
                     });
                 }
             }
@@ -1495,6 +1497,7 @@ impl Seams {
         }
         let flagged = (0..mesh.positions.len() as u32).map(flagged).collect();
         Some(Seams {
+            positions: &mesh.positions,
             edges,
             touching,
             classes,
@@ -1525,12 +1528,18 @@ impl Seams {
                 continue;
             }
             // Two open file edges running opposite ways, the copies at each end differing in
-            // values: they may be one edge of the surface that a seam cut.
+            // values: they may be one edge of the surface that a seam cut; but not one that
+            // would be a non-Delaunay edge (as where two sheets' boundaries fold onto each
+            // other), which no seam of a Delaunay mesh is.
+            let delaunay = |p: CornerEdge, q: CornerEdge| {
+                let at = |v: u32| self.positions[v as usize];
+                excess(at(p.0), at(p.1), at(p.5), at(q.5)) <= DELAUNAY_TOLERANCE
+            };
             let mut candidates: Vec<(usize, usize)> = Vec::new();
             for i in 0..open.len() {
                 for j in i + 1..open.len() {
                     let (p, q) = (open[i], open[j]);
-                    if p.4 != q.4 && seam_copies(p.2, q.2) && seam_copies(p.3, q.3) {
+                    if p.4 != q.4 && seam_copies(p.2, q.2) && seam_copies(p.3, q.3) && delaunay(p, q) {
                         candidates.push((i, j));
                     }
                 }
@@ -1581,8 +1590,8 @@ impl Seams {
 }
 
 /// One corner edge at a flagged vertex, as [`unweld`] lists them: (low, high, file vertex at
-/// low, at high, whether the face runs low to high).
-type CornerEdge = (u32, u32, u32, u32, bool);
+/// low, at high, whether the face runs low to high, the face's third vertex).
+type CornerEdge = (u32, u32, u32, u32, bool, u32);
 
 /// Whether joining the seam `p`, `q` (two open file edges of one welded edge) would crowd an
 /// edge at either of its ends: give it more than two faces, or two running the same way, with
@@ -1617,7 +1626,7 @@ fn joining_crowds(
         .iter()
         .map(|&i| {
             let e = edges[i];
-            (e.0, e.1, side(e.0, e.2), side(e.1, e.3), e.4)
+            (e.0, e.1, side(e.0, e.2), side(e.1, e.3), e.4, 0)
         })
         .collect();
     keys.sort_unstable();
