@@ -672,27 +672,28 @@ fn settle_like(
         .iter()
         .map(|p| in_input.get(&bits(*p)).map_or(0, |&c| c as u32))
         .collect();
-    // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): one
-    // changed at a time while the outcome comes nearer the input's counts and shape.
+    // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): the
+    // pairings are tried until one comes out with the input's counts and shape.
     let target = Shape::of(input_mesh);
     let attempt = |choices: &[usize]| {
         let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(choices));
         let settled = settle(mesh, file_corners);
         let miss = (choices.excess, Shape::of(&settled.mesh).distance(&target));
-        (settled, choices, miss)
+        Attempt { settled, choices, miss }
     };
     let mut best = attempt(&[]);
     // (Each attempt reads the mesh again: a few dozen at most, fewer on a large one.)
     let mut attempts = 64.min(8 + (1 << 24) / (welded.triangles.len() + 1));
     // The welded edges with a choice, and their options, are the file's: the same in every
     // attempt. Every combination when there are few, else one choice changed at a time.
-    let options = best.1.options.clone();
+    let options = best.choices.options.clone();
     let combinations = options.iter().try_fold(1usize, |n, &o| n.checked_mul(o));
     if combinations.is_some_and(|n| n <= attempts) {
         for n in 1..combinations.unwrap_or(1) {
-            if best.2 == (0, 0) {
+            if best.miss == (0, 0) {
                 break;
             }
+            // (The `n`-th combination, in mixed radix.)
             let mut rest = n;
             let trial: Vec<usize> = options
                 .iter()
@@ -703,24 +704,24 @@ fn settle_like(
                 })
                 .collect();
             let outcome = attempt(&trial);
-            if outcome.2 < best.2 {
+            if outcome.miss < best.miss {
                 best = outcome;
             }
         }
-        return best.0;
+        return best.settled;
     }
     let mut k = 0;
-    while best.2 != (0, 0) && k < options.len() && attempts > 0 {
+    while best.miss != (0, 0) && k < options.len() && attempts > 0 {
         let mut improved = false;
-        for c in (0..options[k]).filter(|&c| c != best.1.chosen[k]) {
+        for c in (0..options[k]).filter(|&c| c != best.choices.chosen[k]) {
             if attempts == 0 {
                 break;
             }
             attempts -= 1;
-            let mut trial = best.1.chosen.clone();
+            let mut trial = best.choices.chosen.clone();
             trial[k] = c;
             let outcome = attempt(&trial);
-            if outcome.2 < best.2 {
+            if outcome.miss < best.miss {
                 (best, improved) = (outcome, true);
                 break;
             }
@@ -728,7 +729,15 @@ fn settle_like(
         // (After a change, the choices before it are worth another look.)
         k = if improved { 0 } else { k + 1 };
     }
-    best.0
+    best.settled
+}
+
+/// One reading of an output in [`settle_like`]: the mesh, the seam choices made, and how far
+/// it is from the input (classes above the input's counts, then the distance of [`Shape`]s).
+struct Attempt {
+    settled: Settled,
+    choices: Choices,
+    miss: (u64, u64),
 }
 
 /// What a mesh's refinement keeps, cheap to find: its connected components, Euler
@@ -742,6 +751,7 @@ struct Shape {
 }
 
 impl Shape {
+    /// The shape of `mesh`, counting only the vertices some face uses.
     fn of(mesh: &Mesh3) -> Shape {
         let mut referenced = vec![false; mesh.positions.len()];
         mesh.triangles
@@ -1348,9 +1358,9 @@ impl VertexFaces {
 /// together is not known: without `choices` they stay apart; with them (when the input's
 /// counts are the aim, see [`settle_like`]), pairs are taken in order, each open file edge in
 /// one at most, starting at the pair `choices` names (see [`join_seams`]), and which choices
-/// were made is returned. A file with no copies (OBJ without
-/// vertex colours, STL, or PLY and OFF without attributes) joins nothing: every file vertex is
-/// its own class, as welding found it.
+/// were made is returned. A file with no copies (OBJ without vertex colours, STL, or PLY and
+/// OFF without attributes) joins nothing: every file vertex is its own class, as welding found
+/// it.
 ///
 /// Copies that `delmesh --repair` makes where it cuts look the same, but have the same values,
 /// and a seam is not joined where the edge it would make is not Delaunay (a seam of a
