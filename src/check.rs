@@ -606,8 +606,9 @@ impl<'a> Names<'a> {
 /// at a position the input has several at (or the output has), welding is undone there again
 /// ([`unweld`]) with the input's count as the aim. Where a seam meets a cut, which copies a
 /// seam joins is a choice that the file alone does not settle: the first pairing that comes
-/// out with the input's counts and [`Shape`] is kept, or the nearest found (a few dozen tried
-/// at most, one choice changed at a time).
+/// out with the input's counts and [`Shape`] is kept, or the nearest found (every combination
+/// of choices when there are few enough for the mesh's size, else one choice changed at a
+/// time).
 fn settle_like(
     welded: Mesh3,
     file_corners: &FileVertices,
@@ -682,8 +683,8 @@ fn settle_like(
         Attempt { settled, choices, miss }
     };
     let mut best = attempt(&[]);
-    // (Each attempt reads the mesh again: a few dozen at most, fewer on a large one.)
-    let mut attempts = 64.min(8 + (1 << 24) / (welded.triangles.len() + 1));
+    // (Each attempt reads the mesh again: thousands on a small mesh, a few dozen on a large one.)
+    let mut attempts = 4096.min(8 + (1 << 24) / (welded.triangles.len() + 1));
     // The welded edges with a choice, and their options, are the file's: the same in every
     // attempt. Every combination when there are few, else one choice changed at a time.
     let options = best.choices.options.clone();
