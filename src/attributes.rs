@@ -423,30 +423,20 @@ impl Attributes {
     /// face is in the default group (no `o`, `g` or `usemtl` before it), as a file read afresh
     /// would have them: after faces were dropped, the groups left are those of the faces kept.
     pub fn compact_groups(&mut self) {
+        if self.groups.is_empty() {
+            self.face_group = Vec::new();
+            return;
+        }
         let mut order = vec![u32::MAX; self.groups.len()];
         let mut used = Vec::new();
         for g in &mut self.face_group {
-            let Some(slot) = order.get_mut(*g as usize) else {
-                // (Not a group: taken as the default one.)
-                *g = u32::MAX;
-                continue;
-            };
-            if *slot == u32::MAX {
-                *slot = used.len() as u32;
-                used.push(std::mem::take(&mut self.groups[*g as usize]));
+            // (An index past the groups, which no reader makes, is taken as the first.)
+            let i = (*g as usize).min(order.len() - 1);
+            if order[i] == u32::MAX {
+                order[i] = used.len() as u32;
+                used.push(std::mem::take(&mut self.groups[i]));
             }
-            *g = *slot;
-        }
-        if self.face_group.contains(&u32::MAX) {
-            let default = used.iter().position(|g| *g == Group::default()).unwrap_or_else(|| {
-                used.push(Group::default());
-                used.len() - 1
-            }) as u32;
-            for g in &mut self.face_group {
-                if *g == u32::MAX {
-                    *g = default;
-                }
-            }
+            *g = order[i];
         }
         if used.len() > 1 || used.first().is_some_and(|g| *g != Group::default()) {
             self.groups = used;

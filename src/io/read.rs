@@ -564,6 +564,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     // Each triangle's corners as entries of `raw.indices`, where the attributes' values are.
     let keep_attributes = !raw.attributes.is_empty();
     let mut raw_corners: Vec<[u32; 3]> = Vec::new();
+    let mut entries: Vec<u32> = Vec::new();
     for f in 0..n_faces {
         let start = raw.face_start[f];
         let polygon = &raw.indices[start as usize..raw.face_start[f + 1] as usize];
@@ -587,16 +588,24 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
         }
         keyhole_polygons += passes_a_point_twice(p, &raw.positions, &mut scratch) as usize;
         unseen_polygons += !polygon::triangulate(p.len(), |i| raw.positions[p[i] as usize], &mut pieces) as usize;
+        if keep_attributes {
+            // Each corner of `p` as an entry of the polygon: `p` is the polygon, or its outline
+            // (the polygon's corners in order, some left out), matched in one walk.
+            entries.clear();
+            let mut i = 0;
+            for &v in p {
+                while i + 1 < polygon.len() && polygon[i] != v {
+                    i += 1;
+                }
+                entries.push(start + i.min(polygon.len() - 1) as u32);
+                i += 1;
+            }
+        }
         for &[a, b, c] in &pieces {
             triangles.push([p[a], p[b], p[c]]);
             triangle_face.push(f);
             if keep_attributes {
-                // (A corner of the outline is the polygon's first at that vertex.)
-                let entry = |k: usize| {
-                    let at = polygon.iter().position(|&v| v == p[k]).unwrap_or(k);
-                    start + at as u32
-                };
-                raw_corners.push([entry(a), entry(b), entry(c)]);
+                raw_corners.push([entries[a], entries[b], entries[c]]);
             }
         }
     }
