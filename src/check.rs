@@ -49,7 +49,7 @@
 //! count of vertices at one position than the INPUT ([`Mesh3::read_like`]), except the copies
 //! a seam made (OFF and PLY give a vertex one record per attribute value, OBJ one per vertex
 //! colour): where a seam meets a cut and the file leaves a choice of which copies go together,
-//! the one that gives the INPUT's counts and shape is taken. A mesh the construction accepts
+//! the one that gives the INPUT's shape (then its counts) is taken. A mesh the construction accepts
 //! without `--repair` is read welded, nothing kept apart.
 //!
 //! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind).
@@ -674,12 +674,12 @@ fn settle_like(
         .map(|p| in_input.get(&bits(*p)).map_or(0, |&c| c as u32))
         .collect();
     // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): the
-    // pairings are tried until one comes out with the input's counts and shape.
+    // pairings are tried until one comes out with the input's shape and counts (shape first).
     let target = Shape::of(input_mesh);
     let attempt = |choices: &[usize]| {
         let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(choices));
         let settled = settle(mesh, file_corners);
-        let miss = (choices.excess, Shape::of(&settled.mesh).distance(&target));
+        let miss = (Shape::of(&settled.mesh).distance(&target), choices.excess);
         Attempt { settled, choices, miss }
     };
     let mut best = attempt(&[]);
@@ -734,7 +734,9 @@ fn settle_like(
 }
 
 /// One reading of an output in [`settle_like`]: the mesh, the seam choices made, and how far
-/// it is from the input (classes above the input's counts, then the distance of [`Shape`]s).
+/// it is from the input: the distance of [`Shape`]s, then the classes above the input's
+/// counts. (Shape first: where seams meet a vertex `--repair` split, a valid output can need
+/// a copy kept apart to have the input's shape, and no pairing has both.)
 struct Attempt {
     settled: Settled,
     choices: Choices,
