@@ -1552,3 +1552,33 @@ fn a_seam_on_an_edge_repair_cuts_passes_check() {
         }
     }
 }
+
+/// Colours that differ at a vertex only below what a byte holds are one value in a PLY file:
+/// the vertex is written once (with a copy, the file would have two vertices there, alike in
+/// everything, and a crack that `check` rightly reads as one), while colours a byte tells
+/// apart still get their copies. An OFF output writes these colours as numbers, exactly, so
+/// it copies the vertex in both cases.
+#[test]
+fn colours_alike_in_bytes_make_no_copy_in_ply() {
+    let dir = tempfile::tempdir().unwrap();
+    for (other, copies_in_ply) in [("0.5001", 0), ("0.9", 2)] {
+        // A square folded along its diagonal, each half with its own copies of the diagonal's
+        // ends (welded on reading), the second half's colour `other`.
+        let input = write(
+            dir.path(),
+            "fold.obj",
+            &format!(
+                "v 0 0 0 0.5 0.5 0.5\nv 1 0 0 0.5 0.5 0.5\nv 1 1 0.2 0.5 0.5 0.5\nv 0 1 0 {other} 0.5 0.5\n\
+                 v 0 0 0 {other} 0.5 0.5\nv 1 1 0.2 {other} 0.5 0.5\nf 1 2 3\nf 5 6 4\n"
+            ),
+        );
+        for (ext, copies) in [("ply", copies_in_ply), ("off", 2)] {
+            let out = dir.path().join(format!("fold-out.{ext}"));
+            let printout = run(&input, &out, &[]);
+            let vertices = read(&out).positions.len();
+            let records = io::read_raw(&out).unwrap().positions.len();
+            assert_eq!((vertices, records - vertices), (4, copies), "{other} {ext}: {printout}");
+            check(&input, &out);
+        }
+    }
+}

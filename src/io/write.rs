@@ -283,6 +283,17 @@ pub fn stage_mesh_with_attributes(
                     values: p.values.clone(),
                 })
                 .collect();
+            let mut split = split;
+            let record = |i: usize| {
+                let mut bytes = Vec::new();
+                columns.iter().for_each(|c| c.ty.put_le(c.values[i], &mut bytes));
+                bytes
+            };
+            if let Some(keep) = merge_alike_copies(positions.len(), &mut split, record) {
+                for c in &mut columns {
+                    c.values = keep.iter().map(|&i| c.values[i]).collect();
+                }
+            }
             let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
             copies_of = split.source[positions.len()..].to_vec();
             // The texture image with the texture coordinates, as MeshLab names it.
@@ -356,6 +367,43 @@ pub fn stage_mesh_with_attributes(
                         })
                         .collect(),
                 });
+                let mut split = split;
+                let record = |i: usize| {
+                    let mut bytes = Vec::new();
+                    let mut numbers = |values: &Option<Vec<f64>>, dim: usize| {
+                        if let Some(values) = values {
+                            (values[dim * i..dim * (i + 1)].iter())
+                                .for_each(|x| bytes.extend(x.to_bits().to_le_bytes()));
+                        }
+                    };
+                    numbers(&extras.texcoords, 2);
+                    numbers(&extras.normals, 3);
+                    if let Some(c) = &extras.colors {
+                        for &x in &c.values[c.dim * i..c.dim * (i + 1)] {
+                            match c.text {
+                                formats::ColorText::Bytes => bytes.push(formats::color_byte(x)),
+                                formats::ColorText::Floats => bytes.extend(x.to_bits().to_le_bytes()),
+                            }
+                        }
+                    }
+                    bytes
+                };
+                if let Some(keep) = merge_alike_copies(positions.len(), &mut split, record) {
+                    let pick = |values: &mut Vec<f64>, dim: usize| {
+                        *values = (keep.iter())
+                            .flat_map(|&i| values[dim * i..dim * (i + 1)].to_vec())
+                            .collect();
+                    };
+                    if let Some(t) = &mut extras.texcoords {
+                        pick(t, 2);
+                    }
+                    if let Some(n) = &mut extras.normals {
+                        pick(n, 3);
+                    }
+                    if let Some(c) = &mut extras.colors {
+                        pick(&mut c.values, c.dim);
+                    }
+                }
                 let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
                 copies_of = split.source[positions.len()..].to_vec();
                 stage(path, |w| {
@@ -387,6 +435,44 @@ fn split_per_vertex<'a>(
         &channels.iter().map(|(_, c)| *c).collect::<Vec<_>>(),
     );
     (channels, split)
+}
+
+/// Drops the copies that `split` made at seams whose record in the file is the same as that
+/// of an earlier vertex of the file at the same mesh vertex, and points their corners there:
+/// values that differ but are written alike (colours rounded to bytes, numbers narrowed to a
+/// property's type) make no seam in the file, and two alike records at one place would read
+/// as two vertices, a crack the mesh does not have. `record(i)` is what the file holds for
+/// the values of written vertex `i`; the mesh's own `n` vertices stay. Returns the old index
+/// of each vertex kept, in order, if any copy was dropped.
+fn merge_alike_copies(n: usize, split: &mut PerVertex, record: impl Fn(usize) -> Vec<u8>) -> Option<Vec<usize>> {
+    let total = split.source.len();
+    if total == n {
+        return None;
+    }
+    // (Mesh vertex, record) -> its first written vertex, new numbering.
+    let mut first: crate::hash::FastMap<(u32, Vec<u8>), u32> = Default::default();
+    for &v in &split.source[n..] {
+        first.entry((v, record(v as usize))).or_insert(v);
+    }
+    let mut to: Vec<u32> = (0..n as u32).collect();
+    let mut keep: Vec<usize> = (0..n).collect();
+    for i in n..total {
+        let next = keep.len() as u32;
+        let target = *first.entry((split.source[i], record(i))).or_insert(next);
+        if target == next {
+            keep.push(i);
+        }
+        to.push(target);
+    }
+    if keep.len() == total {
+        return None;
+    }
+    split.triangles.iter_mut().flatten().for_each(|v| *v = to[*v as usize]);
+    split.source = keep.iter().map(|&i| split.source[i]).collect();
+    for column in &mut split.values {
+        *column = keep.iter().map(|&i| column[i]).collect();
+    }
+    Some(keep)
 }
 
 /// Number `k` of value `i` of `channel` (0 where it has none).

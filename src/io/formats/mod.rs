@@ -60,8 +60,8 @@ mod off;
 mod ply;
 mod stl;
 
+pub use off::{color_byte, read_off, write_off, write_off_with, ColorText, OffColors, OffExtras};
 use off::{glued_vertex_count, off_keyword};
-pub use off::{read_off, write_off, write_off_with, ColorText, OffColors, OffExtras};
 use ply::VertexChannels;
 pub use ply::{read_ply, write_ply_ascii, write_ply_binary, write_ply_binary_columns, PlyColumn};
 use stl::{binary_stl_size, starts_with_solid};

@@ -525,6 +525,13 @@ pub struct OffColors {
     pub values: Vec<f64>,
 }
 
+/// The byte an OFF file holds for a colour number `x` in 0..255 written as
+/// [`ColorText::Bytes`].
+pub fn color_byte(x: f64) -> u8 {
+    // (`as` saturates; the values are finite.)
+    x.round().clamp(0.0, 255.0) as u8
+}
+
 /// What an OFF file holds besides positions and faces, for
 /// [`write_off_with`]: per vertex, in the order of its line, a normal, a
 /// colour and texture coordinates (announced by the keyword's `N`, `C` and
@@ -633,9 +640,7 @@ fn push_color(line: &mut Vec<u8>, num: &mut zmij::Buffer, c: &OffColors, i: usiz
         line.push(b' ');
         match c.text {
             // (`as` saturates; the values are finite.)
-            ColorText::Bytes => {
-                push_decimal(line, u64::from(x.round().clamp(0.0, 255.0) as u8));
-            }
+            ColorText::Bytes => push_decimal(line, u64::from(color_byte(x))),
             ColorText::Floats => {
                 let text = num.format_finite(x);
                 // A float as a float: with a point (1.0, 1.0e-5).
