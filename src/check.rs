@@ -676,8 +676,13 @@ fn settle_like(
     // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): the
     // pairings are tried until one comes out with the input's shape and counts (shape first).
     let target = Shape::of(input_mesh);
+    let boundary = boundary_edges_by_position(input_mesh);
     let attempt = |choices: &[usize]| {
-        let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(choices));
+        let aim = Aim {
+            choices,
+            boundary: &boundary,
+        };
+        let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(aim));
         let settled = settle(mesh, file_corners);
         let miss = (Shape::of(&settled.mesh).distance(&target), choices.excess);
         Attempt { settled, choices, miss }
@@ -731,6 +736,37 @@ fn settle_like(
         k = if improved { 0 } else { k + 1 };
     }
     best.settled
+}
+
+/// What [`settle_like`] aims an attempt at: which seam pairs to try first at each welded
+/// edge with a choice (see [`Seams::pair`]), and the input's boundary edges by position.
+#[derive(Clone, Copy)]
+struct Aim<'a> {
+    choices: &'a [usize],
+    boundary: &'a BoundaryByPosition,
+}
+
+/// How many boundary edges (edges with one face) a mesh has between each pair of positions,
+/// the lower position's bits first; only pairs with some.
+type BoundaryByPosition = FastMap<([u64; 3], [u64; 3]), usize>;
+
+/// The boundary edges of `mesh` counted by their ends' positions ([`BoundaryByPosition`]).
+/// Where `--repair` cut an edge, its copies can be two boundary edges at one place: the
+/// output keeps them both open, and two open file edges there are no seam to join.
+fn boundary_edges_by_position(mesh: &Mesh3) -> BoundaryByPosition {
+    let mut faces: FastMap<(u32, u32), u32> = FastMap::default();
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            *faces.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let mut out = BoundaryByPosition::default();
+    for (&(a, b), _) in faces.iter().filter(|&(_, &n)| n == 1) {
+        let (pa, pb) = (bits(mesh.positions[a as usize]), bits(mesh.positions[b as usize]));
+        *out.entry((pa.min(pb), pa.max(pb))).or_insert(0) += 1;
+    }
+    out
 }
 
 /// One reading of an output in [`settle_like`]: the mesh, the seam choices made, and how far
@@ -1372,7 +1408,7 @@ impl VertexFaces {
 /// of vertices at that position, where the output was found to have another), or crowd an
 /// edge ([`joining_crowds`]): `--repair` cuts a single face off a non-manifold edge by giving
 /// it a copy of one end only, and its other edges at that copy then look like a seam.
-fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], choices: Option<&[usize]>) -> (Mesh3, Choices) {
+fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], aim: Option<Aim>) -> (Mesh3, Choices) {
     debug_assert_eq!(mesh.triangles.len(), file.corners.len());
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
     let file_count = file.corners.iter().flatten().max().map_or(0, |&m| m as usize + 1);
@@ -1380,7 +1416,7 @@ fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], choices: Option<&[us
     let choices = if file.looks.is_empty() {
         Choices::default()
     } else {
-        join_seams(&mesh, file, at, choices, &mut class)
+        join_seams(&mesh, file, at, aim, &mut class)
     };
     let mut first_class = vec![u32::MAX; mesh.positions.len()];
     let mut own: FastMap<u32, u32> = FastMap::default();
@@ -1415,18 +1451,12 @@ fn unweld(mut mesh: Mesh3, file: &FileVertices, at: &[u32], choices: Option<&[us
 /// tried first at each such welded edge (see [`Seams::pair`]; past its end: the first, in
 /// order), and [`settle_like`] tries others where the outcome is not the input's. Without
 /// `choices` (no input to aim at), such edges' copies stay apart.
-fn join_seams(
-    mesh: &Mesh3,
-    file: &FileVertices,
-    at: &[u32],
-    choices: Option<&[usize]>,
-    class: &mut UnionFind,
-) -> Choices {
+fn join_seams(mesh: &Mesh3, file: &FileVertices, at: &[u32], aim: Option<Aim>, class: &mut UnionFind) -> Choices {
     let flagged = |v: u32| at.get(v as usize).is_some_and(|&c| c > 0);
     let Some(seams) = Seams::new(mesh, file, &flagged) else {
         return Choices::default();
     };
-    let mut pairing = seams.pair(file, at, choices);
+    let mut pairing = seams.pair(file, at, aim);
     for (i, &f) in seams.files.iter().enumerate() {
         let root = pairing.class.find(i as u32);
         class.union(f, seams.files[root as usize]);
@@ -1521,9 +1551,11 @@ impl Seams<'_> {
 
     /// Pairs the open file edges of each welded edge, in order: where some file edge could
     /// pair with several, the `choices[k]`-th of those pairs (for the `k`-th such welded
-    /// edge; 0 if not given) is tried first, then the others in turn. Without `choices`, only
-    /// a welded edge with exactly two open file edges pairs them.
-    fn pair(&self, file: &FileVertices, at: &[u32], choices: Option<&[usize]>) -> Pairing {
+    /// edge; 0 if not given) is tried first, then the others in turn, leaving open as many as
+    /// the input has boundary edges there. Without an aim (no input), only a welded edge with
+    /// exactly two open file edges pairs them.
+    fn pair(&self, file: &FileVertices, at: &[u32], aim: Option<Aim>) -> Pairing {
+        let choices = aim.map(|a| a.choices);
         let flagged = |v: u32| self.flagged.get(v as usize).copied().unwrap_or(false);
         let mut class = UnionFind::new(self.files.len());
         let mut classes = self.classes.clone();
@@ -1564,8 +1596,19 @@ impl Seams<'_> {
                 options.push(candidates.len());
                 chosen.push(c);
             }
+            // The input's boundary edges at this place stay open: two of them folded onto each
+            // other (an edge `--repair` cut) are no seam, however alike they look.
+            let keep_open = aim.map_or(0, |aim| {
+                let at = |v: u32| bits(self.positions[v as usize]);
+                let (a, b) = (at(group[0].0), at(group[0].1));
+                aim.boundary.get(&(a.min(b), a.max(b))).copied().unwrap_or(0)
+            });
+            let mut joins_left = open.len().saturating_sub(keep_open) / 2;
             let mut paired = vec![false; open.len()];
             for (i, j) in candidates {
+                if joins_left == 0 {
+                    break;
+                }
                 if paired[i] || paired[j] {
                     continue;
                 }
@@ -1585,6 +1628,7 @@ impl Seams<'_> {
                 class.union(p.2, q.2);
                 class.union(p.3, q.3);
                 (paired[i], paired[j]) = (true, true);
+                joins_left -= 1;
             }
         }
         let excess = classes

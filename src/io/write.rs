@@ -186,7 +186,8 @@ pub fn stage_mesh_after(
 /// colours (`red green blue [alpha]`, 8-bit, or a PLY input's float or
 /// 16-bit type) and a PLY input's other vertex and face properties (in
 /// their types), a vertex with several values
-/// written once per value at the same position, the copies last; OFF
+/// written once per value at the same position, the copies last (values
+/// the file writes alike, such as colours equal as bytes, count as one); OFF
 /// keeps texture coordinates (`ST`), normals (`N`) and colours (`C`:
 /// whole numbers 0..255 if 8-bit, as an OFF input's whole numbers and a PLY
 /// input's integer types but `ushort` are, else numbers as they are, always
