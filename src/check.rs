@@ -619,7 +619,7 @@ fn settle_like(
     // How many vertices the input has at each position it has several at (usually none).
     let copies = input.get(first_copy..).unwrap_or_default();
     if copies.is_empty() {
-        return settle(welded, file_corners);
+        return settle_aimed_at_shape(welded, file_corners, input_mesh);
     }
     let mut count: FastMap<[u64; 3], i64> = FastMap::default();
     if first_copy == 0 {
@@ -637,7 +637,7 @@ fn settle_like(
     }
     count.retain(|_, c| *c > 1);
     if count.is_empty() {
-        return settle(welded, file_corners);
+        return settle_aimed_at_shape(welded, file_corners, input_mesh);
     }
     let settled = settle(welded.clone(), file_corners);
     // The positions where the output has several vertices (its copies, last) count too, with
@@ -673,6 +673,14 @@ fn settle_like(
         .iter()
         .map(|p| in_input.get(&bits(*p)).map_or(0, |&c| c as u32))
         .collect();
+    search_pairings(&welded, file_corners, input_mesh, &differ).settled
+}
+
+/// The best reading of `welded` with the file vertices at the vertices flagged in `differ`
+/// (with the count aimed at) kept apart but for the seams joined ([`unweld`]), over the
+/// choices of seam pairs: nearest the input's shape, then with the fewest classes above the
+/// counts.
+fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mesh3, differ: &[u32]) -> Attempt {
     // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): the
     // pairings are tried until one comes out with the input's shape and counts (shape first).
     let target = Shape::of(input_mesh);
@@ -682,7 +690,7 @@ fn settle_like(
             choices,
             boundary: &boundary,
         };
-        let (mesh, choices) = unweld(welded.clone(), file_corners, &differ, Some(aim));
+        let (mesh, choices) = unweld(welded.clone(), file_corners, differ, Some(aim));
         let settled = settle(mesh, file_corners);
         let miss = (Shape::of(&settled.mesh).distance(&target), choices.excess);
         Attempt { settled, choices, miss }
@@ -714,7 +722,7 @@ fn settle_like(
                 best = outcome;
             }
         }
-        return best.settled;
+        return best;
     }
     let mut k = 0;
     while best.miss != (0, 0) && k < options.len() && attempts > 0 {
@@ -735,7 +743,38 @@ fn settle_like(
         // (After a change, the choices before it are worth another look.)
         k = if improved { 0 } else { k + 1 };
     }
-    best.settled
+    best
+}
+
+/// [`settle`], for an output whose input has one vertex at each position: if the file has seam
+/// copies and welding was undone somewhere (several of the output's vertices at one place,
+/// as where a polygon folding onto itself made distinct vertices meet at a seam), and the
+/// reading does not have the input's shape, the pairings of seam copies there are searched as
+/// in [`settle_like`], aiming at one vertex per place; the first reading is kept unless one
+/// comes nearer the input's shape.
+fn settle_aimed_at_shape(welded: Mesh3, file_corners: &FileVertices, input_mesh: &Mesh3) -> Settled {
+    if file_corners.looks.is_empty() {
+        return settle(welded, file_corners);
+    }
+    let settled = settle(welded.clone(), file_corners);
+    let target = Shape::of(input_mesh);
+    let first = Shape::of(&settled.mesh).distance(&target);
+    if first == 0 || settled.mesh.positions.len() <= welded.positions.len() {
+        return settled;
+    }
+    let extra: HashSet<[u64; 3], crate::hash::FastBuild> = settled.mesh.positions[welded.positions.len()..]
+        .iter()
+        .map(|p| bits(*p))
+        .collect();
+    let differ: Vec<u32> = (welded.positions.iter())
+        .map(|p| u32::from(extra.contains(&bits(*p))))
+        .collect();
+    let best = search_pairings(&welded, file_corners, input_mesh, &differ);
+    if best.miss.0 < first {
+        best.settled
+    } else {
+        settled
+    }
 }
 
 /// What [`settle_like`] aims an attempt at: which seam pairs to try first at each welded
