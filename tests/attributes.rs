@@ -1582,3 +1582,25 @@ fn colours_alike_in_bytes_make_no_copy_in_ply() {
         }
     }
 }
+
+/// A name ending in a backslash (read from `o name\ `, the blank trimmed) is written so that it
+/// does not continue on the next line (OBJ's line continuation would swallow the `g` after it):
+/// the output's groups are the input's.
+#[test]
+fn a_name_ending_in_a_backslash_keeps_the_next_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(
+        dir.path(),
+        "slash.obj",
+        "mtllib lib\\ \no thing\\ \nv -2 0 0\nv 2 0 0\nv 0 0.5 0\nv 0 -0.4 0.3\n\
+         g part0\\ \nusemtl red\\ \nf 1 2 3\ng part1\nusemtl blue\nf 2 1 4\n",
+    );
+    let out = dir.path().join("slash-out.obj");
+    run(&input, &out, &[]);
+    let (a, b) = (read(&input), read(&out));
+    assert_eq!(a.attributes.groups[0].object.as_deref(), Some("thing\\"));
+    assert_eq!(a.attributes.groups[0].group.as_deref(), Some("part0\\"));
+    assert_eq!(b.attributes.groups, a.attributes.groups);
+    assert_eq!(b.attributes.mtllib, a.attributes.mtllib);
+    check(&input, &out);
+}

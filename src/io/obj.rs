@@ -954,7 +954,7 @@ pub fn write_obj_with_attributes(
     }
     super::formats::check_for_writing(positions, triangles, None)?;
     for lib in &attributes.mtllib {
-        writeln!(w, "mtllib {lib}")?;
+        write_named(w, "mtllib", lib)?;
     }
     // Colours are per vertex in OBJ: split vertices with several.
     let split = attributes
@@ -1049,6 +1049,14 @@ fn face_line_with_attributes(line: &mut Vec<u8>, f: usize, t: &[u32; 3], attribu
     line.push(b'\n');
 }
 
+/// Writes the line `keyword name`. A name ending in a backslash gets a blank after it: the
+/// line would otherwise go on on the next one (OBJ's line continuation, as
+/// [`join_continued_lines`] reads it), and the blank is not part of the name read back.
+fn write_named(w: &mut dyn Write, keyword: &str, name: &str) -> std::io::Result<()> {
+    let blank = if name.ends_with('\\') { " " } else { "" };
+    writeln!(w, "{keyword} {name}{blank}")
+}
+
 /// Writes the `o`, `g` and `usemtl` lines that take `written` to `group`.
 /// A name that `group` lacks and `written` has is undone by the statement
 /// alone, as the input did it (only an input's `o`, `g` or `usemtl` without
@@ -1057,21 +1065,21 @@ fn face_line_with_attributes(line: &mut Vec<u8>, f: usize, t: &[u32; 3], attribu
 fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> std::io::Result<()> {
     if group.object != written.object {
         match &group.object {
-            Some(o) => writeln!(w, "o {o}")?,
+            Some(o) => write_named(w, "o", o)?,
             None => writeln!(w, "o")?,
         }
         written.object = group.object.clone();
     }
     if group.group != written.group {
         match &group.group {
-            Some(g) => writeln!(w, "g {g}")?,
+            Some(g) => write_named(w, "g", g)?,
             None => writeln!(w, "g")?,
         }
         written.group = group.group.clone();
     }
     if group.material != written.material {
         match &group.material {
-            Some(m) => writeln!(w, "usemtl {m}")?,
+            Some(m) => write_named(w, "usemtl", m)?,
             None => writeln!(w, "usemtl")?,
         }
         written.material = group.material.clone();
