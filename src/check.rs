@@ -606,9 +606,10 @@ impl<'a> Names<'a> {
 /// at a position the input has several at (or the output has), welding is undone there again
 /// ([`unweld`]) with the input's count as the aim. Where a seam meets a cut, which copies a
 /// seam joins is a choice that the file alone does not settle: the first pairing that comes
-/// out with the input's counts and [`Shape`] is kept, or the nearest found (every combination
-/// of choices when there are few enough for the mesh's size, else one choice changed at a
-/// time).
+/// out with the input's [`Shape`] and counts is kept, or the nearest found, shape first
+/// (every combination of choices when there are few enough for the mesh's size, else one
+/// choice changed at a time). Where the input has one vertex at each position, see
+/// [`settle_aimed_at_shape`].
 fn settle_like(
     welded: Mesh3,
     file_corners: &FileVertices,
@@ -751,30 +752,52 @@ fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mes
 /// as where a polygon folding onto itself made distinct vertices meet at a seam), and the
 /// reading does not have the input's shape, the pairings of seam copies there are searched as
 /// in [`settle_like`], aiming at one vertex per place; the first reading is kept unless one
-/// comes nearer the input's shape.
+/// comes nearer the input's shape. (Usually welding is undone nowhere, and this is `settle`.)
 fn settle_aimed_at_shape(welded: Mesh3, file_corners: &FileVertices, input_mesh: &Mesh3) -> Settled {
-    if file_corners.looks.is_empty() {
-        return settle(welded, file_corners);
-    }
-    let settled = settle(welded.clone(), file_corners);
-    let target = Shape::of(input_mesh);
-    let first = Shape::of(&settled.mesh).distance(&target);
-    if first == 0 || settled.mesh.positions.len() <= welded.positions.len() {
+    let n = welded.positions.len();
+    let settled = settle(welded, file_corners);
+    if file_corners.looks.is_empty() || settled.mesh.positions.len() <= n {
         return settled;
     }
-    let extra: HashSet<[u64; 3], crate::hash::FastBuild> = settled.mesh.positions[welded.positions.len()..]
-        .iter()
-        .map(|p| bits(*p))
-        .collect();
-    let differ: Vec<u32> = (welded.positions.iter())
-        .map(|p| u32::from(extra.contains(&bits(*p))))
-        .collect();
+    let target = Shape::of(input_mesh);
+    let first = Shape::of(&settled.mesh).distance(&target);
+    if first == 0 {
+        return settled;
+    }
+    let (welded, differ) = weld_again(&settled.mesh, n);
     let best = search_pairings(&welded, file_corners, input_mesh, &differ);
     if best.miss.0 < first {
         best.settled
     } else {
         settled
     }
+}
+
+/// The mesh that [`settle`] was given, from what it made of it (`n` vertices, each at a
+/// position of its own, as welding leaves them; settling only adds vertices past them, at
+/// their positions, and moves corners there): and, flagged 1, the vertices it had undone
+/// welding at.
+fn weld_again(settled: &Mesh3, n: usize) -> (Mesh3, Vec<u32>) {
+    let mut first: FastMap<[u64; 3], u32> = settled.positions[n..].iter().map(|p| (bits(*p), u32::MAX)).collect();
+    let mut differ = vec![0u32; n];
+    for (v, p) in settled.positions[..n].iter().enumerate() {
+        if let Some(slot) = first.get_mut(&bits(*p)) {
+            *slot = v as u32;
+            differ[v] = 1;
+        }
+    }
+    let original = |v: u32| {
+        if (v as usize) < n {
+            v
+        } else {
+            first[&bits(settled.positions[v as usize])]
+        }
+    };
+    let welded = Mesh3 {
+        positions: settled.positions[..n].to_vec(),
+        triangles: settled.triangles.iter().map(|t| t.map(original)).collect(),
+    };
+    (welded, differ)
 }
 
 /// What [`settle_like`] aims an attempt at: which seam pairs to try first at each welded

@@ -391,9 +391,10 @@ pub fn stage_mesh_with_attributes(
                 };
                 if let Some(keep) = merge_alike_copies(positions.len(), &mut split, record) {
                     let pick = |values: &mut Vec<f64>, dim: usize| {
-                        *values = (keep.iter())
-                            .flat_map(|&i| values[dim * i..dim * (i + 1)].to_vec())
-                            .collect();
+                        let mut kept = Vec::with_capacity(dim * keep.len());
+                        keep.iter()
+                            .for_each(|&i| kept.extend_from_slice(&values[dim * i..dim * (i + 1)]));
+                        *values = kept;
                     };
                     if let Some(t) = &mut extras.texcoords {
                         pick(t, 2);
