@@ -679,8 +679,8 @@ fn settle_like(
 
 /// The best reading of `welded` with the file vertices at the vertices flagged in `differ`
 /// (with the count aimed at) kept apart but for the seams joined ([`unweld`]), over the
-/// choices of seam pairs: nearest the input's shape, then with the fewest classes above the
-/// counts.
+/// choices of seam pairs: nearest the input's shape, then its vertex counts, then with the
+/// fewest classes above the counts.
 fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mesh3, differ: &[u32]) -> Attempt {
     // Where seams meet cuts, which copies a seam joins is a choice (see `join_seams`): the
     // pairings are tried until one comes out with the input's shape and counts (shape first).
@@ -693,7 +693,11 @@ fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mes
         };
         let (mesh, choices) = unweld(welded.clone(), file_corners, differ, Some(aim));
         let settled = settle(mesh, file_corners);
-        let miss = (Shape::of(&settled.mesh).distance(&target), choices.excess);
+        let miss = (
+            Shape::of(&settled.mesh).distance(&target),
+            count_deviation(welded, &settled.mesh, differ),
+            choices.excess,
+        );
         Attempt { settled, choices, miss }
     };
     let mut best = attempt(&[]);
@@ -705,7 +709,7 @@ fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mes
     let combinations = options.iter().try_fold(1usize, |n, &o| n.checked_mul(o));
     if combinations.is_some_and(|n| n <= attempts) {
         for n in 1..combinations.unwrap_or(1) {
-            if best.miss == (0, 0) {
+            if best.miss == (0, 0, 0) {
                 break;
             }
             // (The `n`-th combination, in mixed radix.)
@@ -726,7 +730,7 @@ fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mes
         return best;
     }
     let mut k = 0;
-    while best.miss != (0, 0) && k < options.len() && attempts > 0 {
+    while best.miss != (0, 0, 0) && k < options.len() && attempts > 0 {
         let mut improved = false;
         for c in (0..options[k]).filter(|&c| c != best.choices.chosen[k]) {
             if attempts == 0 {
@@ -745,6 +749,35 @@ fn search_pairings(welded: &Mesh3, file_corners: &FileVertices, input_mesh: &Mes
         k = if improved { 0 } else { k + 1 };
     }
     best
+}
+
+/// How far the vertex counts of `settled` (a reading of `welded`, whose extra vertices come
+/// last, each at the position of a vertex of `welded`) are from the counts aimed at: at each
+/// position, `differ`'s count at a vertex of `welded` flagged there, else one. Only positions
+/// with several vertices on either side count (elsewhere both are one). Seam copies joined
+/// too few show as vertices too many, also where [`settle`] then cut a pinched vertex apart,
+/// which [`Choices::excess`] does not see.
+fn count_deviation(welded: &Mesh3, settled: &Mesh3, differ: &[u32]) -> u64 {
+    let n = welded.positions.len();
+    // The welded vertex at each position that has copies, and how many vertices it has there.
+    let mut at: FastMap<[u64; 3], (usize, u64)> = FastMap::default();
+    for (v, p) in welded.positions.iter().enumerate() {
+        if differ.get(v).is_some_and(|&c| c > 1) {
+            at.insert(bits(*p), (v, 1));
+        }
+    }
+    let mut deviation = 0;
+    for p in settled.positions.get(n..).unwrap_or_default() {
+        match at.get_mut(&bits(*p)) {
+            Some((_, count)) => *count += 1,
+            // (A copy at a position aimed at one vertex: one too many.)
+            None => deviation += 1,
+        }
+    }
+    deviation
+        + (at.values())
+            .map(|&(v, count)| count.abs_diff(u64::from(differ[v])))
+            .sum::<u64>()
 }
 
 /// [`settle`], for an output whose input has one vertex at each position: if the file has seam
@@ -832,13 +865,15 @@ fn boundary_edges_by_position(mesh: &Mesh3) -> BoundaryByPosition {
 }
 
 /// One reading of an output in [`settle_like`]: the mesh, the seam choices made, and how far
-/// it is from the input: the distance of [`Shape`]s, then the classes above the input's
-/// counts. (Shape first: where seams meet a vertex `--repair` split, a valid output can need
-/// a copy kept apart to have the input's shape, and no pairing has both.)
+/// it is from the input: the distance of [`Shape`]s, then how far its vertex counts are from
+/// the input's ([`count_deviation`]), then the classes above the input's counts. (Shape
+/// first: where seams meet a vertex `--repair` split, a valid output can need a copy kept
+/// apart to have the input's shape, and no pairing has both. Counts next: two pairings can
+/// both have the input's shape, one of them with a vertex too many.)
 struct Attempt {
     settled: Settled,
     choices: Choices,
-    miss: (u64, u64),
+    miss: (u64, u64, u64),
 }
 
 /// What a mesh's refinement keeps, cheap to find: its connected components, Euler
