@@ -4522,6 +4522,35 @@ mod tests {
     use super::*;
     use crate::test_rng::Rng;
 
+    /// `count_deviation` counts, at each place, how far a reading's vertices are from the count
+    /// aimed at (one where `differ` says 0 or 1), copies that the reading added included.
+    #[test]
+    fn count_deviation_counts_vertices_against_the_aim_at_each_place() {
+        let [a, b, c] = [DVec3::X, DVec3::Y, DVec3::Z];
+        let welded = Mesh3 {
+            positions: vec![a, b, c],
+            triangles: vec![[0, 1, 2]],
+        };
+        // The input has two vertices at a, one at b; c is an added vertex's place.
+        let differ = [2, 1, 0];
+        let reading = |extra: &[DVec3]| Mesh3 {
+            positions: [&welded.positions[..], extra].concat(),
+            triangles: Vec::new(),
+        };
+        assert_eq!(count_deviation(&welded, &reading(&[a]), &differ), 0);
+        assert_eq!(
+            count_deviation(&welded, &reading(&[]), &differ),
+            1,
+            "one vertex short at a"
+        );
+        assert_eq!(
+            count_deviation(&welded, &reading(&[a, b]), &differ),
+            1,
+            "one too many at b"
+        );
+        assert_eq!(count_deviation(&welded, &reading(&[a, a, b, c]), &differ), 3);
+    }
+
     #[test]
     fn normals_are_accurate_far_from_the_origin_and_for_needles() {
         // A right triangle of legs 3 and 4 (area 6), translated by exactly representable
