@@ -384,13 +384,14 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         // quad moved, or they would have been queued) may have become
         // splittable: take them again.
         let mut again: Vec<EdgeId> = run.stuck.keys().copied().filter(|&e| !run.is_stuck(e)).collect();
-        again.sort_unstable(); // the map's order is not the run's to decide
-                               // Those now Delaunay are stuck no more: dropped from the map, which
-                               // changes no decision (a change to one's quad queues it, as for any
-                               // edge) but keeps this scan short. Kept, they piled up where each
-                               // pass ends after a split or two (a stuck edge beside a crowd of
-                               // near-coincident vertices), and the scans grew quadratic: 20,000
-                               // splits once took 6 s.
+        // (The map's order is not the run's to decide.)
+        again.sort_unstable();
+        // Those now Delaunay are stuck no more: dropped from the map, which
+        // changes no decision (a change to one's quad queues it, as for any
+        // edge) but keeps this scan short. Kept, they piled up where each
+        // pass ends after a split or two (a stuck edge beside a crowd of
+        // near-coincident vertices), and the scans grew quadratic: 20,000
+        // splits once took 6 s.
         again.retain(|&e| {
             let bad = run.s.is_non_delaunay(e, ALGORITHM_TOLERANCE);
             if !bad {
