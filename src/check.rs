@@ -603,8 +603,9 @@ impl<'a> Names<'a> {
 /// usually none).
 ///
 /// Where the output read as [`settle`] reads it has another count of vertices than the input
-/// at a position the input has several at (or the output has), welding is undone there again
-/// ([`unweld`]) with the input's count as the aim. Where a seam meets a cut, which copies a
+/// at a position the input has several at (or the output has), or closes a boundary edge the
+/// input has at such a position ([`keeps_open`]), welding is undone there again ([`unweld`])
+/// with the input's count as the aim. Where a seam meets a cut, which copies a
 /// seam joins is a choice that the file alone does not settle: the first pairing that comes
 /// out with the input's [`Shape`] and counts is kept, or the nearest found, shape first
 /// (every combination of choices when there are few enough for the mesh's size, else one
@@ -665,8 +666,11 @@ fn settle_like(
     }
     // Where the output has fewer vertices than the input, or more, the input's count is the
     // aim: there, and at every position the input has several at (a cut next to one where the
-    // count came out right is undone with it).
-    if count.values().all(|&c| c == 0) {
+    // count came out right is undone with it). Right counts are not enough where the input
+    // has boundary edges at such a position (an edge `--repair` cut): its two open
+    // sides can look like a seam, and a reading that joins them can still come out with the
+    // input's counts, having joined too few copies elsewhere.
+    if count.values().all(|&c| c == 0) && keeps_open(&settled.mesh, input_mesh, &in_input) {
         return settled;
     }
     let differ: Vec<u32> = welded
@@ -675,6 +679,46 @@ fn settle_like(
         .map(|p| in_input.get(&bits(*p)).map_or(0, |&c| c as u32))
         .collect();
     search_pairings(&welded, file_corners, input_mesh, &differ).settled
+}
+
+/// Whether `reading` keeps open the boundary edges of `input_mesh` at the positions of
+/// `places` (where the input has several vertices; see [`settle_like`]): between every two
+/// positions, one of them in `places`, where the input has boundary edges and `reading` has
+/// edges at all (a boundary edge that the output split has none), `reading` has at least as
+/// many boundary edges.
+fn keeps_open(reading: &Mesh3, input_mesh: &Mesh3, places: &FastMap<[u64; 3], i64>) -> bool {
+    let wanted = edges_at_places(input_mesh, places);
+    if wanted.values().all(|&open| open == 0) {
+        return true;
+    }
+    let found = edges_at_places(reading, places);
+    wanted
+        .iter()
+        .all(|(key, &open)| found.get(key).is_none_or(|&found_open| found_open >= open))
+}
+
+/// The edges of `mesh` with an end at a position of `places`, counted by their ends'
+/// positions (the lower position's bits first): how many of them are boundary edges (with one
+/// face); unlike [`boundary_edges_by_position`], also the pairs with none (0), so that a pair
+/// missing from it has no edge at all. One lookup per vertex, then the faces with a corner
+/// there.
+fn edges_at_places(mesh: &Mesh3, places: &FastMap<[u64; 3], i64>) -> BoundaryByPosition {
+    let at_place: Vec<bool> = mesh.positions.iter().map(|p| places.contains_key(&bits(*p))).collect();
+    let mut faces: FastMap<(u32, u32), u32> = FastMap::default();
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            if at_place[a as usize] || at_place[b as usize] {
+                *faces.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+    }
+    let mut out = BoundaryByPosition::default();
+    for (&(a, b), &n) in &faces {
+        let (pa, pb) = (bits(mesh.positions[a as usize]), bits(mesh.positions[b as usize]));
+        *out.entry((pa.min(pb), pa.max(pb))).or_insert(0) += usize::from(n == 1);
+    }
+    out
 }
 
 /// The best reading of `welded` with the file vertices at the vertices flagged in `differ`
@@ -4549,6 +4593,34 @@ mod tests {
             "one too many at b"
         );
         assert_eq!(count_deviation(&welded, &reading(&[a, a, b, c]), &differ), 3);
+    }
+
+    #[test]
+    fn keeps_open_wants_the_input_s_cut_edges_open_where_the_reading_has_them() {
+        // Two faces on either side of the edge a-b that `--repair` cut: the input has two
+        // copies of b (1 and 3), and two boundary edges between a and b.
+        let [a, b, c, d] = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::NEG_Y];
+        let input = Mesh3 {
+            positions: vec![a, b, c, b, d],
+            triangles: vec![[0, 1, 2], [3, 0, 4]],
+        };
+        let places: FastMap<[u64; 3], i64> = [(bits(b), 2)].into_iter().collect();
+        assert!(keeps_open(&input, &input, &places));
+        // A reading that joined the copies of b closes the cut edge: one interior edge a-b.
+        let joined = Mesh3 {
+            positions: vec![a, b, c, d],
+            triangles: vec![[0, 1, 2], [1, 0, 3]],
+        };
+        assert!(!keeps_open(&joined, &input, &places));
+        // An output that split the edge a-b at its middle has no edge a-b to judge.
+        let m = DVec3::new(0.5, 0.0, 0.0);
+        let split = Mesh3 {
+            positions: vec![a, b, c, b, d, m, m],
+            triangles: vec![[0, 5, 2], [5, 1, 2], [3, 6, 4], [6, 0, 4]],
+        };
+        assert!(keeps_open(&split, &input, &places));
+        // Where the input has no boundary edge at the places, any reading will do.
+        assert!(keeps_open(&joined, &joined, &places));
     }
 
     #[test]
