@@ -697,28 +697,10 @@ fn keeps_open(reading: &Mesh3, input_mesh: &Mesh3, places: &FastMap<[u64; 3], i6
         .all(|(key, &open)| found.get(key).is_none_or(|&found_open| found_open >= open))
 }
 
-/// The edges of `mesh` with an end at a position of `places`, counted by their ends'
-/// positions (the lower position's bits first): how many of them are boundary edges (with one
-/// face); unlike [`boundary_edges_by_position`], also the pairs with none (0), so that a pair
-/// missing from it has no edge at all. One lookup per vertex, then the faces with a corner
-/// there.
+/// [`edges_by_position`] of `mesh` at the vertices at a position of `places`.
 fn edges_at_places(mesh: &Mesh3, places: &FastMap<[u64; 3], i64>) -> BoundaryByPosition {
     let at_place: Vec<bool> = mesh.positions.iter().map(|p| places.contains_key(&bits(*p))).collect();
-    let mut faces: FastMap<(u32, u32), u32> = FastMap::default();
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            if at_place[a as usize] || at_place[b as usize] {
-                *faces.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-    }
-    let mut out = BoundaryByPosition::default();
-    for (&(a, b), &n) in &faces {
-        let (pa, pb) = (bits(mesh.positions[a as usize]), bits(mesh.positions[b as usize]));
-        *out.entry((pa.min(pb), pa.max(pb))).or_insert(0) += usize::from(n == 1);
-    }
-    out
+    edges_by_position(mesh, |v| at_place[v as usize])
 }
 
 /// The best reading of `welded` with the file vertices at the vertices flagged in `differ`
@@ -893,17 +875,29 @@ type BoundaryByPosition = FastMap<([u64; 3], [u64; 3]), usize>;
 /// Where `--repair` cut an edge, its copies can be two boundary edges at one place: the
 /// output keeps them both open, and two open file edges there are no seam to join.
 fn boundary_edges_by_position(mesh: &Mesh3) -> BoundaryByPosition {
+    let mut out = edges_by_position(mesh, |_| true);
+    out.retain(|_, open| *open > 0);
+    out
+}
+
+/// The edges of `mesh` with an end at a vertex where `at` holds, counted by their ends'
+/// positions (the lower position's bits first): how many of them are boundary edges (with one
+/// face); unlike [`boundary_edges_by_position`], also the pairs with none (0), so that a pair
+/// missing from it has no edge there at all.
+fn edges_by_position(mesh: &Mesh3, at: impl Fn(u32) -> bool) -> BoundaryByPosition {
     let mut faces: FastMap<(u32, u32), u32> = FastMap::default();
     for t in &mesh.triangles {
         for i in 0..3 {
             let (a, b) = (t[i], t[(i + 1) % 3]);
-            *faces.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            if at(a) || at(b) {
+                *faces.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
         }
     }
     let mut out = BoundaryByPosition::default();
-    for (&(a, b), _) in faces.iter().filter(|&(_, &n)| n == 1) {
+    for (&(a, b), &n) in &faces {
         let (pa, pb) = (bits(mesh.positions[a as usize]), bits(mesh.positions[b as usize]));
-        *out.entry((pa.min(pb), pa.max(pb))).or_insert(0) += 1;
+        *out.entry((pa.min(pb), pa.max(pb))).or_insert(0) += usize::from(n == 1);
     }
     out
 }
