@@ -364,8 +364,9 @@ impl Channel {
     }
 }
 
-/// The object, group and material of a face in an OBJ file: each the rest of
-/// its statement's line, verbatim (`None`: no such statement before it).
+/// The object, group, material and smoothing group of a face in an OBJ
+/// file: each the rest of its statement's line, verbatim (`None`: no such
+/// statement before it).
 #[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Group {
     /// `o` name.
@@ -374,6 +375,9 @@ pub struct Group {
     pub group: Option<String>,
     /// `usemtl` name.
     pub material: Option<String>,
+    /// `s` smoothing group (`1`, `off`): which faces a renderer shades as
+    /// one smooth surface where the file gives no normals.
+    pub smoothing: Option<String>,
 }
 
 /// The attributes of a triangle mesh, per corner (see [`Channel`]).
@@ -386,7 +390,7 @@ pub struct Attributes {
     /// Colours.
     pub colors: Option<Channel>,
     /// The group of each face, an index into `groups`; empty when the file
-    /// has no `o`, `g` or `usemtl`.
+    /// has no `o`, `g`, `usemtl` or `s`.
     pub face_group: Vec<u32>,
     /// The distinct groups, in order of first use.
     pub groups: Vec<Group>,
@@ -420,7 +424,7 @@ impl Attributes {
     }
 
     /// Keeps only the groups some face uses, numbered by first use, and none at all when every
-    /// face is in the default group (no `o`, `g` or `usemtl` before it), as a file read afresh
+    /// face is in the default group (no `o`, `g`, `usemtl` or `s` before it), as a file read afresh
     /// would have them: after faces were dropped, the groups left are those of the faces kept.
     pub fn compact_groups(&mut self) {
         if self.groups.is_empty() {

@@ -1565,9 +1565,20 @@ fn describe_attributes(a: &Attributes) -> String {
     parts.extend(properties_named("vertex", &vertex));
     parts.extend(properties_named("face", &face));
     if !a.groups.is_empty() {
+        // Distinct combinations of `o`, `g`, `usemtl` and `s`, named by
+        // what the file has of them.
         let n = a.groups.len();
         let s = if n == 1 { "" } else { "s" };
-        parts.push(format!("{n} group{s}/material{s}"));
+        let named = a
+            .groups
+            .iter()
+            .any(|g| g.object.is_some() || g.group.is_some() || g.material.is_some());
+        let smoothing = a.groups.iter().any(|g| g.smoothing.is_some());
+        parts.push(match (named, smoothing) {
+            (true, true) => format!("{n} group{s}/material{s}/smoothing group{s}"),
+            (false, true) => format!("{n} smoothing group{s}"),
+            _ => format!("{n} group{s}/material{s}"),
+        });
     }
     if !a.mtllib.is_empty() {
         parts.push("mtllib".into());

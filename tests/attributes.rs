@@ -346,6 +346,68 @@ fn groups_and_materials_stay_on_their_faces() {
     assert!(worst.iter().all(|&d| d <= 1e-9), "{worst:?}");
 }
 
+/// Smoothing groups (`s`), which decide a renderer's shading where a file
+/// has no normals, are kept like materials: each output face has the one
+/// of the input face it lies in, no flip crosses from one to another (the
+/// same construction as with two materials in their place), and the output
+/// says them where they change. A PLY output cannot hold them: a note says
+/// so, and they cost nothing.
+#[test]
+fn smoothing_groups_stay_on_their_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = Grid::new(10, 4);
+    let with_materials = grid.obj(|p, _| [p.x / 8.0, p.y / 16.0], true, false, true);
+    let with_smoothing = with_materials
+        .replace("usemtl left", "s 1")
+        .replace("usemtl right", "s off");
+    assert_ne!(with_smoothing, with_materials);
+    let materials = write(dir.path(), "materials.obj", &with_materials);
+    let input = write(dir.path(), "grid.obj", &with_smoothing);
+    let out = dir.path().join("out.obj");
+    let printout = run(&input, &out, &[]);
+    assert!(
+        printout.contains("attributes: texture coordinates, normals, 2 groups/materials/smoothing groups, mtllib"),
+        "{printout}"
+    );
+    assert!(work(&printout).2 > 0, "{printout}");
+    assert_eq!(work(&printout), work(&run(&materials, &dir.path().join("m.obj"), &[])));
+    check(&input, &out);
+    let written = std::fs::read_to_string(&out).unwrap();
+    let statements: Vec<&str> = written.lines().filter(|l| l.starts_with("s ")).collect();
+    assert_eq!(
+        statements,
+        ["s 1", "s off"],
+        "each group's faces together, under one line"
+    );
+    let (a, b) = (read(&input), read(&out));
+    let smoothing = |m: &InputMesh, t: usize| {
+        let g = m.attributes.face_group[t] as usize;
+        m.attributes.groups[g].smoothing.clone().unwrap()
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    for t in 0..b.triangles.len() {
+        let centroid = b.triangles[t].iter().map(|&v| b.positions[v as usize]).sum::<DVec3>() / 3.0;
+        let (s, _) = locate(&a, centroid, 20.0).unwrap();
+        assert_eq!(smoothing(&b, t), smoothing(&a, s), "output face {t}");
+        seen.insert(smoothing(&b, t));
+    }
+    assert_eq!(seen.len(), 2);
+    // PLY: left out before the construction, with a note.
+    let ply = dir.path().join("out.ply");
+    let printout = run(&input, &ply, &[]);
+    assert!(
+        printout.contains("note    groups, materials and smoothing groups left out: PLY cannot hold them"),
+        "{printout}"
+    );
+    let without = write(
+        dir.path(),
+        "without.obj",
+        &with_smoothing.replace("s 1\n", "").replace("s off\n", ""),
+    );
+    assert_eq!(work(&printout), work(&run(&without, &dir.path().join("w.ply"), &[])));
+    check(&input, &ply);
+}
+
 /// The bunny with a spherical texture map written per corner (a seam where
 /// the longitude wraps): the same mesh comes out as without attributes
 /// (its faces are not coplanar), with the same mapping.
@@ -993,14 +1055,14 @@ fn left_out_note_of_a_conversion_does_not_speak_of_refining() {
         .join("oval_cylinder_smooth_normals.obj");
     let stl = run(&input, &dir.path().join("o.stl"), &["--no-refine"]);
     assert!(
-        stl.contains("note    normals, groups and materials left out: STL cannot hold them\n"),
+        stl.contains("note    normals, groups, materials and smoothing groups left out: STL cannot hold them\n"),
         "{stl}"
     );
     assert!(!stl.contains("refined as"), "{stl}");
 }
 
-/// What the output's format cannot hold (PLY and OFF: groups and
-/// materials) is left out before the construction, with a note, and costs
+/// What the output's format cannot hold (PLY and OFF: groups, materials
+/// and smoothing groups) is left out before the construction, with a note, and costs
 /// no split; what it holds costs what it costs in OBJ: a smooth-shaded oval
 /// cylinder (normals averaged across the flat caps' rims, as Blender
 /// writes them, on caps that are 64-gons) keeps its normals as OBJ, PLY and
@@ -1025,7 +1087,7 @@ fn attributes_the_output_cannot_hold_cost_no_splits() {
         let printout = run(&input, &out, &[]);
         assert!(
             printout.contains(&format!(
-                "note    groups and materials left out: {format} cannot hold them"
+                "note    groups, materials and smoothing groups left out: {format} cannot hold them"
             )),
             "{printout}"
         );

@@ -905,7 +905,8 @@ fn pipeline_seeds() -> Vec<Vec<u8>> {
 /// stay apart), normals (per face: seams at creases, or one per vertex),
 /// colours on the `v` lines, a seam (the first face with texture
 /// coordinates of its own), groups and materials (`o`, `g`, `usemtl`,
-/// `mtllib`), and faces without texture coordinates and normals (the last
+/// `mtllib`), smoothing groups (`s`: their own boundaries, across the
+/// groups'), and faces without texture coordinates and normals (the last
 /// one, in variant 3: a partial channel), by `variant`.
 fn attribute_obj_text(m: &SeedMesh, variant: usize, rng: &mut Rng) -> Vec<u8> {
     let mut s = String::new();
@@ -956,6 +957,9 @@ fn attribute_obj_text(m: &SeedMesh, variant: usize, rng: &mut Rng) -> Vec<u8> {
                 k.min(1),
                 if k == 0 { "red" } else { "blue" }
             ));
+        }
+        if variant % 3 == 0 && (k == m.faces.len() / 3 || k == 2 * m.faces.len() / 3) {
+            s.push_str(if k == m.faces.len() / 3 { "s 1\n" } else { "s off\n" });
         }
         s.push('f');
         let bare = variant % 4 == 3 && k + 1 == m.faces.len() && k > 0;
@@ -2543,6 +2547,8 @@ const ATTRIBUTE_LINES: &[&str] = &[
     "o another",
     "usemtl green",
     "usemtl",
+    "s 2",
+    "s",
     "mtllib a.mtl b.mtl",
     "property float quality",
     "property uchar red",

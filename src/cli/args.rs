@@ -9,7 +9,7 @@ use super::*;
 /// flat regions until every interior edge is Delaunay (its two opposite
 /// angles sum to at most pi), and writes an OBJ whose first vertices are the
 /// input's, bit for bit. Texture coordinates, normals, colours, groups,
-/// materials and PLY vertex and face properties are carried, with the
+/// materials, smoothing groups and PLY vertex and face properties are carried, with the
 /// texture mapping unchanged (see --drop-attributes). The report's single-dash flags (-ds, -nomedian,
 /// -all) work as written; each has a GNU-style long form.
 #[derive(Parser, Debug)]
@@ -65,7 +65,8 @@ pub(super) struct RunArgs {
     pub(super) extended: bool,
 
     /// With --repair: also write the repaired input here, the mesh `delmesh
-    /// check` should compare the output with.
+    /// check` should compare the output with (positions and faces only;
+    /// `--repair --no-refine -o FILE` writes it with its attributes).
     #[arg(long = "repaired", value_name = "FILE", requires = "repair")]
     pub(super) repaired: Option<PathBuf>,
 
@@ -218,7 +219,7 @@ pub(super) struct Settings {
     pub(super) prune_passes: Option<u8>,
 
     /// Ignore the input's texture coordinates, normals, colours, groups,
-    /// materials and PLY vertex and face properties: write positions only, and let planar regions ignore seams
+    /// materials, smoothing groups and PLY vertex and face properties: write positions only, and let planar regions ignore seams
     /// (they are kept by default, and regions cut where a flip would
     /// distort them).
     #[arg(long = "drop-attributes")]

@@ -3,7 +3,7 @@
 //!
 //! Every object and group of the file goes into one mesh; texture
 //! coordinates (`vt`), normals (`vn`), colours (`v x y z r g b`), the `o`,
-//! `g` and `usemtl` of each face and the `mtllib` statements are kept as
+//! `g`, `usemtl` and `s` of each face and the `mtllib` statements are kept as
 //! [`Attributes`]. A defect in them (a bad number, an index out of range)
 //! never refuses the file: that attribute is dropped, with a note.
 
@@ -20,7 +20,6 @@ const IGNORED: &[&str] = &[
     "vp",
     "l",
     "p",
-    "s",
     "cstype",
     "deg",
     "bmat",
@@ -49,7 +48,7 @@ const IGNORED: &[&str] = &[
 ];
 
 /// The statements the reader takes (the others it knows are [`IGNORED`]).
-const READ: &[&str] = &["v", "vt", "vn", "f", "o", "g", "usemtl", "mtllib"];
+const READ: &[&str] = &["v", "vt", "vn", "f", "o", "g", "usemtl", "s", "mtllib"];
 
 /// Whether OBJ text starting with `prefix` (the first bytes of an input,
 /// more to follow) is sure to be refused, whatever follows: one of its
@@ -333,7 +332,7 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
             }
             "vt" => extra.value(Kind::TexCoord, &mut tokens, line_no),
             "vn" => extra.value(Kind::Normal, &mut tokens, line_no),
-            "o" | "g" | "usemtl" => extra.group_statement(keyword, tokens.rest_of_line(), raw.face_origin.len()),
+            "o" | "g" | "usemtl" | "s" => extra.group_statement(keyword, tokens.rest_of_line(), raw.face_origin.len()),
             "mtllib" => extra.mtllib.push(tokens.rest_of_line().to_owned()),
             "f" => {
                 if raw.face_start.is_empty() {
@@ -450,11 +449,11 @@ struct Extras {
     normal_corners: Vec<u32>,
     /// The first defect of texture coordinates, normals and colours.
     defect: [Option<String>; 3],
-    /// The current `o`, `g`, `usemtl`, the distinct groups and each face's.
+    /// The current `o`, `g`, `usemtl`, `s`, the distinct groups and each face's.
     current: Group,
     groups: FastMap<Group, u32>,
     face_group: Vec<u32>,
-    /// Whether an `o`, `g` or `usemtl` came before a face.
+    /// Whether an `o`, `g`, `usemtl` or `s` came before a face.
     grouped: bool,
     faces: usize,
     mtllib: Vec<String>,
@@ -579,12 +578,13 @@ impl Extras {
         }
     }
 
-    /// An `o`, `g` or `usemtl` statement, after `faces` faces.
+    /// An `o`, `g`, `usemtl` or `s` statement, after `faces` faces.
     fn group_statement(&mut self, keyword: &str, rest: &str, faces: usize) {
         let value = (!rest.is_empty()).then(|| rest.to_owned());
         match keyword {
             "o" => self.current.object = value,
             "g" => self.current.group = value,
+            "s" => self.current.smoothing = value,
             _ => self.current.material = value,
         }
         if !self.grouped {
@@ -940,7 +940,7 @@ fn push_index(line: &mut Vec<u8>, i: u32) {
 /// OBJ: the `mtllib` lines, `v` lines (with `r g b` when there are colours;
 /// a vertex whose corners have different colours is written once per
 /// colour, the copies last), `vt` and `vn` lines, then the faces ordered by
-/// group, each group opened by the `o`, `g` and `usemtl` lines that change,
+/// group, each group opened by the `o`, `g`, `usemtl` and `s` lines that change,
 /// with `v/vt/vn`, `v/vt` or `v//vn` corners. Without attributes this is
 /// exactly [`write_obj`].
 pub fn write_obj_with_attributes(
@@ -1057,9 +1057,9 @@ fn write_named(w: &mut dyn Write, keyword: &str, name: &str) -> std::io::Result<
     writeln!(w, "{keyword} {name}{blank}")
 }
 
-/// Writes the `o`, `g` and `usemtl` lines that take `written` to `group`.
-/// A name that `group` lacks and `written` has is undone by the statement
-/// alone, as the input did it (only an input's `o`, `g` or `usemtl` without
+/// Writes the `o`, `g`, `usemtl` and `s` lines that take `written` to
+/// `group`. A name that `group` lacks and `written` has is undone by the
+/// statement alone, as the input did it (only an input's statement without
 /// a name leaves a later group without one: groups are written in order of
 /// first use).
 fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> std::io::Result<()> {
@@ -1083,6 +1083,13 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
             None => writeln!(w, "usemtl")?,
         }
         written.material = group.material.clone();
+    }
+    if group.smoothing != written.smoothing {
+        match &group.smoothing {
+            Some(s) => write_named(w, "s", s)?,
+            None => writeln!(w, "s")?,
+        }
+        written.smoothing = group.smoothing.clone();
     }
     Ok(())
 }

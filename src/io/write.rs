@@ -23,7 +23,7 @@ pub fn output_format(path: &Path) -> Format {
 /// (`"normals, groups and materials"`), and the pronoun for it (`it` for a
 /// single property, else `them`); `None` if it holds all.
 /// OBJ holds every attribute but a PLY file's other vertex and face
-/// properties; PLY all but groups and materials, and channels that only
+/// properties; PLY all but groups, materials and smoothing groups, and channels that only
 /// some faces have; OFF texture coordinates, normals, colours and face
 /// colours ([`off_face_colors`]), not channels that only some faces have;
 /// STL positions only.
@@ -60,7 +60,13 @@ pub(super) fn attributes_format_cannot_hold(attributes: &Attributes, format: For
         .collect();
     lost.extend(properties_named("face", &face_properties));
     if groups && format != Format::Obj {
-        lost.extend(["groups".to_owned(), "materials".to_owned()]);
+        let named = |g: &crate::attributes::Group| g.object.is_some() || g.group.is_some() || g.material.is_some();
+        if !attributes.mtllib.is_empty() || attributes.groups.iter().any(named) {
+            lost.extend(["groups".to_owned(), "materials".to_owned()]);
+        }
+        if attributes.groups.iter().any(|g| g.smoothing.is_some()) {
+            lost.push("smoothing groups".to_owned());
+        }
     }
     let (last, rest) = lost.split_last()?;
     Some(if rest.is_empty() {
@@ -95,7 +101,7 @@ fn off_face_colors(attributes: &Attributes) -> Option<(Vec<usize>, formats::Colo
 }
 
 /// Leaves out of `input` the attributes that a file of `format` cannot hold
-/// (STL: all of them; PLY: groups and materials, and texture coordinates,
+/// (STL: all of them; PLY: groups, materials and smoothing groups, and texture coordinates,
 /// normals or colours that only some faces have; OFF: those, a PLY file's
 /// other vertex properties and its face properties but the face colours;
 /// OBJ: a PLY file's other vertex and face properties), before its surface
