@@ -1215,6 +1215,80 @@ fn check_flag_verifies_the_output() {
     );
 }
 
+/// A warped quad is read with its Delaunay diagonal (the fan from its first
+/// corner unless that diagonal is not Delaunay and the other is nearer), so
+/// a warped quad grid, a heightfield with jitter, needs no vertex on its
+/// diagonals; the same grid cut along the first corners' diagonals needs
+/// hundreds. The quads read the same from OBJ, OFF and PLY, and `check`
+/// reads them as the construction does.
+#[test]
+fn warped_quads_take_their_delaunay_diagonals() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 30;
+    let mut seed = 12345u64;
+    let mut jitter = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.006
+    };
+    let mut positions = Vec::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+            positions.push([x + jitter(), y, 0.2 * (3.0 * x).sin() * (4.0 * y).cos() + jitter()]);
+        }
+    }
+    let quads: Vec<[usize; 4]> = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let a = i * (n + 1) + j;
+            [a, a + n + 1, a + n + 2, a + 1]
+        })
+        .collect();
+    let mut obj = String::new();
+    for p in &positions {
+        obj += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    let (mut quad_obj, mut fan_obj) = (obj.clone(), obj);
+    // The vertex and face lines of OFF, which PLY's ASCII body shares.
+    let mut body = String::new();
+    for p in &positions {
+        body += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for q in &quads {
+        let [a, b, c, d] = q.map(|v| v + 1);
+        quad_obj += &format!("f {a} {b} {c} {d}\n");
+        fan_obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        body += &format!("4 {} {} {} {}\n", q[0], q[1], q[2], q[3]);
+    }
+    let off = format!("OFF\n{} {} 0\n{body}", positions.len(), quads.len());
+    let added = |name: &str, text: &str| {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).unwrap();
+        let output = dir.path().join(format!("out-{name}.obj"));
+        let run = refine(&input, &output).output().unwrap();
+        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+        check_passes(&input, &output);
+        let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+        let line = stdout.lines().find(|l| l.starts_with("output")).unwrap().to_owned();
+        let words: Vec<&str> = line.split_whitespace().collect();
+        words[words.len() - 3].parse::<usize>().unwrap()
+    };
+    let fans = added("fans.obj", &fan_obj);
+    assert!(fans > 100, "{fans}");
+    assert_eq!(added("quads.obj", &quad_obj), 0);
+    assert_eq!(added("quads.off", &off), 0);
+    let ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n{body}",
+        positions.len(),
+        quads.len()
+    );
+    assert_eq!(added("quads.ply", &ply), 0);
+    // One surface from the three: each output passes against the others' inputs.
+    check_passes(&dir.path().join("quads.obj"), &dir.path().join("out-quads.ply.obj"));
+    check_passes(&dir.path().join("quads.ply"), &dir.path().join("out-quads.off.obj"));
+}
+
 /// Polygons keep their shape: a non-convex one is fanned from a corner that
 /// sees its whole outline (the L: its triangles' areas add up to the L's,
 /// none overlaps) or, when none does, cut into ears (a comb); a polygon with

@@ -12,6 +12,21 @@
 //! corner sees whole (a gear, a comb, the cap of extruded text) is cut into
 //! ears instead ([`triangulate`]), which draws every simple polygon.
 //!
+//! A quad has two fans, one per diagonal, and where it is not planar they
+//! are two different surfaces: the file does not say which it means. The
+//! fan from its first corner is taken unless that diagonal is not Delaunay
+//! in the quad and the other one is nearer to it ([`quad_apex`]): a warped
+//! quad mesh (a subdivision surface, a CAD part meshed in quads) then needs
+//! no vertex on its diagonals, where the first corners' diagonals needed
+//! one for about every second quad.
+//!
+//! ```text
+//!   3-------2        3-------2
+//!   |    .' |        | `.    |    diagonal 0-2 (fan from 0), or 1-3
+//!   |  .'   |        |   `.  |    (fan from 1) where 0-2 is not Delaunay
+//!   0-------1        0-------1    and 1-3 nearer to it
+//! ```
+//!
 //! This is part of what a file *means*: the construction's readers and the
 //! judge (`delmesh check`) both triangulate with [`triangulate`], so that
 //! they read the same surface from the same file.
@@ -24,7 +39,9 @@
 //!   0---1                0---1         triangle lies inside it
 //! ```
 
-use crate::geometry::orient2d_sign;
+use glam::DVec3;
+
+use crate::geometry::{delaunay_excess, delaunay_test, orient2d_sign, DelaunayTest, SEED_TOLERANCE};
 
 /// How many corners are tried as the fan's apex, at most: a large polygon
 /// that no early corner sees whole is not star-shaped from any of them in
@@ -51,8 +68,10 @@ pub struct Fan {
 /// The fan of the polygon with `n` corners: from the first corner `k` from
 /// which every triangle turns the way of the polygon's normal (Newell's) by
 /// more than [`MIN_TURN`]; from corner 0 for a triangle, for every convex
-/// polygon, and (not proper) when no corner of the first [`MAX_APEXES`]
-/// does. Allocates nothing: `corner` is called again as needed.
+/// polygon (but a quad whose other diagonal is the Delaunay one: see
+/// [`quad_apex`]), and (not proper) when no corner of the first
+/// [`MAX_APEXES`] does. Allocates nothing: `corner` is called again as
+/// needed.
 pub fn fan(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> Fan {
     if n <= 3 {
         return Fan { apex: 0, proper: true };
@@ -67,9 +86,26 @@ pub fn fan(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> Fan {
         })
     };
     match (0..n.min(MAX_APEXES)).find(|&k| turns_from(k)) {
+        Some(0) if n == 4 && quad_apex(&corner) == 1 && turns_from(1) => Fan { apex: 1, proper: true },
         Some(apex) => Fan { apex, proper: true },
         None => Fan { apex: 0, proper: false },
     }
+}
+
+/// The corner a quad's fan should start from, by its diagonals alone: 1
+/// (diagonal 1-3) if its diagonal 0-2 is not Delaunay in the quad's two
+/// triangles (its opposite angles, at corners 1 and 3, sum to more than π
+/// plus [`SEED_TOLERANCE`], the most that refining leaves alone) and the
+/// diagonal 1-3 exceeds π by less; else 0. In a planar convex quad the two
+/// sums make 2π, so one diagonal is always Delaunay; a warped quad can have
+/// both over π, and then gets the one nearer. (Whether the fan from 1
+/// draws the quad is for [`fan`] to say.)
+pub fn quad_apex(corner: &impl Fn(usize) -> [f64; 3]) -> usize {
+    let [c0, c1, c2, c3] = [0, 1, 2, 3].map(|i| DVec3::from_array(corner(i)));
+    if delaunay_test(c0, c2, c1, c3, SEED_TOLERANCE) != DelaunayTest::NonDelaunay {
+        return 0;
+    }
+    usize::from(delaunay_excess(c1, c3, c2, c0) < delaunay_excess(c0, c2, c1, c3))
 }
 
 /// [`fan`]'s apex alone.
@@ -282,6 +318,78 @@ mod tests {
         let warped = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.1], [1.0, 1.0, 0.0], [0.0, 1.0, 0.1]];
         assert_eq!(apex(&warped), 0);
         assert!(fan(4, |i| warped[i]).proper);
+    }
+
+    #[test]
+    fn a_quad_takes_its_delaunay_diagonal() {
+        // A rhombus long along 0-2, its corners 1 and 3 raised: the angles
+        // facing 0-2 are obtuse, those facing 1-3 acute.
+        let warped = [[0.0, 0.0, 0.0], [2.0, -0.5, 0.3], [4.0, 0.0, 0.0], [2.0, 0.5, 0.3]];
+        assert_eq!(quad_apex(&|i| warped[i]), 1);
+        assert_eq!(fan(4, |i| warped[i]), Fan { apex: 1, proper: true });
+        let mut out = Vec::new();
+        assert!(triangulate(4, |i| warped[i], &mut out));
+        assert_eq!(out, [[1, 2, 3], [1, 3, 0]]);
+        // The same quad listed from corner 1: its first diagonal is now the
+        // Delaunay one, and kept.
+        let turned = [warped[1], warped[2], warped[3], warped[0]];
+        assert_eq!(fan(4, |i| turned[i]).apex, 0);
+        // Planar, the same.
+        let rhombus = [[0.0, 0.0, 0.0], [2.0, -0.5, 0.0], [4.0, 0.0, 0.0], [2.0, 0.5, 0.0]];
+        assert_eq!(fan(4, |i| rhombus[i]).apex, 1);
+        // Cocircular (a square): both diagonals exactly Delaunay, the first kept.
+        let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(fan(4, |i| square[i]).apex, 0);
+        // A planar dart (corner 2 reflex): its inner diagonal 0-2 faces
+        // angles that sum to less than π, always, and is kept.
+        let dart = [[0.0, 0.0, 0.0], [2.0, -1.0, 0.0], [0.5, 0.0, 0.0], [2.0, 1.0, 0.0]];
+        assert_eq!(fan(4, |i| dart[i]), Fan { apex: 0, proper: true });
+        // Listed from corner 1, the fan from the reflex corner draws it.
+        let turned = [dart[1], dart[2], dart[3], dart[0]];
+        assert_eq!(fan(4, |i| turned[i]), Fan { apex: 1, proper: true });
+    }
+
+    /// Random quads, warped and not convex too: a fan from corner 1 is
+    /// taken only where its two triangles turn the quad's way (as
+    /// recomputed here), also where the diagonal 1-3 would be nearer
+    /// Delaunay but leaves the outline; and where the fan from 0 is proper
+    /// and kept, its diagonal is Delaunay or the other one is no nearer.
+    #[test]
+    fn a_quad_s_other_diagonal_is_taken_only_where_it_draws_the_quad() {
+        let mut rng = crate::test_rng::Rng(7);
+        let (mut to_one, mut guarded) = (0, 0);
+        for k in 0..20_000 {
+            // Every second one a dart: corner 2 pulled towards corner 0.
+            let mut q: [[f64; 3]; 4] = std::array::from_fn(|_| [rng.centered(), rng.centered(), 0.5 * rng.centered()]);
+            if k % 2 == 1 {
+                q[2] = std::array::from_fn(|i| q[0][i] + 0.2 * (q[2][i] - q[0][i]));
+            }
+            let f = fan(4, |i| q[i]);
+            if !f.proper {
+                continue;
+            }
+            let normal = newell_normal(4, &|i| q[i]);
+            let turns = |[a, b, c]: [usize; 3]| dot(cross(sub(q[b], q[a]), sub(q[c], q[a])), normal) > 0.0;
+            let wanted = quad_apex(&|i| q[i]);
+            if f.apex == 1 {
+                to_one += 1;
+                assert!(turns([1, 2, 3]) && turns([1, 3, 0]), "{q:?}");
+            } else if f.apex == 0 && wanted == 1 {
+                guarded += 1;
+                assert!(!(turns([1, 2, 3]) && turns([1, 3, 0])), "{q:?}");
+            }
+        }
+        assert!(to_one > 1000 && guarded >= 1, "{to_one} {guarded}");
+        // That one: warped and not convex, its diagonal 1-3 nearer Delaunay
+        // but outside it.
+        let q = [
+            [-0.09932315446134832, 0.489674605044498, 0.0067650134844674525],
+            [-0.34998421639147714, -0.4487222786838616, -0.13094673349079078],
+            [-0.34137421588048134, -0.4177435242203671, -0.029650117295507095],
+            [-0.4724893569505729, 0.11908820717890667, -0.06731400421145295],
+        ];
+        assert_eq!(quad_apex(&|i| q[i]), 1);
+        assert_eq!(fan(4, |i| q[i]), Fan { apex: 0, proper: true });
     }
 
     /// The L of the module's sketch.
