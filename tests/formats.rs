@@ -1742,8 +1742,9 @@ fn ply_ascii_values_must_fit_their_declared_types() {
     assert!(m.attributes.texcoords.is_none());
 }
 
-/// OBJ line and point elements (`l`, `p`) are not faces: read past, with a
-/// note naming the first one's line and how many there were.
+/// OBJ line and point elements (`l`, `p`) and free-form curves and surfaces
+/// (`curv`, `surf`) are not faces: read past, with a note naming the first
+/// one's line and how many there were.
 #[test]
 fn obj_line_and_point_elements_are_ignored_with_a_note() {
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nf 1 2 3\np 3\nl 2 3 1\n";
@@ -1755,6 +1756,15 @@ fn obj_line_and_point_elements_are_ignored_with_a_note() {
     );
     let m = delmesh::io::obj::parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     assert!(m.notes.is_empty(), "{:?}", m.notes);
+    // Free-form geometry too, in a note of its own.
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvp 0.5\ncstype bspline\ndeg 1\ncurv 0 1 1 2\nparm u 0 0 1 1\nend\n\
+                f 1 2 3\nsurf 0 1 0 1 1 2 3\nend\n";
+    let m = delmesh::io::obj::parse_obj(text.as_bytes()).unwrap();
+    assert_eq!(faces(&m), [vec![0, 1, 2]]);
+    assert_eq!(
+        m.notes,
+        ["line 7: 2 free-form curves or surfaces (curv, surf) ignored: only faces are read and written"]
+    );
 }
 
 /// A file whose content is of another format than its name's is refused

@@ -172,6 +172,8 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
     let mut renamed = None;
     // `l` and `p` statements (how many, the first one's line).
     let mut lines_and_points: Option<(usize, usize)> = None;
+    // Free-form curves and surfaces (`curv`, `curv2`, `surf`): the same.
+    let mut free_forms: Option<(usize, usize)> = None;
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
         Err(_) => {
@@ -387,6 +389,10 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                 let (count, _) = lines_and_points.get_or_insert((0, line_no));
                 *count += 1;
             }
+            "curv" | "curv2" | "surf" => {
+                let (count, _) = free_forms.get_or_insert((0, line_no));
+                *count += 1;
+            }
             k if IGNORED.contains(&k) => {}
             k => {
                 return Err(error(
@@ -415,6 +421,13 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
     if let Some((count, line)) = lines_and_points {
         raw.notes.push(format!(
             "line {line}: {count} line or point element{} (l, p) ignored: only faces are read and written",
+            if count == 1 { "" } else { "s" }
+        ));
+    }
+    if let Some((count, line)) = free_forms {
+        raw.notes.push(format!(
+            "line {line}: {count} free-form curve{} or surface{} (curv, surf) ignored: only faces are read and written",
+            if count == 1 { "" } else { "s" },
             if count == 1 { "" } else { "s" }
         ));
     }
