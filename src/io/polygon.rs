@@ -17,8 +17,8 @@
 //! fan from its first corner is taken unless that diagonal is not Delaunay
 //! in the quad and the other one is nearer to it ([`quad_apex`]): a warped
 //! quad mesh (a subdivision surface, a CAD part meshed in quads) then needs
-//! no vertex on its diagonals, where the first corners' diagonals needed
-//! one for about every second quad.
+//! no vertex on its diagonals (a jittered heightfield of 3,600 quads: none,
+//! where the first corners' diagonals needed 2,322).
 //!
 //! ```text
 //!   3-------2        3-------2
@@ -351,9 +351,8 @@ mod tests {
 
     /// Random quads, warped and not convex too: a fan from corner 1 is
     /// taken only where its two triangles turn the quad's way (as
-    /// recomputed here), also where the diagonal 1-3 would be nearer
-    /// Delaunay but leaves the outline; and where the fan from 0 is proper
-    /// and kept, its diagonal is Delaunay or the other one is no nearer.
+    /// recomputed here), and not where the diagonal 1-3 would be nearer
+    /// Delaunay but leaves the outline.
     #[test]
     fn a_quad_s_other_diagonal_is_taken_only_where_it_draws_the_quad() {
         let mut rng = crate::test_rng::Rng(7);
