@@ -234,15 +234,10 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
             continue;
         }
         // Oriented: (a, b, c) in f and (b, a, d) in g.
-        let (a, b) = {
-            let tri = t[f];
-            let k = tri.iter().position(|&v| v == a).expect("a corner of its face");
-            if tri[(k + 1) % 3] == b {
-                (a, b)
-            } else {
-                (b, a)
-            }
+        let Some(k) = t[f].iter().position(|&v| v == a) else {
+            continue;
         };
+        let (a, b) = if t[f][(k + 1) % 3] == b { (a, b) } else { (b, a) };
         let (Some(c), Some(d)) = (apex(t[f], a, b), apex(t[g], a, b)) else {
             continue;
         };
