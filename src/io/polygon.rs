@@ -189,6 +189,23 @@ fn flip_budget(n: usize) -> usize {
 ///      d                 d
 /// ```
 fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize; 3]]) {
+    // Most polygons are fans whose diagonals are all Delaunay already (a
+    // convex polygon on a circle, a planar hexagon): a fan's diagonal
+    // (k, k+i) has the corners k+i-1 and k+i+1 beyond it, so that is told
+    // without building the edges' map.
+    let k = t[0][0];
+    let is_fan = t
+        .iter()
+        .enumerate()
+        .all(|(i, tri)| *tri == [k, (k + i + 1) % n, (k + i + 2) % n]);
+    let at = |i: usize| DVec3::from_array(corner(i % n));
+    if is_fan
+        && (2..n - 1).all(|i| {
+            delaunay_test(at(k), at(k + i), at(k + i - 1), at(k + i + 1), SEED_TOLERANCE) != DelaunayTest::NonDelaunay
+        })
+    {
+        return;
+    }
     let normal = newell_normal(n, corner);
     let unit = scale(normal, 1.0 / length(normal));
     if !unit.iter().all(|x| x.is_finite()) {
@@ -201,7 +218,8 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
     };
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
     // Each edge's triangles (the second `usize::MAX` on the outline).
-    let mut faces: crate::hash::FastMap<(usize, usize), [usize; 2]> = crate::hash::FastMap::default();
+    let mut faces: crate::hash::FastMap<(usize, usize), [usize; 2]> =
+        crate::hash::FastMap::with_capacity_and_hasher(3 * n, Default::default());
     for (f, tri) in t.iter().enumerate() {
         for k in 0..3 {
             let e = faces.entry(key(tri[k], tri[(k + 1) % 3])).or_insert([usize::MAX; 2]);
@@ -212,7 +230,8 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
     // The diagonals, in the order the triangles list them, to be taken first
     // to last.
     let mut stack: Vec<(usize, usize)> = Vec::new();
-    let mut listed: std::collections::HashSet<(usize, usize), crate::hash::FastBuild> = Default::default();
+    let mut listed: std::collections::HashSet<(usize, usize), crate::hash::FastBuild> =
+        std::collections::HashSet::with_capacity_and_hasher(n, Default::default());
     for tri in t.iter() {
         for k in 0..3 {
             let e = key(tri[k], tri[(k + 1) % 3]);
