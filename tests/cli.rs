@@ -38,6 +38,23 @@ fn check_passes(input: &Path, output: &Path) {
     assert!(stdout.contains("PASS"), "{stdout}");
 }
 
+/// Writes `text` as `dir/name`, refines it into `dir/out-name` (with
+/// `name`'s extension, or `.obj` after it if `obj`), checks that the run
+/// succeeds and its output passes `check`; returns the printout.
+fn refine_text_checked(dir: &Path, name: &str, text: &str, obj: bool) -> String {
+    let input = dir.join(name);
+    std::fs::write(&input, text).unwrap();
+    let output = dir.join(if obj {
+        format!("out-{name}.obj")
+    } else {
+        format!("out-{name}")
+    });
+    let run = refine(&input, &output).output().unwrap();
+    assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+    check_passes(&input, &output);
+    String::from_utf8_lossy(&run.stdout).into_owned()
+}
+
 /// The error of a run that failed as a bad input or setting should: exit
 /// status 1 and one line on standard error, which it returns.
 fn one_line_error(run: &std::process::Output) -> String {
@@ -445,12 +462,7 @@ fn obj_forms_read_alike_by_construction_and_check() {
     ];
     let dir = tempfile::tempdir().unwrap();
     for (name, text) in cases {
-        let input = dir.path().join(name);
-        std::fs::write(&input, text).unwrap();
-        let output = dir.path().join(format!("out-{name}"));
-        let out = refine(&input, &output).output().unwrap();
-        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
-        check_passes(&input, &output);
+        refine_text_checked(dir.path(), name, &text, false);
     }
     // The weights divide: the output's first vertices are those of a unit tetrahedron.
     let written = std::fs::read_to_string(dir.path().join("out-weights.obj")).unwrap();
@@ -1262,13 +1274,7 @@ fn warped_quads_take_their_delaunay_diagonals() {
     }
     let off = format!("OFF\n{} {} 0\n{body}", positions.len(), quads.len());
     let added = |name: &str, text: &str| {
-        let input = dir.path().join(name);
-        std::fs::write(&input, text).unwrap();
-        let output = dir.path().join(format!("out-{name}.obj"));
-        let run = refine(&input, &output).output().unwrap();
-        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
-        check_passes(&input, &output);
-        let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+        let stdout = refine_text_checked(dir.path(), name, text, true);
         let line = stdout.lines().find(|l| l.starts_with("output")).unwrap().to_owned();
         let words: Vec<&str> = line.split_whitespace().collect();
         words[words.len() - 3].parse::<usize>().unwrap()
@@ -1325,14 +1331,8 @@ fn tilted_polygon_caps_are_read_as_their_delaunay_triangulations() {
         off += &format!("{n}{}\n", cap.iter().map(|v| format!(" {v}")).collect::<String>());
     }
     for (name, text) in [("cylinder.obj", &obj), ("cylinder.off", &off)] {
-        let input = dir.path().join(name);
-        std::fs::write(&input, text).unwrap();
-        let output = dir.path().join(format!("out-{name}.obj"));
-        let run = refine(&input, &output).output().unwrap();
-        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
-        let stdout = String::from_utf8_lossy(&run.stdout);
+        let stdout = refine_text_checked(dir.path(), name, text, true);
         assert!(stdout.contains(", 0 added vertices"), "{name}: {stdout}");
-        check_passes(&input, &output);
     }
 }
 
