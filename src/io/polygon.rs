@@ -603,6 +603,65 @@ mod tests {
         assert!(fan_excess.fold(f64::MIN, f64::max) > 0.1);
     }
 
+    /// Random star-shaped polygons (5 to 40 corners at random angles and
+    /// radii; flat, tilted, or warped): after the flips, the triangles still
+    /// cover the polygon once (each side of the outline in one triangle,
+    /// each diagonal in two, in opposite directions; in the flat ones the
+    /// areas add up to the outline's) and each turns the polygon's way.
+    #[test]
+    fn flips_keep_a_triangulation_of_the_polygon() {
+        let mut rng = crate::test_rng::Rng(11);
+        let mut flipped = 0;
+        for k in 0..3000 {
+            let n = 5 + rng.below(36) as usize;
+            let mut angles: Vec<f64> = (0..n).map(|_| (rng.centered() + 0.5) * std::f64::consts::TAU).collect();
+            angles.sort_by(f64::total_cmp);
+            let warp = [0.0, 0.0, 0.05][k % 3];
+            let q: Vec<[f64; 3]> = angles
+                .iter()
+                .map(|&a| {
+                    let r = 1.0 + 0.9 * rng.centered();
+                    let z = if k % 3 == 1 {
+                        0.3 * r * a.cos()
+                    } else {
+                        warp * rng.centered()
+                    };
+                    [r * a.cos(), r * a.sin(), z]
+                })
+                .collect();
+            let fan = fan(n, |i| q[i]);
+            let mut t = Vec::new();
+            if !triangulate(n, |i| q[i], &mut t) {
+                continue;
+            }
+            assert_eq!(t.len(), n - 2);
+            flipped += (fan.proper && t.iter().any(|tri| tri[0] != fan.apex)) as usize;
+            let normal = DVec3::from_array(newell_normal(n, &|i| q[i]));
+            let p = |i: usize| DVec3::from_array(q[i]);
+            let mut sides = std::collections::BTreeMap::new();
+            for tri in &t {
+                let [a, b, c] = tri.map(p);
+                assert!((b - a).cross(c - a).dot(normal) > 0.0, "{k}: {tri:?}");
+                for j in 0..3 {
+                    *sides.entry((tri[j], tri[(j + 1) % 3])).or_insert(0) += 1;
+                }
+            }
+            for (&(a, b), &count) in &sides {
+                assert_eq!(count, 1, "{k}");
+                assert_eq!(sides.contains_key(&(b, a)), (a + 1) % n != b, "{k}: {a}-{b}");
+            }
+            assert!((0..n).all(|i| sides.contains_key(&(i, (i + 1) % n))), "{k}");
+            if k % 3 == 0 {
+                let area: f64 = t.iter().map(|tri| doubled_areas(&q, &[*tri])[0]).sum();
+                let outline: f64 = (0..n)
+                    .map(|i| q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1])
+                    .sum();
+                assert!((area - outline).abs() <= 1e-12 * outline.abs(), "{k}: {area} {outline}");
+            }
+        }
+        assert!(flipped > 500, "{flipped}");
+    }
+
     /// The L of the module's sketch.
     const L: [[f64; 3]; 6] = [
         [0.0, 0.0, 0.0],
