@@ -176,8 +176,8 @@ fn flip_budget(n: usize) -> usize {
 /// must, [`MIN_TURN`]). Angles are the 3D ones, so a polygon that is planar
 /// up to rounding (a CAD part's face tilted in floating point) comes out
 /// with the planar Delaunay triangulation, whose diagonals then need no
-/// vertex; a fan of its thin triangles needed hundreds (an elliptic 64-gon
-/// cap: 18,751 added vertices). Each flip lowers the excess of the quad it
+/// vertex; fans of its thin triangles needed thousands (an elliptic
+/// cylinder's two 64-gon caps: 18,751 added vertices). Each flip lowers the excess of the quad it
 /// is made in; at most [`flip_budget`] are made, in an order fixed by `t`,
 /// so the result depends only on the polygon.
 ///
@@ -242,7 +242,7 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
     }
     stack.reverse();
     let mut budget = flip_budget(n);
-    // The corner of triangle `f` that is not on edge (a, b).
+    // The corner of triangle `tri` that is not on edge (a, b).
     let apex = |tri: [usize; 3], a: usize, b: usize| tri.into_iter().find(|&v| v != a && v != b);
     while let Some((a, b)) = stack.pop() {
         if budget == 0 {
