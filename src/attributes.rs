@@ -380,6 +380,14 @@ pub struct Group {
     pub smoothing: Option<String>,
 }
 
+impl Group {
+    /// Whether it names an object, group or material (not only a
+    /// smoothing group).
+    pub fn is_named(&self) -> bool {
+        self.object.is_some() || self.group.is_some() || self.material.is_some()
+    }
+}
+
 /// The attributes of a triangle mesh, per corner (see [`Channel`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Attributes {

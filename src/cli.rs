@@ -89,7 +89,7 @@ use args::{legacy_args, Cli, Command, RunArgs, Settings};
 
 use sweep::{combination_path, run_sweep, smallest, smallest_note, sweep_combinations};
 
-use delmesh::attributes::{properties_named, Attributes, Kind, Tolerances, Transfer, NO_VALUE};
+use delmesh::attributes::{properties_named, Attributes, Group, Kind, Tolerances, Transfer, NO_VALUE};
 use delmesh::mesh::{EdgeId, Surface};
 use delmesh::prune::PruneStats;
 use delmesh::refine::{self, Options, Stats, Worklist};
@@ -1569,10 +1569,7 @@ fn describe_attributes(a: &Attributes) -> String {
         // what the file has of them.
         let n = a.groups.len();
         let s = if n == 1 { "" } else { "s" };
-        let named = a
-            .groups
-            .iter()
-            .any(|g| g.object.is_some() || g.group.is_some() || g.material.is_some());
+        let named = a.groups.iter().any(Group::is_named);
         let smoothing = a.groups.iter().any(|g| g.smoothing.is_some());
         parts.push(match (named, smoothing) {
             (true, true) => format!("{n} group{s}/material{s}/smoothing group{s}"),

@@ -88,7 +88,7 @@ pub fn fan(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> Fan {
         let a = corner(k);
         (1..n - 1).all(|i| {
             let (u, v) = (sub(corner((k + i) % n), a), sub(corner((k + i + 1) % n), a));
-            dot(cross(u, v), normal) > MIN_TURN * (dot(u, u) * dot(v, v)).sqrt()
+            turns_clearly(u, v, normal)
         })
     };
     match (0..n.min(MAX_APEXES)).find(|&k| turns_from(k)) {
@@ -212,10 +212,7 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
         return;
     }
     let p: Vec<DVec3> = (0..n).map(|i| DVec3::from_array(corner(i))).collect();
-    let clear = |[a, b, c]: [usize; 3]| {
-        let (x, y) = (p[b] - p[a], p[c] - p[a]);
-        x.cross(y).dot(DVec3::from_array(unit)) > MIN_TURN * (x.length_squared() * y.length_squared()).sqrt()
-    };
+    let clear = |[a, b, c]: [usize; 3]| turns_clearly((p[b] - p[a]).to_array(), (p[c] - p[a]).to_array(), unit);
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
     // Each edge's triangles (the second `usize::MAX` on the outline).
     let mut faces: crate::hash::FastMap<(usize, usize), [usize; 2]> =
@@ -336,7 +333,7 @@ fn ears(n: usize, corner: &impl Fn(usize) -> [f64; 3], out: &mut Vec<[usize; 3]>
     let unit = scale(normal, 1.0 / length(normal));
     let clear = |[a, b, c]: [usize; 3]| {
         let (x, y) = (sub(c3[b], c3[a]), sub(c3[c], c3[a]));
-        dot(cross(x, y), unit) > MIN_TURN * (dot(x, x) * dot(y, y)).sqrt()
+        turns_clearly(x, y, unit)
     };
     let mut next: Vec<usize> = (0..n).map(|i| (i + 1) % n).collect();
     let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
@@ -414,6 +411,13 @@ fn newell_normal(n: usize, corner: &impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
         a = b;
     }
     sum
+}
+
+/// Whether the triangle with sides `u` and `v` from one corner turns the
+/// way of the unit `normal` by more than [`MIN_TURN`] (the sine of its
+/// angle there, times the cosine of its tilt from the normal).
+fn turns_clearly(u: [f64; 3], v: [f64; 3], normal: [f64; 3]) -> bool {
+    dot(cross(u, v), normal) > MIN_TURN * (dot(u, u) * dot(v, v)).sqrt()
 }
 
 fn scale(a: [f64; 3], k: f64) -> [f64; 3] {

@@ -60,8 +60,7 @@ pub(super) fn attributes_format_cannot_hold(attributes: &Attributes, format: For
         .collect();
     lost.extend(properties_named("face", &face_properties));
     if groups && format != Format::Obj {
-        let named = |g: &crate::attributes::Group| g.object.is_some() || g.group.is_some() || g.material.is_some();
-        if !attributes.mtllib.is_empty() || attributes.groups.iter().any(named) {
+        if !attributes.mtllib.is_empty() || attributes.groups.iter().any(crate::attributes::Group::is_named) {
             lost.extend(["groups".to_owned(), "materials".to_owned()]);
         }
         if attributes.groups.iter().any(|g| g.smoothing.is_some()) {
