@@ -249,19 +249,42 @@ fn flip(m: &mut Mesh3, f: usize, g: usize, [a, b, c, d]: [u32; 4]) {
     m.triangles[g] = [d, b, c];
 }
 
+/// A random added vertex of `s` (`None` if it has none), with its input
+/// edge and parameter on it.
+fn random_added_vertex(s: &Surface, n_input: usize, rng: &mut Rng) -> Option<(usize, u32, f64)> {
+    let added = s.positions.len() - n_input;
+    if added == 0 {
+        return None;
+    }
+    let v = n_input + rng.below(added as u64) as usize;
+    let Carrier::Edge { edge, t } = s.carriers[v] else {
+        unreachable!("an added vertex lies on an input edge")
+    };
+    Some((v, edge, t))
+}
+
+/// The parameters of the vertices next to parameter `t` on input edge
+/// `edge` of `s`, before and after it (0 and 1 at its ends).
+fn neighbours_on_edge(s: &Surface, n_input: usize, edge: u32, t: f64) -> (f64, f64) {
+    let (mut before, mut after) = (0.0f64, 1.0f64);
+    for c in &s.carriers[n_input..] {
+        if let Carrier::Edge { edge: e, t: u } = *c {
+            if e == edge && u < t {
+                before = before.max(u);
+            } else if e == edge && u > t {
+                after = after.min(u);
+            }
+        }
+    }
+    (before, after)
+}
+
 fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<Mesh3> {
     let mut m = out.clone();
     let n_faces = m.triangles.len() as u64;
     match kind {
         Damage::AddedVertexOffItsEdge => {
-            let added = m.positions.len() - n_input;
-            if added == 0 {
-                return None;
-            }
-            let v = n_input + rng.below(added as u64) as usize;
-            let Carrier::Edge { edge, .. } = s.carriers[v] else {
-                unreachable!("an added vertex lies on an input edge")
-            };
+            let (v, edge, _) = random_added_vertex(s, n_input, rng)?;
             let [a, b] = s.input_edge_ends(edge);
             let dir = (b - a).normalize();
             // A random direction square to the edge ...
@@ -285,20 +308,8 @@ fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng)
             // Along its input edge, halfway past the next vertex on it (an
             // added one, or the edge's end: then off the edge): the faces
             // between the two turn over.
-            let added = m.positions.len() - n_input;
-            if added == 0 {
-                return None;
-            }
-            let v = n_input + rng.below(added as u64) as usize;
-            let Carrier::Edge { edge, t } = s.carriers[v] else {
-                unreachable!("an added vertex lies on an input edge")
-            };
-            let next = (s.carriers[n_input..].iter())
-                .filter_map(|c| match *c {
-                    Carrier::Edge { edge: e, t: u } if e == edge && u > t => Some(u),
-                    _ => None,
-                })
-                .fold(1.0, f64::min);
+            let (v, edge, t) = random_added_vertex(s, n_input, rng)?;
+            let (_, next) = neighbours_on_edge(s, n_input, edge, t);
             let [a, b] = s.input_edge_ends(edge);
             m.positions[v] = delmesh::samples::point_on_edge(a, b, next + 0.5 * (next - t));
         }
@@ -383,24 +394,8 @@ fn renumbered(out: &Mesh3, n_input: usize, rng: &mut Rng) -> Mesh3 {
 /// strictly between its neighbours on it (no face turns over), with the
 /// largest α + β − π of the interior edges then.
 fn slid(s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<(Mesh3, f64)> {
-    let added = out.positions.len() - n_input;
-    if added == 0 {
-        return None;
-    }
-    let v = n_input + rng.below(added as u64) as usize;
-    let Carrier::Edge { edge, t } = s.carriers[v] else {
-        unreachable!("an added vertex lies on an input edge")
-    };
-    let (mut before, mut after) = (0.0f64, 1.0f64);
-    for c in &s.carriers[n_input..] {
-        if let Carrier::Edge { edge: e, t: u } = *c {
-            if e == edge && u < t {
-                before = before.max(u);
-            } else if e == edge && u > t {
-                after = after.min(u);
-            }
-        }
-    }
+    let (v, edge, t) = random_added_vertex(s, n_input, rng)?;
+    let (before, after) = neighbours_on_edge(s, n_input, edge, t);
     let gap = after - before;
     let t = rng.range(before + 0.05 * gap, after - 0.05 * gap);
     let [a, b] = s.input_edge_ends(edge);
