@@ -1165,7 +1165,7 @@ fn run_refined(
     in_place: bool,
 ) -> anyhow::Result<ExitCode> {
     let (args, input_path, input, output) = (report.args, report.input_path, report.input, report.output);
-    let mut options = args.settings.options();
+    let mut options = args.settings.options(surface.n_input_vertices);
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
     let mut vertex_lines = io::obj::VertexLines::default();

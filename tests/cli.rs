@@ -2245,6 +2245,52 @@ fn the_work_limit_allows_exactly_its_count() {
     assert!(stderr.contains(&format!("stopped after {fewer} splits")), "{stderr}");
 }
 
+/// `--max-added Nx`: N times the input's vertex count (the bunny's 1,839:
+/// 0.1x is 183, short of its 315 added vertices; 0.2x is 367), file by file
+/// in `batch` (the cube fixture's 13 vertices give 0.2x a limit of 2, short
+/// of its 5). A value that is neither a count nor `Nx` is refused with the
+/// command line's exit 2.
+#[test]
+fn a_work_limit_relative_to_the_input_is_set_file_by_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let stderr = one_line_error(
+        &refine(&bunny, &out)
+            .args(["-q", "--max-added", "0.1x"])
+            .output()
+            .unwrap(),
+    );
+    assert!(
+        stderr.contains("stopped after 183 splits") && stderr.contains("--max-added 183"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let run = refine(&bunny, &out)
+        .args(["-q", "--max-added", "0.2x"])
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let folder = dir.path().join("batch");
+    let run = delmesh()
+        .args(["batch", "-q", "--max-added", "0.2x", "-d"])
+        .arg(&folder)
+        .arg(&bunny)
+        .arg(common::data_dir().join("cube.obj"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(folder.join("bunny.obj").exists() && !folder.join("cube.obj").exists());
+    assert!(stderr.contains("cube.obj: stopped after 2 splits"), "{stderr}");
+    for bad in ["20y", "x", "nanx", "infx", "1.5", "-3"] {
+        let run = refine(&bunny, &out).arg(format!("--max-added={bad}")).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{bad}: {stderr}");
+        assert!(stderr.contains("is not a number of added vertices"), "{bad}: {stderr}");
+    }
+}
+
 /// A flat 400-gon on an ellipse, fanned from its first corner: the stack
 /// flips it about n²/12 times, longest edge first about n times. A run
 /// stopped by its flips says so and points to --ds pqueue, which gets

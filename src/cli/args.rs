@@ -167,12 +167,14 @@ pub(super) struct Settings {
     pub(super) shells: bool,
 
     /// Work limit: stop (exit 1) when a run needs more than this many added
-    /// vertices, or more than three times as many flips. Some settings (the first best sample
-    /// instead of the median, on inputs with tiny angles) would otherwise add
-    /// billions of vertices or flip quadratically often. With -all and
-    /// --smallest, each of their runs.
-    #[arg(long = "max-added", value_name = "N", default_value_t = refine::DEFAULT_MAX_ADDED)]
-    pub(super) max_added: usize,
+    /// vertices, or more than three times as many flips; `Nx` (such as
+    /// `20x`): N times the input's vertex count, file by file in `batch`.
+    /// Some settings (the first best sample instead of the median, on
+    /// inputs with tiny angles) would otherwise add billions of vertices or
+    /// flip quadratically often. With -all and --smallest, each of their
+    /// runs.
+    #[arg(long = "max-added", value_name = "N", default_value = "10000000", value_parser = work_limit)]
+    pub(super) max_added: WorkLimit,
 
     /// Take the edges in the --ds order to the end. Without it, a stack or
     /// queue run that has flipped more than 8 times per edge of the mesh
@@ -252,11 +254,12 @@ impl Settings {
         }
     }
 
-    /// The refinement's options: DS, score, median rule and work limit.
-    pub(super) fn options(&self) -> Options {
+    /// The refinement's options: DS, score, median rule and the work limit
+    /// for an input of `input_vertices` vertices.
+    pub(super) fn options(&self, input_vertices: usize) -> Options {
         let mut options = Options::new(self.ds.into(), score_of(&self.score), !self.nomedian);
         options.shells = self.shells;
-        options.max_added = self.max_added;
+        options.max_added = self.max_added.for_input(input_vertices);
         options.keep_order = self.keep_order;
         options
     }
@@ -384,6 +387,43 @@ pub(super) fn legacy_args(args: impl IntoIterator<Item = std::ffi::OsString>) ->
         out.push(rewritten.map(Into::into).unwrap_or(arg));
     }
     out
+}
+
+/// `--max-added`: a number of added vertices, or a multiple of the input's
+/// vertex count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum WorkLimit {
+    /// This many added vertices, whatever the input.
+    Vertices(usize),
+    /// This many times the input's vertex count (`20x`).
+    PerInputVertex(f64),
+}
+
+impl WorkLimit {
+    /// The limit, in added vertices, for an input of `n` vertices (a
+    /// multiple rounded down).
+    pub(super) fn for_input(self, n: usize) -> usize {
+        match self {
+            WorkLimit::Vertices(limit) => limit,
+            // (`as` saturates: a huge product is no limit.)
+            WorkLimit::PerInputVertex(times) => (times * n as f64).floor() as usize,
+        }
+    }
+}
+
+/// A `--max-added` value: `N` (added vertices) or `Nx` (N, a finite
+/// number from 0, times the input's vertex count).
+pub(super) fn work_limit(s: &str) -> Result<WorkLimit, String> {
+    let refused = || {
+        format!("{s:?} is not a number of added vertices (such as 100000) or a multiple of the input's vertex count (such as 20x)")
+    };
+    match s.strip_suffix(['x', 'X']) {
+        Some(times) => match times.parse::<f64>() {
+            Ok(x) if x.is_finite() && x >= 0.0 => Ok(WorkLimit::PerInputVertex(x)),
+            _ => Err(refused()),
+        },
+        None => s.parse::<usize>().map(WorkLimit::Vertices).map_err(|_| refused()),
+    }
 }
 
 /// A weld tolerance: a finite distance, 0 or more (NaN and negatives would

@@ -325,6 +325,10 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         refused: true,
         seconds: RunSeconds::default(),
     })?;
+    let options = &Options {
+        max_added: args.settings.max_added.for_input(surface.n_input_vertices),
+        ..*options
+    };
     let figures = surface.input_figures;
     let constants = delmesh::refine::sample_constants(&surface);
     let first_pass = FirstPass::new(&surface);
@@ -551,7 +555,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     } else {
         args.jobs.map_or(0, usize::from)
     });
-    let options = args.settings.options();
+    // (A relative work limit is set file by file, in `refine_file`: these
+    // options name the settings of the files refused before refining.)
+    let options = args.settings.options(0);
     let next = AtomicUsize::new(0);
     let (tx, rx) = std::sync::mpsc::channel();
     // The CSV rows: (input index, record), in order.

@@ -470,7 +470,7 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
     let combos: Vec<Options> = sweep_combinations(args.extended)
         .into_iter()
         .map(|o| Options {
-            max_added: args.settings.max_added,
+            max_added: args.settings.max_added.for_input(sweep.surface.n_input_vertices),
             keep_order: args.settings.keep_order,
             progress: progress::refine_hook(),
             ..o
