@@ -198,8 +198,30 @@ fn usage_error(e: clap::Error) -> ExitCode {
         }
         return with_stdout_checked(ExitCode::from(if e.use_stderr() { 2 } else { 0 }));
     }
+    if let Some(file) = mesh_given_as_command(&e) {
+        complain!("delmesh: {file:?} is not a command: give the mesh to refine with -i (delmesh -i {file} -o OUTPUT)");
+        return ExitCode::from(2);
+    }
     complain!("delmesh: {} (see --help)", usage_line(&e.to_string()));
     ExitCode::from(2)
+}
+
+/// The file a user gave where a command goes (`delmesh bunny.obj`): an
+/// unknown command that is an existing file or has a mesh file's extension.
+fn mesh_given_as_command(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if e.kind() != ErrorKind::InvalidSubcommand {
+        return None;
+    }
+    let Some(ContextValue::String(given)) = e.get(ContextKind::InvalidSubcommand) else {
+        return None;
+    };
+    let path = Path::new(given.strip_suffix(".gz").unwrap_or(given));
+    let mesh_extension = path
+        .extension()
+        .and_then(|x| x.to_str())
+        .is_some_and(|x| ["obj", "off", "ply", "stl"].contains(&x.to_ascii_lowercase().as_str()));
+    (mesh_extension || Path::new(given).is_file()).then(|| given.clone())
 }
 
 /// Clap's multi-line message as one line: its `error: ` prefix, the usage
@@ -1680,7 +1702,18 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
         say!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
     }
-    if let Some((output, input)) = &report.first_reordered_vertex_names {
+    // The refined mesh given first: OUTPUT then has no vertex of its own
+    // and lacks INPUT's added ones (and the order of its vertices says
+    // nothing).
+    let swapped = !report.passed() && report.added_vertices == 0 && report.output_vertices < report.input_vertices;
+    if swapped {
+        say!(
+            "note    {} has no vertex that {} lacks, and lacks {} of its vertices: are the two swapped? (delmesh check ORIGINAL REFINED)",
+            output.display(),
+            input.display(),
+            report.input_vertices - report.output_vertices
+        );
+    } else if let Some((output, input)) = &report.first_reordered_vertex_names {
         say!(
             "note    the output does not begin with the input's vertices in their order (output {output} is not input {input}): per-vertex data of the input does not carry over by number"
         );

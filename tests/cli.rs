@@ -2245,6 +2245,50 @@ fn the_work_limit_allows_exactly_its_count() {
     assert!(stderr.contains(&format!("stopped after {fewer} splits")), "{stderr}");
 }
 
+/// A mesh given where a command goes (`delmesh bunny.obj`, the `-i`
+/// forgotten) is named with the command that was meant; another unknown
+/// word keeps clap's message.
+#[test]
+fn a_mesh_given_as_a_command_points_to_dash_i() {
+    let bunny = common::data_dir().join("bunny.obj");
+    let run = delmesh().arg(&bunny).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("is not a command: give the mesh to refine with -i")
+            && stderr.contains(&format!("delmesh -i {} -o OUTPUT", bunny.display())),
+        "{stderr}"
+    );
+    let run = delmesh().args(["scan.PLY.gz"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&run.stderr).contains("\"scan.PLY.gz\" is not a command"));
+    let run = delmesh().args(["chek"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("unrecognized subcommand 'chek'"), "{stderr}");
+}
+
+/// `check REFINED ORIGINAL` (the two swapped) fails with a note asking
+/// whether they are swapped, instead of the note on vertex order (which
+/// would name a vertex past the end of the output).
+#[test]
+fn check_with_its_files_swapped_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    assert!(refine(&bunny, &out).arg("-q").output().unwrap().status.success());
+    let run = delmesh().arg("check").arg(&out).arg(&bunny).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert_eq!(run.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("lacks 315 of its vertices: are the two swapped? (delmesh check ORIGINAL REFINED)"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("does not begin with the input's vertices"), "{stdout}");
+    let run = delmesh().arg("check").arg(&bunny).arg(&out).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success() && !stdout.contains("swapped"), "{stdout}");
+}
+
 /// `--max-added Nx`: N times the input's vertex count (the bunny's 1,839:
 /// 0.1x is 183, short of its 315 added vertices; 0.2x is 367), file by file
 /// in `batch` (the cube fixture's 13 vertices give 0.2x a limit of 2, short
