@@ -958,9 +958,13 @@ fn destinations(args: &RunArgs, input_path: &Path) -> anyhow::Result<(PathBuf, b
             }
             .into());
         }
-        if input_path.is_dir() {
-            bail!("{}: cannot read: it is a folder, not a mesh file", input_path.display());
-        }
+    }
+    if !from_stdin && input_path.is_dir() {
+        bail!(
+            "{}: cannot read: it is a folder, not a mesh file (`delmesh batch -d OUT_FOLDER {}` refines the meshes in it)",
+            input_path.display(),
+            input_path.display()
+        );
     }
     check_output_dir(&output)?;
     // Every file this run writes, with what it is: no two may be one file.

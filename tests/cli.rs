@@ -2267,6 +2267,29 @@ fn a_mesh_given_as_a_command_points_to_dash_i() {
     assert!(stderr.contains("unrecognized subcommand 'chek'"), "{stderr}");
 }
 
+/// A folder given as the input, with or without -o, is refused before any
+/// work, pointing to `batch`; nothing is written.
+#[test]
+fn a_folder_as_input_points_to_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    for with_output in [true, false] {
+        let mut cmd = delmesh();
+        cmd.arg("-i").arg(dir.path());
+        if with_output {
+            cmd.arg("-o").arg(&out);
+        }
+        let run = cmd.output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains("it is a folder, not a mesh file (`delmesh batch -d OUT_FOLDER"),
+            "{stderr}"
+        );
+        assert!(!out.exists());
+    }
+}
+
 /// `check REFINED ORIGINAL` (the two swapped) fails with a note asking
 /// whether they are swapped, instead of the note on vertex order (which
 /// would name a vertex past the end of the output).
