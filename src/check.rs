@@ -26,7 +26,8 @@
 //!    the region's faces and non-zero area (an exact `orient2d`, so that a valid needle face is
 //!    never called degenerate and a folded one never passes).
 //! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`], plus what
-//!    rounding the added vertices on the region's border can do, [`AREA_ROUNDING`]). Face areas
+//!    rounding the added vertices on the region's border can do, [`AREA_ROUNDING`], and
+//!    [`AREA_FLOOR`], far below any face). Face areas
 //!    are computed at the corner opposite the longest edge from exact edge vectors, and summed
 //!    with compensation, so that they stay accurate far from the origin and for needle faces.
 //!    Regions that an output face fits equally (coplanar regions overlapping in a
@@ -81,8 +82,15 @@ pub const DELAUNAY_TOLERANCE: f64 = 1e-9;
 /// Relative tolerance on the area of a planar region (relative to the region's input area).
 pub const AREA_TOLERANCE: f64 = 1e-9;
 
-/// Absolute floor of the area tolerance, as a fraction of the total input area.
-pub const AREA_FLOOR: f64 = 1e-12;
+/// Absolute floor of the area tolerance: differences below it are the rounding of areas near
+/// the bottom of the f64 range, not geometry.
+///
+/// (Until the fifty-third session the floor was `1e-12` of the total input area, which let a
+/// face far larger than the rest hide the others: beside a triangle 2e12 long, a face 0.05 in
+/// area at the border of a grid could be dropped from the output and the check still passed,
+/// its region's area being within the floor. A region's tolerance is now its own: relative to
+/// its area, plus [`AREA_ROUNDING`] for its border.)
+pub const AREA_FLOOR: f64 = 1e-300;
 
 /// What rounding the positions of added vertices may do to a region's area, in units of
 /// roundoff: each input edge on the region's border (a boundary edge, or an edge to another
@@ -2705,8 +2713,6 @@ struct Regions {
     plane: Vec<Projection>,
     /// Lowest-numbered input face of every region (to name it).
     first_face: Vec<u32>,
-    /// Total input area.
-    total_area: f64,
 }
 
 /// A coordinate axis to project along, and the exact orientation (the sign of `orient2d`, see
@@ -2734,7 +2740,6 @@ impl Regions {
         let mut id = vec![u32::MAX; mesh.triangles.len()];
         let mut of_face = vec![0; mesh.triangles.len()];
         let mut area: Vec<CompensatedSum> = Vec::new();
-        let mut total_area = CompensatedSum::default();
         let mut first_face = Vec::new();
         // The largest face of every region: (its area, its index, its normal).
         let mut largest: Vec<(f64, u32, DVec3)> = Vec::new();
@@ -2751,7 +2756,6 @@ impl Regions {
             let n = triangle_normal(corners(mesh, t));
             let face_area = 0.5 * n.length();
             area[r].add(face_area);
-            total_area.add(face_area);
             if face_area > largest[r].0 {
                 largest[r] = (face_area, f as u32, n);
             }
@@ -2772,7 +2776,6 @@ impl Regions {
             anchor,
             plane,
             first_face,
-            total_area: total_area.value(),
         }
     }
 
@@ -4189,10 +4192,9 @@ fn check_areas(model: &InputModel, assignment: &mut Assignment, rounding_of: &[f
     // region, of which a curved input has about one per face).
     let (start, by_root) = grouped(n, || roots.iter().enumerate().map(|(r, &root)| (root, r)));
     let members = |root: usize| &by_root[start[root]..start[root + 1]];
-    let floor = AREA_FLOOR * regions.total_area;
     for root in (0..n).filter(|&r| !members(r).is_empty()) {
         let (before, after) = (before[root].value(), after[root].value());
-        let tolerance = AREA_TOLERANCE * before + floor + rounding[root];
+        let tolerance = AREA_TOLERANCE * before + AREA_FLOOR + rounding[root];
         let kept = (after - before).abs() <= tolerance; // false for NaN too
         if !kept {
             fail.push(KIND_AREA, || match members(root) {

@@ -380,6 +380,33 @@ fn removed_face_is_reported() {
     assert_failure(&report, "number of boundary loops 0 became 1");
 }
 
+/// A face at the border of a curved strip, removed: the Euler characteristic
+/// and the boundary loops stay as they were (the border goes round the gap),
+/// so only its region's area tells. Beside a far larger triangle (a far
+/// vertex, as a fuzzed file had at 2.2e12) that area is below 1e-12 of the
+/// total, which the area tolerance's floor once was: the output passed.
+#[test]
+fn face_removed_at_the_border_is_reported_beside_a_huge_face() {
+    // A 3 x 1 strip of bent squares (each triangle its own region), and a
+    // separate triangle of area 5e13.
+    let mut v: Vec<[f64; 3]> = (0..8)
+        .map(|i| [(i % 4) as f64, (i / 4) as f64, ((i * i) % 3) as f64 * 0.3])
+        .collect();
+    v.extend([[0.0, 0.0, 10.0], [1e7, 0.0, 10.0], [0.0, 1e7, 10.0]]);
+    let strip: Vec<[u32; 3]> = (0..3).flat_map(|i| [[i, i + 1, i + 5], [i, i + 5, i + 4]]).collect();
+    let mut faces = strip.clone();
+    faces.push([8, 9, 10]);
+    let input = obj(&v, &faces);
+    assert_passes(&check_texts(&input, &input));
+    for gone in 0..strip.len() {
+        let mut fewer = faces.clone();
+        fewer.remove(gone);
+        let report = check_texts(&input, &obj(&v, &fewer));
+        assert!(!report.passed(), "face {gone} removed, passed:\n{report}");
+        assert_failure(&report, "became 0");
+    }
+}
+
 #[test]
 fn edge_flipped_across_a_crease_is_reported() {
     let input = obj(&kite(true), &KITE_F);

@@ -5,12 +5,13 @@
 //! exactly flat faces are jittered grids with random diagonals) are each
 //! changed once, many times over, in ways whose verdict is known:
 //!
-//! - refused: an added vertex moved off its input edge, or along it past the
-//!   next vertex on it; an input vertex moved
-//!   by one unit in the last place; a face removed, doubled or turned over; an
-//!   edge flipped across a crease (its quad not exactly flat); an edge
-//!   flipped inside a flat region where the other diagonal is non-Delaunay by
-//!   more than 1e-6 rad; a face split into three at an inner point;
+//! - refused (`common::damage`): an added vertex moved off its input edge,
+//!   or along it past the next vertex on it; an input vertex moved by one
+//!   unit in the last place; a face removed, doubled or turned over; an edge
+//!   flipped across a crease (between two input regions, its quad clearly
+//!   not flat); an edge flipped inside a flat region where the other
+//!   diagonal is non-Delaunay by more than 1e-6 rad; a face split into
+//!   three at an inner point;
 //! - accepted: the faces shuffled, each face's corners rotated, the added
 //!   vertices renumbered;
 //! - judged by the construction's own geometry: an added vertex slid along
@@ -25,12 +26,12 @@
 mod common;
 
 use std::collections::HashMap;
-use std::f64::consts::PI;
 
+use common::damage::{damage, directed_edges, neighbours_on_edge, random_added_vertex, DAMAGES};
 use common::Rng;
 use delmesh::check::{check_meshes, CheckReport, Mesh3};
 use delmesh::io;
-use delmesh::mesh::{Carrier, Surface};
+use delmesh::mesh::Surface;
 use delmesh::refine::{make_delaunay, Options, Worklist};
 use delmesh::samples::Score;
 use glam::DVec3;
@@ -159,207 +160,6 @@ fn refine(input: &Mesh3, options: &Options) -> (Surface, Mesh3) {
         triangles: s.triangles(),
     };
     (s, output)
-}
-
-/// Where each directed edge (u, v) is: its face and the corner it starts at.
-fn directed_edges(m: &Mesh3) -> HashMap<(u32, u32), (usize, usize)> {
-    let mut map = HashMap::new();
-    for (f, t) in m.triangles.iter().enumerate() {
-        for k in 0..3 {
-            map.insert((t[k], t[(k + 1) % 3]), (f, k));
-        }
-    }
-    map
-}
-
-fn angle(at: DVec3, p: DVec3, q: DVec3) -> f64 {
-    let (u, v) = (p - at, q - at);
-    u.cross(v).length().atan2(u.dot(v))
-}
-
-fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
-    robust::orient3d(c3(a), c3(b), c3(c), c3(d))
-}
-
-/// Kinds of damage; each gives the damaged output, or `None` if this mesh
-/// offers no place for it (tried again elsewhere by the caller).
-#[derive(Clone, Copy, Debug)]
-enum Damage {
-    AddedVertexOffItsEdge,
-    AddedVertexPastItsNeighbour,
-    InputVertexOneUlp,
-    FaceRemoved,
-    FaceDoubled,
-    FaceTurnedOver,
-    CreaseFlipped,
-    FlatFlipNonDelaunay,
-    FaceSplitInside,
-}
-
-const DAMAGES: [Damage; 9] = [
-    Damage::AddedVertexOffItsEdge,
-    Damage::AddedVertexPastItsNeighbour,
-    Damage::InputVertexOneUlp,
-    Damage::FaceRemoved,
-    Damage::FaceDoubled,
-    Damage::FaceTurnedOver,
-    Damage::CreaseFlipped,
-    Damage::FlatFlipNonDelaunay,
-    Damage::FaceSplitInside,
-];
-
-/// The faces (a, b, c) and (b, a, d) of a random interior edge (a, b) such
-/// that `wanted(a, b, c, d)`, as (face 1, face 2, [a, b, c, d]); up to 200
-/// tries.
-fn random_interior_edge(
-    m: &Mesh3,
-    edges: &HashMap<(u32, u32), (usize, usize)>,
-    rng: &mut Rng,
-    wanted: impl Fn([DVec3; 4]) -> bool,
-) -> Option<(usize, usize, [u32; 4])> {
-    for _ in 0..200 {
-        let f = rng.below(m.triangles.len() as u64) as usize;
-        let k = rng.below(3) as usize;
-        let t = m.triangles[f];
-        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-        let Some(&(g, j)) = edges.get(&(b, a)) else {
-            continue;
-        };
-        let d = m.triangles[g][(j + 2) % 3];
-        let quad = [a, b, c, d];
-        if wanted(quad.map(|v| m.positions[v as usize])) {
-            return Some((f, g, quad));
-        }
-    }
-    None
-}
-
-/// Replaces faces `f` = (a, b, c) and `g` = (b, a, d) by (c, a, d) and (d, b, c).
-///
-/// ```text
-///        c                c
-///       / \              /|\
-///      a---b    ->      a | b
-///       \ /              \|/
-///        d                d
-/// ```
-fn flip(m: &mut Mesh3, f: usize, g: usize, [a, b, c, d]: [u32; 4]) {
-    m.triangles[f] = [c, a, d];
-    m.triangles[g] = [d, b, c];
-}
-
-/// A random added vertex of `s` (`None` if it has none), with its input
-/// edge and parameter on it.
-fn random_added_vertex(s: &Surface, n_input: usize, rng: &mut Rng) -> Option<(usize, u32, f64)> {
-    let added = s.positions.len() - n_input;
-    if added == 0 {
-        return None;
-    }
-    let v = n_input + rng.below(added as u64) as usize;
-    let Carrier::Edge { edge, t } = s.carriers[v] else {
-        unreachable!("an added vertex lies on an input edge")
-    };
-    Some((v, edge, t))
-}
-
-/// The parameters of the vertices next to parameter `t` on input edge
-/// `edge` of `s`, before and after it (0 and 1 at its ends).
-fn neighbours_on_edge(s: &Surface, n_input: usize, edge: u32, t: f64) -> (f64, f64) {
-    let (mut before, mut after) = (0.0f64, 1.0f64);
-    for c in &s.carriers[n_input..] {
-        if let Carrier::Edge { edge: e, t: u } = *c {
-            if e == edge && u < t {
-                before = before.max(u);
-            } else if e == edge && u > t {
-                after = after.min(u);
-            }
-        }
-    }
-    (before, after)
-}
-
-fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<Mesh3> {
-    let mut m = out.clone();
-    let n_faces = m.triangles.len() as u64;
-    match kind {
-        Damage::AddedVertexOffItsEdge => {
-            let (v, edge, _) = random_added_vertex(s, n_input, rng)?;
-            let [a, b] = s.input_edge_ends(edge);
-            let dir = (b - a).normalize();
-            // A random direction square to the edge ...
-            let w = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-            let perp = (w - dir * w.dot(dir)).try_normalize()?;
-            // ... and a distance from 100 times the on-edge tolerance (1e-9
-            // of the edge's largest coordinate) to a thousandth of the
-            // shortest edge at the vertex, log-uniform.
-            let p = m.positions[v];
-            let shortest = (m.triangles.iter())
-                .filter(|t| t.contains(&(v as u32)))
-                .flat_map(|t| t.map(|x| (m.positions[x as usize] - p).length()))
-                .filter(|&l| l > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            let scale = a.abs().max_element().max(b.abs().max_element());
-            let (near, far) = (1e-9 * scale, (1e-3 * shortest).max(2e-9 * scale));
-            let distance = near * (far / near).powf(rng.f64());
-            m.positions[v] = p + perp * distance;
-        }
-        Damage::AddedVertexPastItsNeighbour => {
-            // Along its input edge, halfway past the next vertex on it (an
-            // added one, or the edge's end: then off the edge): the faces
-            // between the two turn over.
-            let (v, edge, t) = random_added_vertex(s, n_input, rng)?;
-            let (_, next) = neighbours_on_edge(s, n_input, edge, t);
-            let [a, b] = s.input_edge_ends(edge);
-            m.positions[v] = delmesh::samples::point_on_edge(a, b, next + 0.5 * (next - t));
-        }
-        Damage::InputVertexOneUlp => {
-            let v = rng.below(n_input as u64) as usize;
-            let k = rng.below(3) as usize;
-            let mut c = m.positions[v].to_array();
-            c[k] = f64::from_bits(c[k].to_bits() ^ 1);
-            m.positions[v] = DVec3::from_array(c);
-        }
-        Damage::FaceRemoved => {
-            m.triangles.swap_remove(rng.below(n_faces) as usize);
-        }
-        Damage::FaceDoubled => {
-            let t = m.triangles[rng.below(n_faces) as usize];
-            m.triangles.push(t);
-        }
-        Damage::FaceTurnedOver => {
-            let f = rng.below(n_faces) as usize;
-            m.triangles[f].swap(0, 1);
-        }
-        Damage::CreaseFlipped => {
-            let edges = directed_edges(&m);
-            let (f, g, quad) = random_interior_edge(&m, &edges, rng, |[a, b, c, d]| orient3d(a, b, c, d) != 0.0)?;
-            flip(&mut m, f, g, quad);
-        }
-        Damage::FlatFlipNonDelaunay => {
-            // In an exactly flat quad (a, d, b, c), the other diagonal's
-            // angles sum to 2π − (α + β), the angles at c and d: over π by
-            // as much as α + β is under it. (If the quad is not convex the
-            // flip folds a face instead: refused as well.)
-            let edges = directed_edges(&m);
-            let (f, g, quad) = random_interior_edge(&m, &edges, rng, |[a, b, c, d]| {
-                orient3d(a, b, c, d) == 0.0 && angle(c, a, b) + angle(d, a, b) < PI - 1e-6
-            })?;
-            flip(&mut m, f, g, quad);
-        }
-        Damage::FaceSplitInside => {
-            let f = rng.below(n_faces) as usize;
-            let [a, b, c] = m.triangles[f];
-            let p = [a, b, c].map(|v| m.positions[v as usize]);
-            let (wa, wb) = (rng.range(0.2, 0.4), rng.range(0.2, 0.4));
-            let inner = p[0] * wa + p[1] * wb + p[2] * (1.0 - wa - wb);
-            let v = m.positions.len() as u32;
-            m.positions.push(inner);
-            m.triangles[f] = [a, b, v];
-            m.triangles.extend([[b, c, v], [c, a, v]]);
-        }
-    }
-    Some(m)
 }
 
 /// The output renumbered without changing it: faces shuffled, corners

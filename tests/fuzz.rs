@@ -4,7 +4,8 @@
 //! Targets, one `#[test]` each: `fuzz_obj`, `fuzz_off`, `fuzz_ply`,
 //! `fuzz_stl`, `fuzz_gzip`, `fuzz_pipeline` (OBJ bytes → finish, with and
 //! without repair → build_surface → make_delaunay with a small work limit →
-//! validate and `check_meshes`, or, for a repaired mesh that repair cut
+//! validate and `check_meshes`, which must also refuse the output damaged
+//! in one way (`common::damage`), or, for a repaired mesh that repair cut
 //! apart, `check_files` on the written files; then the same after `prune`)
 //! and `fuzz_attributes` (OBJ, PLY or OFF bytes with texture coordinates,
 //! normals, colours, groups and PLY properties → what the command line runs
@@ -58,6 +59,7 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, Once, OnceLock};
 use std::time::{Duration, Instant};
 
+use common::damage::{damage, Damage};
 use common::Rng;
 use delmesh::attributes::{Attributes, Channel, Group, Kind, Tolerances, Transfer, ValueType};
 use delmesh::check::{check_meshes, Mesh3};
@@ -2049,6 +2051,15 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     ));
                 }
                 verify(&s, stats.splits, &tag)?;
+                // (Not where f64 cannot hold the input's detail: rounding
+                // then allows the checker's tolerances as much as a damage
+                // can change, rightly.)
+                let imprecise = ["[extreme scale]", "[beyond f64", "[samples below", "[degenerate sample"]
+                    .iter()
+                    .any(|t| scale.contains(t));
+                if welded && !imprecise {
+                    damaged_output_is_refused(&input, &s, h, &tag)?;
+                }
                 if !welded {
                     // Which cuts: non-manifold edges, vertices, Möbius (orientation) cuts.
                     let mut kinds = String::new();
@@ -2082,6 +2093,46 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         }
     }
     Ok(sig)
+}
+
+/// The damage done to each refined mesh of the pipeline target: those whose
+/// refusal holds on any mesh (not a vertex moved off its edge or added inside
+/// a face, which in a fuzzed mesh can land within the on-edge tolerance of
+/// another input edge, and then keep the geometry).
+const PIPELINE_DAMAGES: [Damage; 7] = [
+    Damage::AddedVertexPastItsNeighbour,
+    Damage::InputVertexOneUlp,
+    Damage::FaceRemoved,
+    Damage::FaceDoubled,
+    Damage::FaceTurnedOver,
+    Damage::CreaseFlipped,
+    Damage::FlatFlipNonDelaunay,
+];
+
+/// The refined `s`, damaged in one way of [`PIPELINE_DAMAGES`] chosen by
+/// `h` (the next if the mesh has no place for it), must fail the checker
+/// against `input`.
+fn damaged_output_is_refused(input: &InputMesh, s: &Surface, h: u64, tag: &str) -> Result<(), String> {
+    let mut rng = Rng::new(h);
+    let out = Mesh3 {
+        positions: s.positions.clone(),
+        triangles: s.triangles(),
+    };
+    let first = (h % PIPELINE_DAMAGES.len() as u64) as usize;
+    for i in 0..PIPELINE_DAMAGES.len() {
+        let kind = PIPELINE_DAMAGES[(first + i) % PIPELINE_DAMAGES.len()];
+        if let Some(damaged) = damage(kind, s, &out, s.n_input_vertices, &mut rng) {
+            let original = Mesh3 {
+                positions: input.positions.clone(),
+                triangles: input.triangles.clone(),
+            };
+            if check_meshes(&original, &damaged).passed() {
+                return Err(format!("{tag}: the checker accepted the output with {kind:?}"));
+            }
+            return Ok(());
+        }
+    }
+    Ok(())
 }
 
 /// The work limit of the attributes target (three refinements an input).

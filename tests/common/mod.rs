@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+pub mod damage;
+
 /// A small deterministic PRNG (xorshift64*), so tests need no `rand`.
 pub struct Rng(u64);
 
