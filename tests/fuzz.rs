@@ -59,7 +59,7 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, Once, OnceLock};
 use std::time::{Duration, Instant};
 
-use common::damage::{damage, Damage};
+use common::damage::{damage, Damage, DAMAGES};
 use common::Rng;
 use delmesh::attributes::{Attributes, Channel, Group, Kind, Tolerances, Transfer, ValueType};
 use delmesh::check::{check_meshes, Mesh3};
@@ -2095,32 +2095,19 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
     Ok(sig)
 }
 
-/// The damage done to each refined mesh of the pipeline target: those whose
-/// refusal holds on any mesh (not a vertex moved off its edge or added inside
-/// a face, which in a fuzzed mesh can land within the on-edge tolerance of
-/// another input edge, and then keep the geometry).
-const PIPELINE_DAMAGES: [Damage; 7] = [
-    Damage::AddedVertexPastItsNeighbour,
-    Damage::InputVertexOneUlp,
-    Damage::FaceRemoved,
-    Damage::FaceDoubled,
-    Damage::FaceTurnedOver,
-    Damage::CreaseFlipped,
-    Damage::FlatFlipNonDelaunay,
-];
-
-/// The refined `s`, damaged in one way of [`PIPELINE_DAMAGES`] chosen by
-/// `h` (the next if the mesh has no place for it), must fail the checker
-/// against `input`.
+/// The refined `s`, damaged in one way chosen by `h` among those
+/// [`Damage::refused_on_any_mesh`] (the next if the mesh has no place for
+/// it), must fail the checker against `input`.
 fn damaged_output_is_refused(input: &InputMesh, s: &Surface, h: u64, tag: &str) -> Result<(), String> {
+    let kinds: Vec<Damage> = DAMAGES.into_iter().filter(|d| d.refused_on_any_mesh()).collect();
     let mut rng = Rng::new(h);
     let out = Mesh3 {
         positions: s.positions.clone(),
         triangles: s.triangles(),
     };
-    let first = (h % PIPELINE_DAMAGES.len() as u64) as usize;
-    for i in 0..PIPELINE_DAMAGES.len() {
-        let kind = PIPELINE_DAMAGES[(first + i) % PIPELINE_DAMAGES.len()];
+    let first = (h % kinds.len() as u64) as usize;
+    for i in 0..kinds.len() {
+        let kind = kinds[(first + i) % kinds.len()];
         if let Some(damaged) = damage(kind, s, &out, s.n_input_vertices, &mut rng) {
             let original = Mesh3 {
                 positions: input.positions.clone(),

@@ -46,6 +46,17 @@ pub enum Damage {
     FaceSplitInside,
 }
 
+impl Damage {
+    /// Whether the refusal holds on any mesh f64 can hold: not a vertex
+    /// moved off its edge or added inside a face, which in a fuzzed mesh (a
+    /// needle, near-coincident edges) can land within the on-edge tolerance
+    /// of another input edge, and then keep the geometry.
+    pub fn refused_on_any_mesh(self) -> bool {
+        !matches!(self, Damage::AddedVertexOffItsEdge | Damage::FaceSplitInside)
+    }
+}
+
+/// Every kind of damage.
 pub const DAMAGES: [Damage; 9] = [
     Damage::AddedVertexOffItsEdge,
     Damage::AddedVertexPastItsNeighbour,
