@@ -21,11 +21,14 @@ pub fn directed_edges(m: &Mesh3) -> HashMap<(u32, u32), (usize, usize)> {
     map
 }
 
+/// The angle at `at` between the directions to `p` and `q`, in [0, π].
 pub fn angle(at: DVec3, p: DVec3, q: DVec3) -> f64 {
     let (u, v) = (p - at, q - at);
     u.cross(v).length().atan2(u.dot(v))
 }
 
+/// Shewchuk's exact orientation of `d` against the plane of `a`, `b`, `c`
+/// (0: exactly coplanar).
 pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     let c3 = |p: DVec3| robust::Coord3D { x: p.x, y: p.y, z: p.z };
     robust::orient3d(c3(a), c3(b), c3(c), c3(d))
@@ -35,14 +38,27 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 /// offers no place for it (tried again elsewhere by the caller).
 #[derive(Clone, Copy, Debug)]
 pub enum Damage {
+    /// An added vertex moved square to its input edge, from 1e-9 of the
+    /// edge's largest coordinate to a thousandth of its shortest edge.
     AddedVertexOffItsEdge,
+    /// An added vertex moved along its input edge, halfway past the next
+    /// vertex on it (or past the edge's end).
     AddedVertexPastItsNeighbour,
+    /// An input vertex moved by one unit in the last place of a coordinate.
     InputVertexOneUlp,
+    /// A face left out.
     FaceRemoved,
+    /// A face written twice.
     FaceDoubled,
+    /// A face's orientation reversed.
     FaceTurnedOver,
+    /// An edge between two input regions, whose quad is clearly not flat,
+    /// flipped.
     CreaseFlipped,
+    /// An edge of an exactly flat quad flipped where the other diagonal is
+    /// non-Delaunay by more than 1e-6 rad.
     FlatFlipNonDelaunay,
+    /// A face split into three at an inner point.
     FaceSplitInside,
 }
 
@@ -139,6 +155,8 @@ pub fn neighbours_on_edge(s: &Surface, n_input: usize, edge: u32, t: f64) -> (f6
     (before, after)
 }
 
+/// `out`, the refined `s` (whose first `n_input` vertices are the input's),
+/// with damage of `kind` at a random place; `None` if it has no place for it.
 pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<Mesh3> {
     let mut m = out.clone();
     let n_faces = m.triangles.len() as u64;
