@@ -39,6 +39,16 @@ macro_rules! say {
 /// printout is what a script reads, so losing it fails the run (exit 1).
 static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
 
+/// N of `--max-added Nx`, if the limit was given so (for the messages).
+static RELATIVE_WORK_LIMIT: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+
+/// Remembers a relative `--max-added` for [`one_line`].
+fn note_work_limit(limit: args::WorkLimit) {
+    if let args::WorkLimit::PerInputVertex(times) = limit {
+        let _ = RELATIVE_WORK_LIMIT.set(times);
+    }
+}
+
 /// Remembers `result` of a write to standard output (see [`STDOUT_ERROR`]).
 /// A standard output closed at start ([`crate::stdout_closed`]) takes any
 /// write: it is `/dev/null`.
@@ -376,6 +386,16 @@ fn one_line(e: &anyhow::Error) -> String {
             s.push_str(": ");
             s.push_str(&c);
         }
+    }
+    // A relative limit (`--max-added 20x`) is named as given, beside the
+    // count it made for this input.
+    let library_error = e.chain().find_map(|c| c.downcast_ref::<delmesh::Error>());
+    if let (Some(delmesh::Error::WorkLimit { limit, .. }), Some(times)) = (library_error, RELATIVE_WORK_LIMIT.get()) {
+        s = s.replacen(
+            &format!("--max-added {limit})"),
+            &format!("--max-added {times}x, {limit} for this input)"),
+            1,
+        );
     }
     // One line, and nothing that drives a terminal: a path or a header
     // name may hold control characters too (file tokens are escaped where
@@ -860,6 +880,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let (output, in_place) = destinations(args, input_path)?;
     io::set_sync_writes(args.settings.sync);
+    note_work_limit(args.settings.max_added);
     if let Some(jobs) = args.jobs {
         delmesh::parallel::set_threads(usize::from(jobs));
     }

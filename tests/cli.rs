@@ -2329,7 +2329,7 @@ fn a_work_limit_relative_to_the_input_is_set_file_by_file() {
             .unwrap(),
     );
     assert!(
-        stderr.contains("stopped after 183 splits") && stderr.contains("--max-added 183"),
+        stderr.contains("stopped after 183 splits") && stderr.contains("--max-added 0.1x, 183 for this input)"),
         "{stderr}"
     );
     assert!(!out.exists());
@@ -2349,7 +2349,10 @@ fn a_work_limit_relative_to_the_input_is_set_file_by_file() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     assert!(folder.join("bunny.obj").exists() && !folder.join("cube.obj").exists());
-    assert!(stderr.contains("cube.obj: stopped after 2 splits"), "{stderr}");
+    assert!(
+        stderr.contains("cube.obj: stopped after 2 splits") && stderr.contains("--max-added 0.2x, 2 for this input)"),
+        "{stderr}"
+    );
     for bad in ["20y", "x", "nanx", "infx", "1.5", "-3"] {
         let run = refine(&bunny, &out).arg(format!("--max-added={bad}")).output().unwrap();
         let stderr = String::from_utf8_lossy(&run.stderr);

@@ -484,6 +484,7 @@ impl Drop for RemovedIfEmpty {
 pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     io::set_sync_writes(args.settings.sync);
+    super::note_work_limit(args.settings.max_added);
     if args.format == Some(FormatArg::Stl) {
         bail!("--format stl: {}", super::STL_REFUSED);
     }
