@@ -193,9 +193,9 @@ fn renumbered(out: &Mesh3, n_input: usize, rng: &mut Rng) -> Mesh3 {
 /// An added vertex of `out` slid along its input edge to a random point
 /// strictly between its neighbours on it (no face turns over), with the
 /// largest α + β − π of the interior edges then.
-fn slid(s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<(Mesh3, f64)> {
-    let (v, edge, t) = random_added_vertex(s, n_input, rng)?;
-    let (before, after) = neighbours_on_edge(s, n_input, edge, t);
+fn slid(s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<(Mesh3, f64)> {
+    let (v, edge, t) = random_added_vertex(s, rng)?;
+    let (before, after) = neighbours_on_edge(s, edge, t);
     let gap = after - before;
     let t = rng.range(before + 0.05 * gap, after - 0.05 * gap);
     let [a, b] = s.input_edge_ends(edge);
@@ -239,7 +239,7 @@ fn damaged_outputs_are_refused_and_renumbered_ones_accepted() {
                 if !report.passed() {
                     problems.push(format!("{tag}: renumbered output refused: {}", describe(&report)));
                 }
-                if let Some((m, worst)) = slid(&s, &out, n_input, &mut rng) {
+                if let Some((m, worst)) = slid(&s, &out, &mut rng) {
                     let passed = check_meshes(&case.input, &m).passed();
                     if worst < 0.5e-9 && !passed {
                         problems.push(format!("{tag}: slid vertex refused (worst excess {worst:e})"));
@@ -250,7 +250,7 @@ fn damaged_outputs_are_refused_and_renumbered_ones_accepted() {
                     *slides.entry(verdict).or_default() += 1;
                 }
                 for kind in DAMAGES {
-                    let Some(damaged) = damage(kind, &s, &out, n_input, &mut rng) else {
+                    let Some(damaged) = damage(kind, &s, &out, &mut rng) else {
                         continue;
                     };
                     let report = check_meshes(&case.input, &damaged);

@@ -2108,7 +2108,7 @@ fn damaged_output_is_refused(input: &InputMesh, s: &Surface, h: u64, tag: &str) 
     let first = (h % kinds.len() as u64) as usize;
     for i in 0..kinds.len() {
         let kind = kinds[(first + i) % kinds.len()];
-        if let Some(damaged) = damage(kind, s, &out, s.n_input_vertices, &mut rng) {
+        if let Some(damaged) = damage(kind, s, &out, &mut rng) {
             let original = Mesh3 {
                 positions: input.positions.clone(),
                 triangles: input.triangles.clone(),

@@ -127,7 +127,8 @@ pub fn flip(m: &mut Mesh3, f: usize, g: usize, [a, b, c, d]: [u32; 4]) {
 
 /// A random added vertex of `s` (`None` if it has none), with its input
 /// edge and parameter on it.
-pub fn random_added_vertex(s: &Surface, n_input: usize, rng: &mut Rng) -> Option<(usize, u32, f64)> {
+pub fn random_added_vertex(s: &Surface, rng: &mut Rng) -> Option<(usize, u32, f64)> {
+    let n_input = s.n_input_vertices;
     let added = s.positions.len() - n_input;
     if added == 0 {
         return None;
@@ -141,9 +142,9 @@ pub fn random_added_vertex(s: &Surface, n_input: usize, rng: &mut Rng) -> Option
 
 /// The parameters of the vertices next to parameter `t` on input edge
 /// `edge` of `s`, before and after it (0 and 1 at its ends).
-pub fn neighbours_on_edge(s: &Surface, n_input: usize, edge: u32, t: f64) -> (f64, f64) {
+pub fn neighbours_on_edge(s: &Surface, edge: u32, t: f64) -> (f64, f64) {
     let (mut before, mut after) = (0.0f64, 1.0f64);
-    for c in &s.carriers[n_input..] {
+    for c in &s.carriers[s.n_input_vertices..] {
         if let Carrier::Edge { edge: e, t: u } = *c {
             if e == edge && u < t {
                 before = before.max(u);
@@ -155,14 +156,14 @@ pub fn neighbours_on_edge(s: &Surface, n_input: usize, edge: u32, t: f64) -> (f6
     (before, after)
 }
 
-/// `out`, the refined `s` (whose first `n_input` vertices are the input's),
-/// with damage of `kind` at a random place; `None` if it has no place for it.
-pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut Rng) -> Option<Mesh3> {
+/// `out`, the refined `s` as a [`Mesh3`], with damage of `kind` at a random
+/// place; `None` if it has no place for it.
+pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<Mesh3> {
     let mut m = out.clone();
     let n_faces = m.triangles.len() as u64;
     match kind {
         Damage::AddedVertexOffItsEdge => {
-            let (v, edge, _) = random_added_vertex(s, n_input, rng)?;
+            let (v, edge, _) = random_added_vertex(s, rng)?;
             let [a, b] = s.input_edge_ends(edge);
             let dir = (b - a).normalize();
             // A random direction square to the edge ...
@@ -186,13 +187,13 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, n_input: usize, rng: &mut 
             // Along its input edge, halfway past the next vertex on it (an
             // added one, or the edge's end: then off the edge): the faces
             // between the two turn over.
-            let (v, edge, t) = random_added_vertex(s, n_input, rng)?;
-            let (_, next) = neighbours_on_edge(s, n_input, edge, t);
+            let (v, edge, t) = random_added_vertex(s, rng)?;
+            let (_, next) = neighbours_on_edge(s, edge, t);
             let [a, b] = s.input_edge_ends(edge);
             m.positions[v] = delmesh::samples::point_on_edge(a, b, next + 0.5 * (next - t));
         }
         Damage::InputVertexOneUlp => {
-            let v = rng.below(n_input as u64) as usize;
+            let v = rng.below(s.n_input_vertices as u64) as usize;
             let k = rng.below(3) as usize;
             let mut c = m.positions[v].to_array();
             c[k] = f64::from_bits(c[k].to_bits() ^ 1);
