@@ -1067,6 +1067,8 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
         // A file whose content is another format than its name's, and reads as that: said
         // so, as the main command says it (the named reader's reason would mislead).
         let content = formats::sniff_format(&bytes).filter(|&c| from_name.is_some_and(|n| n != c));
+        // A file of another kind (a GLB, an image, binary data): said so, as the main command does.
+        let foreign = formats::foreign_reason(path.to_str(), &bytes, format != Some(formats::Format::Stl));
         match (e, content) {
             (CheckError::Parse { path, format, .. }, Some(content)) if read(Some(content)).is_ok() => {
                 CheckError::Parse {
@@ -1082,6 +1084,11 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
                     reason: formats::UTF16_REASON.to_owned(),
                 }
             }
+            (CheckError::Parse { path, format, .. }, _) if foreign.is_some() => CheckError::Parse {
+                path,
+                format,
+                reason: foreign.unwrap_or_default(),
+            },
             (e, _) => e,
         }
     })

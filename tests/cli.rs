@@ -226,7 +226,11 @@ fn bad_inputs_are_refused_with_one_line() {
         b"ply\nformat ascii 1.0\nelement vertex 3\n",
         ":1: unknown statement 'ply'",
     );
-    refused("binary.obj", &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a], "not text");
+    refused(
+        "binary.obj",
+        &[0x80, 0x81, 0xff, 0x00, 0x12, 0x0a],
+        "binary data of no known mesh format",
+    );
     refused("nofaces.obj", TRI.as_bytes(), "no faces");
     refused(
         "pillow.obj",
@@ -2616,6 +2620,100 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
         .unwrap();
     drop(child.stdout.take());
     assert!(child.wait().unwrap().success());
+}
+
+/// Files of other kinds than the four meshes delmesh reads are named for
+/// what they are, and what to do said: a GLB, a FBX, a PNG, a ZIP or random
+/// bytes were "lines end in a carriage return alone (classic Mac OS text)"
+/// (the OBJ reader took their bytes for text). So in the main command,
+/// from standard input (a file, and a pipe longer than the 64 KiB judged
+/// before reading on), inside gzip, and in `check`.
+#[test]
+fn files_of_other_kinds_are_named_for_what_they_are() {
+    let noise: Vec<u8> = (0u64..3000)
+        .map(|i| (i.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as u8)
+        .collect();
+    let with = |head: &[u8]| [head, &noise[..]].concat();
+    let glb = with(b"glTF\x02\x00\x00\x00");
+    let convert = "delmesh reads OBJ, OFF, PLY and STL: convert it first";
+    refused(
+        "scene.glb",
+        &glb,
+        &format!("this is a binary glTF file (GLB); {convert}"),
+    );
+    refused("scene.obj", &glb, "this is a binary glTF file (GLB)");
+    refused(
+        "part.fbx",
+        &with(b"Kaydara FBX Binary  \x00"),
+        "this is a binary FBX file",
+    );
+    refused(
+        "part.3mf",
+        &with(b"PK\x03\x04"),
+        "a ZIP archive (as 3MF and USDZ files are)",
+    );
+    refused("mesh.obj.xz", &with(b"\xfd7zXZ\x00"), "decompress it first (unxz)");
+    refused(
+        "render.obj",
+        &with(b"\x89PNG\r\n\x1a\n"),
+        "this is a PNG image, not a mesh",
+    );
+    refused(
+        "scene.dae",
+        b"<?xml version=\"1.0\"?>\n<COLLADA version=\"1.4.1\">\n</COLLADA>\n",
+        "this is a COLLADA file (.dae)",
+    );
+    refused(
+        "noise.obj",
+        &noise,
+        "this is binary data of no known mesh format, not a mesh",
+    );
+    refused("noise.off", &noise, "this is binary data of no known mesh format");
+    // A text OBJ keeps its reader's reason, and a truncated binary STL its own.
+    refused(
+        "typo.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nff 1 2 3\n",
+        ":4: unknown statement 'ff'",
+    );
+    refused("cut.stl", &noise[..200], "truncated");
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.obj");
+    let file = dir.path().join("scene.glb");
+    std::fs::write(&file, &glb).unwrap();
+    let e = one_line_error(&with_stdin(&["-i", "-", "-o", out.to_str().unwrap()], &file));
+    assert!(e.contains("-: this is a binary glTF file (GLB)"), "{e}");
+    // Through a pipe, longer than the prefix judged before reading on.
+    let long = with(&[b"glTF\x02\x00\x00\x00".as_slice(), &vec![0u8; 70_000]].concat());
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("delmesh"))
+        .args(["-i", "-", "-o", out.to_str().unwrap()])
+        .stdin(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    // The reader may stop early: a broken pipe here is expected.
+    let _ = std::io::Write::write_all(&mut stdin, &long);
+    drop(stdin);
+    let e = one_line_error(&child.wait_with_output().unwrap());
+    assert!(e.contains("this is a binary glTF file (GLB)"), "{e}");
+    let gz = dir.path().join("scene.obj.gz");
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut encoder, &glb).unwrap();
+    std::fs::write(&gz, encoder.finish().unwrap()).unwrap();
+    let e = one_line_error(&refine(&gz, &out).output().unwrap());
+    assert!(e.contains("this is a binary glTF file (GLB)"), "{e}");
+    assert!(!out.exists());
+
+    let cube = common::data_dir().join("cube.obj");
+    let run = delmesh().arg("check").arg(&cube).arg(&file).output().unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(run.status.code(), Some(1), "{text}");
+    assert!(text.contains("this is a binary glTF file (GLB)"), "{text}");
 }
 
 /// Messages that once misled: a repeated face was called an orientation

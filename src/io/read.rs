@@ -173,7 +173,13 @@ pub fn read_raw(path: &Path) -> Result<RawMesh> {
             path: path.to_owned(),
             what: formats::UTF16_REASON.to_owned(),
         },
-        None => format_error(path, e),
+        None => match formats::foreign_reason(path.to_str(), &bytes, format != Format::Stl) {
+            Some(what) => Error::Mesh {
+                path: path.to_owned(),
+                what,
+            },
+            None => format_error(path, e),
+        },
     })
 }
 

@@ -56,10 +56,12 @@ macro_rules! decode {
     }};
 }
 
+mod foreign;
 mod off;
 mod ply;
 mod stl;
 
+pub use foreign::foreign_reason;
 pub use off::{color_byte, read_off, write_off, write_off_with, ColorText, OffColors, OffExtras};
 use off::{glued_vertex_count, off_keyword};
 use ply::VertexChannels;
@@ -423,7 +425,12 @@ pub(crate) fn read_judged(
     }
     match judge_start(named, out) {
         Start::Refused(_) if is_utf16_text(out) => return Ok(Some(UTF16_REASON.to_owned())),
-        Start::Refused(what) => return Ok(Some(format!("not {what}: its first 64 KiB cannot start one"))),
+        Start::Refused(what) => {
+            // A known kind is named; other binary data keeps this reason.
+            let why = foreign_reason(None, out, false)
+                .unwrap_or_else(|| format!("not {what}: its first 64 KiB cannot start one"));
+            return Ok(Some(why));
+        }
         Start::AtMost(limit, what) => {
             // Only a binary STL of the size its header says is left.
             let more = (limit + 1).saturating_sub(out.len() as u64);
