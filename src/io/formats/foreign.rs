@@ -7,7 +7,8 @@
 //! binary chunks for text whose "lines end in a carriage return alone".
 //! Known kinds are told by their first bytes (their magic numbers), else by
 //! the file's extension; anything else whose start is not text is "binary
-//! data". A file that a reader takes is never judged here.
+//! data". A file that a reader takes is never judged here, nor one whose
+//! content looks like a mesh of a format delmesh reads.
 
 /// What the user can do with a file of one kind.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -113,6 +114,11 @@ const HEAD: usize = 4096;
 /// PLY and STL readers say better what is wrong with theirs). `bytes` are
 /// the file's content after gzip.
 pub fn foreign_reason(name: Option<&str>, bytes: &[u8], text: bool) -> Option<String> {
+    // Content that looks like a mesh delmesh reads (an OBJ with an error,
+    // named `.mesh`) keeps its reader's reason.
+    if super::sniff_format(bytes).is_some() {
+        return None;
+    }
     let (kind, remedy) = kind_of(name, bytes).or_else(|| {
         let binary = text && is_binary(&bytes[..bytes.len().min(HEAD)]);
         binary.then_some(("binary data of no known mesh format", Remedy::NotAMesh))
@@ -221,6 +227,10 @@ mod tests {
         assert!(reason.starts_with("this is an FBX file;"), "{reason}");
         assert_eq!(foreign_reason(Some("bunny.obj"), b"garbled text\n", true), None);
         assert_eq!(foreign_reason(Some("noextension"), b"garbled text\n", true), None);
+        // An OBJ with an error, whatever its name, is an OBJ with an error.
+        let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 x\n";
+        assert_eq!(foreign_reason(Some("part.mesh"), obj, true), None);
+        assert_eq!(foreign_reason(Some("part.fbx"), obj, true), None);
     }
 
     #[test]
