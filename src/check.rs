@@ -9,7 +9,8 @@
 //!
 //! # What is checked
 //!
-//! 1. Every input vertex appears in the output with bit-identical coordinates.
+//! 1. Every input vertex appears in the output with identical coordinates (bit for bit, but
+//!    -0 and 0 alike, as positions are welded).
 //! 2. Every other output vertex lies on an input edge, strictly between its endpoints, within
 //!    [`ON_EDGE_TOLERANCE`] (relative to the edge's coordinates). Candidate edges come from a
 //!    spatial hash over pieces of the input edges, whose crowded cells (around a vertex of high
@@ -41,7 +42,7 @@
 //!
 //! # How files are read
 //!
-//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and bit-identical positions welded, as the construction reads
+//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions welded (-0 and 0 alike), as the construction reads
 //! its input. Then what `delmesh --repair` cut apart on purpose, by giving faces their own
 //! copies of vertices at one position, is kept apart: where welding would put more than two
 //! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
@@ -198,10 +199,10 @@ pub struct CheckReport {
     /// row.
     pub unused_vertices: usize,
     /// Where the output stops beginning with the input's vertices in the input's order (0-based:
-    /// output vertex `k` is not input vertex `k`, bit for bit); `None` when it does begin so, as
+    /// output vertex `k` is not input vertex `k`, bit for bit but -0 and 0 alike); `None` when it does begin so, as
     /// delmesh writes it. Not a failure (the geometry does not depend on numbering), but the
     /// input's per-vertex data does not carry over by number. From files, vertices are
-    /// numbered as [`Mesh3::read_obj`] says: bit-identical positions welded, unused ones left out.
+    /// numbered as [`Mesh3::read_obj`] says: identical positions welded, unused ones left out.
     pub first_reordered_vertex: Option<usize>,
     /// That vertex as the output's file and the input's file name it (`vertex 7` in OBJ, from
     /// 1; `vertex 6` in OFF and PLY, from 0; `vertex at (x, y, z)` in STL): the output's name,
@@ -420,7 +421,7 @@ impl Mesh3 {
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
-    /// triangulated (by [`triangulate`]), points and lines ignored, vertices with bit-identical positions welded,
+    /// triangulated (by [`triangulate`]), points and lines ignored, vertices with identical positions welded (-0 and 0 alike),
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
     /// `v` line. Material libraries are not read.
     ///
@@ -984,7 +985,7 @@ impl Shape {
     }
 }
 
-/// A mesh read with bit-identical positions welded, before any welding is undone.
+/// A mesh read with identical positions welded (-0 and 0 alike), before any welding is undone.
 struct Welded {
     /// The mesh.
     mesh: Mesh3,
@@ -1121,7 +1122,7 @@ fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::
         })
 }
 
-/// Triangulates the polygons of `raw` and welds its bit-identical positions, keeping the
+/// Triangulates the polygons of `raw` and welds its identical positions (-0 and 0 alike), keeping the
 /// vertices some face uses in file order; `None` when it has no faces. With
 /// `shares_vertices`, a corner's file vertex is its index in the file's vertex list (OFF,
 /// PLY, OBJ); without (STL), its welded vertex. With `seam_copies`, [`FileVertices::looks`]
@@ -4559,9 +4560,10 @@ impl UnionFind {
     }
 }
 
-/// The bit patterns of a position (the welding key).
+/// The welding key of a position: its bit patterns, -0 read as 0
+/// ([`crate::hash::position_key`], as the readers weld).
 fn bits(p: DVec3) -> [u64; 3] {
-    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+    crate::hash::position_key(p.to_array())
 }
 
 #[cfg(test)]

@@ -1686,10 +1686,13 @@ fn run_render(
     // Every input vertex is in a mesh made from it; if not, "added" means
     // nothing (every vertex of an unrelated mesh is blue).
     if let (Some(original), Some(input)) = (&original, input) {
-        let in_mesh: std::collections::HashSet<[u64; 3]> =
-            m.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
+        let in_mesh: std::collections::HashSet<[u64; 3]> = m
+            .positions
+            .iter()
+            .map(|p| delmesh::hash::position_key(p.to_array()))
+            .collect();
         let missing = (original.positions.iter())
-            .filter(|p| !in_mesh.contains(&p.to_array().map(f64::to_bits)))
+            .filter(|p| !in_mesh.contains(&delmesh::hash::position_key(p.to_array())))
             .count();
         if missing > 0 {
             say!(

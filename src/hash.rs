@@ -49,3 +49,13 @@ pub type FastBuild = BuildHasherDefault<FastHasher>;
 
 /// A `HashMap` with [`FastHasher`].
 pub type FastMap<K, V> = std::collections::HashMap<K, V, FastBuild>;
+
+/// The welding key of a position: its coordinates' bit patterns, with
+/// `-0.0` read as `0.0` (the same point; a file may write either, as a
+/// rotation or a `%g` of a tiny negative leaves it). Every weld by
+/// position (the readers', `check`'s, `repair`'s) and every lookup of a
+/// position among welded ones uses it, so that they agree.
+#[inline]
+pub fn position_key(p: [f64; 3]) -> [u64; 3] {
+    p.map(|x| (x + 0.0).to_bits())
+}

@@ -105,10 +105,13 @@ pub fn render(
     let added: Vec<bool> = match input_positions {
         None => vec![false; positions.len()],
         Some(inp) => {
-            let known: FastMap<[u64; 3], ()> = inp.iter().map(|q| (q.to_array().map(f64::to_bits), ())).collect();
+            let known: FastMap<[u64; 3], ()> = inp
+                .iter()
+                .map(|q| (crate::hash::position_key(q.to_array()), ()))
+                .collect();
             positions
                 .iter()
-                .map(|q| !known.contains_key(&q.to_array().map(f64::to_bits)))
+                .map(|q| !known.contains_key(&crate::hash::position_key(q.to_array())))
                 .collect()
         }
     };

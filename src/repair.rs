@@ -439,13 +439,13 @@ fn closed_components_face_outwards(positions: &[[f64; 3]], triangles: &[[u32; 3]
 // ---------------------------------------------------------------------------------------------
 // Hashing, union-find and compressed rows
 
-/// Positions as hashable bits; `+ 0.0` turns `-0.0` into `0.0`.
+/// Positions as hashable bits, `-0.0` read as `0.0` ([`crate::hash::position_key`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
 struct PositionKey([u64; 3]);
 
 impl PositionKey {
     fn new(p: &[f64; 3]) -> Self {
-        PositionKey(p.map(|x| (x + 0.0).to_bits()))
+        PositionKey(crate::hash::position_key(*p))
     }
 }
 

@@ -2622,6 +2622,64 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
     assert!(child.wait().unwrap().success());
 }
 
+/// An ASCII STL whose facets write one corner of a cube as `0 0 0` and,
+/// in half of them, `-0 0 0` (a rotation, or a `%g` of a tiny negative,
+/// leaves such zeros) is the closed cube: welded to 8 vertices, not 9 with
+/// the surface silently cut open at the corner; and `check` reads it so.
+#[test]
+fn negative_zero_welds_with_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let corners = [
+        [0, 0, 0],
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [1, 0, 1],
+        [1, 1, 1],
+        [0, 1, 1],
+    ];
+    let faces = [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 0, 4],
+        [3, 4, 7],
+    ];
+    let mut stl = String::from("solid cube\n");
+    for (k, f) in faces.iter().enumerate() {
+        stl.push_str("facet normal 0 0 0\nouter loop\n");
+        for &v in f {
+            let [x, y, z] = corners[v];
+            let x = if v == 0 && k >= 6 {
+                "-0".to_string()
+            } else {
+                x.to_string()
+            };
+            stl.push_str(&format!("vertex {x} {y} {z}\n"));
+        }
+        stl.push_str("endloop\nendfacet\n");
+    }
+    stl.push_str("endsolid cube\n");
+    let input = dir.path().join("cube.stl");
+    std::fs::write(&input, stl).unwrap();
+    let output = dir.path().join("cube.obj");
+    let run = refine(&input, &output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(stdout.contains("cube.stl: 8 vertices, 12 faces"), "{stdout}");
+    let written = std::fs::read_to_string(&output).unwrap();
+    assert_eq!(written.lines().filter(|l| l.starts_with("v ")).count(), 8);
+    check_passes(&input, &output);
+}
+
 /// Files of other kinds than the four meshes delmesh reads are named for
 /// what they are, and what to do said: a GLB, a FBX, a PNG, a ZIP or random
 /// bytes were "lines end in a carriage return alone (classic Mac OS text)"

@@ -63,6 +63,7 @@ use common::damage::{damage, Damage, DAMAGES};
 use common::Rng;
 use delmesh::attributes::{Attributes, Channel, Group, Kind, Tolerances, Transfer, ValueType};
 use delmesh::check::{check_meshes, Mesh3};
+use delmesh::hash::position_key;
 use delmesh::io::formats::{
     maybe_gunzip, read_off, read_ply, read_stl, sniff_format, write_off, write_ply_ascii, write_ply_binary,
     write_stl_binary, Format, RawMesh,
@@ -1648,7 +1649,7 @@ fn input_invariants(m: &InputMesh, repaired: bool) -> Result<(), String> {
     }
     if !repaired {
         let mut seen = HashSet::new();
-        if !m.positions.iter().all(|p| seen.insert(p.to_array().map(f64::to_bits))) {
+        if !m.positions.iter().all(|p| seen.insert(position_key(p.to_array()))) {
             return fail("two vertices at the same position");
         }
     }
@@ -2009,7 +2010,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 // distinct vertices at one position: only the files tell the
                 // checker which (`--repaired` and the output, as a user has them).
                 let mut seen = HashSet::new();
-                let welded = input_bits.iter().all(|p| seen.insert(*p));
+                let welded = input.positions.iter().all(|p| seen.insert(position_key(p.to_array())));
                 // The refined mesh, and again once pruned: valid, Delaunay,
                 // the input's vertices first and untouched, and accepted by
                 // the checker.
@@ -2406,7 +2407,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         // no such vertices.
         let back = io::read_raw(&file).map_err(|e| format!("{tag}: the written file does not read back: {e}"))?;
         let mut seen = HashSet::new();
-        let coincident = !s.positions.iter().all(|p| seen.insert(p.to_array().map(f64::to_bits)));
+        let coincident = !s.positions.iter().all(|p| seen.insert(position_key(p.to_array())));
         // An output edge below the supported scale (1e-75: a flip joining
         // two input vertices that close, which no input edge joined) makes
         // the output no valid input (`check` takes it); not compared then.

@@ -192,7 +192,7 @@ pub(super) struct Settings {
     pub(super) repair: bool,
 
     /// With --repair: weld vertices closer than this distance (0: only
-    /// bit-identical positions).
+    /// identical positions, -0 and 0 alike).
     #[arg(
         long = "weld-tolerance",
         value_name = "DIST",

@@ -6,7 +6,7 @@
 //! may be gzip-compressed. Every reader produces a [`RawMesh`] of polygons;
 //! [`finish`] turns it into the [`InputMesh`] the algorithm takes: polygons
 //! fan-triangulated (from the first corner that sees the whole polygon:
-//! [`polygon`]), bit-identical positions welded, unused vertices dropped,
+//! [`polygon`]), identical positions welded (-0 and 0 alike), unused vertices dropped,
 //! and every refusal of SPEC §6 naming the file and the offending line, face
 //! or vertex. With `--repair` ([`crate::repair`]) the refusable defects are
 //! fixed instead.

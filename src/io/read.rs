@@ -78,7 +78,8 @@ pub struct InputMesh {
     pub numbering: Numbering,
     /// Faces in the file (before triangulation).
     pub faces_in_file: usize,
-    /// Vertices merged into an earlier one at the bit-identical position.
+    /// Vertices merged into an earlier one at the same position (bit for
+    /// bit, but -0 and 0 alike).
     pub welded: usize,
     /// Vertices no face uses (dropped).
     pub unreferenced: usize,
@@ -339,11 +340,15 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     if let Some(repair_options) = options.repair {
         return finish_repaired(&raw, path, &repair_options);
     }
-    // Weld bit-identical positions onto their first occurrence.
+    // Weld identical positions onto their first occurrence (-0 and 0 alike).
     let mut first: FxMap<[u64; 3], u32> = FxMap::default();
     first.reserve(raw.positions.len());
     let welded_to: Vec<u32> = (0..raw.positions.len())
-        .map(|i| *first.entry(raw.positions[i].map(f64::to_bits)).or_insert(i as u32))
+        .map(|i| {
+            *first
+                .entry(crate::hash::position_key(raw.positions[i]))
+                .or_insert(i as u32)
+        })
         .collect();
     let welded = raw.positions.len() - first.len();
     drop(first);
@@ -531,19 +536,20 @@ fn unseen_note(count: usize) -> String {
 
 /// Whether polygon `p` has two corners at the same position (what `finish`
 /// refuses as a repeated vertex, and `--repair` reads as the outline the
-/// polygon traces): bit-identical coordinates, as `finish` welds.
+/// polygon traces): identical coordinates, as `finish` welds.
 fn passes_a_point_twice(p: &[u32], positions: &[[f64; 3]], scratch: &mut Vec<[u64; 3]>) -> bool {
     scratch.clear();
-    scratch.extend(p.iter().map(|&v| positions[v as usize].map(f64::to_bits)));
+    scratch.extend(p.iter().map(|&v| crate::hash::position_key(positions[v as usize])));
     scratch.sort_unstable();
     scratch.windows(2).any(|w| w[0] == w[1])
 }
 
 /// The corners of polygon `p` in `out`, less each one at the position of
-/// the corner kept before it (bit-identical coordinates; around the
+/// the corner kept before it (identical coordinates; around the
 /// outline, so also a last corner at the first one's position).
+/// Positions compare as `finish` welds them.
 fn without_repeated_corners(p: &[u32], positions: &[[f64; 3]], out: &mut Vec<u32>) {
-    let bits = |v: u32| positions[v as usize].map(f64::to_bits);
+    let bits = |v: u32| crate::hash::position_key(positions[v as usize]);
     out.clear();
     for &v in p {
         if out.last().is_none_or(|&last| bits(last) != bits(v)) {
@@ -969,6 +975,19 @@ mod tests {
         assert_eq!(m.positions.len(), 4);
         assert_eq!(m.triangles, vec![[0, 1, 2], [1, 3, 2]]);
         assert_eq!(m.vertex_number, vec![1, 2, 3, 6]);
+    }
+
+    /// A file may write the same point's zero coordinates as `0` in one
+    /// place and `-0` in another (a rotation, a `%g` of a tiny negative):
+    /// welded all the same, keeping the first one's bits. Kept apart, they
+    /// cut the surface open there without a word.
+    #[test]
+    fn welds_negative_zero_with_zero() {
+        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -0 0 -0\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 5 4 3\n").unwrap();
+        assert_eq!(m.welded, 1);
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.triangles[3], [0, 3, 2]);
+        assert!(m.positions[0].to_array().iter().all(|x| x.to_bits() == 0));
     }
 
     #[test]
