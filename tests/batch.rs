@@ -396,6 +396,91 @@ fn a_folder_stands_for_its_mesh_files() {
     assert!(stderr.contains("no mesh files"), "{stderr}");
 }
 
+/// With --recursive a folder stands for the mesh files in its whole tree,
+/// and the tree is mirrored under the output folder: files of one name in
+/// different subfolders (a dataset's `train/` and `test/`) no longer
+/// collide. Each output is the main command's, byte for byte; symbolic
+/// links to folders are not followed (a loop would never end), the output
+/// folder inside the tree is left out (a second run reads the same files),
+/// folders made for outputs that all failed are removed again, and
+/// without the flag a folder whose meshes are all in subfolders says so.
+#[test]
+fn recursive_mirrors_a_folder_tree() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("data");
+    for sub in ["train/deep", "test", "broken", "links"] {
+        std::fs::create_dir_all(tree.join(sub)).unwrap();
+    }
+    let fixture = |name: &str| common::data_dir().join(name);
+    std::fs::copy(fixture("cube.obj"), tree.join("train/model.obj")).unwrap();
+    std::fs::copy(fixture("bunny.obj"), tree.join("test/model.obj")).unwrap();
+    std::fs::copy(fixture("elephant.obj"), tree.join("train/deep/n.obj")).unwrap();
+    write_book(&tree.join("broken"));
+    std::os::unix::fs::symlink(&tree, tree.join("links/loop")).unwrap();
+    let out_dir = tree.join("out");
+    let out = out_dir.to_str().unwrap();
+
+    let (ok, _, stderr) = batch(&["-d", out], &[&tree]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("no mesh files in this folder (4 in its subfolders: --recursive takes them)"),
+        "{stderr}"
+    );
+    assert!(!out_dir.exists());
+
+    for run in 0..2 {
+        let (ok, stdout, stderr) = batch(&["-r", "-d", out], &[&tree]);
+        assert!(!ok, "the book is refused without --repair");
+        assert!(stderr.contains("book.obj"), "{stderr}");
+        let lines = without_seconds(&stdout);
+        let shown = |input: &str, output: &str| {
+            format!(
+                "ok      {} -> {}",
+                tree.join(input).display(),
+                out_dir.join(output).display()
+            )
+        };
+        assert!(
+            lines[0].starts_with(&shown("test/model.obj", "test/model.obj")),
+            "{run}: {stdout}"
+        );
+        assert!(
+            lines[1].starts_with(&shown("train/model.obj", "train/model.obj")),
+            "{stdout}"
+        );
+        assert!(
+            lines[2].starts_with(&shown("train/deep/n.obj", "train/deep/n.obj")),
+            "{stdout}"
+        );
+        assert_eq!(lines.len(), 4, "{stdout}");
+        assert!(lines[3].starts_with("batch   4 files: 3 written, 1 failed"), "{stdout}");
+        // The failed file's folder is not left behind.
+        assert!(!out_dir.join("broken").exists());
+    }
+    for (input, output) in [
+        ("test/model.obj", "test/model.obj"),
+        ("train/model.obj", "train/model.obj"),
+        ("train/deep/n.obj", "train/deep/n.obj"),
+    ] {
+        let single = dir.path().join("single.obj");
+        let run = delmesh()
+            .arg("-q")
+            .arg("-i")
+            .arg(tree.join(input))
+            .arg("-o")
+            .arg(&single)
+            .output()
+            .unwrap();
+        assert!(run.status.success());
+        assert_eq!(
+            std::fs::read(out_dir.join(output)).unwrap(),
+            std::fs::read(&single).unwrap(),
+            "{output}"
+        );
+        check_passes(&tree.join(input), &out_dir.join(output));
+    }
+}
+
 #[test]
 fn skip_existing_resumes_a_batch() {
     let files = inputs();

@@ -33,9 +33,17 @@ use delmesh::refine::Options;
 pub(super) struct BatchArgs {
     /// The meshes to refine: OBJ, OFF, PLY or STL, possibly gzip-compressed.
     /// A folder stands for the mesh files in it (by extension, in name
-    /// order; not its subfolders).
+    /// order; not its subfolders, unless --recursive).
     #[arg(value_name = "INPUT", required = true)]
     inputs: Vec<PathBuf>,
+
+    /// A folder given as INPUT stands for the mesh files in it and in its
+    /// subfolders at any depth (each folder's files in name order, then its
+    /// subfolders'), each written to the same subfolder of --out-dir
+    /// (created as needed): a dataset's tree is mirrored. Symbolic links to folders are not followed, and the output
+    /// folder is left out if it lies inside.
+    #[arg(short = 'r', long = "recursive")]
+    recursive: bool,
 
     /// Folder of the outputs (created if missing). Each is named after its
     /// input: the same name without `.gz`, with the extension of --format.
@@ -159,58 +167,114 @@ fn output_name(input: &Path, format: Option<FormatArg>) -> Option<PathBuf> {
     Some(PathBuf::from(out))
 }
 
+/// An input file, and the subfolder of the output folder its output goes
+/// to (empty but with --recursive, for a file below a folder given).
+#[derive(Clone, Debug, PartialEq)]
+struct Input {
+    path: PathBuf,
+    subfolder: PathBuf,
+}
+
+/// Whether `path` has a mesh extension (`.obj`, `.off`, `.ply`, `.stl`,
+/// each possibly `.gz`): by extension (ASCII), whatever the rest of the
+/// name, so a name that is not UTF-8 is a mesh file like any other.
+fn is_mesh_name(path: &Path) -> bool {
+    path.file_name()
+        .is_some_and(|n| io::formats::format_from_name(&n.to_string_lossy()).is_some())
+}
+
 /// The inputs: the files given, and in each folder given the files with a
-/// mesh extension (`.obj`, `.off`, `.ply`, `.stl`, each possibly `.gz`),
-/// in name order, not descending into subfolders.
-fn expand(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+/// mesh extension ([`is_mesh_name`]), in name order; with `recursive`,
+/// then those in its subfolders at any depth, in the same order, without
+/// following symbolic links to folders and leaving out `out_dir`.
+fn expand(inputs: &[PathBuf], recursive: bool, out_dir: &Path) -> anyhow::Result<Vec<Input>> {
+    let out_dir = std::fs::canonicalize(out_dir).ok();
     let mut files = Vec::new();
     for input in inputs {
         if !input.is_dir() {
-            files.push(input.clone());
+            files.push(Input {
+                path: input.clone(),
+                subfolder: PathBuf::new(),
+            });
             continue;
         }
         let mut found = Vec::new();
-        for entry in std::fs::read_dir(input).with_context(|| input.display().to_string())? {
-            let path = entry.with_context(|| input.display().to_string())?.path();
-            // By extension (ASCII), whatever the rest of the name: a name
-            // that is not UTF-8 is a mesh file like any other.
-            let is_mesh = path
-                .file_name()
-                .is_some_and(|n| io::formats::format_from_name(&n.to_string_lossy()).is_some());
-            if is_mesh && !path.is_dir() {
-                found.push(path);
-            }
-        }
+        mesh_files_below(input, Path::new(""), recursive, out_dir.as_deref(), &mut found)?;
         if found.is_empty() {
-            bail!("{}: no mesh files in this folder", input.display());
+            if recursive {
+                bail!("{}: no mesh files in this folder or its subfolders", input.display());
+            }
+            let mut below = Vec::new();
+            // (Unreadable subfolders count as empty here: only a hint.)
+            let _ = mesh_files_below(input, Path::new(""), true, out_dir.as_deref(), &mut below);
+            if below.is_empty() {
+                bail!("{}: no mesh files in this folder", input.display());
+            }
+            bail!(
+                "{}: no mesh files in this folder ({} in its subfolders: --recursive takes them)",
+                input.display(),
+                below.len()
+            );
         }
-        found.sort();
+        found.sort_by(|a, b| (&a.subfolder, &a.path).cmp(&(&b.subfolder, &b.path)));
         files.extend(found);
     }
     Ok(files)
 }
 
+/// Adds to `found` the mesh files in `folder` (which is `subfolder` below
+/// the folder given), and with `recursive` those in its subfolders, except
+/// in symbolic links to folders and in `out_dir` (canonical).
+fn mesh_files_below(
+    folder: &Path,
+    subfolder: &Path,
+    recursive: bool,
+    out_dir: Option<&Path>,
+    found: &mut Vec<Input>,
+) -> anyhow::Result<()> {
+    for entry in std::fs::read_dir(folder).with_context(|| folder.display().to_string())? {
+        let entry = entry.with_context(|| folder.display().to_string())?;
+        let path = entry.path();
+        // The entry itself: a symbolic link is not a folder here.
+        let real_folder = entry.file_type().is_ok_and(|t| t.is_dir());
+        if real_folder {
+            if recursive && out_dir.is_none_or(|out| std::fs::canonicalize(&path).ok().as_deref() != Some(out)) {
+                mesh_files_below(&path, &subfolder.join(entry.file_name()), true, out_dir, found)?;
+            }
+        } else if is_mesh_name(&path) && !path.is_dir() {
+            found.push(Input {
+                path,
+                subfolder: subfolder.to_owned(),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The output path of every input, in order; refuses two inputs with one
 /// output, and an output that is an input.
 fn plan(
-    inputs: &[PathBuf],
+    inputs: &[Input],
     out_dir: &Path,
     format: Option<FormatArg>,
     sides: impl Fn(&Path) -> Vec<PathBuf>,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    let canonical: HashSet<PathBuf> = inputs.iter().filter_map(|p| std::fs::canonicalize(p).ok()).collect();
-    let ids = input_ids(inputs);
+    let canonical: HashSet<PathBuf> = inputs
+        .iter()
+        .filter_map(|p| std::fs::canonicalize(&p.path).ok())
+        .collect();
+    let paths: Vec<PathBuf> = inputs.iter().map(|p| p.path.clone()).collect();
+    let ids = input_ids(&paths);
     let mut taken: HashMap<PathBuf, &Path> = HashMap::new();
     let mut outputs = Vec::with_capacity(inputs.len());
-    for input in inputs {
+    for Input { path: input, subfolder } in inputs {
         let Some(name) = output_name(input, format) else {
             bail!("{}: not a file name", input.display());
         };
-        let output = out_dir.join(&name);
+        let output = out_dir.join(subfolder).join(&name);
         let sides = sides(&output);
         for written in std::iter::once(&output).chain(&sides) {
-            let name = PathBuf::from(written.file_name().unwrap_or_default());
-            if let Some(first) = taken.insert(name.clone(), input) {
+            if let Some(first) = taken.insert(written.clone(), input) {
                 bail!(
                     "{} and {} would both be written to {}",
                     first.display(),
@@ -480,6 +544,33 @@ impl Drop for RemovedIfEmpty {
     }
 }
 
+/// Creates the folders of `outputs` below `out_dir` that do not exist yet;
+/// returns them, to be removed again if empty, deepest first.
+fn create_subfolders(out_dir: &Path, outputs: &[PathBuf]) -> anyhow::Result<Vec<RemovedIfEmpty>> {
+    let mut created = Vec::new();
+    let folders: std::collections::BTreeSet<&Path> = outputs.iter().filter_map(|p| p.parent()).collect();
+    for folder in folders {
+        let Ok(below) = folder.strip_prefix(out_dir) else {
+            continue;
+        };
+        let mut at = out_dir.to_owned();
+        for part in below.components() {
+            at.push(part);
+            if !at.exists() {
+                if let Err(e) = std::fs::create_dir(&at) {
+                    created.reverse(); // removed deepest first
+                    return Err(
+                        anyhow::Error::new(e).context(format!("{}: cannot create the output folder", at.display()))
+                    );
+                }
+                created.push(RemovedIfEmpty(at.clone()));
+            }
+        }
+    }
+    created.reverse();
+    Ok(created)
+}
+
 /// `delmesh batch`.
 pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
@@ -495,8 +586,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             stdin.display()
         );
     }
-    let inputs = expand(&args.inputs)?;
-    let outputs = plan(&inputs, &args.out_dir, args.format, |out| side_paths(out, args))?;
+    let listed = expand(&args.inputs, args.recursive, &args.out_dir)?;
+    let outputs = plan(&listed, &args.out_dir, args.format, |out| side_paths(out, args))?;
+    let inputs: Vec<PathBuf> = listed.into_iter().map(|input| input.path).collect();
     if args.out_dir.exists() && !args.out_dir.is_dir() {
         bail!(
             "{}: the output folder names a file, not a folder",
@@ -508,6 +600,9 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     let _created = (!args.out_dir.exists()).then(|| RemovedIfEmpty(args.out_dir.clone()));
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create the output folder", args.out_dir.display()))?;
+    // With --recursive, the subfolders of the outputs: those this run
+    // creates are removed again, deepest first, if nothing ends up in them.
+    let _subfolders = create_subfolders(&args.out_dir, &outputs)?;
     // Whether the folder can be written in, probed beside the first output
     // that is not a folder itself (one that is fails on its own, below).
     if let Some(output) = outputs.iter().find(|p| !p.is_dir()) {
