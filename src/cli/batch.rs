@@ -40,8 +40,9 @@ pub(super) struct BatchArgs {
     /// A folder given as INPUT stands for the mesh files in it and in its
     /// subfolders at any depth (each folder's files in name order, then its
     /// subfolders'), each written to the same subfolder of --out-dir
-    /// (created as needed): a dataset's tree is mirrored. Symbolic links to folders are not followed, and the output
-    /// folder is left out if it lies inside.
+    /// (created as needed): a dataset's tree is mirrored. Symbolic links
+    /// to folders are not followed, and the output folder is left out if
+    /// it lies inside.
     #[arg(short = 'r', long = "recursive")]
     recursive: bool,
 
