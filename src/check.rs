@@ -1382,7 +1382,10 @@ fn obj_surface(bytes: &[u8]) -> Result<RawMesh, String> {
             let text = if vertex.is_empty() { corner } else { vertex };
             let index = parse_index(text);
             let resolved = match index {
-                None => return Err(error(format!("face index '{}' is not an integer", show(text)))),
+                None => {
+                    let why = crate::io::number::unreadable_integer(text);
+                    return Err(error(format!("face index '{}' {why}", show(text))));
+                }
                 Some(0) => return Err(error("face index 0 (OBJ indices start at 1)".to_string())),
                 Some(v) if v < 0 && vertices + v < 0 => {
                     return Err(error(format!(

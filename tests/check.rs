@@ -1102,6 +1102,14 @@ fn obj_syntax_errors_name_their_line() {
         ),
         (&format!("{tri}f 1 2 a\n"), "line 4: face index 'a' is not an integer"),
         (
+            &format!("{tri}f 1 2 99999999999999999999\n"),
+            "line 4: face index '99999999999999999999' is out of range",
+        ),
+        (
+            &format!("{tri}f 1 2 -99999999999999999999/1\n"),
+            "line 4: face index '-99999999999999999999' is out of range",
+        ),
+        (
             &format!("{tri}f 1 2 4\n"),
             "line 4: face index 4 is out of range (the file has 3 vertices)",
         ),

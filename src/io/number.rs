@@ -108,6 +108,22 @@ pub fn short_integer(tok: &[u8]) -> Option<i64> {
     Some(if negative { -v } else { v })
 }
 
+/// Why an integer of a text format (a face's vertex index, a count) that
+/// its reader refused is refused: digits too many for any value are out of
+/// range (as `-1` or a count beyond the file is), anything else is not an
+/// integer.
+pub(crate) fn unreadable_integer(text: &[u8]) -> &'static str {
+    let digits = text
+        .strip_prefix(b"-")
+        .or_else(|| text.strip_prefix(b"+"))
+        .unwrap_or(text);
+    if !digits.is_empty() && digits.iter().all(u8::is_ascii_digit) {
+        "is out of range"
+    } else {
+        "is not an integer"
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -355,10 +355,9 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
                         None => {
                             let Some(tok) = tokens.next() else { break };
                             let value = parse_index(tok).ok_or_else(|| {
-                                error(
-                                    line_no,
-                                    format!("face index '{}' is not an integer", show(tok.as_bytes())),
-                                )
+                                let vertex = tok.split('/').next().unwrap_or(tok);
+                                let why = super::number::unreadable_integer(vertex.as_bytes());
+                                error(line_no, format!("face index '{}' {why}", show(tok.as_bytes())))
                             })?;
                             (value, tok)
                         }
@@ -569,7 +568,7 @@ impl Extras {
                 None | Some("") => NO_VALUE,
                 Some(p) => match parse_index(p) {
                     Some(i) if i > 0 && i <= u32::MAX as i64 => (i - 1) as u32,
-                    Some(i) if i < 0 && -i <= count as i64 => (count as i64 + i) as u32,
+                    Some(i) if i < 0 && i >= -(count as i64) => (count as i64 + i) as u32,
                     _ => {
                         self.note(kind, line, || {
                             format!("face index '{}' is out of range", show(p.as_bytes()))
@@ -876,10 +875,13 @@ fn is_token_end(b: u8) -> bool {
 /// The vertex index of a face token `i`, `i/t`, `i//n` or `i/t/n`: a
 /// non-zero decimal integer, possibly negative; `None` if malformed or huge.
 #[inline]
+/// The vertex index of a face corner `tok` (`v`, `v/vt`, `v//vn`,
+/// `v/vt/vn`), as `str::parse::<i64>` reads it: directly when it has at
+/// most 18 digits, else by `parse` (leading zeros, `00000000000000000000003`,
+/// are the same index; `check` reads it so too).
 fn parse_index(tok: &str) -> Option<i64> {
-    let b = tok.as_bytes();
-    let end = b.iter().position(|&c| c == b'/').unwrap_or(b.len());
-    super::number::short_integer(&b[..end])
+    let vertex = tok.split('/').next().unwrap_or(tok);
+    super::number::short_integer(vertex.as_bytes()).or_else(|| vertex.parse().ok())
 }
 
 /// Writes a triangle mesh as OBJ: `v` lines in shortest round-trip form,
@@ -1111,6 +1113,28 @@ fn write_group_change(w: &mut dyn Write, written: &mut Group, group: &Group) -> 
 mod tests {
     use super::*;
     use crate::io::lines::{put_decimal, BLOCK_LINES};
+
+    /// An index of more than 18 digits is read as `str::parse` reads it
+    /// (leading zeros were refused as "not an integer", which `check`
+    /// accepted); one too large for any index is said to be out of range.
+    #[test]
+    fn long_face_indices_read_as_integers() {
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        let m =
+            parse_obj(format!("{tri}f 1 +00000000000000000000002 -0000000000000000000000001/1\n").as_bytes()).unwrap();
+        assert_eq!(m.indices, [0, 1, 2]);
+        let e = parse_obj(format!("{tri}f 1 2 99999999999999999999\n").as_bytes()).unwrap_err();
+        assert_eq!(e.what, "face index '99999999999999999999' is out of range");
+        let e = parse_obj(format!("{tri}f 1 2 3x\n").as_bytes()).unwrap_err();
+        assert_eq!(e.what, "face index '3x' is not an integer");
+        // The most negative index, counted back from any count, is out of
+        // range (negating it overflowed, found by fuzzing at once).
+        let least = i64::MIN;
+        let e = parse_obj(format!("{tri}f 1 2 {least}\n").as_bytes()).unwrap_err();
+        assert_eq!(e.what, format!("face index {least} is out of range"));
+        let m = parse_obj(format!("{tri}vt 0 0\nf 1/{least} 2/1 3/1\n").as_bytes()).unwrap();
+        assert_eq!(m.indices, [0, 1, 2]);
+    }
 
     /// The parsed mesh (or error) in a comparable form: positions by their
     /// bits, everything else as read.

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
+use crate::io::number::unreadable_integer;
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -471,8 +472,9 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
                     format!("face {f} declares {n} vertices but its line has only {k} indices"),
                 ));
             };
-            let i = parse_int(w)
-                .ok_or_else(|| FormatError::at(line, format!("face {f} index `{}` is not an integer", show(w))))?;
+            let i = parse_int(w).ok_or_else(|| {
+                FormatError::at(line, format!("face {f} index `{}` {}", show(w), unreadable_integer(w)))
+            })?;
             b.index(checked_index(i, f, Some(line), nv)?);
         }
         b.end_face(line)?;

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
+use crate::io::number::unreadable_integer;
 
 /// A PLY scalar type: the attributes' [`ValueType`], which a carried
 /// property keeps.
@@ -1141,7 +1142,8 @@ fn read_ascii_element(
                                 return Err(truncated(t.line));
                             };
                             let index = parse_int(tok).ok_or_else(|| {
-                                FormatError::at(line, format!("face {i} index `{}` is not an integer", show(tok)))
+                                let why = unreadable_integer(tok);
+                                FormatError::at(line, format!("face {i} index `{}` {why}", show(tok)))
                             })?;
                             let index = checked_index(index, i, Some(line), b.m.positions.len())?;
                             if let Some(why) = item.int_misfit(index.into()) {
