@@ -42,11 +42,11 @@
 //!
 //! # How files are read
 //!
-//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions welded (-0 and 0 alike), as the construction reads
-//! its input. Then what `delmesh --repair` cut apart on purpose, by giving faces their own
-//! copies of vertices at one position, is kept apart: where welding would put more than two
-//! faces on an edge or two faces along it the same way, the file's own vertices at the edge's
-//! ends stay apart; a vertex whose faces form several fans becomes one vertex per fan; and
+//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions
+//! welded (-0 and 0 alike), as the construction reads its input. Then what `delmesh --repair`
+//! cut apart on purpose, by giving faces their own copies of vertices at one position, is kept
+//! apart: where welding would put more than two faces on an edge or two faces along it the
+//! same way, the file's own vertices at the edge's ends stay apart; a vertex whose faces form several fans becomes one vertex per fan; and
 //! [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it has another
 //! count of vertices at one position than the INPUT ([`Mesh3::read_like`]), except the copies
 //! a seam made (OFF and PLY give a vertex one record per attribute value, OBJ one per vertex
@@ -199,8 +199,8 @@ pub struct CheckReport {
     /// row.
     pub unused_vertices: usize,
     /// Where the output stops beginning with the input's vertices in the input's order (0-based:
-    /// output vertex `k` is not input vertex `k`, bit for bit but -0 and 0 alike); `None` when it does begin so, as
-    /// delmesh writes it. Not a failure (the geometry does not depend on numbering), but the
+    /// output vertex `k` is not input vertex `k`, bit for bit but -0 and 0 alike); `None` when
+    /// it does begin so, as delmesh writes it. Not a failure (the geometry does not depend on numbering), but the
     /// input's per-vertex data does not carry over by number. From files, vertices are
     /// numbered as [`Mesh3::read_obj`] says: identical positions welded, unused ones left out.
     pub first_reordered_vertex: Option<usize>,
@@ -421,7 +421,8 @@ impl Mesh3 {
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
-    /// triangulated (by [`triangulate`]), points and lines ignored, vertices with identical positions welded (-0 and 0 alike),
+    /// triangulated (by [`triangulate`]), points and lines ignored, vertices with identical
+    /// positions welded (-0 and 0 alike),
     /// vertices referenced by no face dropped. Vertices are numbered in the order of their first
     /// `v` line. Material libraries are not read.
     ///
