@@ -42,16 +42,16 @@
 //!
 //! # How files are read
 //!
-//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions
-//! welded (-0 and 0 alike), as the construction reads its input. Then what `delmesh --repair`
-//! cut apart on purpose, by giving faces their own copies of vertices at one position, is kept
-//! apart: where welding would put more than two faces on an edge or two faces along it the
-//! same way, the file's own vertices at the edge's ends stay apart; a vertex whose faces form
-//! several fans becomes one vertex per fan; and [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it has another
-//! count of vertices at one position than the INPUT ([`Mesh3::read_like`]), except the copies
-//! a seam made (OFF and PLY give a vertex one record per attribute value, OBJ one per vertex
-//! colour): where a seam meets a cut and the file leaves a choice of which copies go together,
-//! the one that gives the INPUT's shape (then its counts) is taken. A mesh the construction accepts
+//! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions welded
+//! (-0 and 0 alike), as the construction reads its input. Then what `delmesh --repair` cut apart on
+//! purpose, by giving faces their own copies of vertices at one position, is kept apart: where
+//! welding would put more than two faces on an edge or two faces along it the same way, the file's
+//! own vertices at the edge's ends stay apart; a vertex whose faces form several fans becomes one
+//! vertex per fan; and [`check_files`] keeps the OUTPUT's own vertices apart wherever, read so, it
+//! has another count of vertices at one position than the INPUT ([`Mesh3::read_like`]), except the
+//! copies a seam made (OFF and PLY give a vertex one record per attribute value, OBJ one per vertex
+//! colour): where a seam meets a cut and the file leaves a choice of which copies go together, the
+//! one that gives the INPUT's shape (then its counts) is taken. A mesh the construction accepts
 //! without `--repair` is read welded, nothing kept apart.
 //!
 //! Failures are reported as human-readable lines (at most [`MAX_LINES_PER_KIND`] per kind).
