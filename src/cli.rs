@@ -487,6 +487,93 @@ fn ds_name(w: Worklist) -> &'static str {
     }
 }
 
+/// Makes the `mtllib` statements of an OBJ written to `output` name the
+/// material libraries of `input` (read from its folder) from the output's
+/// folder: a relative name (`mat.mtl`) is rewritten as the path from there
+/// (`../models/mat.mtl`) when the two folders differ and the library is
+/// beside the input, so that viewers still find it (and its textures,
+/// named from the library's own folder). A statement is one name if that
+/// name is a file beside the input (names with blanks, as Blender writes
+/// them), else names separated by blanks. Returns the notes saying what
+/// was rewritten, or why a name could not be (a path with blanks).
+fn rebase_material_libraries(mtllib: &mut [String], input: &Path, output: &Path) -> Vec<String> {
+    let mut notes = Vec::new();
+    if mtllib.is_empty() || io::is_standard_input(input) || io::is_stream(output) {
+        return notes;
+    }
+    let folder = |p: &Path| -> Option<PathBuf> {
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        std::fs::canonicalize(dir).ok()
+    };
+    let (Some(from), Some(to)) = (
+        folder(input),
+        io::write_target(output).ok().and_then(|(target, _)| folder(&target)),
+    ) else {
+        return notes;
+    };
+    if from == to {
+        return notes;
+    }
+    let up = relative_path(&to, &from);
+    for statement in mtllib.iter_mut() {
+        let names: Vec<&str> = if from.join(statement.as_str()).is_file() {
+            vec![statement.as_str()]
+        } else {
+            statement.split_whitespace().collect()
+        };
+        let mut rebased = Vec::with_capacity(names.len());
+        let mut changed = false;
+        for name in names {
+            let beside_input = from.join(name);
+            let same_file = std::fs::canonicalize(to.join(name)).ok() == std::fs::canonicalize(&beside_input).ok();
+            if Path::new(name).is_absolute() || !beside_input.is_file() || same_file {
+                rebased.push(name.to_owned());
+                continue;
+            }
+            let path = up.join(name).to_string_lossy().into_owned();
+            if path.contains(char::is_whitespace) {
+                notes.push(format!(
+                    "mtllib {name}: the material library is beside the input and its path from the output's \
+                     folder has blanks, which OBJ readers split at: copy it beside the output"
+                ));
+                rebased.push(name.to_owned());
+                continue;
+            }
+            notes.push(format!(
+                "mtllib {name} written as {path}: the path from the output's folder to the input's material library"
+            ));
+            rebased.push(path);
+            changed = true;
+        }
+        if changed {
+            *statement = rebased.join(" ");
+        }
+    }
+    notes
+}
+
+/// The relative path from the folder `from` to the folder `to` (both
+/// absolute, canonical): `..` for each of `from`'s own components, then
+/// `to`'s own.
+fn relative_path(from: &Path, to: &Path) -> PathBuf {
+    let common = from
+        .components()
+        .zip(to.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut path = PathBuf::new();
+    for _ in from.components().skip(common) {
+        path.push("..");
+    }
+    for part in to.components().skip(common) {
+        path.push(part);
+    }
+    path
+}
+
 /// Refuses an output path that cannot be written, before any work starts.
 /// A device or pipe (`/dev/null`, `/dev/stdout`) is written into directly
 /// ([`io::write_atomic`]) and needs no folder.
@@ -1150,7 +1237,7 @@ fn run_unrefined(
     progress::phase(Phase::Write {
         name: file_name(output),
     });
-    let (written, staged) = write_output(output, surface, transfer, &Default::default())?;
+    let (written, staged) = write_output(output, report.input_path, surface, transfer, &Default::default())?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     // The side files before the mesh is put in place (as in `run_refined`).
@@ -1279,7 +1366,7 @@ fn run_refined(
     progress::phase(Phase::Write {
         name: file_name(output),
     });
-    let (written, mut staged) = write_output(output, &out.surface, transfer, &vertex_lines)?;
+    let (written, mut staged) = write_output(output, input_path, &out.surface, transfer, &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let t_check = Instant::now();
@@ -1427,18 +1514,27 @@ const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need 
 /// empty).
 fn write_output(
     path: &Path,
+    input: &Path,
     surface: &Surface,
     transfer: Option<&Transfer>,
     done: &io::obj::VertexLines,
 ) -> anyhow::Result<(io::Written, io::Staged)> {
     let triangles = surface.triangles();
+    let mut libraries_moved = Vec::new();
     let (mut written, staged) = match transfer {
         None => (
             io::Written::default(),
             io::stage_mesh_after(path, done, &surface.positions, &triangles)?,
         ),
-        Some(t) => io::stage_mesh_with_attributes(path, &surface.positions, &triangles, &t.apply(surface))?,
+        Some(t) => {
+            let mut attributes = t.apply(surface);
+            if io::output_format(path) == io::Format::Obj {
+                libraries_moved = rebase_material_libraries(&mut attributes.mtllib, input, path);
+            }
+            io::stage_mesh_with_attributes(path, &surface.positions, &triangles, &attributes)?
+        }
     };
+    written.notes.extend(libraries_moved);
     if io::output_format(path) == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());
     }

@@ -2680,6 +2680,54 @@ fn negative_zero_welds_with_zero() {
     check_passes(&input, &output);
 }
 
+/// An OBJ written to another folder than its input's names the input's
+/// material library from there (`mtllib ../models/mat.mtl`), with a note:
+/// `mtllib mat.mtl` kept verbatim named a file that is not beside the
+/// output, and viewers showed the mesh without its materials. Beside the
+/// input, a library that is not there, or a path with blanks (which OBJ
+/// readers split at: a note says to copy the library) are left as written.
+#[test]
+fn material_libraries_are_named_from_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let models = dir.path().join("models");
+    let out = dir.path().join("out/deep");
+    std::fs::create_dir_all(&models).unwrap();
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(models.join("mat.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    let obj = "mtllib mat.mtl\nmtllib gone.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.2\nf 1 2 3\nf 2 4 3\n";
+    let input = models.join("m.obj");
+    std::fs::write(&input, obj).unwrap();
+    let first_lines = |path: &Path| -> Vec<String> {
+        let text = std::fs::read_to_string(path).unwrap();
+        text.lines().take(2).map(str::to_owned).collect()
+    };
+    let output = out.join("m.obj");
+    let run = refine(&input, &output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(first_lines(&output), ["mtllib ../../models/mat.mtl", "mtllib gone.mtl"]);
+    assert!(
+        stdout.contains("note    mtllib mat.mtl written as ../../models/mat.mtl: the path from the output's folder"),
+        "{stdout}"
+    );
+    assert!(out.join("../../models/mat.mtl").is_file());
+    check_passes(&input, &output);
+    // Beside the input: as written.
+    let beside = models.join("refined.obj");
+    assert!(refine(&input, &beside).output().unwrap().status.success());
+    assert_eq!(first_lines(&beside), ["mtllib mat.mtl", "mtllib gone.mtl"]);
+    // A path with blanks from the output's folder: kept, and said.
+    let spaced = dir.path().join("my models");
+    std::fs::create_dir_all(&spaced).unwrap();
+    std::fs::copy(models.join("mat.mtl"), spaced.join("mat.mtl")).unwrap();
+    std::fs::write(spaced.join("m.obj"), obj).unwrap();
+    let run = refine(spaced.join("m.obj"), &output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success());
+    assert_eq!(first_lines(&output), ["mtllib mat.mtl", "mtllib gone.mtl"]);
+    assert!(stdout.contains("copy it beside the output"), "{stdout}");
+}
+
 /// Files of other kinds than the four meshes delmesh reads are named for
 /// what they are, and what to do said: a GLB, a FBX, a PNG, a ZIP or random
 /// bytes were "lines end in a carriage return alone (classic Mac OS text)"

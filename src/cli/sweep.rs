@@ -446,7 +446,13 @@ fn run_combination(
     })?;
     *seconds = out.seconds(0.0);
     let t = Instant::now();
-    let written = write_output(file, &out.surface, sweep.transfer, &Default::default());
+    let written = write_output(
+        file,
+        sweep.input_path,
+        &out.surface,
+        sweep.transfer,
+        &Default::default(),
+    );
     seconds.write = t.elapsed().as_secs_f64();
     let (_, mut staged) = written?;
     if let Some(reference) = sweep.check {
