@@ -872,13 +872,12 @@ fn is_token_end(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | 0x0c | 0x0b | b'\n' | b'#')
 }
 
-/// The vertex index of a face token `i`, `i/t`, `i//n` or `i/t/n`: a
-/// non-zero decimal integer, possibly negative; `None` if malformed or huge.
-#[inline]
 /// The vertex index of a face corner `tok` (`v`, `v/vt`, `v//vn`,
 /// `v/vt/vn`), as `str::parse::<i64>` reads it: directly when it has at
 /// most 18 digits, else by `parse` (leading zeros, `00000000000000000000003`,
-/// are the same index; `check` reads it so too).
+/// are the same index; `check` reads it so too); `None` if malformed or
+/// beyond an `i64`.
+#[inline]
 fn parse_index(tok: &str) -> Option<i64> {
     let vertex = tok.split('/').next().unwrap_or(tok);
     super::number::short_integer(vertex.as_bytes()).or_else(|| vertex.parse().ok())
