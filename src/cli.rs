@@ -14,6 +14,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use crate::progress::{self, Phase};
 use crate::stats_json;
 use delmesh::draw::{Format, Rgb};
+use delmesh::face_map::{self, FaceOrigins};
 use delmesh::io;
 
 /// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
@@ -834,6 +835,28 @@ fn stage_vertex_map(
     Ok(io::stage(path, |w| w.write_all(table.as_bytes()))?)
 }
 
+/// Writes `--face-map` for `surface`, whose input faces `origins` holds,
+/// written as `written` says (a row per face of the output file, in its
+/// order), under a temporary name ([`io::stage`]); with a note for the
+/// printout when faces lie across several input faces.
+fn stage_face_map(
+    path: &Path,
+    surface: &Surface,
+    origins: &FaceOrigins,
+    written: &io::Written,
+) -> anyhow::Result<(io::Staged, Option<String>)> {
+    let map = face_map::in_file_order(origins.apply(surface), &written.face_order);
+    let across = map.iter().filter(|o| !o.inside).count();
+    let note = (across > 0).then(|| {
+        format!(
+            "{across} of {} output faces lie across several input faces (flipped in flat regions): their face-map \
+             rows name the face under their centroid, with inside 0",
+            map.len()
+        )
+    });
+    Ok((io::stage(path, |w| face_map::write_csv(w, &map))?, note))
+}
+
 /// Puts a run's output in place, then its side files ([`SideFiles`]), all
 /// staged complete beforehand: a side file that could not be written left
 /// nothing in place, and an output that cannot be put in place (a rename
@@ -855,7 +878,7 @@ fn commit_all(mesh: io::Staged, output: &Path, side: SideFiles, in_place: bool) 
     Ok(())
 }
 
-/// Side files (`--vertex-map`, `--stats-json`, `--stats-csv`) staged under
+/// Side files (`--vertex-map`, `--face-map`, `--stats-json`, `--stats-csv`) staged under
 /// temporary names, in the order they are put in place.
 type SideFiles = Vec<io::Staged>;
 
@@ -914,6 +937,8 @@ struct Report<'a> {
     t0: Instant,
     read_s: f64,
     build_s: f64,
+    /// With `--face-map`: the input's faces, taken before refinement.
+    face_origins: Option<&'a FaceOrigins<'a>>,
 }
 
 impl Report<'_> {
@@ -987,6 +1012,8 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let surface = args.settings.build(&mut input, input_path)?;
     let transfer =
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
+    let face_origins =
+        (args.face_map.is_some()).then(|| FaceOrigins::new(&input.triangles, &input.triangle_polygon, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     // The input's non-Delaunay edges: the first pass of every run, and where
@@ -1025,6 +1052,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         t0,
         read_s,
         build_s,
+        face_origins: face_origins.as_ref(),
     };
     let side: SideFiles = repaired_staged.into_iter().collect();
     if args.all {
@@ -1094,6 +1122,7 @@ fn destinations(args: &RunArgs, input_path: &Path) -> anyhow::Result<(PathBuf, b
         ("--stats-csv", &args.stats_csv),
         ("--chart", &args.chart),
         ("--vertex-map", &args.vertex_map),
+        ("--face-map", &args.face_map),
     ];
     for (flag, path) in extras {
         if let Some(path) = path {
@@ -1245,6 +1274,9 @@ fn run_unrefined(
     if let Some(map) = &args.vertex_map {
         side.push(stage_vertex_map(map, surface, report.input, &written).map_err(streamed)?);
     }
+    if let (Some(map), Some(origins)) = (&args.face_map, report.face_origins) {
+        side.push(stage_face_map(map, surface, origins, &written).map_err(streamed)?.0);
+    }
     let run = stats_json::RunRecord {
         options: None,
         output: output.display().to_string(),
@@ -1366,7 +1398,7 @@ fn run_refined(
     progress::phase(Phase::Write {
         name: file_name(output),
     });
-    let (written, mut staged) = write_output(output, input_path, &out.surface, transfer, &vertex_lines)?;
+    let (mut written, mut staged) = write_output(output, input_path, &out.surface, transfer, &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let t_check = Instant::now();
@@ -1387,6 +1419,11 @@ fn run_refined(
     let streamed = mesh_streamed(&staged, output);
     if let Some(map) = &args.vertex_map {
         side.push(stage_vertex_map(map, &out.surface, input, &written).map_err(streamed)?);
+    }
+    if let (Some(map), Some(origins)) = (&args.face_map, report.face_origins) {
+        let (staged_map, note) = stage_face_map(map, &out.surface, origins, &written).map_err(streamed)?;
+        side.push(staged_map);
+        written.notes.extend(note);
     }
     let run = out.record(options, output, write_s);
     let (total, reports) = report.stage(&[run], true).map_err(streamed)?;

@@ -22,7 +22,10 @@
 //! attributes and the surface *before* refining, and write
 //! [`attributes::Transfer::apply`]'s result with
 //! [`io::write_mesh_with_attributes`] (`examples/library.rs` does, as the
-//! command line does); [`io::write_mesh`] writes positions only.
+//! command line does); [`io::write_mesh`] writes positions only. Where each
+//! output vertex lies on the input is [`Surface::vertex_sources`]; which
+//! input face each output face lies in, a [`face_map::FaceOrigins`] made
+//! before refining, like the transfer.
 //!
 //! ```no_run
 //! use delmesh::{attributes::Transfer, io, make_delaunay, Options};
@@ -68,6 +71,7 @@ pub mod attributes;
 pub mod check;
 pub mod draw;
 pub mod error;
+pub mod face_map;
 pub mod geometry;
 pub mod hash;
 pub mod io;

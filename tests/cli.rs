@@ -2006,6 +2006,7 @@ fn two_outputs_naming_one_file_are_refused() {
         ][..],
         &["-o", "o.obj", "--stats-json", "s.json", "--stats-csv", "./s.json"],
         &["-o", "real.obj", "--vertex-map", "link.obj"],
+        &["-o", "o.obj", "--vertex-map", "m.csv", "--face-map", "m.csv"],
         &["-o", "o.obj", "-all", "--chart", "o-s-2-m.obj"],
         &["-o", "o.obj", "--stats-json", bunny.to_str().unwrap()],
     ] {
@@ -3065,7 +3066,7 @@ fn every_format_reads_the_same_from_a_pipe() {
 
 /// The mesh and its side files are written under temporary names and put
 /// in place only when all are complete: a run whose `--stats-json`,
-/// `--stats-csv` or `--vertex-map` cannot be written (a full disk) leaves
+/// `--stats-csv`, `--vertex-map` or `--face-map` cannot be written (a full disk) leaves
 /// no output and an input rewritten in place untouched, and no temporary
 /// file. A mesh already sent to a stream says it is complete.
 #[cfg(target_os = "linux")]
@@ -3076,7 +3077,7 @@ fn a_side_file_that_cannot_be_written_leaves_the_input_and_no_output() {
     copy_fixture("bunny.obj", &input);
     let original = std::fs::read(&input).unwrap();
     let out = dir.path().join("out.obj");
-    for flag in ["--stats-json", "--stats-csv", "--vertex-map"] {
+    for flag in ["--stats-json", "--stats-csv", "--vertex-map", "--face-map"] {
         for no_refine in [false, true] {
             let mut in_place = delmesh();
             in_place.arg("-i").arg(&input).args(["-q", flag, "/dev/full"]);

@@ -120,6 +120,15 @@ pub(super) struct RunArgs {
     #[arg(long = "vertex-map", value_name = "FILE", conflicts_with = "all")]
     pub(super) vertex_map: Option<PathBuf>,
 
+    /// Also write which input face each output face lies in, as CSV
+    /// (output_index,input_index,inside; 0-based, in the input file's
+    /// numbering of faces, a polygon being one face): inside is 1 when that
+    /// face holds the output face whole, 0 for a face that a flip in a flat
+    /// region laid across several input faces (the row then names the one
+    /// under its centroid). For carrying per-face data over.
+    #[arg(long = "face-map", value_name = "FILE", conflicts_with = "all")]
+    pub(super) face_map: Option<PathBuf>,
+
     /// Verify the output with `delmesh check` once written (against the
     /// input, or with --repair the repaired input), before it is put in
     /// place; if it fails (or the check cannot read it), it is put at

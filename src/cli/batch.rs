@@ -20,11 +20,12 @@ use clap::ValueEnum;
 
 use super::{
     check_output, check_output_dir, escaped, failure_record, file_key, growth_note, longest_first_note,
-    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_vertex_map, stuck_elsewhere,
-    write_output, FirstPass, Settings,
+    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map, stage_vertex_map,
+    stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
+use delmesh::face_map::FaceOrigins;
 use delmesh::io;
 use delmesh::refine::Options;
 
@@ -80,6 +81,12 @@ pub(super) struct BatchArgs {
     #[arg(long = "vertex-maps")]
     vertex_maps: bool,
 
+    /// Also write beside each output which input face each of its faces
+    /// lies in, as the main command's --face-map does: NAME.face-map.csv for
+    /// NAME.obj.
+    #[arg(long = "face-maps")]
+    face_maps: bool,
+
     /// With --repair: also write beside each output the repaired input it
     /// was made from, the mesh `delmesh check` compares it with, as the
     /// main command's --repaired does: NAME.repaired.obj for NAME.obj.
@@ -88,7 +95,7 @@ pub(super) struct BatchArgs {
 
     /// Skip the inputs whose output exists already, e.g. to resume an
     /// interrupted batch (outputs are written atomically, so an existing
-    /// one is complete; with --vertex-maps or --repaired-inputs, only if
+    /// one is complete; with --vertex-maps, --face-maps or --repaired-inputs, only if
     /// those files exist too).
     #[arg(long = "skip-existing")]
     skip_existing: bool,
@@ -325,6 +332,13 @@ fn vertex_map_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
+/// The face map written beside `output` with --face-maps.
+fn face_map_path(output: &Path) -> PathBuf {
+    let mut name = output.file_stem().unwrap_or_default().to_owned();
+    name.push(".face-map.csv");
+    output.with_file_name(name)
+}
+
 /// The repaired input written beside `output` with --repaired-inputs, in
 /// the output's format: NAME.repaired.obj for NAME.obj.
 fn repaired_path(output: &Path) -> PathBuf {
@@ -338,11 +352,14 @@ fn repaired_path(output: &Path) -> PathBuf {
 }
 
 /// The files written beside `output` and put in place with it (with
-/// --vertex-maps, --repaired-inputs): an output stands for a finished file.
+/// --vertex-maps, --face-maps, --repaired-inputs): an output stands for a finished file.
 fn side_paths(output: &Path, args: &BatchArgs) -> Vec<PathBuf> {
     let mut sides = Vec::new();
     if args.vertex_maps {
         sides.push(vertex_map_path(output));
+    }
+    if args.face_maps {
+        sides.push(face_map_path(output));
     }
     if args.repaired_inputs {
         sides.push(repaired_path(output));
@@ -470,6 +487,7 @@ fn refine_read(
     let failed_after = |seconds: &mut RunSeconds| seconds.refine = first_pass.seconds + start.elapsed().as_secs_f64();
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
+    let face_origins = (args.face_maps).then(|| FaceOrigins::new(&mesh.triangles, &mesh.triangle_polygon, &surface));
     let (options, out) = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
@@ -513,6 +531,15 @@ fn refine_read(
         stage_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
             .and_then(|map| Ok(map.commit()?))
             .with_context(|| format!("{} not written", output.display()))?;
+    }
+    if let Some(origins) = &face_origins {
+        let note = stage_face_map(&face_map_path(output), &out.surface, origins, &written)
+            .and_then(|(map, note)| {
+                map.commit()?;
+                Ok(note)
+            })
+            .with_context(|| format!("{} not written", output.display()))?;
+        notes.extend(note);
     }
     if args.repaired_inputs {
         io::stage_mesh_after(

@@ -33,6 +33,7 @@ pub use atomic::{
     is_standard_input, is_stream, set_sync_writes, split_extensions, stage, standard_stream, write_atomic,
     write_target, FileId, Staged,
 };
+pub(crate) use lines::push_decimal;
 pub(crate) use read::short_edge_text;
 pub use read::{
     build_surface, build_surface_with, detect_format, edges_in_supported_scale, finish, in_supported_range, parse_obj,

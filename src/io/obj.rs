@@ -1002,10 +1002,8 @@ pub fn write_obj_with_attributes(
             })?;
         }
     }
-    // Faces by group, in group order, each group in face order.
-    let mut order: Vec<usize> = (0..triangles.len()).collect();
+    let order = faces_in_file_order(triangles.len(), attributes);
     let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
-    order.sort_by_key(|&f| group_of(f));
     let mut written = Group::default();
     for run in order.chunk_by(|&a, &b| group_of(a) == group_of(b)) {
         if let Some(group) = attributes.groups.get(group_of(run[0]) as usize) {
@@ -1016,6 +1014,17 @@ pub fn write_obj_with_attributes(
         })?;
     }
     Ok(())
+}
+
+/// The order in which [`write_obj_with_attributes`] writes `n` triangles:
+/// by group, in group order, each group in face order (a stable sort).
+pub fn faces_in_file_order(n: usize, attributes: &Attributes) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    if !attributes.face_group.is_empty() {
+        let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
+        order.sort_by_key(|&f| group_of(f));
+    }
+    order
 }
 
 /// Appends the line `keyword x y z...` of `values` (shortest round-trip;

@@ -67,10 +67,11 @@ pub struct InputMesh {
     /// 1-based number of each vertex in the file (its first definition).
     pub vertex_number: Vec<u32>,
     /// The face of the file each triangle was cut from, numbered from 0
-    /// (the triangles of one face are consecutive), when the file has
-    /// attributes: its polygons are then flipped inside whatever their
-    /// values ([`crate::mesh::RegionCuts::polygon`]). Empty otherwise, and
-    /// in a mesh made by a caller: each triangle a face of its own.
+    /// (the triangles of one face are consecutive; a face `--repair` dropped
+    /// has none): what `--face-map` names, and, when the file has
+    /// attributes, the polygons flipped inside whatever their values
+    /// ([`crate::mesh::RegionCuts::polygon`]). Empty in a mesh made by a
+    /// caller: each triangle a face of its own.
     pub triangle_polygon: Vec<u32>,
     /// How `triangle_origin` counts.
     pub origin_kind: OriginKind,
@@ -371,7 +372,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
-    let mut triangle_face = Vec::new();
+    let mut triangle_face = Vec::with_capacity(triangles.capacity());
     let mut raw_corners = Vec::new();
     let keep_attributes = !raw.attributes.is_empty();
     let mut scratch = Vec::new();
@@ -412,10 +413,10 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             }
             triangles.push(t);
             triangle_origin.push(origin);
+            triangle_face.push(f as u32);
             if keep_attributes {
                 let s = raw.face_start[f];
                 raw_corners.push(corner.map(|c| s + c as u32));
-                triangle_face.push(f as u32);
             }
         }
     }
@@ -653,12 +654,13 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     // The attributes of the triangles kept, each corner's value where the file gives it (a
     // reoriented triangle's corners in its own order; copies at cuts keep their corners').
     let mut corners = Vec::new();
-    let mut triangle_polygon = Vec::new();
+    let triangle_polygon: Vec<u32> = (fixed.source_triangle.iter())
+        .map(|&t| triangle_face[t as usize] as u32)
+        .collect();
     if keep_attributes {
         for (&t, &flipped) in fixed.source_triangle.iter().zip(&fixed.flipped) {
             let [a, b, c] = raw_corners[t as usize];
             corners.push(if flipped { [a, c, b] } else { [a, b, c] });
-            triangle_polygon.push(triangle_face[t as usize] as u32);
         }
     }
     let (attributes, mut notes) = triangle_attributes(raw, &corners, &triangle_polygon);
@@ -755,8 +757,10 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
         });
     }
     let topology = input.topology.take();
-    let attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances)
-        .with_polygons(&input.triangle_polygon);
+    let mut attribute_cuts = AttributeCuts::new(&input.attributes, &input.positions, &input.triangles, tolerances);
+    if !input.attributes.is_empty() {
+        attribute_cuts = attribute_cuts.with_polygons(&input.triangle_polygon);
+    }
     let cuts: &dyn RegionCuts = if input.attributes.is_empty() {
         &NoCuts
     } else {

@@ -226,8 +226,13 @@ pub fn stage_mesh_with_attributes(
         notes.push(format!("{lost} not written: {} cannot hold {them}", format.name()));
     }
     let mut copies_of = Vec::new();
+    let mut face_order = Vec::new();
     let staged = match format {
         Format::Obj => {
+            let order = obj::faces_in_file_order(triangles.len(), attributes);
+            if order.iter().enumerate().any(|(k, &f)| k != f) {
+                face_order = order.iter().map(|&f| f as u32).collect();
+            }
             if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
                 notes.push(format!(
                     "texture file {} (PLY comment TextureFile) not written: an OBJ names its textures in a \
@@ -420,7 +425,14 @@ pub fn stage_mesh_with_attributes(
         }
         Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
     };
-    Ok((Written { notes, copies_of }, staged))
+    Ok((
+        Written {
+            notes,
+            copies_of,
+            face_order,
+        },
+        staged,
+    ))
 }
 
 /// The channels of `attributes` of the kinds `hold` takes that a format
@@ -522,6 +534,10 @@ pub struct Written {
     /// per value; each entry is the mesh vertex the copy repeats. Empty for
     /// other formats and where no vertex has several values.
     pub copies_of: Vec<u32>,
+    /// The mesh triangle each face of the file is, in the file's order,
+    /// where that is not the mesh's own order (an OBJ writes its faces
+    /// group by group: [`obj::faces_in_file_order`]); empty otherwise.
+    pub face_order: Vec<u32>,
 }
 
 /// Whether a colour channel holds values in 0..255 rather than 0..1: one
