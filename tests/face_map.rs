@@ -372,6 +372,43 @@ fn faces_keep_their_numbers_in_the_file() {
     assert!(rows.iter().all(|r| r.0 < f.len()));
 }
 
+/// An OFF input numbers its faces as the OBJ it was written from: the
+/// maps are the same.
+#[test]
+fn an_off_input_numbers_its_faces_in_file_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let rotor = common::data_dir().join("cad/rotor.obj");
+    let (v, f) = obj(&rotor);
+    let mut off = format!("OFF\n{} {} 0\n", v.len(), f.len());
+    for p in &v {
+        off += &format!("{} {} {}\n", p.x, p.y, p.z);
+    }
+    for face in &f {
+        off += &format!("{}", face.len());
+        for c in face {
+            off += &format!(" {c}");
+        }
+        off += "\n";
+    }
+    let off_path = dir.path().join("rotor.off");
+    std::fs::write(&off_path, off).unwrap();
+    let mut maps = Vec::new();
+    for input in [&rotor, &off_path] {
+        let map = dir.path().join("map.csv");
+        delmesh()
+            .args(["-q", "-i"])
+            .arg(input)
+            .arg("-o")
+            .arg(dir.path().join("out.obj"))
+            .arg("--face-map")
+            .arg(&map)
+            .assert()
+            .success();
+        maps.push(std::fs::read_to_string(&map).unwrap());
+    }
+    assert_eq!(maps[0], maps[1]);
+}
+
 /// The map of a PLY output is that of the OBJ output (PLY keeps the faces'
 /// order), and batch --face-maps writes the main command's map.
 #[test]

@@ -1985,6 +1985,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         let options = combination(h.wrapping_add(k as u64 * 7) % 18);
         let n = input.positions.len();
         let transfer = delmesh::attributes::Transfer::new(input.attributes.clone(), &input.triangles, &s);
+        let origins = delmesh::face_map::FaceOrigins::new(&input.triangles, &input.triangle_polygon, &s);
         match make_delaunay(&mut s, &options) {
             Ok(stats) => {
                 // The output's attributes: one value per corner, whatever came in.
@@ -2004,6 +2005,11 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     scale.push_str("[face on one input edge] ");
                 }
                 let tag = format!("{scale}{options:?} repair={repaired}");
+                // Where f64 cannot hold the input's detail, geometric
+                // oracles (the face map's, the damages') do not apply.
+                let imprecise = ["[extreme scale]", "[beyond f64", "[samples below", "[degenerate sample"]
+                    .iter()
+                    .any(|t| scale.contains(t));
                 let input_bits: Vec<[u64; 3]> =
                     input.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
                 // A repaired mesh whose non-manifold parts were cut apart has
@@ -2027,6 +2033,10 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                         .collect();
                     if input_bits != output_bits || s.positions.len() != n + added {
                         return Err(format!("{tag}: input vertices changed or wrong vertex count"));
+                    }
+                    if !imprecise {
+                        face_map_holds(&input, &origins, s, raw.face_start.len() - 1)
+                            .map_err(|e| format!("{tag}: face map: {e}"))?;
                     }
                     if welded {
                         let report = common::check_refined(&input, s);
@@ -2055,9 +2065,6 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 // (Not where f64 cannot hold the input's detail: rounding
                 // then allows the checker's tolerances as much as a damage
                 // can change, rightly.)
-                let imprecise = ["[extreme scale]", "[beyond f64", "[samples below", "[degenerate sample"]
-                    .iter()
-                    .any(|t| scale.contains(t));
                 if welded && !imprecise {
                     damaged_output_is_refused(&input, &s, h, &tag)?;
                 }
@@ -2094,6 +2101,93 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         }
     }
     Ok(sig)
+}
+
+/// The face map of the refined `s` ([`delmesh::face_map`]), by geometry:
+/// a row per face, naming a face of the file (of `faces`); the face's
+/// centroid on the named face, and its corners too when said inside
+/// (within rounding: 1e-9 of the mesh's size and 64 ulps of its largest
+/// coordinate, and the walk's 1e-6 of a triangle's side for a centroid
+/// rounded out of its region).
+fn face_map_holds(
+    input: &InputMesh,
+    origins: &delmesh::face_map::FaceOrigins,
+    s: &Surface,
+    faces: usize,
+) -> Result<(), String> {
+    let map = origins.apply(s);
+    if map.len() != s.topo.n_faces() {
+        return Err(format!("{} rows for {} faces", map.len(), s.topo.n_faces()));
+    }
+    let mut of_face: Vec<Vec<usize>> = vec![Vec::new(); faces];
+    for t in 0..input.triangles.len() {
+        let f = input.triangle_polygon.get(t).map_or(t, |&f| f as usize);
+        of_face
+            .get_mut(f)
+            .ok_or(format!("triangle {t} of face {f} of {faces}"))?
+            .push(t);
+    }
+    let (lo, hi) = (input.positions.iter()).fold((DVec3::MAX, DVec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    // Rounding: of the mesh's size, and of its coordinates' magnitude
+    // (a small part far from the origin).
+    let size = (hi - lo).length();
+    let magnitude = lo.abs().max(hi.abs()).max_element();
+    let rounding = 1e-9 * size + 64.0 * f64::EPSILON * magnitude;
+    for (f, o) in map.iter().enumerate() {
+        let tris = of_face
+            .get(o.face as usize)
+            .ok_or(format!("face {f} names face {} of {faces}", o.face))?;
+        let corners = s.face_positions(delmesh::mesh::FaceId(f as u32));
+        let on_face = |p: DVec3, slack: f64| {
+            tris.iter().any(|&t| {
+                let [a, b, c] = input.triangles[t].map(|v| input.positions[v as usize]);
+                let side = (b - a).length().max((c - b).length()).max((a - c).length());
+                closest_on_triangle(p, a, b, c).distance(p) <= rounding + slack * side
+            })
+        };
+        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+        if !on_face(centroid, 1e-6) {
+            return Err(format!("face {f}: centroid {centroid} off face {} ({o:?})", o.face));
+        }
+        if o.inside && !corners.iter().all(|&p| on_face(p, 0.0)) {
+            return Err(format!("face {f}: said inside face {}, a corner is off it", o.face));
+        }
+    }
+    Ok(())
+}
+
+/// The point of triangle abc nearest `p` (Ericson, Real-Time Collision
+/// Detection, 5.1.5).
+fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
 }
 
 /// The refined `s`, damaged in one way chosen by `h` among those
