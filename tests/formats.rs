@@ -2053,3 +2053,113 @@ fn utf16_text_is_recognised() {
     assert!(!is_utf16_text(&[&[0xff, 0xfe][..], &[0x80; 78][..]].concat()));
     assert!(!is_utf16_text(&le[..2]));
 }
+
+// ---------------------------------------------------------------------------
+// PLY triangle strips
+// ---------------------------------------------------------------------------
+
+/// A 4 × 2 grid of quads as two strips (rows), the second written with a
+/// degenerate start (its first vertex twice, as strippers join strips),
+/// and -1 between them: the triangles of the grid, all facing +z, the
+/// degenerate ones left out.
+fn grid_strips() -> (Vec<[f64; 3]>, Vec<i64>) {
+    let mut p = Vec::new();
+    for j in 0..3 {
+        for i in 0..5 {
+            p.push([i as f64, j as f64, 0.0]);
+        }
+    }
+    let at = |i: i64, j: i64| j * 5 + i;
+    let mut strips = Vec::new();
+    for j in 0..2 {
+        if j == 1 {
+            strips.push(-1);
+        }
+        for i in 0..5 {
+            strips.push(at(i, j + 1));
+            if j == 1 && i == 0 {
+                // Repeated: two triangles with a repeated vertex, left out; the parity kept.
+                strips.push(at(i, j + 1));
+                strips.push(at(i, j + 1));
+            }
+            strips.push(at(i, j));
+        }
+    }
+    (p, strips)
+}
+
+/// Checks that `m` holds the grid's 16 triangles, each facing +z.
+fn assert_grid_faces(m: &RawMesh) {
+    check_invariants(m);
+    let fs = faces(m);
+    assert_eq!(fs.len(), 16, "{fs:?}");
+    for f in &fs {
+        let [a, b, c] = [f[0], f[1], f[2]].map(|i| m.positions[i as usize]);
+        let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        assert!(cross > 0.0, "{f:?} faces down");
+    }
+    let mut covered: Vec<Vec<u32>> = fs
+        .iter()
+        .map(|f| {
+            let mut f = f.clone();
+            f.sort();
+            f
+        })
+        .collect();
+    covered.sort();
+    covered.dedup();
+    assert_eq!(covered.len(), 16, "a triangle twice");
+}
+
+#[test]
+fn ply_triangle_strips_are_read_as_their_triangles() {
+    let (p, strips) = grid_strips();
+    // ASCII, then binary with int and with uint items (-1 as 0xFFFFFFFF).
+    let mut ascii = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+         element tristrips 1\nproperty list int int vertex_indices\nend_header\n",
+        p.len()
+    );
+    for v in &p {
+        ascii += &format!("{} {} {}\n", v[0], v[1], v[2]);
+    }
+    ascii += &format!("{}", strips.len());
+    for i in &strips {
+        ascii += &format!(" {i}");
+    }
+    ascii += "\n";
+    let m = read_ply(ascii.as_bytes()).unwrap();
+    assert_grid_faces(&m);
+    for item in ["int", "uint"] {
+        let mut bin = format!(
+            "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\
+             property double z\nelement tristrips 1\nproperty list int {item} vertex_indices\nend_header\n",
+            p.len()
+        )
+        .into_bytes();
+        for v in &p {
+            for c in v {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        bin.extend_from_slice(&(strips.len() as i32).to_le_bytes());
+        for &i in &strips {
+            bin.extend_from_slice(&(i as i32).to_le_bytes());
+        }
+        let m = read_ply(&bin).unwrap();
+        assert_grid_faces(&m);
+        assert_eq!(m.origin_kind, OriginKind::Record);
+    }
+    // A negative index other than -1, and an index beyond the vertices, are refused.
+    let bad = ascii.replace(" -1 ", " -2 ");
+    let e = read_ply(bad.as_bytes()).unwrap_err().to_string();
+    assert!(e.contains("tristrips 0 index -2 is negative"), "{e}");
+    let beyond = ascii.replacen(" 5 0 6", " 5 99 6", 1);
+    assert_ne!(beyond, ascii);
+    let e = read_ply(beyond.as_bytes()).unwrap_err().to_string();
+    assert!(e.contains("99"), "{e}");
+    // A tristrips element without its list is named.
+    let no_list = ascii.replace("property list int int vertex_indices", "property int x");
+    let e = read_ply(no_list.as_bytes()).unwrap_err().to_string();
+    assert!(e.contains("tristrips element has no vertex_indices"), "{e}");
+}

@@ -850,6 +850,40 @@ fn ply_seeds() -> Vec<Vec<u8>> {
     let mut out = Vec::new();
     write_ply_ascii(&mut out, &m.positions, &m.triangles(), None).unwrap();
     v.push(out);
+    // Triangle strips: each triangle a strip, -1 between them, ASCII and binary.
+    let m = &meshes[1 % meshes.len()];
+    let mut strips: Vec<i64> = Vec::new();
+    for t in m.triangles() {
+        if !strips.is_empty() {
+            strips.push(-1);
+        }
+        strips.extend(t.iter().map(|&i| i64::from(i)));
+    }
+    for binary in [false, true] {
+        let encoding = if binary { "binary_little_endian" } else { "ascii" };
+        let mut out = format!(
+            "ply\nformat {encoding} 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\
+             property double z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n",
+            m.positions.len()
+        )
+        .into_bytes();
+        if binary {
+            for c in m.positions.iter().flatten() {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+            out.extend_from_slice(&(strips.len() as i32).to_le_bytes());
+            for &i in &strips {
+                out.extend_from_slice(&(i as i32).to_le_bytes());
+            }
+        } else {
+            for p in &m.positions {
+                out.extend_from_slice(format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]).as_bytes());
+            }
+            let list: Vec<String> = strips.iter().map(|i| i.to_string()).collect();
+            out.extend_from_slice(format!("{} {}\n", strips.len(), list.join(" ")).as_bytes());
+        }
+        v.push(out);
+    }
     v
 }
 
@@ -4278,5 +4312,15 @@ fn regression_pipeline_area_huge_coordinates() {
     let bytes = std::fs::read(regression_file("bug-checker-area-huge-coordinates.obj")).unwrap();
     if let Err(e) = target_pipeline(&bytes) {
         panic!("{e}");
+    }
+}
+
+/// The PLY seeds are read (the fuzzer mutates from valid files), the
+/// triangle strips among them into the triangles of their meshes.
+#[test]
+fn ply_seeds_are_read() {
+    for (k, seed) in ply_seeds().iter().enumerate() {
+        let m = read_ply(seed).unwrap_or_else(|e| panic!("seed {k}: {e}"));
+        assert!(m.face_start.len() > 1, "seed {k}: no faces");
     }
 }

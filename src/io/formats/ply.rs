@@ -170,6 +170,8 @@ enum Role {
     TexCoord(usize),
     Normal(usize),
     Indices,
+    /// A triangle strip's vertices (`element tristrips`), -1 ending a strip.
+    StripIndices,
     /// A face's texture coordinates, two per corner (MeshLab's wedge
     /// texture coordinates: `property list uchar float texcoord`).
     WedgeTexCoords,
@@ -373,6 +375,9 @@ impl PropertyColumn {
 enum ElementKind {
     Vertex,
     Face,
+    /// Triangle strips (`element tristrips`): each strip's triangles are
+    /// faces, after those read before.
+    Strips,
     Other,
 }
 
@@ -637,10 +642,24 @@ fn element_roles(el: &PlyElement) -> Result<(ElementKind, Vec<Role>), FormatErro
                 )),
             }
         }
-        "tristrips" if el.count > 0 => Err(FormatError::at(
-            el.line,
-            "PLY triangle strips (element tristrips) are not supported",
-        )),
+        "tristrips" if el.count > 0 => {
+            let list =
+                (el.props.iter()).position(|p| matches!(p.ty, PropType::List { .. }) && p.name == "vertex_indices");
+            match list.map(|i| (i, el.props[i].ty)) {
+                Some((i, PropType::List { item, .. })) if !item.is_float() => {
+                    roles[i] = Role::StripIndices;
+                    Ok((ElementKind::Strips, roles))
+                }
+                Some((i, _)) => Err(FormatError::at(
+                    el.props[i].line,
+                    "PLY tristrips property vertex_indices has a non-integer item type",
+                )),
+                None => Err(FormatError::at(
+                    el.line,
+                    "the PLY tristrips element has no vertex_indices list property",
+                )),
+            }
+        }
         _ => Ok((ElementKind::Other, roles)),
     }
 }
@@ -700,6 +719,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             });
         } else if kind == ElementKind::Face && channels.face_properties.is_empty() {
             left_out.extend(carried_properties(el, kind, &mut roles, &mut channels.face_properties));
+        } else if kind == ElementKind::Strips {
+            if el.props.len() > 1 {
+                left_out.push("properties of the tristrips element other than vertex_indices left out".into());
+            }
         } else {
             left_out.extend(carried_properties(el, ElementKind::Other, &mut roles, &mut Vec::new()));
         }
@@ -928,7 +951,16 @@ impl VertexChannels {
                 });
             }
         }
+        let faces = m.face_start.len().saturating_sub(1);
         for p in self.face_properties {
+            if p.values.len() != faces && p.defect.is_none() {
+                // The faces of triangle strips, after those of the face element, have none.
+                m.attribute_notes.push(format!(
+                    "face property {} left out: the faces of the triangle strips (element tristrips) have none",
+                    p.name
+                ));
+                continue;
+            }
             if let Some(p) = p.carried("face", &mut m.attribute_notes) {
                 m.attributes.face_properties.push(FaceProperty {
                     name: p.name,
@@ -1032,8 +1064,49 @@ fn finish_record(
             b.channels.push_face(v, corners, i, origin, lines);
             Ok(())
         }
-        ElementKind::Other => Ok(()),
+        ElementKind::Strips | ElementKind::Other => Ok(()),
     }
+}
+
+/// Appends the triangles of the strips in `indices` (-1 ends a strip) as
+/// faces from `origin`: triangle k of a strip is its vertices k, k + 1,
+/// k + 2, every other one reversed (so that all face one way), and those
+/// that repeat a vertex (the joins and turns that strips use) left out.
+/// Another negative index is refused; `strip` numbers the record.
+fn push_strips(
+    b: &mut Builder,
+    indices: &[i64],
+    strip: usize,
+    origin: u64,
+    line: Option<u64>,
+) -> Result<(), FormatError> {
+    let n = b.m.positions.len();
+    if let Some(&i) = indices.iter().find(|&&i| i < -1) {
+        return Err(FormatError::maybe_at(
+            line,
+            format!("tristrips {strip} index {i} is negative (only -1, which ends a strip, may be)"),
+        ));
+    }
+    if let Some(&i) = indices.iter().find(|&&i| i > i64::from(u32::MAX)) {
+        return Err(FormatError::maybe_at(
+            line,
+            format!("tristrips {strip} index {i} is out of range ({n} vertices)"),
+        ));
+    }
+    for run in indices.split(|&i| i == -1) {
+        for (k, w) in run.windows(3).enumerate() {
+            let [a, c, d] = [w[0], w[1], w[2]].map(|i| i as u32);
+            if a == c || c == d || a == d {
+                continue;
+            }
+            b.start_face();
+            for i in if k % 2 == 0 { [a, c, d] } else { [c, a, d] } {
+                b.index(i);
+            }
+            b.end_face(origin)?;
+        }
+    }
+    Ok(())
 }
 
 fn read_ascii_element(
@@ -1057,7 +1130,7 @@ fn read_ascii_element(
     match kind {
         ElementKind::Vertex => b.reserve_vertices(count.min(remaining / 6 + 1)),
         ElementKind::Face => b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2)),
-        ElementKind::Other => {}
+        ElementKind::Strips | ElementKind::Other => {}
     }
     let name = &el.name;
     for i in 0..count {
@@ -1151,6 +1224,26 @@ fn read_ascii_element(
                             }
                             b.index(index);
                         }
+                    } else if *role == Role::StripIndices {
+                        let mut strip = Vec::with_capacity(n as usize);
+                        for _ in 0..n {
+                            let Some((tok, line)) = t.next() else {
+                                return Err(truncated(t.line));
+                            };
+                            let index = parse_int(tok).ok_or_else(|| {
+                                let why = unreadable_integer(tok);
+                                FormatError::at(line, format!("tristrips {i} index `{}` {why}", show(tok)))
+                            })?;
+                            // (-1 ends a strip, whatever the declared type.)
+                            if let Some(why) = item.int_misfit(index).filter(|_| index != -1) {
+                                return Err(FormatError::at(
+                                    line,
+                                    format!("tristrips {i} index `{}` {why}", show(tok)),
+                                ));
+                            }
+                            strip.push(index);
+                        }
+                        push_strips(b, &strip, i, origin, Some(line))?;
                     } else if *role == Role::WedgeTexCoords {
                         v.wedge.reserve(n as usize);
                         for _ in 0..n {
@@ -1267,7 +1360,7 @@ fn read_binary_element(
             });
             b.reserve_faces(count, count.saturating_mul(3).min(remaining / item.unwrap_or(1)));
         }
-        ElementKind::Other => {}
+        ElementKind::Strips | ElementKind::Other => {}
     }
     let name = &el.name;
     let big = r.big;
@@ -1320,6 +1413,14 @@ fn read_binary_element(
                             let index = get_int(item, chunk, big);
                             b.index(checked_index(index, i, None, b.m.positions.len())?);
                         }
+                    } else if *role == Role::StripIndices {
+                        // -1 ends a strip; an unsigned type writes it as its largest value.
+                        let restart = item.int_range().filter(|&(lo, _)| lo == 0).map(|(_, hi)| hi);
+                        let strip: Vec<i64> = (s.chunks_exact(item.size()))
+                            .map(|x| get_int(item, x, big))
+                            .map(|x| if Some(x) == restart { -1 } else { x })
+                            .collect();
+                        push_strips(b, &strip, i, i as u64, None)?;
                     } else if *role == Role::WedgeTexCoords {
                         v.wedge
                             .extend(s.chunks_exact(item.size()).map(|x| get_f64(item, x, big)));
