@@ -442,7 +442,7 @@ fn ply_outputs_and_batch_write_the_same_map() {
 }
 
 /// Every OBJ of a folder (the project's shared meshes), with the default
-/// settings, --prune and --shells -s 4: run with
+/// settings, --prune and --shells -s 4 (or the FACE_MAP_FLAGS): run with
 /// `FACE_MAP_MESHES=../shared/meshes cargo test --release --test face_map -- --ignored`.
 #[test]
 #[ignore = "a tool: checks the face maps of the meshes in FACE_MAP_MESHES"]
@@ -457,8 +457,15 @@ fn meshes_of_a_folder() {
         .filter(|p| p.extension().is_some_and(|e| e == "obj"))
         .collect();
     meshes.sort();
+    // FACE_MAP_FLAGS="-ds pqueue -s 0" runs those settings instead.
+    let given = std::env::var("FACE_MAP_FLAGS").ok();
+    let given: Option<Vec<&str>> = given.as_deref().map(|f| f.split_whitespace().collect());
+    let settings: Vec<&[&str]> = match &given {
+        Some(flags) => vec![&flags[..]],
+        None => vec![&[], &["--prune"], &["--shells", "-s", "4"]],
+    };
     for mesh in meshes {
-        for flags in [&[][..], &["--prune"], &["--shells", "-s", "4"]] {
+        for &flags in &settings {
             let (rows, outside) = verified(&mesh, flags);
             eprintln!("{} {flags:?}: {} faces, {outside} across", mesh.display(), rows.len());
         }

@@ -2176,7 +2176,7 @@ fn face_map_holds(
             tris.iter().any(|&t| {
                 let [a, b, c] = input.triangles[t].map(|v| input.positions[v as usize]);
                 let side = (b - a).length().max((c - b).length()).max((a - c).length());
-                closest_on_triangle(p, a, b, c).distance(p) <= rounding + slack * side
+                on_triangle(p, [a, b, c], rounding + slack * side)
             })
         };
         let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
@@ -2190,38 +2190,22 @@ fn face_map_holds(
     Ok(())
 }
 
-/// The point of triangle abc nearest `p` (Ericson, Real-Time Collision
-/// Detection, 5.1.5).
-fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
+/// Whether `p` lies on triangle `t` within `tol`: near one of its sides
+/// (segment distances, which needles do not upset), or over its inside
+/// (signs of the sub-triangles' normals along its own) and near its plane.
+fn on_triangle(p: DVec3, t: [DVec3; 3], tol: f64) -> bool {
+    let near_side = (0..3).any(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let e = b - a;
+        let s = ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+        (a + s * e).distance(p) <= tol
+    });
+    if near_side {
+        return true;
     }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    a + ab * (vb * denom) + ac * (vc * denom)
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let unit = n.normalize_or_zero();
+    (p - t[0]).dot(unit).abs() <= tol && (0..3).all(|k| (t[(k + 1) % 3] - t[k]).cross(p - t[k]).dot(n) >= 0.0)
 }
 
 /// The refined `s`, damaged in one way chosen by `h` among those
