@@ -103,12 +103,18 @@ impl<'a> FaceOrigins<'a> {
     /// empty: each triangle a face of its own).
     pub fn new(triangles: &'a [[u32; 3]], file_face: &'a [u32], surface: &Surface) -> FaceOrigins<'a> {
         let n = triangles.len();
-        let region: Vec<u32> = (0..n).map(|t| surface.face_region[t]).collect();
+        // (Defensive, as `Transfer::new`: a surface not built from these
+        // triangles gives a meaningless map, not a panic.)
+        let regions = surface.n_regions.max(1);
+        let region: Vec<u32> = (0..n)
+            .map(|t| surface.face_region.get(t).copied().filter(|&r| (r as usize) < regions).unwrap_or(0))
+            .collect();
         let file_face = (file_face.len() == n).then_some(file_face);
-        let (region_start, by_region) = lists(surface.n_regions, n, 1, |t| [region[t]; 3]);
+        let (region_start, by_region) = lists(regions, n, 1, |t| [region[t]; 3]);
         let shared = region_start.windows(2).any(|w| w[1] - w[0] > 1);
         let (vertex_start, by_vertex) = if shared {
-            lists(surface.n_input_vertices, n, 3, |t| triangles[t])
+            let vertices = triangles.iter().flatten().map(|&v| v as usize + 1).max().unwrap_or(0);
+            lists(vertices, n, 3, |t| triangles[t])
         } else {
             (Vec::new(), Vec::new())
         };
@@ -128,10 +134,13 @@ impl<'a> FaceOrigins<'a> {
         self.file_face.map_or(t, |faces| faces[t as usize])
     }
 
-    /// The triangles of region `r`.
+    /// The triangles of region `r` (none for a region not of the input).
     fn of_region(&self, r: u32) -> &[u32] {
         let r = r as usize;
-        &self.by_region[self.region_start[r] as usize..self.region_start[r + 1] as usize]
+        match (self.region_start.get(r), self.region_start.get(r + 1)) {
+            (Some(&s), Some(&e)) => &self.by_region[s as usize..e as usize],
+            _ => &[],
+        }
     }
 
     /// The triangles around input vertex `v`.
@@ -170,7 +179,7 @@ impl<'a> FaceOrigins<'a> {
             inside,
         };
         match region {
-            [] => return named(0, false),
+            [] => return FaceOrigin { face: 0, inside: false },
             &[t] => return named(t, true),
             _ => {}
         }
