@@ -1003,7 +1003,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let mut input = args.settings.read(input_path, &output, !args.no_refine)?;
+    let mut input = (args.settings).read(input_path, &output, !args.no_refine, args.face_map.is_some())?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {

@@ -107,7 +107,14 @@ impl<'a> FaceOrigins<'a> {
         // triangles gives a meaningless map, not a panic.)
         let regions = surface.n_regions.max(1);
         let region: Vec<u32> = (0..n)
-            .map(|t| surface.face_region.get(t).copied().filter(|&r| (r as usize) < regions).unwrap_or(0))
+            .map(|t| {
+                surface
+                    .face_region
+                    .get(t)
+                    .copied()
+                    .filter(|&r| (r as usize) < regions)
+                    .unwrap_or(0)
+            })
             .collect();
         let file_face = (file_face.len() == n).then_some(file_face);
         let (region_start, by_region) = lists(regions, n, 1, |t| [region[t]; 3]);

@@ -1997,9 +1997,17 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
     let path = Path::new("fuzz.obj");
     let h = fx_hash(bytes);
     let mut sig = String::from("obj ok");
-    for (k, (repaired, read_options)) in [(false, ReadOptions::default()), (true, repair_options())]
-        .into_iter()
-        .enumerate()
+    // Faces numbered, for the face map's oracle (polygons of the file).
+    let numbered = |options: ReadOptions| ReadOptions {
+        face_numbers: true,
+        ..options
+    };
+    for (k, (repaired, read_options)) in [
+        (false, numbered(ReadOptions::default())),
+        (true, numbered(repair_options())),
+    ]
+    .into_iter()
+    .enumerate()
     {
         let mut input = match io::finish(raw.clone(), path, &read_options) {
             Ok(input) => input,

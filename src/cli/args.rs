@@ -287,13 +287,21 @@ impl Settings {
     /// Reads `path`, with or without repair, and without its attributes
     /// under --drop-attributes, or those that `output`'s format cannot hold
     /// (with a note): they would cost splits and not be written.
-    /// `refining`: false under --no-refine.
-    pub(super) fn read(&self, path: &Path, output: &Path, refining: bool) -> anyhow::Result<io::InputMesh> {
+    /// `refining`: false under --no-refine; `face_numbers`: with a face
+    /// map to write ([`io::ReadOptions::face_numbers`]).
+    pub(super) fn read(
+        &self,
+        path: &Path,
+        output: &Path,
+        refining: bool,
+        face_numbers: bool,
+    ) -> anyhow::Result<io::InputMesh> {
         let options = io::ReadOptions {
             repair: self.repair.then_some(delmesh::repair::RepairOptions {
                 weld_tolerance: self.weld_tolerance,
             }),
             drop_attributes: self.drop_attributes,
+            face_numbers,
         };
         let mut input = io::read_mesh(path, &options)?;
         if let Some(note) = io::drop_attributes_format_cannot_hold(&mut input, io::output_format(output), refining) {

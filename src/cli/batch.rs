@@ -395,7 +395,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
                 output.display()
             );
         }
-        let mut mesh = args.settings.read(input, output, true)?;
+        let mut mesh = args.settings.read(input, output, true, args.face_maps)?;
         let read_s = t0.elapsed().as_secs_f64();
         let t_build = Instant::now();
         let surface = args.settings.build(&mut mesh, input)?;

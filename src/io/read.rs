@@ -68,10 +68,11 @@ pub struct InputMesh {
     pub vertex_number: Vec<u32>,
     /// The face of the file each triangle was cut from, numbered from 0
     /// (the triangles of one face are consecutive; a face `--repair` dropped
-    /// has none): what `--face-map` names, and, when the file has
-    /// attributes, the polygons flipped inside whatever their values
-    /// ([`crate::mesh::RegionCuts::polygon`]). Empty in a mesh made by a
-    /// caller: each triangle a face of its own.
+    /// has none), when the file has attributes (its polygons are then
+    /// flipped inside whatever their values:
+    /// [`crate::mesh::RegionCuts::polygon`]) or [`ReadOptions::face_numbers`]
+    /// asks (`--face-map` names them). Empty otherwise, and in a mesh made
+    /// by a caller: each triangle a face of its own.
     pub triangle_polygon: Vec<u32>,
     /// How `triangle_origin` counts.
     pub origin_kind: OriginKind,
@@ -118,6 +119,10 @@ pub struct ReadOptions {
     /// Leave texture coordinates, normals, colours and groups out, and
     /// their notes (`--drop-attributes`); the reader's other notes stay.
     pub drop_attributes: bool,
+    /// Number every triangle's face of the file
+    /// ([`InputMesh::triangle_polygon`]) even when the file has no
+    /// attributes (`--face-map`): 4 bytes per triangle.
+    pub face_numbers: bool,
 }
 
 type FxMap<K, V> = crate::hash::FastMap<K, V>;
@@ -339,7 +344,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     }
     let poly = |f: usize| &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
     if let Some(repair_options) = options.repair {
-        return finish_repaired(&raw, path, &repair_options);
+        return finish_repaired(&raw, path, &repair_options, options.face_numbers);
     }
     // Weld identical positions onto their first occurrence (-0 and 0 alike).
     let mut first: FxMap<[u64; 3], u32> = FxMap::default();
@@ -372,9 +377,10 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
-    let mut triangle_face = Vec::with_capacity(triangles.capacity());
     let mut raw_corners = Vec::new();
     let keep_attributes = !raw.attributes.is_empty();
+    let number_faces = keep_attributes || options.face_numbers;
+    let mut triangle_face = Vec::with_capacity(if number_faces { triangles.capacity() } else { 0 });
     let mut scratch = Vec::new();
     let mut pieces = Vec::new();
     let mut unseen_polygons = 0;
@@ -413,7 +419,9 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
             }
             triangles.push(t);
             triangle_origin.push(origin);
-            triangle_face.push(f as u32);
+            if number_faces {
+                triangle_face.push(f as u32);
+            }
             if keep_attributes {
                 let s = raw.face_start[f];
                 raw_corners.push(corner.map(|c| s + c as u32));
@@ -564,7 +572,7 @@ fn without_repeated_corners(p: &[u32], positions: &[[f64; 3]], out: &mut Vec<u32
 
 /// `finish` with `--repair`: triangulate everything, then let
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
-fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Result<InputMesh> {
+fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_numbers: bool) -> Result<InputMesh> {
     let n_faces = raw.face_start.len() - 1;
     let mut triangles = Vec::with_capacity(n_faces);
     let mut triangle_face = Vec::with_capacity(n_faces);
@@ -654,9 +662,12 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions) -> Resul
     // The attributes of the triangles kept, each corner's value where the file gives it (a
     // reoriented triangle's corners in its own order; copies at cuts keep their corners').
     let mut corners = Vec::new();
-    let triangle_polygon: Vec<u32> = (fixed.source_triangle.iter())
-        .map(|&t| triangle_face[t as usize] as u32)
-        .collect();
+    let triangle_polygon: Vec<u32> = match keep_attributes || face_numbers {
+        true => (fixed.source_triangle.iter())
+            .map(|&t| triangle_face[t as usize] as u32)
+            .collect(),
+        false => Vec::new(),
+    };
     if keep_attributes {
         for (&t, &flipped) in fixed.source_triangle.iter().zip(&fixed.flipped) {
             let [a, b, c] = raw_corners[t as usize];
