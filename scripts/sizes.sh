@@ -41,7 +41,7 @@ record() {
 # added FLAGS...: the vertices one run adds, or "limit" if it fails.
 added() {
   local n
-  n=$("$bin" -i "$mesh" -o "$out/x.obj" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
+  n=$("$bin" -i "$mesh" -o "$out/x.obj" --max-added 2000000 "$@" 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vert[a-z]*$/\1/p')
   echo "${n:-limit}"
 }
 
@@ -80,7 +80,7 @@ for mesh in "$dir"/*.obj; do
   line="$line best=$best best_combo=$best_combo"
   prefix="P:" ; sweep --prune
   line="$line pbest=$sbest pbest_combo=$sbest_combo"
-  smallest=$("$bin" -i "$mesh" -o "$out/x.obj" --smallest --max-added 2000000 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vertices$/\1/p')
+  smallest=$("$bin" -i "$mesh" -o "$out/x.obj" --smallest --max-added 2000000 2>/dev/null | sed -n 's/^output .* \([0-9]*\) added vert[a-z]*$/\1/p')
   peer=$(peer_of "$name")
   echo "$line smallest=${smallest:-failed} peer=${peer:-NA} ratio=$(ratio_of "$best" "$peer") pratio=$(ratio_of "$sbest" "$peer") sratio=$(ratio_of "$smallest" "$peer")"
 done

@@ -812,6 +812,12 @@ fn prune_outcome(mut out: Outcome, options: &Options, passes: usize) -> Outcome 
     out
 }
 
+/// `n` and its noun, singular for one: `count(1, "face", "faces")` is
+/// "1 face" (the printout's counts; `--stats-json` is the machine's).
+pub(crate) fn count(n: usize, singular: &str, plural: &str) -> String {
+    format!("{n} {}", if n == 1 { singular } else { plural })
+}
+
 /// The file name of `path`, for the progress line.
 fn file_name(path: &Path) -> String {
     path.file_name()
@@ -1199,17 +1205,17 @@ fn say_input(
     // said so; the file's faces in brackets.
     let counts = if input.repair.is_some() {
         format!(
-            "{} vertices, {} triangles after repair ({} faces in the file)",
-            input.positions.len(),
-            input.triangles.len(),
-            input.faces_in_file
+            "{}, {} after repair ({} in the file)",
+            count(input.positions.len(), "vertex", "vertices"),
+            count(input.triangles.len(), "triangle", "triangles"),
+            count(input.faces_in_file, "face", "faces")
         )
     } else {
         format!(
-            "{} vertices, {} faces ({} triangles)",
-            input.positions.len(),
-            input.faces_in_file,
-            input.triangles.len()
+            "{}, {} ({})",
+            count(input.positions.len(), "vertex", "vertices"),
+            count(input.faces_in_file, "face", "faces"),
+            count(input.triangles.len(), "triangle", "triangles")
         )
     };
     say!(
@@ -1301,10 +1307,10 @@ fn run_unrefined(
             say!("note    {note}");
         }
         say!(
-            "output  {}: {} vertices, {} faces (not refined: --no-refine)",
+            "output  {}: {}, {} (not refined: --no-refine)",
             output.display(),
-            surface.positions.len(),
-            surface.topo.n_faces()
+            count(surface.positions.len(), "vertex", "vertices"),
+            count(surface.topo.n_faces(), "face", "faces")
         );
         say_repaired(args);
         say!(
@@ -1475,17 +1481,21 @@ fn say_refined(
         say!("note    {note}");
     }
     say!(
-        "output  {}: {} vertices, {} faces, {} added vertices",
+        "output  {}: {}, {}, {}",
         report.output.display(),
-        out.surface.positions.len(),
-        out.surface.topo.n_faces(),
-        out.surface.positions.len() - out.surface.n_input_vertices
+        count(out.surface.positions.len(), "vertex", "vertices"),
+        count(out.surface.topo.n_faces(), "face", "faces"),
+        count(
+            out.surface.positions.len() - out.surface.n_input_vertices,
+            "added vertex",
+            "added vertices"
+        )
     );
     say_repaired(args);
     say!(
-        "work    {} splits, {} flips; non-Delaunay edges: {} before, {} after",
-        s.splits,
-        s.flips,
+        "work    {}, {}; non-Delaunay edges: {} before, {} after",
+        count(s.splits, "split", "splits"),
+        count(s.flips, "flip", "flips"),
         s.non_delaunay_before,
         s.non_delaunay_after
     );
@@ -1494,13 +1504,12 @@ fn say_refined(
     }
     if let Some(p) = &out.pruned {
         say!(
-            "prune   removed {} of {} added vertices ({} tried, {} flips, {} pass{})",
+            "prune   removed {} of {} ({} tried, {}, {})",
             p.removed,
-            s.splits,
+            count(s.splits, "added vertex", "added vertices"),
             p.tried,
-            p.flips,
-            p.passes,
-            if p.passes == 1 { "" } else { "es" }
+            count(p.flips, "flip", "flips"),
+            count(p.passes, "pass", "passes")
         );
     }
     if let Some(note) = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest) {
@@ -1810,11 +1819,11 @@ fn run_render(
     let bytes = canvas.encode(format).with_context(|| output.display().to_string())?;
     io::write_atomic(output, |w| w.write_all(&bytes))?;
     say!(
-        "render  {}: {} faces drawn, {} non-Delaunay edges (red), {} added vertices (blue)",
+        "render  {}: {} drawn, {} (red), {} (blue)",
         output.display(),
-        drawn.faces,
-        drawn.non_delaunay_edges,
-        drawn.added_vertices
+        count(drawn.faces, "face", "faces"),
+        count(drawn.non_delaunay_edges, "non-Delaunay edge", "non-Delaunay edges"),
+        count(drawn.added_vertices, "added vertex", "added vertices")
     );
     // Every input vertex is in a mesh made from it; if not, "added" means
     // nothing (every vertex of an unrelated mesh is blue).
@@ -1850,11 +1859,11 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     crate::working_on(output);
     let report = delmesh::check::check_files(input, output)?;
     say!(
-        "check   {} vertices ({} added), {} faces, {} interior edges; non-Delaunay edges: {} (max alpha+beta-pi {})",
-        report.output_vertices,
+        "check   {} ({} added), {}, {}; non-Delaunay edges: {} (max alpha+beta-pi {})",
+        count(report.output_vertices, "vertex", "vertices"),
         report.added_vertices,
-        report.output_faces,
-        report.interior_edges,
+        count(report.output_faces, "face", "faces"),
+        count(report.interior_edges, "interior edge", "interior edges"),
         report.non_delaunay_edges,
         report.max_excess_text()
     );

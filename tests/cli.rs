@@ -90,8 +90,8 @@ fn report_example_line_with_pqueue() {
         "always center",
         "min angle",
         "added vertices",
-        "splits",
-        "flips",
+        "split",
+        "flip",
         "before",
         "after",
         "seconds",
@@ -1435,7 +1435,7 @@ fn continued_obj_lines_are_read() {
     let output = dir.path().join("out.obj");
     let run = refine(&input, &output).output().unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    assert!(String::from_utf8_lossy(&run.stdout).contains("4 vertices, 1 faces (2 triangles)"));
+    assert!(String::from_utf8_lossy(&run.stdout).contains("4 vertices, 1 face (2 triangles)"));
     check_passes(&input, &output);
 }
 

@@ -19,7 +19,7 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, escaped, failure_record, file_key, growth_note, longest_first_note,
+    check_output, check_output_dir, count, escaped, failure_record, file_key, growth_note, longest_first_note,
     name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map, stage_vertex_map,
     stuck_elsewhere, write_output, FirstPass, Settings,
 };
@@ -794,9 +794,8 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     })();
     if !args.quiet {
         say!(
-            "batch   {} file{}: {} written, {}{} failed; {} added vertices; {:.3} s ({})",
-            n,
-            if n == 1 { "" } else { "s" },
+            "batch   {}: {} written, {}{} failed; {}; {:.3} s ({})",
+            count(n, "file", "files"),
             n - failed - skipped,
             if args.skip_existing {
                 format!("{skipped} skipped, ")
@@ -804,7 +803,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                 String::new()
             },
             failed,
-            added,
+            count(added, "added vertex", "added vertices"),
             t0.elapsed().as_secs_f64(),
             if args.smallest {
                 let runs = args.jobs.map_or_else(delmesh::parallel::cores, usize::from);
@@ -829,12 +828,12 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
 fn report_done(input: &Path, done: &Done, checked: bool) {
     let Ok(f) = &done.record.result else { return };
     let mut line = format!(
-        "ok      {} -> {}: {} vertices, {} faces, {} added vertices",
+        "ok      {} -> {}: {}, {}, {}",
         input.display(),
         done.record.output,
-        f.vertices,
-        f.faces,
-        f.added_vertices
+        count(f.vertices, "vertex", "vertices"),
+        count(f.faces, "face", "faces"),
+        count(f.added_vertices, "added vertex", "added vertices")
     );
     if let Some(pruned) = f.pruned.map(|p| p.removed) {
         line += &format!(" ({pruned} pruned)");

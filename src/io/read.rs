@@ -1126,7 +1126,7 @@ mod tests {
         };
         let notes = finish(raw, Path::new("t.off"), &options).unwrap().notes;
         assert_eq!(notes.len(), 2, "{notes:?}");
-        assert!(notes[0].starts_with("line 8: data after the 1 faces"), "{notes:?}");
+        assert!(notes[0].starts_with("line 8: data after the 1 face the"), "{notes:?}");
     }
 
     #[test]

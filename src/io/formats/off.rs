@@ -486,8 +486,10 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     let mut m = b.finish()?;
     attributes.finish(&mut m);
     if let Some(line) = after {
+        let faces = if nf == 1 { "face" } else { "faces" };
         m.notes.push(format!(
-            "line {line}: data after the {nf} faces the OFF header declares ignored (if its counts are wrong, faces are missing)"
+            "line {line}: data after the {nf} {faces} the OFF header declares ignored (if its counts are wrong, faces are \
+             missing)"
         ));
     }
     Ok(m)
