@@ -13,11 +13,13 @@
 //! pruning), [`Transfer::apply`] gives them per corner of the output's
 //! triangles, for [`io::write_mesh_with_attributes`]. (Writing
 //! `surface.positions` and `surface.triangles()` with [`io::write_mesh`]
-//! alone drops them.)
+//! alone drops them.) The face map ([`FaceOrigins`]) is made the same way,
+//! before refinement, from triangles read with `face_numbers`.
 
 use std::path::Path;
 
 use delmesh::attributes::Transfer;
+use delmesh::face_map::FaceOrigins;
 use delmesh::io::{self, ReadOptions};
 use delmesh::{make_delaunay, Options};
 
@@ -30,7 +32,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Read (any format, welded and validated; `repair: Some(..)` fixes what
     // would be refused) and build the refinable surface (`build_surface_with`
     // takes other attribute tolerances).
-    let mut input = io::read_mesh(input_path, &ReadOptions::default())?;
+    // (`face_numbers`: each triangle's face of the file, for the face map.)
+    let options = ReadOptions {
+        face_numbers: true,
+        ..ReadOptions::default()
+    };
+    let mut input = io::read_mesh(input_path, &options)?;
     let mut surface = io::build_surface(&mut input, input_path)?;
     for note in &input.notes {
         println!("note: {note}");
@@ -38,6 +45,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The attributes' transfer, made before refinement (empty if the input
     // has none: `apply` then gives none, and the output is positions only).
     let transfer = Transfer::new(input.attributes.clone(), &input.triangles, &surface);
+    // Likewise the face map (which input face each output face lies in).
+    let origins = FaceOrigins::new(&input.triangles, &input.triangle_polygon, &surface);
     // Algorithm 2 with the defaults (stack, score 2, median), then pruning.
     let options = Options::default();
     let stats = make_delaunay(&mut surface, &options)?;
@@ -62,6 +71,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for note in &written.notes {
         println!("note: {note}"); // what the output's format cannot hold
     }
+    // Per output face (as `triangles` orders them; `written.face_order`
+    // gives the file's order): a per-face label of the input follows it.
+    let map = origins.apply(&surface);
+    let across = map.iter().filter(|o| !o.inside).count();
+    println!(
+        "face map: {across} of {} faces lie across several input faces",
+        map.len()
+    );
     println!(
         "{} splits, {} flips, {} of them removed again: {} vertices, {} faces, {} non-Delaunay edges",
         stats.splits,

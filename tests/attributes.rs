@@ -54,7 +54,9 @@ fn work(printout: &str) -> (usize, usize, usize) {
     // (The word singular after 1: "1 split".)
     let number_before = |line: &str, word: &str| -> usize {
         let words: Vec<&str> = line.split([' ', ',', ';']).filter(|w| !w.is_empty()).collect();
-        let i = (words.iter()).position(|w| *w == word || Some(*w) == word.strip_suffix('s')).unwrap();
+        let i = (words.iter())
+            .position(|w| *w == word || Some(*w) == word.strip_suffix('s'))
+            .unwrap();
         words[i - 1].parse().unwrap()
     };
     let output = printout.lines().find(|l| l.starts_with("output")).unwrap();
