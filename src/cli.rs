@@ -1009,7 +1009,9 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         name: file_name(input_path),
         size: std::fs::metadata(input_path).ok().map(|m| m.len()),
     });
-    let mut input = (args.settings).read(input_path, &output, !args.no_refine, args.face_map.is_some())?;
+    let mut input = args
+        .settings
+        .read(input_path, &output, !args.no_refine, args.face_map.is_some())?;
     let read_s = t0.elapsed().as_secs_f64();
     let t_build = Instant::now();
     progress::phase(Phase::Build {
@@ -1018,8 +1020,10 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let surface = args.settings.build(&mut input, input_path)?;
     let transfer =
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
-    let face_origins =
-        (args.face_map.is_some()).then(|| FaceOrigins::new(&input.triangles, &input.triangle_polygon, &surface));
+    let face_origins = args
+        .face_map
+        .is_some()
+        .then(|| FaceOrigins::new(&input.triangles, &input.triangle_polygon, &surface));
     let build_s = t_build.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     // The input's non-Delaunay edges: the first pass of every run, and where

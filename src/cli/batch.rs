@@ -487,7 +487,9 @@ fn refine_read(
     let failed_after = |seconds: &mut RunSeconds| seconds.refine = first_pass.seconds + start.elapsed().as_secs_f64();
     let transfer = (!mesh.attributes.is_empty())
         .then(|| Transfer::new(std::mem::take(&mut mesh.attributes), &mesh.triangles, &surface));
-    let face_origins = (args.face_maps).then(|| FaceOrigins::new(&mesh.triangles, &mesh.triangle_polygon, &surface));
+    let face_origins = args
+        .face_maps
+        .then(|| FaceOrigins::new(&mesh.triangles, &mesh.triangle_polygon, &surface));
     let (options, out) = if args.smallest {
         let start = Instant::now();
         let passes = args.settings.prune().unwrap_or(delmesh::prune::MAX_PASSES);
