@@ -662,11 +662,12 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_num
     // The attributes of the triangles kept, each corner's value where the file gives it (a
     // reoriented triangle's corners in its own order; copies at cuts keep their corners').
     let mut corners = Vec::new();
-    let triangle_polygon: Vec<u32> = match keep_attributes || face_numbers {
-        true => (fixed.source_triangle.iter())
+    let triangle_polygon: Vec<u32> = if keep_attributes || face_numbers {
+        (fixed.source_triangle.iter())
             .map(|&t| triangle_face[t as usize] as u32)
-            .collect(),
-        false => Vec::new(),
+            .collect()
+    } else {
+        Vec::new()
     };
     if keep_attributes {
         for (&t, &flipped) in fixed.source_triangle.iter().zip(&fixed.flipped) {
