@@ -29,7 +29,7 @@
 
 use std::io::Write;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::geometry::{projected_orientation, RegionPlane};
 use crate::io::push_decimal;
@@ -292,37 +292,32 @@ impl<'a> FaceOrigins<'a> {
         (0..3).all(|k| projected_orientation([p(tri[k]), p(tri[(k + 1) % 3]), q], plane.axis as usize) != -plane.sign)
     }
 
+    /// Triangle `t`'s corners, and `q`, in the projection of `plane` (the
+    /// other two coordinates in cyclic order, as [`projected_orientation`]).
+    fn projected(&self, surface: &Surface, plane: RegionPlane, t: u32, q: DVec3) -> ([DVec2; 3], DVec2) {
+        let (i, j) = [(1, 2), (2, 0), (0, 1)][plane.axis as usize];
+        let flat = |p: DVec3| DVec2::new(p[i], p[j]);
+        let corners = self.triangles[t as usize].map(|v| flat(surface.positions[v as usize]));
+        (corners, flat(q))
+    }
+
     /// How far `q` is inside triangle `t` in the projection of `plane`:
     /// its smallest distance to a side's line, negative outside (in
     /// floating point).
     fn depth(&self, surface: &Surface, plane: RegionPlane, t: u32, q: DVec3) -> f64 {
-        let (i, j) = [(1, 2), (2, 0), (0, 1)][plane.axis as usize];
-        let tri = self.triangles[t as usize];
+        let (c, q) = self.projected(surface, plane, t, q);
         (0..3)
             .map(|k| {
-                let (a, b) = (
-                    surface.positions[tri[k] as usize],
-                    surface.positions[tri[(k + 1) % 3] as usize],
-                );
-                let (e, w) = ([b[i] - a[i], b[j] - a[j]], [q[i] - a[i], q[j] - a[j]]);
-                f64::from(plane.sign) * (e[0] * w[1] - e[1] * w[0]) / e[0].hypot(e[1])
+                let side = c[(k + 1) % 3] - c[k];
+                f64::from(plane.sign) * side.perp_dot(q - c[k]) / side.length()
             })
             .fold(f64::INFINITY, f64::min)
     }
 
     /// The longest side of triangle `t` in the projection of `plane`.
     fn size(&self, surface: &Surface, plane: RegionPlane, t: u32) -> f64 {
-        let (i, j) = [(1, 2), (2, 0), (0, 1)][plane.axis as usize];
-        let tri = self.triangles[t as usize];
-        (0..3)
-            .map(|k| {
-                let (a, b) = (
-                    surface.positions[tri[k] as usize],
-                    surface.positions[tri[(k + 1) % 3] as usize],
-                );
-                (b[i] - a[i]).hypot(b[j] - a[j])
-            })
-            .fold(0.0, f64::max)
+        let (c, _) = self.projected(surface, plane, t, DVec3::ZERO);
+        (0..3).map(|k| c[k].distance(c[(k + 1) % 3])).fold(0.0, f64::max)
     }
 
     /// The first triangle of region `r` that holds `q` in the region's
@@ -469,17 +464,23 @@ mod tests {
         (surface, map)
     }
 
-    /// The rhombus of the sketch, flat and thin: its diagonal ab is flipped,
-    /// and each new face lies across both input faces.
-    #[test]
-    fn a_flipped_diagonal_lies_across_both_faces() {
+    /// A thin rhombus with the long diagonal ab, its lower corner raised by
+    /// `fold` (0: flat).
+    fn rhombus(fold: f64) -> (Vec<DVec3>, [[u32; 3]; 2]) {
         let positions = vec![
             DVec3::new(-2.0, 0.0, 0.0),
             DVec3::new(2.0, 0.0, 0.0),
             DVec3::new(0.0, 0.5, 0.0),
-            DVec3::new(0.0, -0.4, 0.0),
+            DVec3::new(0.0, -0.4, fold),
         ];
-        let triangles = [[0, 1, 2], [1, 0, 3]];
+        (positions, [[0, 1, 2], [1, 0, 3]])
+    }
+
+    /// The rhombus of the sketch, flat and thin: its diagonal ab is flipped,
+    /// and each new face lies across both input faces.
+    #[test]
+    fn a_flipped_diagonal_lies_across_both_faces() {
+        let (positions, triangles) = rhombus(0.0);
         let (surface, map) = refined(positions.clone(), &triangles, &[]);
         assert_eq!(surface.positions.len(), 4, "flipped, not split");
         assert!(map.iter().all(|o| !o.inside), "{map:?}");
@@ -504,13 +505,7 @@ mod tests {
     /// face inside the input face it was cut from.
     #[test]
     fn split_faces_lie_inside_their_face() {
-        let positions = vec![
-            DVec3::new(-2.0, 0.0, 0.0),
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(0.0, 0.5, 0.0),
-            DVec3::new(0.0, -0.4, 0.3),
-        ];
-        let triangles = [[0, 1, 2], [1, 0, 3]];
+        let (positions, triangles) = rhombus(0.3);
         let (surface, map) = refined(positions, &triangles, &[]);
         assert!(surface.positions.len() > 4);
         for (f, o) in map.iter().enumerate() {

@@ -306,6 +306,24 @@ fn jittered_flat_grids_map_every_face() {
     }
 }
 
+/// An OBJ of the vertices `v`, then `faces` (0-based corners), each after
+/// the line `before(i)` gives face i.
+fn obj_text(v: &[DVec3], faces: &[Vec<usize>], before: impl Fn(usize) -> String) -> String {
+    let mut text = String::new();
+    for p in v {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for (i, face) in faces.iter().enumerate() {
+        text += &before(i);
+        text += "f";
+        for c in face {
+            text += &format!(" {}", c + 1);
+        }
+        text += "\n";
+    }
+    text
+}
+
 /// Groups interleaved in the file: the OBJ output writes its faces group by
 /// group, and the map follows the file's order.
 #[test]
@@ -313,18 +331,7 @@ fn rows_follow_the_faces_as_the_output_file_orders_them() {
     let dir = tempfile::tempdir().unwrap();
     let cube = common::data_dir().join("cube.obj");
     let (v, f) = obj(&cube);
-    let mut text = String::new();
-    for p in &v {
-        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-    }
-    for (i, face) in f.iter().enumerate() {
-        text += if i % 2 == 0 { "g even\n" } else { "g odd\n" };
-        text += "f";
-        for c in face {
-            text += &format!(" {}", c + 1);
-        }
-        text += "\n";
-    }
+    let text = obj_text(&v, &f, |i| if i % 2 == 0 { "g even\n" } else { "g odd\n" }.to_string());
     let path = dir.path().join("grouped.obj");
     std::fs::write(&path, text).unwrap();
     let (rows, _) = verified(&path, &[]);
@@ -341,15 +348,10 @@ fn faces_keep_their_numbers_in_the_file() {
     let cube = common::data_dir().join("cube.obj");
     let (v, f) = obj(&cube);
     // A face that repeats a vertex first, and a duplicate face last: repair drops both.
-    let mut text = String::new();
-    for p in &v {
-        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-    }
-    text += "f 1 1 2\n";
-    for face in &f {
-        text += &format!("f {} {} {}\n", face[0] + 1, face[1] + 1, face[2] + 1);
-    }
-    text += &format!("f {} {} {}\n", f[0][0] + 1, f[0][1] + 1, f[0][2] + 1);
+    let mut damaged = vec![vec![0, 0, 1]];
+    damaged.extend(f.iter().cloned());
+    damaged.push(f[0].clone());
+    let text = obj_text(&v, &damaged, |_| String::new());
     let path = dir.path().join("damaged.obj");
     std::fs::write(&path, text).unwrap();
     let (rows, _) = verified(&path, &["--repair"]);
@@ -372,6 +374,22 @@ fn faces_keep_their_numbers_in_the_file() {
     assert!(rows.iter().all(|r| r.0 < f.len()));
 }
 
+/// The face map of `input` refined into `output` (its map beside it).
+fn map_of(input: &Path, output: &Path) -> String {
+    let mut map = output.as_os_str().to_owned();
+    map.push(".csv");
+    delmesh()
+        .args(["-q", "-i"])
+        .arg(input)
+        .arg("-o")
+        .arg(output)
+        .arg("--face-map")
+        .arg(&map)
+        .assert()
+        .success();
+    std::fs::read_to_string(&map).unwrap()
+}
+
 /// An OFF input numbers its faces as the OBJ it was written from: the
 /// maps are the same.
 #[test]
@@ -392,21 +410,10 @@ fn an_off_input_numbers_its_faces_in_file_order() {
     }
     let off_path = dir.path().join("rotor.off");
     std::fs::write(&off_path, off).unwrap();
-    let mut maps = Vec::new();
-    for input in [&rotor, &off_path] {
-        let map = dir.path().join("map.csv");
-        delmesh()
-            .args(["-q", "-i"])
-            .arg(input)
-            .arg("-o")
-            .arg(dir.path().join("out.obj"))
-            .arg("--face-map")
-            .arg(&map)
-            .assert()
-            .success();
-        maps.push(std::fs::read_to_string(&map).unwrap());
-    }
-    assert_eq!(maps[0], maps[1]);
+    assert_eq!(
+        map_of(&rotor, &dir.path().join("out.obj")),
+        map_of(&off_path, &dir.path().join("out.obj"))
+    );
 }
 
 /// The map of a PLY output is that of the OBJ output (PLY keeps the faces'
@@ -415,20 +422,9 @@ fn an_off_input_numbers_its_faces_in_file_order() {
 fn ply_outputs_and_batch_write_the_same_map() {
     let dir = tempfile::tempdir().unwrap();
     let rotor = common::data_dir().join("cad/rotor.obj");
-    let mut maps = Vec::new();
-    for out in ["out.obj", "out.ply"] {
-        let map = dir.path().join(format!("{out}.csv"));
-        delmesh()
-            .args(["-q", "-i"])
-            .arg(&rotor)
-            .arg("-o")
-            .arg(dir.path().join(out))
-            .arg("--face-map")
-            .arg(&map)
-            .assert()
-            .success();
-        maps.push(std::fs::read_to_string(&map).unwrap());
-    }
+    let mut maps: Vec<String> = (["out.obj", "out.ply"].iter())
+        .map(|out| map_of(&rotor, &dir.path().join(out)))
+        .collect();
     let out_dir = dir.path().join("batch");
     delmesh()
         .args(["batch", "-q", "--face-maps", "-d"])
