@@ -74,9 +74,11 @@ struct Face {
 
 impl Face {
     fn new(corners: &[DVec3]) -> Face {
+        // (From the first corner: cross products of positions far from the
+        // origin would cancel away a small face's area.)
         let mut n = DVec3::ZERO;
         for (i, &p) in corners.iter().enumerate() {
-            n += p.cross(corners[(i + 1) % corners.len()]);
+            n += (p - corners[0]).cross(corners[(i + 1) % corners.len()] - corners[0]);
         }
         let area = n.length() / 2.0;
         let normal = n.normalize();
