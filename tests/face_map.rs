@@ -4,8 +4,9 @@
 //! points between them and the centroid); a face said not to be inside a
 //! triangle has a corner off it. Faces inside one input face cover no more
 //! than its area. On the shipped meshes, flat fans (flipped across faces),
-//! polygons, groups (an OBJ writes its faces group by group), repair (faces
-//! dropped, the others keep their numbers), pruning and STL input.
+//! jittered flat grids, polygons, groups (an OBJ writes its faces group by
+//! group), repair (faces dropped, the others keep their numbers), pruning,
+//! STL and OFF input, PLY output and `batch --face-maps`.
 
 mod common;
 
