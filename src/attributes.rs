@@ -980,22 +980,7 @@ impl RegionCuts for AttributeCuts<'_> {
 /// in increasing order: those of vertex `v` are
 /// `corners[start[v]..start[v + 1]]` (a counting sort by vertex).
 fn corners_by_vertex(triangles: &[[u32; 3]], n: usize) -> (Vec<u32>, Vec<u32>) {
-    let mut start = vec![0u32; n + 1];
-    for &v in triangles.iter().flatten().filter(|&&v| (v as usize) < n) {
-        start[v as usize + 1] += 1;
-    }
-    for v in 0..n {
-        start[v + 1] += start[v];
-    }
-    let mut next = start.clone();
-    let mut corners = vec![0u32; start[n] as usize];
-    for (c, &v) in triangles.iter().flatten().enumerate() {
-        if (v as usize) < n {
-            corners[next[v as usize] as usize] = c as u32;
-            next[v as usize] += 1;
-        }
-    }
-    (start, corners)
+    crate::mesh::group_by_key(n, triangles.iter().flatten().copied())
 }
 
 /// What the output's attributes are computed from: the input's attributes

@@ -33,7 +33,7 @@ use glam::{DVec2, DVec3};
 
 use crate::geometry::{projected_orientation, RegionPlane};
 use crate::io::push_decimal;
-use crate::mesh::{FaceId, Surface};
+use crate::mesh::{group_by_key, FaceId, Surface};
 
 /// Where one output face lies: see the module documentation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,30 +72,6 @@ pub struct FaceOrigins<'a> {
     by_vertex: Vec<u32>,
 }
 
-/// The lists of `n` keys' items, item `i` under the first `per_item` of
-/// `keys(i)` (in item order): `(start, items)` with key k's items at
-/// `items[start[k]..start[k + 1]]`.
-fn lists(n: usize, items: usize, per_item: usize, keys: impl Fn(usize) -> [u32; 3]) -> (Vec<u32>, Vec<u32>) {
-    let mut start = vec![0u32; n + 1];
-    for i in 0..items {
-        for &k in &keys(i)[..per_item] {
-            start[k as usize + 1] += 1;
-        }
-    }
-    for k in 0..n {
-        start[k + 1] += start[k];
-    }
-    let mut next = start.clone();
-    let mut out = vec![0u32; start[n] as usize];
-    for i in 0..items {
-        for &k in &keys(i)[..per_item] {
-            out[next[k as usize] as usize] = i as u32;
-            next[k as usize] += 1;
-        }
-    }
-    (start, out)
-}
-
 impl<'a> FaceOrigins<'a> {
     /// Prepares the map of refinements of `surface`, built from `triangles`
     /// (face `i` is triangle `i`) and not yet refined; `file_face` gives
@@ -117,11 +93,13 @@ impl<'a> FaceOrigins<'a> {
             })
             .collect();
         let file_face = (file_face.len() == n).then_some(file_face);
-        let (region_start, by_region) = lists(regions, n, 1, |t| [region[t]; 3]);
+        let (region_start, by_region) = group_by_key(regions, region.iter().copied());
         let shared = region_start.windows(2).any(|w| w[1] - w[0] > 1);
         let (vertex_start, by_vertex) = if shared {
+            // Each vertex's corners (3·triangle + k), as triangles.
             let vertices = triangles.iter().flatten().map(|&v| v as usize + 1).max().unwrap_or(0);
-            lists(vertices, n, 3, |t| triangles[t])
+            let (start, corners) = group_by_key(vertices, triangles.iter().flatten().copied());
+            (start, corners.into_iter().map(|c| c / 3).collect())
         } else {
             (Vec::new(), Vec::new())
         };

@@ -2630,30 +2630,11 @@ fn a_full_standard_output_is_an_error_and_a_closed_pipe_is_not() {
 #[test]
 fn negative_zero_welds_with_zero() {
     let dir = tempfile::tempdir().unwrap();
-    let corners = [
-        [0, 0, 0],
-        [1, 0, 0],
-        [1, 1, 0],
-        [0, 1, 0],
-        [0, 0, 1],
-        [1, 0, 1],
-        [1, 1, 1],
-        [0, 1, 1],
-    ];
-    let faces = [
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ];
+    let corners = common::cube_corners();
+    let faces: Vec<[usize; 3]> = (common::CUBE_QUADS.iter())
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .map(|t| t.map(|v| v as usize))
+        .collect();
     let mut stl = String::from("solid cube\n");
     for (k, f) in faces.iter().enumerate() {
         stl.push_str("facet normal 0 0 0\nouter loop\n");

@@ -963,6 +963,19 @@ pub fn write_obj_with_attributes(
     triangles: &[[u32; 3]],
     attributes: &Attributes,
 ) -> std::io::Result<()> {
+    let order = faces_in_file_order(triangles.len(), attributes);
+    write_obj_in_order(w, positions, triangles, attributes, order.as_deref())
+}
+
+/// [`write_obj_with_attributes`], the faces in `order` (of
+/// [`faces_in_file_order`], computed once by a caller that needs it too).
+pub(crate) fn write_obj_in_order(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+    order: Option<&[u32]>,
+) -> std::io::Result<()> {
     if attributes.is_empty() {
         return write_obj(w, positions, triangles);
     }
@@ -1002,29 +1015,40 @@ pub fn write_obj_with_attributes(
             })?;
         }
     }
-    let order = faces_in_file_order(triangles.len(), attributes);
+    // The faces in runs of one group, each opened by its group's lines.
+    let face = |k: usize| order.map_or(k, |o| o[k] as usize);
     let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
     let mut written = Group::default();
-    for run in order.chunk_by(|&a, &b| group_of(a) == group_of(b)) {
-        if let Some(group) = attributes.groups.get(group_of(run[0]) as usize) {
+    let mut run = 0;
+    while run < triangles.len() {
+        let g = group_of(face(run));
+        let end = (run..triangles.len())
+            .find(|&k| group_of(face(k)) != g)
+            .unwrap_or(triangles.len());
+        if let Some(group) = attributes.groups.get(g as usize) {
             write_group_change(w, &mut written, group)?;
         }
-        write_numbered_lines(w, run.len(), |k, line| {
-            face_line_with_attributes(line, run[k], &triangles[run[k]], attributes)
+        write_numbered_lines(w, end - run, |k, line| {
+            let f = face(run + k);
+            face_line_with_attributes(line, f, &triangles[f], attributes)
         })?;
+        run = end;
     }
     Ok(())
 }
 
 /// The order in which [`write_obj_with_attributes`] writes `n` triangles:
-/// by group, in group order, each group in face order (a stable sort).
-pub fn faces_in_file_order(n: usize, attributes: &Attributes) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..n).collect();
-    if !attributes.face_group.is_empty() {
-        let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
-        order.sort_by_key(|&f| group_of(f));
+/// by group, in group order, each group in face order (a stable sort);
+/// `None` when that is their own order (no groups, or groups already in
+/// order).
+pub fn faces_in_file_order(n: usize, attributes: &Attributes) -> Option<Vec<u32>> {
+    let group_of = |f: usize| attributes.face_group.get(f).copied().unwrap_or(0);
+    if (1..n).all(|f| group_of(f - 1) <= group_of(f)) {
+        return None;
     }
-    order
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.sort_by_key(|&f| group_of(f as usize));
+    Some(order)
 }
 
 /// Appends the line `keyword x y z...` of `values` (shortest round-trip;

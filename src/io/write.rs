@@ -229,10 +229,7 @@ pub fn stage_mesh_with_attributes(
     let mut face_order = Vec::new();
     let staged = match format {
         Format::Obj => {
-            let order = obj::faces_in_file_order(triangles.len(), attributes);
-            if order.iter().enumerate().any(|(k, &f)| k != f) {
-                face_order = order.iter().map(|&f| f as u32).collect();
-            }
+            face_order = obj::faces_in_file_order(triangles.len(), attributes).unwrap_or_default();
             if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
                 notes.push(format!(
                     "texture file {} (PLY comment TextureFile) not written: an OBJ names its textures in a \
@@ -240,7 +237,8 @@ pub fn stage_mesh_with_attributes(
                     attributes.texture_files.join(", ")
                 ));
             }
-            stage(path, |w| obj::write_obj_with_attributes(w, p, triangles, attributes))?
+            let order = (!face_order.is_empty()).then_some(&face_order[..]);
+            stage(path, |w| obj::write_obj_in_order(w, p, triangles, attributes, order))?
         }
         Format::Ply => {
             let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);

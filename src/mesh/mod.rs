@@ -1132,6 +1132,30 @@ impl Surface {
     }
 }
 
+/// Items grouped by key (a counting sort): item `i` has key `keys[i]`; those
+/// of key `k` below `n_keys`, in increasing order, are
+/// `items[start[k]..start[k + 1]]` in the returned `(start, items)` (keys
+/// from `n_keys` on are left out). The triangles of each region, the
+/// corners of each vertex.
+pub(crate) fn group_by_key(n_keys: usize, keys: impl Iterator<Item = u32> + Clone) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n_keys + 1];
+    for k in keys.clone().filter(|&k| (k as usize) < n_keys) {
+        start[k as usize + 1] += 1;
+    }
+    for k in 0..n_keys {
+        start[k + 1] += start[k];
+    }
+    let mut next = start.clone();
+    let mut items = vec![0u32; start[n_keys] as usize];
+    for (i, k) in keys.enumerate() {
+        if (k as usize) < n_keys {
+            items[next[k as usize] as usize] = i as u32;
+            next[k as usize] += 1;
+        }
+    }
+    (start, items)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
