@@ -64,6 +64,8 @@
 //! unreadable or invalid INPUT gives a [`CheckError`] (or a failure line from
 //! [`check_meshes`]), anything wrong with OUTPUT gives failure lines.
 
+pub mod maps;
+
 use std::collections::HashSet;
 use std::f64::consts::PI;
 use std::fmt;
@@ -1050,6 +1052,29 @@ fn attribute_looks(raw: &RawMesh) -> Vec<u64> {
 /// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
 /// gzip-compressed) with the readers of [`crate::io::formats`].
 fn read_welded(path: &Path) -> Result<Welded, CheckError> {
+    read_file(path, read_welded_as)
+}
+
+/// A mesh file as it lists its vertices and faces, nothing welded or triangulated (for the
+/// maps, which number them so: [`maps`]), and whether its faces share vertices by index (not
+/// an STL, whose facets list their own corners).
+pub(crate) fn read_raw(path: &Path) -> Result<(RawMesh, bool), CheckError> {
+    read_file(path, |path, bytes, format| {
+        let raw = match format {
+            None => obj_raw(path, bytes)?,
+            Some(format) => foreign_raw(path, bytes, format)?,
+        };
+        Ok((raw, format != Some(crate::io::formats::Format::Stl)))
+    })
+}
+
+/// Reads the file `path` (inflated when compressed) with `read_as`, given its format as its
+/// name or content says (OBJ when neither does); a file it cannot read is said to be of
+/// another format, UTF-16 text or of another kind where it is.
+fn read_file<T>(
+    path: &Path,
+    read_as: impl Fn(&Path, &[u8], Option<crate::io::formats::Format>) -> Result<T, CheckError>,
+) -> Result<T, CheckError> {
     use crate::io::formats;
     let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
         path: path.to_path_buf(),
@@ -1064,7 +1089,7 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
     let from_name = formats::format_from_name(name);
     let format = from_name.or_else(|| formats::sniff_format(&bytes));
-    let read = |format| read_welded_as(path, &bytes, format);
+    let read = |format| read_as(path, &bytes, format);
     read(format).map_err(|e| {
         // A file whose content is another format than its name's, and reads as that: said
         // so, as the main command says it (the named reader's reason would mislead).
@@ -1099,28 +1124,42 @@ fn read_welded(path: &Path) -> Result<Welded, CheckError> {
 /// [`read_welded`] of the file `path`'s (inflated) `bytes`, read as `format` (OBJ if `None`).
 fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::Format>) -> Result<Welded, CheckError> {
     use crate::io::formats;
+    let format = match format {
+        None | Some(formats::Format::Obj) => return read_obj_welded(path, bytes),
+        Some(format) => format,
+    };
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
-        format: format.unwrap_or(formats::Format::Obj).name(),
+        format: format.name(),
         reason,
     };
-    let raw = match format {
-        None | Some(formats::Format::Obj) => return read_obj_welded(path, bytes),
-        Some(formats::Format::Off) => formats::read_off(bytes),
-        Some(formats::Format::Ply) => formats::read_ply(bytes),
-        Some(formats::Format::Stl) => formats::read_stl(bytes),
-    }
-    .map_err(|e| parse_error(e.to_string()))?;
+    let raw = foreign_raw(path, bytes, format)?;
     // OFF and PLY share vertices between faces by index; STL has none to
     // share (every facet lists its own corners), so there its vertices are
     // only ever welded.
-    let shares_vertices = format != Some(formats::Format::Stl);
+    let shares_vertices = format != formats::Format::Stl;
     // (OFF and PLY copy a vertex at seams.)
     weld(raw, shares_vertices, shares_vertices)
         .map_err(parse_error)?
         .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
         })
+}
+
+/// A file's (inflated) `bytes`, read as `format`, as the file lists its vertices and faces.
+fn foreign_raw(path: &Path, bytes: &[u8], format: crate::io::formats::Format) -> Result<RawMesh, CheckError> {
+    use crate::io::formats;
+    match format {
+        formats::Format::Obj => return obj_raw(path, bytes),
+        formats::Format::Off => formats::read_off(bytes),
+        formats::Format::Ply => formats::read_ply(bytes),
+        formats::Format::Stl => formats::read_stl(bytes),
+    }
+    .map_err(|e| CheckError::Parse {
+        path: path.to_path_buf(),
+        format: format.name(),
+        reason: e.to_string(),
+    })
 }
 
 /// Triangulates the polygons of `raw` and welds its identical positions (-0 and 0 alike), keeping the
@@ -1225,9 +1264,8 @@ fn drop_unused(
     (kept, file_vertex, strays, triangles)
 }
 
-/// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
-/// as [`Welded`].
-fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
+/// An OBJ file's bytes as the file lists its vertices and faces.
+fn obj_raw(path: &Path, bytes: &[u8]) -> Result<RawMesh, CheckError> {
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
         format: "OBJ",
@@ -1247,7 +1285,18 @@ fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
     if let Some(line) = first_binary_line(&joined) {
         return Err(parse_error(format!("line {line} is not text: this is not an OBJ file")));
     }
-    let raw = obj_surface(&joined).map_err(parse_error)?;
+    obj_surface(&joined).map_err(parse_error)
+}
+
+/// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
+/// as [`Welded`].
+fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
+    let parse_error = |reason: String| CheckError::Parse {
+        path: path.to_path_buf(),
+        format: "OBJ",
+        reason,
+    };
+    let raw = obj_raw(path, bytes)?;
     // (Texture coordinates and normals are the corners', but a colour is the vertex's: OBJ
     // copies a vertex at a colour seam.)
     let welded = weld(raw, true, true)

@@ -113,11 +113,23 @@ pub fn main() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     let result = match cli.command {
-        Some(Command::Check { input, output, jobs }) => {
+        Some(Command::Check {
+            input,
+            output,
+            jobs,
+            vertex_map,
+            face_map,
+            original,
+        }) => {
             if let Some(jobs) = jobs {
                 delmesh::parallel::set_threads(usize::from(jobs));
             }
-            run_check(&input, &output)
+            let maps = MapFiles {
+                vertex_map,
+                face_map,
+                original,
+            };
+            run_check(&input, &output, &maps)
         }
         Some(Command::Batch(args)) => batch::run_batch(&args),
         Some(Command::Completions { shell }) => {
@@ -1427,14 +1439,34 @@ fn run_refined(
     // that cannot be written leaves no output, and the input of a run in
     // place untouched. (A mesh written to a stream is there already.)
     let streamed = mesh_streamed(&staged, output);
+    let mut vertex_map = None;
     if let Some(map) = &args.vertex_map {
-        side.push(stage_vertex_map(map, &out.surface, input, &written).map_err(streamed)?);
+        vertex_map = Some((
+            stage_vertex_map(map, &out.surface, input, &written).map_err(streamed)?,
+            map.as_path(),
+        ));
     }
+    let mut face_map = None;
     if let (Some(map), Some(origins)) = (&args.face_map, report.face_origins) {
         let (staged_map, note) = stage_face_map(map, &out.surface, origins, &written).map_err(streamed)?;
-        side.push(staged_map);
+        face_map = Some((staged_map, map.as_path()));
         written.notes.extend(note);
     }
+    let t_maps = Instant::now();
+    let (vertex_map, face_map, maps_checked) = if args.check {
+        match check_maps(input_path, staged.path(), vertex_map, face_map, &mut written.notes) {
+            Ok(maps) => maps,
+            Err(e) => {
+                report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
+                return Err(e);
+            }
+        }
+    } else {
+        (vertex_map.map(|m| m.0), face_map.map(|m| m.0), "")
+    };
+    side.extend(vertex_map);
+    side.extend(face_map);
+    let check_s = check_s + t_maps.elapsed().as_secs_f64();
     let run = out.record(options, output, write_s);
     let (total, reports) = report.stage(&[run], true).map_err(streamed)?;
     side.extend(reports);
@@ -1443,7 +1475,15 @@ fn run_refined(
     // rewritten as it was.
     if !args.quiet {
         let seconds = [total, write_s, check_s];
-        say_refined(report, &out, &options, pruned_settings, &written.notes, seconds);
+        say_refined(
+            report,
+            &out,
+            &options,
+            pruned_settings,
+            &written.notes,
+            maps_checked,
+            seconds,
+        );
     }
     commit_all(staged, output, side, in_place)?;
     Ok(ExitCode::SUCCESS)
@@ -1453,13 +1493,15 @@ fn run_refined(
 /// (with `--smallest`, the best of its settings, `pruned_settings` of
 /// them pruned): settings, constants, the writer's notes, the output's
 /// counts, the work, pruning, notes on growth, the check, and `seconds`
-/// (total, writing, checking).
+/// (total, writing, checking); `maps_checked` ends the `check` line (which
+/// maps `--check` found right, see [`check_maps`]).
 fn say_refined(
     report: &Report,
     out: &Outcome,
     options: &Options,
     pruned_settings: usize,
     notes: &[String],
+    maps_checked: &str,
     [total, write_s, check_s]: [f64; 3],
 ) {
     let args = report.args;
@@ -1521,7 +1563,7 @@ fn say_refined(
     }
     if args.check {
         say!(
-            "check   PASS: {} is a Delaunay mesh with the geometry of {}{}",
+            "check   PASS: {} is a Delaunay mesh with the geometry of {}{}{maps_checked}",
             report.output.display(),
             report.input_path.display(),
             if report.input.repair.is_some() {
@@ -1641,6 +1683,93 @@ impl std::error::Error for CheckFailed {}
 /// to `<output>.rejected`.
 fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
     CheckReference::new(input, mesh, output)?.check(staged, output)
+}
+
+/// `--check` on the maps of a run that read `input` and wrote `output`
+/// (staged, a file): each map staged (`None` where not asked for) is judged
+/// by `delmesh check --vertex-map/--face-map` and handed back if right; one
+/// that is wrong, or that the judge cannot read, is put at
+/// `<map>.rejected` and the run fails. Maps the judge cannot read back (the
+/// input or the map a stream) are not judged, with a note in `notes`. Also
+/// returns what the printout's `check` line adds: which maps are right.
+fn check_maps(
+    input: &Path,
+    output: &Path,
+    vertex: Option<(io::Staged, &Path)>,
+    face: Option<(io::Staged, &Path)>,
+    notes: &mut Vec<String>,
+) -> anyhow::Result<(Option<io::Staged>, Option<io::Staged>, &'static str)> {
+    let stream = io::is_standard_input(input) || std::fs::metadata(input).is_ok_and(|m| !m.is_file());
+    let mut unjudged = Vec::new();
+    let mut judged = |map: &Option<(io::Staged, &Path)>, kind: &'static str| match map {
+        Some((staged, _)) if stream || staged.is_in_place() => {
+            unjudged.push(kind);
+            None
+        }
+        Some((staged, _)) => Some(staged.path().to_path_buf()),
+        None => None,
+    };
+    let (vertex_path, face_path) = (judged(&vertex, "vertex"), judged(&face, "face"));
+    if !unjudged.is_empty() {
+        let why = if stream {
+            "the input cannot be read again"
+        } else {
+            "written to a stream"
+        };
+        notes.push(format!(
+            "--check did not verify the {} map{} ({why}): delmesh check --{}-map reads the files",
+            unjudged.join(" and "),
+            if unjudged.len() == 1 { "" } else { "s" },
+            unjudged[0]
+        ));
+    }
+    let verified = match (&vertex_path, &face_path) {
+        (Some(_), Some(_)) => "; its maps are right",
+        (Some(_), None) => "; its vertex map is right",
+        (None, Some(_)) => "; its face map is right",
+        (None, None) => return Ok((vertex.map(|m| m.0), face.map(|m| m.0), "")),
+    };
+    let reports = delmesh::check::maps::check_map_files(input, output, vertex_path.as_deref(), face_path.as_deref());
+    let whys: [Option<String>; 2] = match reports {
+        Ok((v, f)) => [v, f].map(|r| {
+            r.filter(|r| !r.passed()).map(|r| {
+                let more = r.failures.len() - 1;
+                format!(
+                    "failed the check: {}{}",
+                    r.failures[0],
+                    if more > 0 {
+                        format!(" (and {more} more)")
+                    } else {
+                        String::new()
+                    }
+                )
+            })
+        }),
+        Err(e) => {
+            let why = format!("the check could not read the files: {e}");
+            [
+                vertex_path.as_ref().map(|_| why.clone()),
+                face_path.as_ref().map(|_| why),
+            ]
+        }
+    };
+    if whys.iter().all(Option::is_none) {
+        return Ok((vertex.map(|m| m.0), face.map(|m| m.0), verified));
+    }
+    let mut errors = Vec::new();
+    for (map, why) in [vertex, face].into_iter().zip(whys) {
+        if let (Some((staged, path)), Some(why)) = (map, why) {
+            let mut rejected = path.as_os_str().to_owned();
+            rejected.push(".rejected");
+            staged.commit_to(Path::new(&rejected))?;
+            errors.push(format!(
+                "{}: {why} (renamed to {})",
+                path.display(),
+                Path::new(&rejected).display()
+            ));
+        }
+    }
+    Err(CheckFailed(errors.join("; ")).into())
 }
 
 /// What `--check` compares outputs with: the input file, or the mesh read
@@ -1854,14 +1983,56 @@ fn run_render(
     Ok(ExitCode::SUCCESS)
 }
 
-fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
-    if io::is_standard_input(input) && io::is_standard_input(output) {
-        bail!("INPUT and OUTPUT are both standard input: at most one of them can be `-`");
+/// The maps `delmesh check` is asked to verify, and the file they number.
+struct MapFiles {
+    vertex_map: Option<PathBuf>,
+    face_map: Option<PathBuf>,
+    /// The file the run read (`--original`); INPUT when not given.
+    original: Option<PathBuf>,
+}
+
+impl MapFiles {
+    fn any(&self) -> bool {
+        self.vertex_map.is_some() || self.face_map.is_some()
     }
-    refuse_printout_into_inputs(&[input, output], false)?;
+}
+
+fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<ExitCode> {
+    if maps.original.is_some() && !maps.any() {
+        bail!("--original names the file the maps number: give --vertex-map or --face-map with it");
+    }
+    let original = maps.original.as_deref().unwrap_or(input);
+    let mut read: Vec<(&str, &Path)> = vec![("INPUT", input), ("OUTPUT", output)];
+    if maps.any() {
+        // (The maps read INPUT again, unless --original names another file.)
+        read.extend(maps.original.as_deref().map(|o| ("--original", o)));
+        read.extend(maps.vertex_map.as_deref().map(|m| ("--vertex-map", m)));
+        read.extend(maps.face_map.as_deref().map(|m| ("--face-map", m)));
+        if maps.original.is_none() && io::is_standard_input(input) {
+            bail!("INPUT is standard input, which the maps cannot read again: give the file the run read as INPUT, or as --original FILE");
+        }
+    }
+    let from_stdin: Vec<&str> = read
+        .iter()
+        .filter(|(_, p)| io::is_standard_input(p))
+        .map(|(n, _)| *n)
+        .collect();
+    if from_stdin.len() > 1 {
+        bail!(
+            "{} are standard input: at most one of them can be `-`",
+            from_stdin.join(" and ")
+        );
+    }
+    let paths: Vec<&Path> = read.iter().map(|(_, p)| *p).collect();
+    refuse_printout_into_inputs(&paths, false)?;
     refuse_closed_stdout(true)?;
     crate::working_on(output);
     let report = delmesh::check::check_files(input, output)?;
+    let (vertex_report, face_report) = if maps.any() {
+        delmesh::check::maps::check_map_files(original, output, maps.vertex_map.as_deref(), maps.face_map.as_deref())?
+    } else {
+        (None, None)
+    };
     say!(
         "check   {} ({} added), {}, {}; non-Delaunay edges: {} (max alpha+beta-pi {})",
         count(report.output_vertices, "vertex", "vertices"),
@@ -1892,24 +2063,76 @@ fn run_check(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
             "note    the output does not begin with the input's vertices in their order (output {output} is not input {input}): per-vertex data of the input does not carry over by number"
         );
     }
+    if let Some(r) = &vertex_report {
+        say!(
+            "maps    vertex map: {}, each output vertex rebuilt bit for bit from two vertices of {}",
+            count(r.rows, "row", "rows"),
+            original.display()
+        );
+    }
+    if let Some(r) = &face_report {
+        say!(
+            "maps    face map: {}, each output face on the face of {} it names ({} said inside it, {} not)",
+            count(r.rows, "row", "rows"),
+            original.display(),
+            r.rows - r.not_inside,
+            r.not_inside
+        );
+    }
     for f in &report.failures {
         say!("FAIL    {f}");
     }
+    let map_failures: Vec<&String> = [&vertex_report, &face_report]
+        .into_iter()
+        .flatten()
+        .flat_map(|r| &r.failures)
+        .collect();
+    for f in &map_failures {
+        say!("FAIL    {f}");
+    }
     if report.passed() {
+        let and_maps = match (&maps.vertex_map, &maps.face_map) {
+            _ if !map_failures.is_empty() => "",
+            (Some(_), Some(_)) => "; its maps are right",
+            (Some(_), None) => "; its vertex map is right",
+            (None, Some(_)) => "; its face map is right",
+            (None, None) => "",
+        };
         say!(
-            "PASS    {} is a Delaunay mesh with the geometry of {}",
+            "PASS    {} is a Delaunay mesh with the geometry of {}{and_maps}",
             output.display(),
             input.display()
         );
-        Ok(ExitCode::SUCCESS)
     } else {
         say!(
             "FAILED  {} is not a Delaunay mesh with the geometry of {}",
             output.display(),
             input.display()
         );
-        Ok(ExitCode::from(1))
     }
+    for (kind, path, r) in [
+        ("vertex", &maps.vertex_map, &vertex_report),
+        ("face", &maps.face_map, &face_report),
+    ] {
+        if let (Some(path), Some(r)) = (path, r) {
+            if !r.passed() {
+                say!(
+                    "FAILED  {} is not the {kind} map of {} from {}",
+                    path.display(),
+                    output.display(),
+                    original.display()
+                );
+            }
+        }
+    }
+    if !map_failures.is_empty() && maps.original.is_none() {
+        say!("note    the maps number the file the run read (-i): when INPUT is another (the --repaired file), give that one as --original FILE");
+    }
+    Ok(if report.passed() && map_failures.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
 
 #[cfg(test)]
@@ -2037,5 +2260,54 @@ mod tests {
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(!output.exists());
         assert!(dir.path().join("cube.obj.rejected").exists());
+    }
+
+    #[test]
+    fn maps_that_fail_the_check_are_renamed_and_reported() {
+        let dir = tempfile::tempdir().unwrap();
+        let cube = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cube.obj");
+        let mut mesh = io::read_mesh(&cube, &Default::default()).unwrap();
+        let mut surface = io::build_surface(&mut mesh, &cube).unwrap();
+        let origins = FaceOrigins::new(&mesh.triangles, &mesh.triangle_polygon, &surface);
+        delmesh::make_delaunay(&mut surface, &Default::default()).unwrap();
+        let output = dir.path().join("cube.obj");
+        let staged =
+            io::stage_mesh_after(&output, &Default::default(), &surface.positions, &surface.triangles()).unwrap();
+        let written = io::Written::default();
+        let (vertex_path, face_path) = (dir.path().join("v.csv"), dir.path().join("f.csv"));
+        let maps = || {
+            let vertex = stage_vertex_map(&vertex_path, &surface, &mesh, &written).unwrap();
+            let (face, _) = stage_face_map(&face_path, &surface, &origins, &written).unwrap();
+            (Some((vertex, vertex_path.as_path())), Some((face, face_path.as_path())))
+        };
+        // Right maps are handed back, and said right.
+        let (vertex, face) = maps();
+        let mut notes = Vec::new();
+        let (v, f, said) = check_maps(&cube, staged.path(), vertex, face, &mut notes).unwrap();
+        assert_eq!(said, "; its maps are right");
+        assert!(v.is_some() && f.is_some() && notes.is_empty());
+        // A vertex map with a row moved: renamed, the run fails, and the
+        // face map (right) is not put in place either.
+        let (vertex, face) = maps();
+        let text = std::fs::read_to_string(vertex.as_ref().unwrap().0.path()).unwrap();
+        let wrong = text.replacen("\n0,0,0,0.0\n", "\n0,1,1,0.0\n", 1);
+        assert_ne!(wrong, text);
+        let moved = io::stage(&vertex_path, |w| w.write_all(wrong.as_bytes())).unwrap();
+        let e = check_maps(&cube, staged.path(), Some((moved, &vertex_path)), face, &mut notes).unwrap_err();
+        assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
+        assert!(
+            e.to_string().contains("v.csv: failed the check: vertex map line 2"),
+            "{e}"
+        );
+        assert!(dir.path().join("v.csv.rejected").exists());
+        assert!(!vertex_path.exists() && !face_path.exists());
+        // One the judge cannot read against (the input gone) neither.
+        let (vertex, face) = maps();
+        let missing = dir.path().join("missing.obj");
+        let e = check_maps(&missing, staged.path(), vertex, face, &mut notes).unwrap_err();
+        assert!(e.to_string().contains("the check could not read the files"), "{e}");
+        assert!(dir.path().join("f.csv.rejected").exists());
+        drop(v);
+        drop(f);
     }
 }

@@ -2080,6 +2080,8 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                         face_map_holds(&input, &origins, s, raw.face_start.len() - 1)
                             .map_err(|e| format!("{tag}: face map: {e}"))?;
                     }
+                    maps_pass_the_judge(&raw, &input, &origins, s, !imprecise)
+                        .map_err(|e| format!("{tag}: map check: {e}"))?;
                     if welded {
                         let report = common::check_refined(&input, s);
                         if !report.passed() {
@@ -2193,6 +2195,45 @@ fn face_map_holds(
         }
         if o.inside && !corners.iter().all(|&p| on_face(p, 0.0)) {
             return Err(format!("face {f}: said inside face {}, a corner is off it", o.face));
+        }
+    }
+    Ok(())
+}
+
+/// The judge of the maps (`delmesh check --vertex-map --face-map`) passes
+/// the maps of `s`, refined from `input` read from `raw`, as delmesh writes
+/// them: the vertex map always (it is exact), the face map when `faces`
+/// (where f64 holds the input's detail, as for [`face_map_holds`]).
+fn maps_pass_the_judge(
+    raw: &RawMesh,
+    input: &InputMesh,
+    origins: &delmesh::face_map::FaceOrigins,
+    s: &Surface,
+    faces: bool,
+) -> Result<(), String> {
+    use delmesh::check::maps::{check_face_map, check_vertex_map};
+    let triangles = s.triangles();
+    let output = RawMesh {
+        positions: s.positions.iter().map(|p| p.to_array()).collect(),
+        face_start: (0..=triangles.len() as u32).map(|f| 3 * f).collect(),
+        indices: triangles.iter().flatten().copied().collect(),
+        ..RawMesh::default()
+    };
+    let file_index = |v: u32| input.vertex_number.get(v as usize).map_or(v, |n| n - 1);
+    let mut vertex_map = String::from("output_index,input_index_a,input_index_b,t\n");
+    for (i, (a, b, t)) in s.vertex_sources().into_iter().enumerate() {
+        vertex_map += &format!("{i},{},{},{t:?}\n", file_index(a), file_index(b));
+    }
+    let report = check_vertex_map(raw, &output, vertex_map.as_bytes());
+    if !report.passed() {
+        return Err(format!("vertex map: {:?}", report.failures));
+    }
+    if faces {
+        let mut face_map = Vec::new();
+        delmesh::face_map::write_csv(&mut face_map, &origins.apply(s)).map_err(|e| e.to_string())?;
+        let report = check_face_map(raw, &output, &face_map);
+        if !report.passed() {
+            return Err(format!("face map: {:?}", report.failures));
         }
     }
     Ok(())

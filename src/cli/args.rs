@@ -348,7 +348,8 @@ pub(super) enum Command {
     /// main command would write it. One line per file; exits 1 if any failed.
     Batch(batch::BatchArgs),
     /// Verify that OUTPUT is a Delaunay mesh with the geometry of INPUT,
-    /// reading the two files only. Exits 0 if it is, 1 if not.
+    /// reading the two files only (and the maps given, with the file they
+    /// number). Exits 0 if it is (and they are right), 1 if not.
     Check {
         /// The original mesh (`-`: standard input).
         input: PathBuf,
@@ -360,6 +361,18 @@ pub(super) enum Command {
         /// report never depends on it.
         #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
         jobs: Option<u16>,
+        /// Also verify the vertex map the run wrote (`--vertex-map`): every
+        /// output vertex rebuilt bit for bit from its row.
+        #[arg(long = "vertex-map", value_name = "FILE")]
+        vertex_map: Option<PathBuf>,
+        /// Also verify the face map the run wrote (`--face-map`): every
+        /// output face on the input face its row names.
+        #[arg(long = "face-map", value_name = "FILE")]
+        face_map: Option<PathBuf>,
+        /// The file the run read, which the maps number, when INPUT is
+        /// another (the `--repaired` file of a run with `--repair`).
+        #[arg(long = "original", value_name = "FILE")]
+        original: Option<PathBuf>,
     },
 }
 

@@ -19,9 +19,9 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_output, check_output_dir, count, escaped, failure_record, file_key, growth_note, longest_first_note,
-    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map, stage_vertex_map,
-    stuck_elsewhere, write_output, FirstPass, Settings,
+    check_maps, check_output, check_output_dir, count, escaped, failure_record, file_key, growth_note,
+    longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map,
+    stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
@@ -528,20 +528,29 @@ fn refine_read(
         staged = check_output(input, mesh, staged, output)?;
     }
     // An output stands for a finished file (--skip-existing skips it): it
-    // is put in place only with its vertex map and repaired input.
+    // is put in place only with its maps (checked with it) and repaired
+    // input.
+    let (vertex_path, face_path) = (vertex_map_path(output), face_map_path(output));
+    let not_written = || format!("{} not written", output.display());
+    let mut vertex_map = None;
     if args.vertex_maps {
-        stage_vertex_map(&vertex_map_path(output), &out.surface, mesh, &written)
-            .and_then(|map| Ok(map.commit()?))
-            .with_context(|| format!("{} not written", output.display()))?;
+        let map = stage_vertex_map(&vertex_path, &out.surface, mesh, &written).with_context(not_written)?;
+        vertex_map = Some((map, vertex_path.as_path()));
     }
+    let mut face_map = None;
     if let Some(origins) = &face_origins {
-        let note = stage_face_map(&face_map_path(output), &out.surface, origins, &written)
-            .and_then(|(map, note)| {
-                map.commit()?;
-                Ok(note)
-            })
-            .with_context(|| format!("{} not written", output.display()))?;
+        let (map, note) = stage_face_map(&face_path, &out.surface, origins, &written).with_context(not_written)?;
         notes.extend(note);
+        face_map = Some((map, face_path.as_path()));
+    }
+    let (vertex_map, face_map) = if args.check {
+        let (vertex_map, face_map, _) = check_maps(input, staged.path(), vertex_map, face_map, &mut notes)?;
+        (vertex_map, face_map)
+    } else {
+        (vertex_map.map(|m| m.0), face_map.map(|m| m.0))
+    };
+    for map in vertex_map.into_iter().chain(face_map) {
+        map.commit().with_context(not_written)?;
     }
     if args.repaired_inputs {
         io::stage_mesh_after(

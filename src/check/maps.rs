@@ -1,0 +1,456 @@
+//! Independent judge of the maps a run writes beside its output: `--vertex-map` (where each
+//! output vertex comes from) and `--face-map` (which input face each output face lies in).
+//!
+//! Both number the input as its file lists it, so they are judged against the file the run
+//! read (`ORIGINAL`: for a run with `--repair`, not the repaired file the mesh check compares
+//! with), read as it lists its vertices and faces, nothing welded, and the output file, by
+//! geometry alone; nothing is shared with the code that made the maps.
+//!
+//! # What is checked
+//!
+//! Vertex map (`output_index,input_index_a,input_index_b,t`): one row per vertex of the output
+//! file, in its order; `a` and `b` vertices of ORIGINAL, each the first the file defines at its
+//! position; `t` is 0 when `a = b` and strictly between 0 and 1 otherwise; and the output
+//! vertex is `a + t·(b − a)`, computed in f64 from ORIGINAL's coordinates, bit for bit (-0 and
+//! 0 alike).
+//!
+//! Face map (`output_index,input_index,inside`): one row per face of the output file, in its
+//! order; the input face is a face of ORIGINAL (a polygon is one face, an STL facet one) and
+//! holds the output face's centroid; a face said `inside` (1) has all its corners on that
+//! input face; and the faces said inside one input face cover no more than its area (within
+//! the mesh check's [`AREA_TOLERANCE`], and [`AREA_ROUNDING`] for the vertices on its sides). An
+//! `inside` of 0 is not judged: the map may say 0 where it cannot be sure (a flip in a flat
+//! region lays faces across coplanar input faces), and [`MapReport::not_inside`] counts them.
+//! "On a face" allows for rounding: [`ROUNDING`] of the input's size plus a few units in the
+//! last place of its coordinates, and for the centroid also [`CENTROID_SLACK`] of the face's
+//! longest side (a centroid rounded just out of a sliver at a region's border is named by the
+//! nearest face).
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{read_raw, CheckError, AREA_ROUNDING, AREA_TOLERANCE, MAX_LINES_PER_KIND};
+use crate::hash::FastMap;
+use crate::io::formats::RawMesh;
+use crate::io::polygon::triangulate;
+
+/// How far off an input face a point may be and still be on it, relative to the input's size
+/// (the diagonal of its bounding box).
+pub const ROUNDING: f64 = 1e-9;
+
+/// How far off its input face a face's centroid may be, besides [`ROUNDING`], relative to the
+/// face's longest side.
+pub const CENTROID_SLACK: f64 = 1e-6;
+
+/// The vertex map's header line.
+pub const VERTEX_MAP_HEADER: &str = "output_index,input_index_a,input_index_b,t";
+
+/// The face map's header line.
+pub const FACE_MAP_HEADER: &str = "output_index,input_index,inside";
+
+/// The outcome of checking one map.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MapReport {
+    /// Rows read (after the header).
+    pub rows: usize,
+    /// Face map: rows whose `inside` is 0 (always 0 for a vertex map).
+    pub not_inside: usize,
+    /// One human-readable line per failure, at most [`MAX_LINES_PER_KIND`] per kind plus one
+    /// `... and N more` line per kind that overflowed. Empty iff the map is right.
+    pub failures: Vec<String>,
+}
+
+impl MapReport {
+    /// True iff the map is right (no failure).
+    pub fn passed(&self) -> bool {
+        self.failures.is_empty()
+    }
+}
+
+/// Checks the maps given (`vertex_map`, `face_map`: CSV files as delmesh writes them) of the
+/// run that read `original` and wrote `output`, reading the files only. Errors when a file
+/// cannot be read (or a mesh file parsed); everything wrong in a map is a failure line of its
+/// report.
+pub fn check_map_files(
+    original: &Path,
+    output: &Path,
+    vertex_map: Option<&Path>,
+    face_map: Option<&Path>,
+) -> Result<(Option<MapReport>, Option<MapReport>), CheckError> {
+    // (Inflated when compressed, as delmesh writes a map named `.gz`.)
+    let table = |path: &Path| {
+        let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        match crate::io::formats::maybe_gunzip(&bytes, 16 << 30) {
+            Ok(std::borrow::Cow::Borrowed(_)) => Ok(bytes),
+            Ok(std::borrow::Cow::Owned(inflated)) => Ok(inflated),
+            Err(e) => Err(CheckError::Parse {
+                path: path.to_path_buf(),
+                format: "gzip",
+                reason: e.to_string(),
+            }),
+        }
+    };
+    let vertex_table = vertex_map.map(table).transpose()?;
+    let face_table = face_map.map(table).transpose()?;
+    let (original, _) = read_raw(original)?;
+    let (output, _) = read_raw(output)?;
+    let vertices = vertex_table.map(|t| check_vertex_map(&original, &output, &t));
+    let faces = face_table.map(|t| check_face_map(&original, &output, &t));
+    Ok((vertices, faces))
+}
+
+/// Failure lines, at most [`MAX_LINES_PER_KIND`] of each kind.
+#[derive(Default)]
+struct Failures {
+    lines: Vec<String>,
+    /// Per kind: how many were found.
+    found: FastMap<&'static str, usize>,
+    /// The kinds, in the order first found.
+    kinds: Vec<&'static str>,
+}
+
+impl Failures {
+    fn push(&mut self, kind: &'static str, line: impl FnOnce() -> String) {
+        let n = self.found.entry(kind).or_insert(0);
+        if *n == 0 {
+            self.kinds.push(kind);
+        }
+        *n += 1;
+        if *n <= MAX_LINES_PER_KIND {
+            self.lines.push(line());
+        }
+    }
+
+    fn into_lines(mut self) -> Vec<String> {
+        for kind in &self.kinds {
+            let n = self.found[kind];
+            if n > MAX_LINES_PER_KIND {
+                self.lines
+                    .push(format!("... and {} more {kind}", n - MAX_LINES_PER_KIND));
+            }
+        }
+        self.lines
+    }
+}
+
+/// The rows of a map's text after its header (lines, numbered from 2); `None` and a failure
+/// when the text is not UTF-8 or its header is not `header`.
+fn rows<'t>(
+    what: &str,
+    text: &'t [u8],
+    header: &str,
+    failures: &mut Failures,
+) -> Option<impl Iterator<Item = (usize, &'t str)>> {
+    let Ok(text) = std::str::from_utf8(text) else {
+        failures.push("unreadable maps", || format!("{what}: not UTF-8 text"));
+        return None;
+    };
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or("");
+    if first.trim_end() != header {
+        failures.push("unreadable maps", || {
+            format!(
+                "{what}: its first line is '{}', not the header '{header}'",
+                first.chars().take(80).collect::<String>()
+            )
+        });
+        return None;
+    }
+    Some(lines.enumerate().map(|(i, line)| (i + 2, line.trim_end())))
+}
+
+/// The `N` cells of a row, or how many it has when not `N`.
+fn cells<const N: usize>(row: &str) -> Result<[&str; N], usize> {
+    let mut cells = [""; N];
+    let mut n = 0;
+    for cell in row.split(',') {
+        if n < N {
+            cells[n] = cell;
+        }
+        n += 1;
+    }
+    if n == N {
+        Ok(cells)
+    } else {
+        Err(n)
+    }
+}
+
+/// An index cell: a vertex or face number below `count`.
+fn index(cell: &str, count: usize) -> Option<usize> {
+    cell.parse::<usize>().ok().filter(|&i| i < count)
+}
+
+fn point(p: [f64; 3]) -> String {
+    crate::io::number::point_text(DVec3::from_array(p))
+}
+
+/// Checks the vertex map `text` of the run that read `original` and wrote `output`.
+pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapReport {
+    const WHAT: &str = "vertex map";
+    let mut failures = Failures::default();
+    let Some(rows) = rows(WHAT, text, VERTEX_MAP_HEADER, &mut failures) else {
+        return MapReport {
+            failures: failures.into_lines(),
+            ..MapReport::default()
+        };
+    };
+    // The first vertex the file defines at each position (-0 and 0 alike).
+    let mut first = FastMap::default();
+    for (i, p) in original.positions.iter().enumerate() {
+        first.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i);
+    }
+    let n = original.positions.len();
+    let out = &output.positions;
+    let mut count = 0;
+    for (k, (line, row)) in rows.enumerate() {
+        count += 1;
+        let [i, a, b, t] = match cells(row) {
+            Ok(cells) => cells,
+            Err(n) => {
+                failures.push("malformed rows", || format!("{WHAT} line {line}: {n} cells, not 4"));
+                continue;
+            }
+        };
+        if i.parse::<usize>().ok() != Some(k) {
+            failures.push("misnumbered rows", || {
+                format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output vertex, in order)")
+            });
+            continue;
+        }
+        let (Some(a), Some(b)) = (index(a, n), index(b, n)) else {
+            failures.push("vertices out of range", || {
+                format!("{WHAT} line {line}: input vertex {a} or {b} is not one of the input's {n} (from 0)")
+            });
+            continue;
+        };
+        let t = match t.parse::<f64>() {
+            Ok(t) if (a == b && t == 0.0) || (a != b && t > 0.0 && t < 1.0) => t,
+            _ => {
+                failures.push("bad parameters", || {
+                    format!("{WHAT} line {line}: t = {t} (0 for an input vertex, a = b; strictly between 0 and 1 for one added between a and b)")
+                });
+                continue;
+            }
+        };
+        for v in [a, b] {
+            let p = original.positions[v];
+            let earlier = first.get(&p.map(|c| (c + 0.0).to_bits())).copied();
+            if earlier.is_some_and(|e| e != v) {
+                failures.push("later copies", || {
+                    format!(
+                        "{WHAT} line {line}: input vertex {v} at {} is defined before as vertex {} (the map names the first)",
+                        point(p),
+                        earlier.unwrap_or(v)
+                    )
+                });
+            }
+        }
+        let Some(&q) = out.get(k) else {
+            continue; // (Counted below.)
+        };
+        let (pa, pb) = (original.positions[a], original.positions[b]);
+        let want: [f64; 3] = std::array::from_fn(|c| pa[c] + t * (pb[c] - pa[c]));
+        if want != q {
+            failures.push("vertices not rebuilt", || {
+                format!(
+                    "{WHAT} line {line}: output vertex {k} is at {}, but a + t·(b − a) is {}",
+                    point(q),
+                    point(want)
+                )
+            });
+        }
+    }
+    if count != out.len() {
+        failures.push("row counts", || {
+            format!("{WHAT}: {count} rows for the output's {} vertices", out.len())
+        });
+    }
+    MapReport {
+        rows: count,
+        not_inside: 0,
+        failures: failures.into_lines(),
+    }
+}
+
+/// Checks the face map `text` of the run that read `original` and wrote `output`.
+pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapReport {
+    const WHAT: &str = "face map";
+    let mut failures = Failures::default();
+    let Some(rows) = rows(WHAT, text, FACE_MAP_HEADER, &mut failures) else {
+        return MapReport {
+            failures: failures.into_lines(),
+            ..MapReport::default()
+        };
+    };
+    let faces = original.face_start.len().saturating_sub(1);
+    let output_faces = output.face_start.len().saturating_sub(1);
+    // The corners of face `f` of `mesh`, into `out`.
+    let polygon = |mesh: &RawMesh, f: usize, out: &mut Vec<DVec3>| {
+        let corners = &mesh.indices[mesh.face_start[f] as usize..mesh.face_start[f + 1] as usize];
+        out.clear();
+        out.extend(corners.iter().map(|&v| DVec3::from_array(mesh.positions[v as usize])));
+    };
+    // Rounding: of the input's size, and of its coordinates' magnitude (a small part far from
+    // the origin).
+    let (lo, hi) = (original.positions.iter())
+        .map(|&p| DVec3::from_array(p))
+        .filter(|p| p.is_finite())
+        .fold((DVec3::MAX, DVec3::MIN), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    let (size, magnitude) = if lo.x <= hi.x {
+        ((hi - lo).length(), lo.abs().max(hi.abs()).max_element())
+    } else {
+        (0.0, 0.0)
+    };
+    let rounding = ROUNDING * size + 64.0 * f64::EPSILON * magnitude;
+    // The triangles of an input face, as its file's polygon is cut (as the construction and
+    // the mesh check cut it): a polygon's found once; and the most area the faces inside it
+    // may cover (NaN until found).
+    let mut pieces = Vec::new();
+    let mut polygons = FastMap::<usize, Vec<[DVec3; 3]>>::default();
+    let mut most = vec![f64::NAN; faces];
+    let mut covered = vec![0.0; faces];
+    let (mut input_corners, mut corners) = (Vec::new(), Vec::new());
+    let mut not_inside = 0;
+    let mut count = 0;
+    for (k, (line, row)) in rows.enumerate() {
+        count += 1;
+        let [i, f, inside] = match cells(row) {
+            Ok(cells) => cells,
+            Err(n) => {
+                failures.push("malformed rows", || format!("{WHAT} line {line}: {n} cells, not 3"));
+                continue;
+            }
+        };
+        if i.parse::<usize>().ok() != Some(k) {
+            failures.push("misnumbered rows", || {
+                format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output face, in order)")
+            });
+            continue;
+        }
+        let Some(f) = index(f, faces) else {
+            failures.push("faces out of range", || {
+                format!("{WHAT} line {line}: input face {f} is not one of the input's {faces} (from 0)")
+            });
+            continue;
+        };
+        let inside = match inside {
+            "1" => true,
+            "0" => false,
+            _ => {
+                failures.push("malformed rows", || {
+                    format!("{WHAT} line {line}: inside is '{inside}', not 0 or 1")
+                });
+                continue;
+            }
+        };
+        if !inside {
+            not_inside += 1;
+        }
+        if k >= output_faces {
+            continue; // (Counted below.)
+        }
+        polygon(original, f, &mut input_corners);
+        let triangle;
+        let triangles: &[[DVec3; 3]] = if let [a, b, c] = input_corners[..] {
+            triangle = [a, b, c];
+            std::slice::from_ref(&triangle)
+        } else {
+            polygons.entry(f).or_insert_with(|| {
+                triangulate(input_corners.len(), |c| input_corners[c].to_array(), &mut pieces);
+                pieces.iter().map(|t| t.map(|c| input_corners[c])).collect()
+            })
+        };
+        if most[f].is_nan() {
+            let area: f64 = triangles.iter().map(|&[a, b, c]| area(a, b, c)).sum();
+            // What rounding the vertices added on its sides can add to the area of the faces
+            // inside it (as the mesh check allows for a region's border: AREA_ROUNDING).
+            let magnitude = input_corners.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+            let n = input_corners.len();
+            let perimeter: f64 = (0..n)
+                .map(|c| input_corners[c].distance(input_corners[(c + 1) % n]))
+                .sum();
+            most[f] = area * (1.0 + AREA_TOLERANCE) + AREA_ROUNDING * f64::EPSILON * magnitude * perimeter;
+        }
+        let on_face = |p: DVec3, slack: f64| {
+            triangles.iter().any(|&t| {
+                let [a, b, c] = t;
+                let side = (b - a).length().max((c - b).length()).max((a - c).length());
+                on_triangle(p, t, rounding + slack * side)
+            })
+        };
+        polygon(output, k, &mut corners);
+        let centroid = corners.iter().sum::<DVec3>() / corners.len() as f64;
+        if !on_face(centroid, CENTROID_SLACK) {
+            failures.push("faces off their input faces", || {
+                format!(
+                    "{WHAT} line {line}: output face {k}'s centroid {} is not on input face {f}",
+                    crate::io::number::point_text(centroid)
+                )
+            });
+            continue;
+        }
+        if inside {
+            if let Some(&off) = corners.iter().find(|&&p| !on_face(p, 0.0)) {
+                failures.push("faces not inside", || {
+                    format!(
+                        "{WHAT} line {line}: output face {k} is said inside input face {f}, but its corner {} is off it",
+                        crate::io::number::point_text(off)
+                    )
+                });
+                continue;
+            }
+            let a: f64 = (1..corners.len() - 1)
+                .map(|j| area(corners[0], corners[j], corners[j + 1]))
+                .sum();
+            covered[f] += a;
+        }
+    }
+    let over = (covered.iter().enumerate())
+        .filter(|&(f, &a)| a > most[f] + rounding * rounding)
+        .map(|(f, &a)| (f, a, most[f]));
+    for (f, a, area) in over {
+        failures.push("input faces covered beyond their area", || {
+            format!("{WHAT}: the output faces said inside input face {f} cover {a:e}, more than its area (at most {area:e} with rounding)")
+        });
+    }
+    if count != output_faces {
+        failures.push("row counts", || {
+            format!("{WHAT}: {count} rows for the output's {output_faces} faces")
+        });
+    }
+    MapReport {
+        rows: count,
+        not_inside,
+        failures: failures.into_lines(),
+    }
+}
+
+/// The area of triangle `a b c`, from its first corner (cross products of positions far from
+/// the origin would cancel a small face's area away).
+fn area(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    (b - a).cross(c - a).length() / 2.0
+}
+
+/// Whether `p` lies on triangle `t` within `tol`: near one of its sides (segment distances,
+/// which needles do not upset), or over its inside (the signs of the sub-triangles' normals
+/// along its own) and near its plane.
+fn on_triangle(p: DVec3, t: [DVec3; 3], tol: f64) -> bool {
+    // (Over the inside first: most points asked about are.)
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let over = (0..3).all(|k| (t[(k + 1) % 3] - t[k]).cross(p - t[k]).dot(n) >= 0.0);
+    if over && (p - t[0]).dot(n.normalize_or_zero()).abs() <= tol {
+        return true;
+    }
+    (0..3).any(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let e = b - a;
+        let s = ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+        let s = if s.is_finite() { s } else { 0.0 };
+        (a + s * e).distance(p) <= tol
+    })
+}
