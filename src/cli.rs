@@ -120,6 +120,7 @@ pub fn main() -> ExitCode {
             vertex_map,
             face_map,
             original,
+            weld_tolerance,
         }) => {
             if let Some(jobs) = jobs {
                 delmesh::parallel::set_threads(usize::from(jobs));
@@ -128,6 +129,7 @@ pub fn main() -> ExitCode {
                 vertex_map,
                 face_map,
                 original,
+                weld_tolerance,
             };
             run_check(&input, &output, &maps)
         }
@@ -1454,7 +1456,14 @@ fn run_refined(
     }
     let t_maps = Instant::now();
     let (vertex_map, face_map, maps_checked) = if args.check {
-        match check_maps(input_path, staged.path(), vertex_map, face_map, &mut written.notes) {
+        match check_maps(
+            input_path,
+            staged.path(),
+            args.settings.weld_tolerance,
+            vertex_map,
+            face_map,
+            &mut written.notes,
+        ) {
             Ok(maps) => maps,
             Err(e) => {
                 report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
@@ -1686,7 +1695,7 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
 }
 
 /// `--check` on the maps of a run that read `input` and wrote `output`
-/// (staged, a file): each map staged (`None` where not asked for) is judged
+/// (staged, a file), with `--weld-tolerance weld_tolerance` (0 without): each map staged (`None` where not asked for) is judged
 /// by `delmesh check --vertex-map/--face-map` and handed back if right; one
 /// that is wrong, or that the judge cannot read, is put at
 /// `<map>.rejected` and the run fails. Maps the judge cannot read back (the
@@ -1695,6 +1704,7 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
 fn check_maps(
     input: &Path,
     output: &Path,
+    weld_tolerance: f64,
     vertex: Option<(io::Staged, &Path)>,
     face: Option<(io::Staged, &Path)>,
     notes: &mut Vec<String>,
@@ -1729,7 +1739,13 @@ fn check_maps(
         (None, Some(_)) => "; its face map is right",
         (None, None) => return Ok((vertex.map(|m| m.0), face.map(|m| m.0), "")),
     };
-    let reports = delmesh::check::maps::check_map_files(input, output, vertex_path.as_deref(), face_path.as_deref());
+    let reports = delmesh::check::maps::check_map_files(
+        input,
+        output,
+        vertex_path.as_deref(),
+        face_path.as_deref(),
+        weld_tolerance,
+    );
     let whys: [Option<String>; 2] = match reports {
         Ok((v, f)) => [v, f].map(|r| {
             r.filter(|r| !r.passed()).map(|r| {
@@ -1989,6 +2005,8 @@ struct MapFiles {
     face_map: Option<PathBuf>,
     /// The file the run read (`--original`); INPUT when not given.
     original: Option<PathBuf>,
+    /// The run's `--weld-tolerance` (0 without).
+    weld_tolerance: f64,
 }
 
 impl MapFiles {
@@ -2000,6 +2018,9 @@ impl MapFiles {
 fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<ExitCode> {
     if maps.original.is_some() && !maps.any() {
         bail!("--original names the file the maps number: give --vertex-map or --face-map with it");
+    }
+    if maps.weld_tolerance > 0.0 && maps.face_map.is_none() {
+        bail!("--weld-tolerance is the run's, for judging its face map: give --face-map with it");
     }
     let original = maps.original.as_deref().unwrap_or(input);
     let mut read: Vec<(&str, &Path)> = vec![("INPUT", input), ("OUTPUT", output)];
@@ -2029,7 +2050,13 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
     crate::working_on(output);
     let report = delmesh::check::check_files(input, output)?;
     let (vertex_report, face_report) = if maps.any() {
-        delmesh::check::maps::check_map_files(original, output, maps.vertex_map.as_deref(), maps.face_map.as_deref())?
+        delmesh::check::maps::check_map_files(
+            original,
+            output,
+            maps.vertex_map.as_deref(),
+            maps.face_map.as_deref(),
+            maps.weld_tolerance,
+        )?
     } else {
         (None, None)
     };
@@ -2126,7 +2153,7 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
         }
     }
     if !map_failures.is_empty() && maps.original.is_none() {
-        say!("note    the maps number the file the run read (-i): when INPUT is another (the --repaired file), give that one as --original FILE");
+        say!("note    the maps number the file the run read (-i): when INPUT is another (the --repaired file), give that one as --original FILE (and a run's --weld-tolerance as well)");
     }
     Ok(if report.passed() && map_failures.is_empty() {
         ExitCode::SUCCESS
@@ -2283,7 +2310,7 @@ mod tests {
         // Right maps are handed back, and said right.
         let (vertex, face) = maps();
         let mut notes = Vec::new();
-        let (v, f, said) = check_maps(&cube, staged.path(), vertex, face, &mut notes).unwrap();
+        let (v, f, said) = check_maps(&cube, staged.path(), 0.0, vertex, face, &mut notes).unwrap();
         assert_eq!(said, "; its maps are right");
         assert!(v.is_some() && f.is_some() && notes.is_empty());
         // A vertex map with a row moved: renamed, the run fails, and the
@@ -2293,7 +2320,7 @@ mod tests {
         let wrong = text.replacen("\n0,0,0,0.0\n", "\n0,1,1,0.0\n", 1);
         assert_ne!(wrong, text);
         let moved = io::stage(&vertex_path, |w| w.write_all(wrong.as_bytes())).unwrap();
-        let e = check_maps(&cube, staged.path(), Some((moved, &vertex_path)), face, &mut notes).unwrap_err();
+        let e = check_maps(&cube, staged.path(), 0.0, Some((moved, &vertex_path)), face, &mut notes).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(
             e.to_string().contains("v.csv: failed the check: vertex map line 2"),
@@ -2304,7 +2331,7 @@ mod tests {
         // One the judge cannot read against (the input gone) neither.
         let (vertex, face) = maps();
         let missing = dir.path().join("missing.obj");
-        let e = check_maps(&missing, staged.path(), vertex, face, &mut notes).unwrap_err();
+        let e = check_maps(&missing, staged.path(), 0.0, vertex, face, &mut notes).unwrap_err();
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(dir.path().join("f.csv.rejected").exists());
         drop(v);

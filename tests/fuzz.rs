@@ -2231,7 +2231,7 @@ fn maps_pass_the_judge(
     if faces {
         let mut face_map = Vec::new();
         delmesh::face_map::write_csv(&mut face_map, &origins.apply(s)).map_err(|e| e.to_string())?;
-        let report = check_face_map(raw, &output, &face_map);
+        let report = check_face_map(raw, &output, &face_map, 0.0);
         if !report.passed() {
             return Err(format!("face map: {:?}", report.failures));
         }

@@ -355,3 +355,86 @@ fn the_map_flags_are_refused_where_they_cannot_work() {
     );
     fails(&[b, b, "--vertex-map", "/nonexistent/v.csv"], "/nonexistent/v.csv");
 }
+
+/// A wavy grid cut down the middle, one side's seam moved 1e-4 off the
+/// other's: `--repair --weld-tolerance 1e-3` closes it, moving input
+/// faces, and the face map is judged where the weld moved them.
+#[test]
+fn a_weld_tolerance_moves_the_faces_the_map_is_judged_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let (n, half) = (10, 5);
+    let mut text = String::new();
+    let mut index = std::collections::HashMap::new();
+    for side in 0..2 {
+        for j in 0..=n {
+            for i in 0..=half {
+                let (x, y) = ((i + side * half) as f64, j as f64);
+                let dx = if side == 1 && i == 0 { 1e-4 } else { 0.0 };
+                let z = 0.04 * (((i + side * half) * 7 + j * 3) % 5) as f64;
+                text += &format!("v {} {y} {z}\n", x + dx);
+                index.insert((side, i, j), index.len() + 1);
+            }
+        }
+        for j in 0..n {
+            for i in 0..half {
+                let v = |di: usize, dj: usize| index[&(side, i + di, j + dj)];
+                text += &format!(
+                    "f {} {} {}\nf {} {} {}\n",
+                    v(0, 0),
+                    v(1, 0),
+                    v(1, 1),
+                    v(0, 0),
+                    v(1, 1),
+                    v(0, 1)
+                );
+            }
+        }
+    }
+    let input = dir.path().join("crack.obj");
+    std::fs::write(&input, text).unwrap();
+    let repaired = dir.path().join("repaired.obj");
+    let flags = [
+        "--repair",
+        "--weld-tolerance",
+        "1e-3",
+        "--repaired",
+        repaired.to_str().unwrap(),
+        "--check",
+    ];
+    let files = refine(dir.path(), &input, "obj", &flags);
+    let original = ["--original", input.to_str().unwrap()];
+    let (ok, stdout) = check(
+        &repaired,
+        &files,
+        &[&original[..], &["--weld-tolerance", "1e-3"]].concat(),
+    );
+    assert!(ok, "{stdout}");
+    // Judged where the file has them, faces along the seam are off.
+    let (ok, stdout) = check(&repaired, &files, &original);
+    assert!(!ok, "{stdout}");
+    assert!(stdout.contains("is not on input face"), "{stdout}");
+}
+
+/// Faces that overlap in the input (a polygon given twice, which --repair
+/// drops as a duplicate): an output face lies on both, and the map names
+/// one of them for faces of either; that is no failure.
+#[test]
+fn overlapping_input_faces_may_share_output_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("twice.obj");
+    std::fs::write(
+        &input,
+        "v 0 0 0\nv 0 0 0\nv 1 0 0\nv 0.5 0 0.47438821025089206\nv 1.3 0.9 0\nv 0.5 1.5 0\n\
+         v -0.3 0.9 0\nf 1 2 3 4 5\nf 2 1 6\nf 1 2 3 4 5\nf 3 2 7\n",
+    )
+    .unwrap();
+    let repaired = dir.path().join("repaired.obj");
+    let files = refine(
+        dir.path(),
+        &input,
+        "obj",
+        &["--repair", "--repaired", repaired.to_str().unwrap(), "--check"],
+    );
+    let (ok, stdout) = check(&repaired, &files, &["--original", input.to_str().unwrap()]);
+    assert!(ok, "{stdout}");
+}

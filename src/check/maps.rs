@@ -16,21 +16,25 @@
 //!
 //! Face map (`output_index,input_index,inside`): one row per face of the output file, in its
 //! order; the input face is a face of ORIGINAL (a polygon is one face, an STL facet one) and
-//! holds the output face's centroid; a face said `inside` (1) has all its corners on that
-//! input face; and the faces said inside one input face cover no more than its area (within
-//! the mesh check's [`AREA_TOLERANCE`], and [`AREA_ROUNDING`] for the vertices on its sides). An
+//! holds the output face's centroid; and a face said `inside` (1) has all its corners on that
+//! input face. (Not that the faces said inside one input face cover no more than its area:
+//! where input faces overlap, a face may lie on several, and the map names one.) An
 //! `inside` of 0 is not judged: the map may say 0 where it cannot be sure (a flip in a flat
 //! region lays faces across coplanar input faces), and [`MapReport::not_inside`] counts them.
 //! "On a face" allows for rounding: [`ROUNDING`] of the input's size plus a few units in the
 //! last place of its coordinates, and for the centroid also [`CENTROID_SLACK`] of the face's
 //! longest side (a centroid rounded just out of a sliver at a region's border is named by the
-//! nearest face).
+//! nearest face). An input face is where the construction reads it: a polygon cut into
+//! triangles as the file's polygons are ([`triangulate`]), less the corners that repeat the
+//! position of the one before (`--repair` reads such a polygon as the outline it traces); and
+//! after a run's `--weld-tolerance`, each corner where the weld moved it (to the position of
+//! the first vertex of its cluster: vertices joined by chains of distances below it).
 
 use std::path::Path;
 
 use glam::DVec3;
 
-use super::{read_raw, CheckError, AREA_ROUNDING, AREA_TOLERANCE, MAX_LINES_PER_KIND};
+use super::{read_raw, CheckError, MAX_LINES_PER_KIND};
 use crate::hash::FastMap;
 use crate::io::formats::RawMesh;
 use crate::io::polygon::triangulate;
@@ -69,7 +73,8 @@ impl MapReport {
 }
 
 /// Checks the maps given (`vertex_map`, `face_map`: CSV files as delmesh writes them) of the
-/// run that read `original` and wrote `output`, reading the files only. Errors when a file
+/// run that read `original` and wrote `output`, reading the files only; `weld_tolerance` is
+/// the run's `--weld-tolerance` (0 without). Errors when a file
 /// cannot be read (or a mesh file parsed); everything wrong in a map is a failure line of its
 /// report.
 pub fn check_map_files(
@@ -77,6 +82,7 @@ pub fn check_map_files(
     output: &Path,
     vertex_map: Option<&Path>,
     face_map: Option<&Path>,
+    weld_tolerance: f64,
 ) -> Result<(Option<MapReport>, Option<MapReport>), CheckError> {
     // (Inflated when compressed, as delmesh writes a map named `.gz`.)
     let table = |path: &Path| {
@@ -99,7 +105,7 @@ pub fn check_map_files(
     let (original, _) = read_raw(original)?;
     let (output, _) = read_raw(output)?;
     let vertices = vertex_table.map(|t| check_vertex_map(&original, &output, &t));
-    let faces = face_table.map(|t| check_face_map(&original, &output, &t));
+    let faces = face_table.map(|t| check_face_map(&original, &output, &t, weld_tolerance));
     Ok((vertices, faces))
 }
 
@@ -277,8 +283,9 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
     }
 }
 
-/// Checks the face map `text` of the run that read `original` and wrote `output`.
-pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapReport {
+/// Checks the face map `text` of the run that read `original` (with `--repair
+/// --weld-tolerance weld_tolerance`, or 0) and wrote `output`.
+pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_tolerance: f64) -> MapReport {
     const WHAT: &str = "face map";
     let mut failures = Failures::default();
     let Some(rows) = rows(WHAT, text, FACE_MAP_HEADER, &mut failures) else {
@@ -295,6 +302,8 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapR
         out.clear();
         out.extend(corners.iter().map(|&v| DVec3::from_array(mesh.positions[v as usize])));
     };
+    // Where a weld moved the input's vertices, each cut triangle's corners go with them.
+    let moved = (weld_tolerance > 0.0).then(|| welded(&original.positions, weld_tolerance));
     // Rounding: of the input's size, and of its coordinates' magnitude (a small part far from
     // the origin).
     let (lo, hi) = (original.positions.iter())
@@ -308,12 +317,9 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapR
     };
     let rounding = ROUNDING * size + 64.0 * f64::EPSILON * magnitude;
     // The triangles of an input face, as its file's polygon is cut (as the construction and
-    // the mesh check cut it): a polygon's found once; and the most area the faces inside it
-    // may cover (NaN until found).
+    // the mesh check cut it): a polygon's found once.
     let mut pieces = Vec::new();
     let mut polygons = FastMap::<usize, Vec<[DVec3; 3]>>::default();
-    let mut most = vec![f64::NAN; faces];
-    let mut covered = vec![0.0; faces];
     let (mut input_corners, mut corners) = (Vec::new(), Vec::new());
     let mut not_inside = 0;
     let mut count = 0;
@@ -356,26 +362,15 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapR
         }
         polygon(original, f, &mut input_corners);
         let triangle;
-        let triangles: &[[DVec3; 3]] = if let [a, b, c] = input_corners[..] {
-            triangle = [a, b, c];
-            std::slice::from_ref(&triangle)
-        } else {
-            polygons.entry(f).or_insert_with(|| {
-                triangulate(input_corners.len(), |c| input_corners[c].to_array(), &mut pieces);
-                pieces.iter().map(|t| t.map(|c| input_corners[c])).collect()
-            })
+        let triangles: &[[DVec3; 3]] = match (&input_corners[..], &moved) {
+            (&[a, b, c], None) => {
+                triangle = [a, b, c];
+                std::slice::from_ref(&triangle)
+            }
+            _ => polygons
+                .entry(f)
+                .or_insert_with(|| cut(original, f, moved.as_deref(), &mut pieces)),
         };
-        if most[f].is_nan() {
-            let area: f64 = triangles.iter().map(|&[a, b, c]| area(a, b, c)).sum();
-            // What rounding the vertices added on its sides can add to the area of the faces
-            // inside it (as the mesh check allows for a region's border: AREA_ROUNDING).
-            let magnitude = input_corners.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
-            let n = input_corners.len();
-            let perimeter: f64 = (0..n)
-                .map(|c| input_corners[c].distance(input_corners[(c + 1) % n]))
-                .sum();
-            most[f] = area * (1.0 + AREA_TOLERANCE) + AREA_ROUNDING * f64::EPSILON * magnitude * perimeter;
-        }
         let on_face = |p: DVec3, slack: f64| {
             triangles.iter().any(|&t| {
                 let [a, b, c] = t;
@@ -404,19 +399,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapR
                 });
                 continue;
             }
-            let a: f64 = (1..corners.len() - 1)
-                .map(|j| area(corners[0], corners[j], corners[j + 1]))
-                .sum();
-            covered[f] += a;
         }
-    }
-    let over = (covered.iter().enumerate())
-        .filter(|&(f, &a)| a > most[f] + rounding * rounding)
-        .map(|(f, &a)| (f, a, most[f]));
-    for (f, a, area) in over {
-        failures.push("input faces covered beyond their area", || {
-            format!("{WHAT}: the output faces said inside input face {f} cover {a:e}, more than its area (at most {area:e} with rounding)")
-        });
     }
     if count != output_faces {
         failures.push("row counts", || {
@@ -430,10 +413,87 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> MapR
     }
 }
 
-/// The area of triangle `a b c`, from its first corner (cross products of positions far from
-/// the origin would cancel a small face's area away).
-fn area(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    (b - a).cross(c - a).length() / 2.0
+/// The triangles of face `f` of `original`, as the construction reads it: a polygon cut as
+/// [`triangulate`] cuts it, after leaving out each corner at the position of the corner kept
+/// before it (around the outline: what `--repair` reads a polygon that passes a point twice
+/// so as), and each corner then at its position in `moved` (the positions a weld gave the
+/// vertices) if given.
+fn cut(original: &RawMesh, f: usize, moved: Option<&[[f64; 3]]>, pieces: &mut Vec<[usize; 3]>) -> Vec<[DVec3; 3]> {
+    let corners = &original.indices[original.face_start[f] as usize..original.face_start[f + 1] as usize];
+    let at = |v: u32| original.positions[v as usize];
+    let mut outline: Vec<u32> = Vec::with_capacity(corners.len());
+    if corners.len() > 3 {
+        let key = |v: u32| crate::hash::position_key(at(v));
+        for &v in corners {
+            if outline.last().is_none_or(|&last| key(last) != key(v)) {
+                outline.push(v);
+            }
+        }
+        while outline.len() > 1 && key(outline[0]) == key(outline[outline.len() - 1]) {
+            outline.pop();
+        }
+    }
+    if outline.len() < 3 {
+        outline.clear();
+        outline.extend_from_slice(corners);
+    }
+    triangulate(outline.len(), |c| at(outline[c]), pieces);
+    let position = |v: u32| DVec3::from_array(moved.map_or(at(v), |m| m[v as usize]));
+    pieces.iter().map(|t| t.map(|c| position(outline[c]))).collect()
+}
+
+/// `positions` as `--repair --weld-tolerance tolerance` moves them: vertices joined by chains of
+/// distances below `tolerance` (a cluster) all take the position of the cluster's first vertex.
+fn welded(positions: &[[f64; 3]], tolerance: f64) -> Vec<[f64; 3]> {
+    if tolerance == f64::INFINITY {
+        return vec![positions.first().copied().unwrap_or_default(); positions.len()];
+    }
+    // Cells twice the tolerance wide (wider where coordinates are so large that their quotients
+    // would lose integers): points closer than it are then, even rounded, in one cell or two
+    // adjacent ones.
+    let largest = positions.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut width = (2.0 * tolerance).max(largest * 2f64.powi(-50));
+    if !width.is_finite() {
+        width = f64::MAX;
+    }
+    let mut cells: FastMap<[i64; 3], Vec<u32>> = FastMap::default();
+    for (i, p) in positions.iter().enumerate() {
+        cells
+            .entry(p.map(|x| (x / width).floor() as i64))
+            .or_default()
+            .push(i as u32);
+    }
+    let mut sets = super::UnionFind::new(positions.len());
+    let near = |a: u32, b: u32| {
+        let (p, q) = (positions[a as usize], positions[b as usize]);
+        (0..3).map(|k| (p[k] - q[k]) * (p[k] - q[k])).sum::<f64>() < tolerance * tolerance
+    };
+    for (key, here) in &cells {
+        for offset in (0..27).map(|o| [o / 9 - 1, o / 3 % 3 - 1, o % 3 - 1]) {
+            let neighbour = [0, 1, 2].map(|k| key[k].wrapping_add(offset[k]));
+            let Some(there) = cells.get(&neighbour) else {
+                continue;
+            };
+            for &a in here {
+                for &b in there.iter().filter(|&&b| b > a) {
+                    if near(a, b) {
+                        sets.union(a, b);
+                    }
+                }
+            }
+        }
+    }
+    // (Sets are rooted anywhere: the first vertex of each is found in order.)
+    let mut first = vec![u32::MAX; positions.len()];
+    (0..positions.len() as u32)
+        .map(|v| {
+            let root = sets.find(v) as usize;
+            if first[root] == u32::MAX {
+                first[root] = v;
+            }
+            positions[first[root] as usize]
+        })
+        .collect()
 }
 
 /// Whether `p` lies on triangle `t` within `tol`: near one of its sides (segment distances,

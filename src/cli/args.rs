@@ -373,6 +373,10 @@ pub(super) enum Command {
         /// another (the `--repaired` file of a run with `--repair`).
         #[arg(long = "original", value_name = "FILE")]
         original: Option<PathBuf>,
+        /// The run's --weld-tolerance, if it gave one: the face map's input
+        /// faces are judged where that weld moved them.
+        #[arg(long = "weld-tolerance", value_name = "DIST", default_value_t = 0.0, value_parser = weld_distance)]
+        weld_tolerance: f64,
     },
 }
 

@@ -544,7 +544,14 @@ fn refine_read(
         face_map = Some((map, face_path.as_path()));
     }
     let (vertex_map, face_map) = if args.check {
-        let (vertex_map, face_map, _) = check_maps(input, staged.path(), vertex_map, face_map, &mut notes)?;
+        let (vertex_map, face_map, _) = check_maps(
+            input,
+            staged.path(),
+            args.settings.weld_tolerance,
+            vertex_map,
+            face_map,
+            &mut notes,
+        )?;
         (vertex_map, face_map)
     } else {
         (vertex_map.map(|m| m.0), face_map.map(|m| m.0))
