@@ -308,6 +308,8 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
     let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
     let read_input = || {
         read_welded(input).map(|mut welded| {
+            // (Whether the input's file has copies of its own: then the output's are not judged.)
+            let copies = copies_apart(&welded.mesh, &welded.file_corners, 0).0 > 0;
             let in_file = welded.mesh.positions.len();
             let Settled { mesh, around } = settle(welded.mesh, &welded.file_corners);
             drop(welded.file_corners);
@@ -321,11 +323,11 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
             // only once both files are read.)
             let prepared = prepare_input(&mesh, Some(&around), &welded.naming);
             drop(around);
-            (mesh, settled, welded.naming, in_file, prepared)
+            (mesh, settled, welded.naming, in_file, prepared, copies)
         })
     };
     let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
-    let (input_mesh, input_settled, input_naming, input_in_file, input_prepared) = input_read?;
+    let (input_mesh, input_settled, input_naming, input_in_file, input_prepared, input_copies) = input_read?;
     let mut welded = output_read?;
     let output_in_file = welded.mesh.positions.len();
     let input_positions = &input_mesh.positions[..input_settled];
@@ -339,7 +341,34 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
         input_positions,
         input_in_file,
     );
+    // Copies the output's file has at one position that reading joins (not kept apart as
+    // distinct vertices that round to one point, nor a seam's), where the input's file has
+    // none: a reader that does not weld by position (most do not) sees the surface cut there.
+    let cracks = if input_copies {
+        (0, Vec::new())
+    } else {
+        copies_apart(&output_mesh, &welded.file_corners, MAX_LINES_PER_KIND)
+    };
     drop(welded.file_corners);
+    let crack_lines: Vec<String> = (cracks.1.iter())
+        .map(|&(v, a, b)| {
+            let p = output_mesh.positions[v as usize];
+            let numbering = welded.naming.numbering;
+            let origin = |f: u32| match (welded.naming.origin_kind, welded.naming.vertex_origin.get(f as usize)) {
+                (OriginKind::Line, Some(line)) => format!("line {line}"),
+                _ => numbering.vertex(f, p.to_array()),
+            };
+            format!(
+                "output {} and {} are at one position {} but apart in the file ({} and {}): a reader that does not weld positions sees a crack there (the input has no such copies)",
+                numbering.vertex(a, p.to_array()),
+                numbering.vertex(b, p.to_array()),
+                point_text(p),
+                origin(a),
+                origin(b)
+            )
+        })
+        .chain((cracks.0 > MAX_LINES_PER_KIND).then(|| format!("... and {} more crack failures", cracks.0 - MAX_LINES_PER_KIND)))
+        .collect();
     welded.naming.name_copies(&output_mesh.positions, output_in_file);
     let output_naming = welded.naming;
     // Settling only appends vertices (copies where welding is undone): the first ones are still
@@ -358,6 +387,7 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
         path: input.to_path_buf(),
         reason,
     })?;
+    report.failures.extend(crack_lines);
     report.first_reordered_vertex = reordered;
     report.first_reordered_vertex_names = reordered.map(|k| {
         let name = |mesh: &Mesh3, naming: &Naming| Names::new("", mesh, naming).vertex_noun(k as u32);
@@ -1160,6 +1190,50 @@ fn foreign_raw(path: &Path, bytes: &[u8], format: crate::io::formats::Format) ->
         format: format.name(),
         reason: e.to_string(),
     })
+}
+
+/// The file vertices of `mesh` that welding joined at one position and that are not copies a
+/// seam made ([`FileVertices::seam_copies`]): how many welded vertices have such, and the first
+/// `limit` of them as (welded vertex, two of its file vertices).
+fn copies_apart(mesh: &Mesh3, files: &FileVertices, limit: usize) -> (usize, Vec<(u32, u32, u32)>) {
+    // Nearly every vertex has one file vertex: those with several are found in one pass, and
+    // only they are looked at closer.
+    let mut first = vec![u32::MAX; mesh.positions.len()];
+    let mut several = vec![false; mesh.positions.len()];
+    let mut any = false;
+    for (t, corners) in mesh.triangles.iter().zip(&files.corners) {
+        for (&v, &f) in t.iter().zip(corners) {
+            let seen = &mut first[v as usize];
+            if *seen == u32::MAX {
+                *seen = f;
+            } else if *seen != f {
+                several[v as usize] = true;
+                any = true;
+            }
+        }
+    }
+    if !any {
+        return (0, Vec::new());
+    }
+    let mut pairs: Vec<(u32, u32)> = (mesh.triangles.iter().zip(&files.corners))
+        .flat_map(|(t, corners)| t.iter().copied().zip(corners.iter().copied()))
+        .filter(|&(v, _)| several[v as usize])
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let (mut count, mut found) = (0, Vec::new());
+    for group in pairs.chunk_by(|a, b| a.0 == b.0) {
+        let apart = (0..group.len())
+            .flat_map(|i| (i + 1..group.len()).map(move |j| (i, j)))
+            .find(|&(i, j)| !files.seam_copies(group[i].1, group[j].1));
+        if let Some((i, j)) = apart {
+            count += 1;
+            if found.len() < limit {
+                found.push((group[i].0, group[i].1, group[j].1));
+            }
+        }
+    }
+    (count, found)
 }
 
 /// Triangulates the polygons of `raw` and welds its identical positions (-0 and 0 alike), keeping the

@@ -134,6 +134,41 @@ fn split_kite(m: [f64; 3]) -> String {
 // Valid results pass
 // ---------------------------------------------------------------------------------------------
 
+/// The octahedron with vertex 0 given a copy at its position that two of
+/// its four faces use: welded by position it is the octahedron, but a
+/// reader that does not weld sees it cut open along two edges.
+fn octahedron_with_a_copy() -> String {
+    let mut v = OCTA_V.to_vec();
+    v.push(OCTA_V[0]);
+    let mut seen = 0;
+    let f: Vec<[u32; 3]> = (OCTA_F.iter())
+        .map(|t| {
+            if t.contains(&0) {
+                seen += 1;
+                if seen <= 2 {
+                    return t.map(|c| if c == 0 { 6 } else { c });
+                }
+            }
+            *t
+        })
+        .collect();
+    obj(&v, &f)
+}
+
+#[test]
+fn an_output_cut_open_by_a_copy_of_a_vertex_fails() {
+    let report = check_texts(&octahedron(), &octahedron_with_a_copy());
+    assert_failure(
+        &report,
+        "but apart in the file (line 1 and line 7): a reader that does not weld positions sees a crack there",
+    );
+    assert_eq!(report.failures.len(), 1, "{report}");
+    // An input cut so itself: its output is not judged for copies (the
+    // construction welds them; --repair's cuts are such copies too).
+    assert_passes(&check_texts(&octahedron_with_a_copy(), &octahedron_with_a_copy()));
+    assert_passes(&check_texts(&octahedron_with_a_copy(), &octahedron()));
+}
+
 #[test]
 fn delaunay_closed_meshes_pass_against_themselves() {
     for text in [octahedron(), obj(&TETRA_V, &TETRA_F)] {

@@ -34,7 +34,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{read_raw, CheckError, MAX_LINES_PER_KIND};
+use super::{read_raw, CheckError, Failures};
 use crate::hash::FastMap;
 use crate::io::formats::RawMesh;
 use crate::io::polygon::triangulate;
@@ -60,8 +60,8 @@ pub struct MapReport {
     pub rows: usize,
     /// Face map: rows whose `inside` is 0 (always 0 for a vertex map).
     pub not_inside: usize,
-    /// One human-readable line per failure, at most [`MAX_LINES_PER_KIND`] per kind plus one
-    /// `... and N more` line per kind that overflowed. Empty iff the map is right.
+    /// One human-readable line per failure, at most [`super::MAX_LINES_PER_KIND`] per kind
+    /// plus one `... and N more` line per kind that overflowed. Empty iff the map is right.
     pub failures: Vec<String>,
 }
 
@@ -109,40 +109,6 @@ pub fn check_map_files(
     Ok((vertices, faces))
 }
 
-/// Failure lines, at most [`MAX_LINES_PER_KIND`] of each kind.
-#[derive(Default)]
-struct Failures {
-    lines: Vec<String>,
-    /// Per kind: how many were found.
-    found: FastMap<&'static str, usize>,
-    /// The kinds, in the order first found.
-    kinds: Vec<&'static str>,
-}
-
-impl Failures {
-    fn push(&mut self, kind: &'static str, line: impl FnOnce() -> String) {
-        let n = self.found.entry(kind).or_insert(0);
-        if *n == 0 {
-            self.kinds.push(kind);
-        }
-        *n += 1;
-        if *n <= MAX_LINES_PER_KIND {
-            self.lines.push(line());
-        }
-    }
-
-    fn into_lines(mut self) -> Vec<String> {
-        for kind in &self.kinds {
-            let n = self.found[kind];
-            if n > MAX_LINES_PER_KIND {
-                self.lines
-                    .push(format!("... and {} more {kind}", n - MAX_LINES_PER_KIND));
-            }
-        }
-        self.lines
-    }
-}
-
 /// The rows of a map's text after its header (lines, numbered from 2); `None` and a failure
 /// when the text is not UTF-8 or its header is not `header`.
 fn rows<'t>(
@@ -152,13 +118,13 @@ fn rows<'t>(
     failures: &mut Failures,
 ) -> Option<impl Iterator<Item = (usize, &'t str)>> {
     let Ok(text) = std::str::from_utf8(text) else {
-        failures.push("unreadable maps", || format!("{what}: not UTF-8 text"));
+        failures.push("map", || format!("{what}: not UTF-8 text"));
         return None;
     };
     let mut lines = text.lines();
     let first = lines.next().unwrap_or("");
     if first.trim_end() != header {
-        failures.push("unreadable maps", || {
+        failures.push("map", || {
             format!(
                 "{what}: its first line is '{}', not the header '{header}'",
                 first.chars().take(80).collect::<String>()
@@ -201,7 +167,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
     let mut failures = Failures::default();
     let Some(rows) = rows(WHAT, text, VERTEX_MAP_HEADER, &mut failures) else {
         return MapReport {
-            failures: failures.into_lines(),
+            failures: failures.finish(),
             ..MapReport::default()
         };
     };
@@ -218,18 +184,18 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
         let [i, a, b, t] = match cells(row) {
             Ok(cells) => cells,
             Err(n) => {
-                failures.push("malformed rows", || format!("{WHAT} line {line}: {n} cells, not 4"));
+                failures.push("row", || format!("{WHAT} line {line}: {n} cells, not 4"));
                 continue;
             }
         };
         if i.parse::<usize>().ok() != Some(k) {
-            failures.push("misnumbered rows", || {
+            failures.push("row number", || {
                 format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output vertex, in order)")
             });
             continue;
         }
         let (Some(a), Some(b)) = (index(a, n), index(b, n)) else {
-            failures.push("vertices out of range", || {
+            failures.push("vertex number", || {
                 format!("{WHAT} line {line}: input vertex {a} or {b} is not one of the input's {n} (from 0)")
             });
             continue;
@@ -237,7 +203,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
         let t = match t.parse::<f64>() {
             Ok(t) if (a == b && t == 0.0) || (a != b && t > 0.0 && t < 1.0) => t,
             _ => {
-                failures.push("bad parameters", || {
+                failures.push("parameter", || {
                     format!("{WHAT} line {line}: t = {t} (0 for an input vertex, a = b; strictly between 0 and 1 for one added between a and b)")
                 });
                 continue;
@@ -247,7 +213,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
             let p = original.positions[v];
             let earlier = first.get(&p.map(|c| (c + 0.0).to_bits())).copied();
             if earlier.is_some_and(|e| e != v) {
-                failures.push("later copies", || {
+                failures.push("first definition", || {
                     format!(
                         "{WHAT} line {line}: input vertex {v} at {} is defined before as vertex {} (the map names the first)",
                         point(p),
@@ -262,7 +228,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
         let (pa, pb) = (original.positions[a], original.positions[b]);
         let want: [f64; 3] = std::array::from_fn(|c| pa[c] + t * (pb[c] - pa[c]));
         if want != q {
-            failures.push("vertices not rebuilt", || {
+            failures.push("vertex position", || {
                 format!(
                     "{WHAT} line {line}: output vertex {k} is at {}, but a + t·(b − a) is {}",
                     point(q),
@@ -272,14 +238,14 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
         }
     }
     if count != out.len() {
-        failures.push("row counts", || {
+        failures.push("row count", || {
             format!("{WHAT}: {count} rows for the output's {} vertices", out.len())
         });
     }
     MapReport {
         rows: count,
         not_inside: 0,
-        failures: failures.into_lines(),
+        failures: failures.finish(),
     }
 }
 
@@ -290,7 +256,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
     let mut failures = Failures::default();
     let Some(rows) = rows(WHAT, text, FACE_MAP_HEADER, &mut failures) else {
         return MapReport {
-            failures: failures.into_lines(),
+            failures: failures.finish(),
             ..MapReport::default()
         };
     };
@@ -328,18 +294,18 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         let [i, f, inside] = match cells(row) {
             Ok(cells) => cells,
             Err(n) => {
-                failures.push("malformed rows", || format!("{WHAT} line {line}: {n} cells, not 3"));
+                failures.push("row", || format!("{WHAT} line {line}: {n} cells, not 3"));
                 continue;
             }
         };
         if i.parse::<usize>().ok() != Some(k) {
-            failures.push("misnumbered rows", || {
+            failures.push("row number", || {
                 format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output face, in order)")
             });
             continue;
         }
         let Some(f) = index(f, faces) else {
-            failures.push("faces out of range", || {
+            failures.push("face number", || {
                 format!("{WHAT} line {line}: input face {f} is not one of the input's {faces} (from 0)")
             });
             continue;
@@ -348,7 +314,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
             "1" => true,
             "0" => false,
             _ => {
-                failures.push("malformed rows", || {
+                failures.push("row", || {
                     format!("{WHAT} line {line}: inside is '{inside}', not 0 or 1")
                 });
                 continue;
@@ -381,7 +347,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         polygon(output, k, &mut corners);
         let centroid = corners.iter().sum::<DVec3>() / corners.len() as f64;
         if !on_face(centroid, CENTROID_SLACK) {
-            failures.push("faces off their input faces", || {
+            failures.push("face centroid", || {
                 format!(
                     "{WHAT} line {line}: output face {k}'s centroid {} is not on input face {f}",
                     crate::io::number::point_text(centroid)
@@ -391,7 +357,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         }
         if inside {
             if let Some(&off) = corners.iter().find(|&&p| !on_face(p, 0.0)) {
-                failures.push("faces not inside", || {
+                failures.push("inside", || {
                     format!(
                         "{WHAT} line {line}: output face {k} is said inside input face {f}, but its corner {} is off it",
                         crate::io::number::point_text(off)
@@ -402,14 +368,14 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         }
     }
     if count != output_faces {
-        failures.push("row counts", || {
+        failures.push("row count", || {
             format!("{WHAT}: {count} rows for the output's {output_faces} faces")
         });
     }
     MapReport {
         rows: count,
         not_inside,
-        failures: failures.into_lines(),
+        failures: failures.finish(),
     }
 }
 
