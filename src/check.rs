@@ -170,6 +170,15 @@ pub enum CheckError {
         /// The file.
         path: PathBuf,
     },
+    /// The files cannot be judged as asked (an STL OUTPUT's maps: its coordinates are rounded
+    /// to f32 and it has no vertex list).
+    #[error("{}: {reason}", .path.display())]
+    Unjudgeable {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// The INPUT mesh itself is not a valid input (non-manifold, inconsistently oriented,
     /// degenerate faces repeating a vertex), so no output can be judged against it.
     #[error("{}: the input mesh is invalid: {reason}", .path.display())]

@@ -354,6 +354,20 @@ fn the_map_flags_are_refused_where_they_cannot_work() {
         "INPUT is standard input, which the maps cannot read again",
     );
     fails(&[b, b, "--vertex-map", "/nonexistent/v.csv"], "/nonexistent/v.csv");
+    // An STL output (`--no-refine` converts to one) rounds to f32 and has
+    // no vertex list: its maps cannot be judged, and the judge says so.
+    let dir = tempfile::tempdir().unwrap();
+    let stl = dir.path().join("bunny.stl");
+    let map = dir.path().join("v.csv");
+    delmesh()
+        .args(["-q", "--no-refine", "-i", b, "-o"])
+        .arg(&stl)
+        .arg("--vertex-map")
+        .arg(&map)
+        .assert()
+        .success();
+    let (s, m) = (stl.to_str().unwrap(), map.to_str().unwrap());
+    fails(&[b, s, "--vertex-map", m], "an STL output has no vertex list");
 }
 
 /// A wavy grid cut down the middle, one side's seam moved 1e-4 off the

@@ -73,13 +73,13 @@ impl MapReport {
 }
 
 /// Checks the maps given (`vertex_map`, `face_map`: CSV files as delmesh writes them) of the
-/// run that read `original` and wrote `output`, reading the files only; `weld_tolerance` is
-/// the run's `--weld-tolerance` (0 without). Errors when a file
-/// cannot be read (or a mesh file parsed); everything wrong in a map is a failure line of its
-/// report.
+/// run that read `original` and wrote `output_path`, reading the files only; `weld_tolerance` is
+/// the run's `--weld-tolerance` (0 without). Errors when a file cannot be read (or a mesh
+/// file parsed), or the output is an STL ([`CheckError::Unjudgeable`]); everything wrong in a
+/// map is a failure line of its report.
 pub fn check_map_files(
     original: &Path,
-    output: &Path,
+    output_path: &Path,
     vertex_map: Option<&Path>,
     face_map: Option<&Path>,
     weld_tolerance: f64,
@@ -103,7 +103,13 @@ pub fn check_map_files(
     let vertex_table = vertex_map.map(table).transpose()?;
     let face_table = face_map.map(table).transpose()?;
     let (original, _) = read_raw(original)?;
-    let (output, _) = read_raw(output)?;
+    let (output, shares_vertices) = read_raw(output_path)?;
+    if !shares_vertices {
+        return Err(CheckError::Unjudgeable {
+            path: output_path.to_path_buf(),
+            reason: "an STL output has no vertex list and rounds coordinates to f32: its maps cannot be judged (write OBJ, OFF or PLY)".into(),
+        });
+    }
     let vertices = vertex_table.map(|t| check_vertex_map(&original, &output, &t));
     let faces = face_table.map(|t| check_face_map(&original, &output, &t, weld_tolerance));
     Ok((vertices, faces))
