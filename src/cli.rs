@@ -1694,6 +1694,21 @@ fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: 
     CheckReference::new(input, mesh, output)?.check(staged, output)
 }
 
+/// Why a file failed `--check`: its first failure line (of `failures`, not
+/// empty) and how many more there are.
+fn failed_the_check(failures: &[String]) -> String {
+    let more = failures.len().saturating_sub(1);
+    let and_more = if more > 0 {
+        format!(" (and {more} more)")
+    } else {
+        String::new()
+    };
+    format!(
+        "failed the check: {}{and_more}",
+        failures.first().map_or("", String::as_str)
+    )
+}
+
 /// `--check` on the maps of a run that read `input` and wrote `output`
 /// (staged, a file), with `--weld-tolerance weld_tolerance` (0 without): each map staged (`None` where not asked for) is judged
 /// by `delmesh check --vertex-map/--face-map` and handed back if right; one
@@ -1747,20 +1762,7 @@ fn check_maps(
         weld_tolerance,
     );
     let whys: [Option<String>; 2] = match reports {
-        Ok((v, f)) => [v, f].map(|r| {
-            r.filter(|r| !r.passed()).map(|r| {
-                let more = r.failures.len() - 1;
-                format!(
-                    "failed the check: {}{}",
-                    r.failures[0],
-                    if more > 0 {
-                        format!(" (and {more} more)")
-                    } else {
-                        String::new()
-                    }
-                )
-            })
-        }),
+        Ok((v, f)) => [v, f].map(|r| r.filter(|r| !r.passed()).map(|r| failed_the_check(&r.failures))),
         Err(e) => {
             let why = format!("the check could not read the files: {e}");
             [
@@ -1830,18 +1832,7 @@ impl<'a> CheckReference<'a> {
         let reference = self.written.as_ref().map_or(self.input, |(_, f)| f.path());
         let why = match delmesh::check::check_files(reference, staged.path()) {
             Ok(report) if report.passed() => return Ok(staged),
-            Ok(report) => {
-                let more = report.failures.len() - 1;
-                format!(
-                    "failed the check: {}{}",
-                    report.failures[0],
-                    if more > 0 {
-                        format!(" (and {more} more)")
-                    } else {
-                        String::new()
-                    }
-                )
-            }
+            Ok(report) => failed_the_check(&report.failures),
             Err(e) => format!("the check could not read the files: {e}"),
         };
         let mut rejected = output.as_os_str().to_owned();

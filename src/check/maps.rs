@@ -141,21 +141,38 @@ fn rows<'t>(
     Some(lines.enumerate().map(|(i, line)| (i + 2, line.trim_end())))
 }
 
-/// The `N` cells of a row, or how many it has when not `N`.
-fn cells<const N: usize>(row: &str) -> Result<[&str; N], usize> {
+/// The `N` cells after the output index of `text`, row `k` of map `what` (on line `line`), its
+/// output `noun` (vertex or face) numbered `k`; `None` and a failure when it has another count
+/// of cells or another number.
+fn row<'t, const N: usize>(
+    what: &str,
+    noun: &str,
+    k: usize,
+    line: usize,
+    text: &'t str,
+    failures: &mut Failures,
+) -> Option<[&'t str; N]> {
+    let mut split = text.split(',');
+    let index = split.next().unwrap_or("");
     let mut cells = [""; N];
     let mut n = 0;
-    for cell in row.split(',') {
+    for cell in split {
         if n < N {
             cells[n] = cell;
         }
         n += 1;
     }
-    if n == N {
-        Ok(cells)
-    } else {
-        Err(n)
+    if n != N {
+        failures.push("row", || format!("{what} line {line}: {} cells, not {}", n + 1, N + 1));
+        return None;
     }
+    if index.parse::<usize>().ok() != Some(k) {
+        failures.push("row number", || {
+            format!("{what} line {line}: output_index {index}, not {k} (one row per output {noun}, in order)")
+        });
+        return None;
+    }
+    Some(cells)
 }
 
 /// An index cell: a vertex or face number below `count`.
@@ -185,21 +202,11 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
     let n = original.positions.len();
     let out = &output.positions;
     let mut count = 0;
-    for (k, (line, row)) in rows.enumerate() {
+    for (k, (line, text)) in rows.enumerate() {
         count += 1;
-        let [i, a, b, t] = match cells(row) {
-            Ok(cells) => cells,
-            Err(n) => {
-                failures.push("row", || format!("{WHAT} line {line}: {n} cells, not 4"));
-                continue;
-            }
-        };
-        if i.parse::<usize>().ok() != Some(k) {
-            failures.push("row number", || {
-                format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output vertex, in order)")
-            });
+        let Some([a, b, t]) = row(WHAT, "vertex", k, line, text, &mut failures) else {
             continue;
-        }
+        };
         let (Some(a), Some(b)) = (index(a, n), index(b, n)) else {
             failures.push("vertex number", || {
                 format!("{WHAT} line {line}: input vertex {a} or {b} is not one of the input's {n} (from 0)")
@@ -295,21 +302,11 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
     let (mut input_corners, mut corners) = (Vec::new(), Vec::new());
     let mut not_inside = 0;
     let mut count = 0;
-    for (k, (line, row)) in rows.enumerate() {
+    for (k, (line, text)) in rows.enumerate() {
         count += 1;
-        let [i, f, inside] = match cells(row) {
-            Ok(cells) => cells,
-            Err(n) => {
-                failures.push("row", || format!("{WHAT} line {line}: {n} cells, not 3"));
-                continue;
-            }
-        };
-        if i.parse::<usize>().ok() != Some(k) {
-            failures.push("row number", || {
-                format!("{WHAT} line {line}: output_index {i}, not {k} (one row per output face, in order)")
-            });
+        let Some([f, inside]) = row(WHAT, "face", k, line, text, &mut failures) else {
             continue;
-        }
+        };
         let Some(f) = index(f, faces) else {
             failures.push("face number", || {
                 format!("{WHAT} line {line}: input face {f} is not one of the input's {faces} (from 0)")
