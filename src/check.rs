@@ -39,6 +39,12 @@
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
 //!    number of boundary loops and number of connected components equal the input's.
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
+//! 7. ([`check_files`] only.) The OUTPUT's file does not give one vertex two records that reading
+//!    joins (not copies a seam made, nor distinct vertices rounded to one point, which reading
+//!    keeps apart) unless the INPUT's file has such copies too: a reader that does not weld
+//!    by position would see the surface cut there.
+//!
+//! The maps a run writes beside its output are judged by [`maps`].
 //!
 //! # How files are read
 //!

@@ -1710,8 +1710,9 @@ fn failed_the_check(failures: &[String]) -> String {
 }
 
 /// `--check` on the maps of a run that read `input` and wrote `output`
-/// (staged, a file), with `--weld-tolerance weld_tolerance` (0 without): each map staged (`None` where not asked for) is judged
-/// by `delmesh check --vertex-map/--face-map` and handed back if right; one
+/// (staged, a file), with `--weld-tolerance weld_tolerance` (0 without):
+/// each map staged (`None` where not asked for) is judged by `delmesh
+/// check --vertex-map/--face-map` and handed back if right; one
 /// that is wrong, or that the judge cannot read, is put at
 /// `<map>.rejected` and the run fails. Maps the judge cannot read back (the
 /// input or the map a stream) are not judged, with a note in `notes`. Also
@@ -2031,8 +2032,9 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
         .collect();
     if from_stdin.len() > 1 {
         bail!(
-            "{} are standard input: at most one of them can be `-`",
-            from_stdin.join(" and ")
+            "{} are {} standard input: at most one of them can be `-`",
+            from_stdin.join(" and "),
+            if from_stdin.len() == 2 { "both" } else { "all" }
         );
     }
     let paths: Vec<&Path> = read.iter().map(|(_, p)| *p).collect();

@@ -347,7 +347,7 @@ fn the_map_flags_are_refused_where_they_cannot_work() {
     fails(&["--original", b, b, b], "--original names the file the maps number");
     fails(
         &[b, "-", "--vertex-map", "-"],
-        "OUTPUT and --vertex-map are standard input",
+        "OUTPUT and --vertex-map are both standard input",
     );
     fails(
         &["-", b, "--face-map", b],
