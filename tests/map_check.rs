@@ -319,12 +319,15 @@ fn the_run_check_judges_the_maps() {
     assert!(!stdout.contains("its vertex map is right"), "{stdout}");
     // batch --check judges the maps it writes.
     let out_dir = dir.path().join("batch");
-    delmesh()
+    let out = delmesh()
         .args(["batch", "--check", "--vertex-maps", "--face-maps", "-d"])
         .arg(&out_dir)
         .arg(&rotor)
-        .assert()
-        .success();
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("check PASS; its maps are right"), "{stdout}");
     let files = [
         out_dir.join("rotor.obj"),
         out_dir.join("rotor.vertex-map.csv"),

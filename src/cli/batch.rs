@@ -321,6 +321,9 @@ struct Done {
     seconds: f64,
     /// Whether the settings of `record` were chosen by --smallest.
     smallest: bool,
+    /// With --check: which maps it found right, as the line says it
+    /// (`; its maps are right`), or nothing.
+    maps_checked: &'static str,
     /// With --stats-json, the file's document.
     doc: Option<FileDocument>,
 }
@@ -543,18 +546,17 @@ fn refine_read(
         notes.extend(note);
         face_map = Some((map, face_path.as_path()));
     }
-    let (vertex_map, face_map) = if args.check {
-        let (vertex_map, face_map, _) = check_maps(
+    let (vertex_map, face_map, maps_checked) = if args.check {
+        check_maps(
             input,
             staged.path(),
             args.settings.weld_tolerance,
             vertex_map,
             face_map,
             &mut notes,
-        )?;
-        (vertex_map, face_map)
+        )?
     } else {
-        (vertex_map.map(|m| m.0), face_map.map(|m| m.0))
+        (vertex_map.map(|m| m.0), face_map.map(|m| m.0), "")
     };
     for map in vertex_map.into_iter().chain(face_map) {
         map.commit().with_context(not_written)?;
@@ -573,6 +575,7 @@ fn refine_read(
     Ok(Done {
         record: out.record(options, output, seconds_write),
         smallest: args.smallest,
+        maps_checked,
         repairs: mesh.repair.as_ref().map(|r| r.lines()).unwrap_or_default(),
         notes,
         seconds: 0.0, // set by refine_file
@@ -866,6 +869,7 @@ fn report_done(input: &Path, done: &Done, checked: bool) {
     }
     if checked {
         line += ", check PASS";
+        line += done.maps_checked;
     }
     if !done.repairs.is_empty() {
         line += &format!("; repair: {}", done.repairs.join(", "));
