@@ -197,7 +197,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
     // The first vertex the file defines at each position (-0 and 0 alike).
     let mut first = FastMap::default();
     for (i, p) in original.positions.iter().enumerate() {
-        first.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i);
+        first.entry(crate::hash::position_key(*p)).or_insert(i);
     }
     let n = original.positions.len();
     let out = &output.positions;
@@ -224,7 +224,7 @@ pub fn check_vertex_map(original: &RawMesh, output: &RawMesh, text: &[u8]) -> Ma
         };
         for v in [a, b] {
             let p = original.positions[v];
-            let earlier = first.get(&p.map(|c| (c + 0.0).to_bits())).copied();
+            let earlier = first.get(&crate::hash::position_key(p)).copied();
             if earlier.is_some_and(|e| e != v) {
                 failures.push("first definition", || {
                     format!(
