@@ -1709,6 +1709,12 @@ fn failed_the_check(failures: &[String]) -> String {
     )
 }
 
+/// Whether `input` cannot be read a second time: standard input, or
+/// anything else that is not a regular file (a pipe, a device).
+fn read_only_once(input: &Path) -> bool {
+    io::is_standard_input(input) || std::fs::metadata(input).is_ok_and(|m| !m.is_file())
+}
+
 /// `--check` on the maps of a run that read `input` and wrote `output`
 /// (staged, a file), with `--weld-tolerance weld_tolerance` (0 without):
 /// each map staged (`None` where not asked for) is judged by `delmesh
@@ -1725,7 +1731,7 @@ fn check_maps(
     face: Option<(io::Staged, &Path)>,
     notes: &mut Vec<String>,
 ) -> anyhow::Result<(Option<io::Staged>, Option<io::Staged>, &'static str)> {
-    let stream = io::is_standard_input(input) || std::fs::metadata(input).is_ok_and(|m| !m.is_file());
+    let stream = read_only_once(input);
     let mut unjudged = Vec::new();
     let mut judged = |map: &Option<(io::Staged, &Path)>, kind: &'static str| match map {
         Some((staged, _)) if stream || staged.is_in_place() => {
@@ -1804,12 +1810,10 @@ impl<'a> CheckReference<'a> {
     /// The reference for outputs of `mesh`, read from `input`; a written
     /// one goes beside `output`.
     fn new(input: &'a Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<Self> {
-        // An input that is not a regular file (standard input, a pipe)
-        // cannot be read a second time: the mesh read from it is written
-        // once, as a repaired one is.
-        let stream = io::is_standard_input(input) || std::fs::metadata(input).is_ok_and(|m| !m.is_file());
+        // An input read only once (standard input, a pipe): the mesh read
+        // from it is written once, as a repaired one is.
         let written = match mesh.repair {
-            None if !stream => None,
+            None if !read_only_once(input) => None,
             _ => {
                 let dir = output
                     .parent()

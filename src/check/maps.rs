@@ -299,7 +299,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
     // the mesh check cut it): a polygon's found once.
     let mut pieces = Vec::new();
     let mut polygons = FastMap::<usize, Vec<[DVec3; 3]>>::default();
-    let (mut input_corners, mut corners) = (Vec::new(), Vec::new());
+    let mut corners = Vec::new();
     let mut not_inside = 0;
     let mut count = 0;
     for (k, (line, text)) in rows.enumerate() {
@@ -329,16 +329,18 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         if k >= output_faces {
             continue; // (Counted below.)
         }
-        polygon(original, f, &mut input_corners);
+        let corner_ids = &original.indices[original.face_start[f] as usize..original.face_start[f + 1] as usize];
         let triangle;
-        let triangles: &[[DVec3; 3]] = match (&input_corners[..], &moved) {
-            (&[a, b, c], None) => {
-                triangle = [a, b, c];
-                std::slice::from_ref(&triangle)
-            }
-            _ => polygons
+        let triangles: &[[DVec3; 3]] = if let &[a, b, c] = corner_ids {
+            // (A triangle as it is, or where the weld moved its corners: nothing to keep.)
+            let at =
+                |v: u32| DVec3::from_array(moved.as_ref().map_or(original.positions[v as usize], |m| m[v as usize]));
+            triangle = [at(a), at(b), at(c)];
+            std::slice::from_ref(&triangle)
+        } else {
+            polygons
                 .entry(f)
-                .or_insert_with(|| cut(original, f, moved.as_deref(), &mut pieces)),
+                .or_insert_with(|| cut(original, f, moved.as_deref(), &mut pieces))
         };
         let on_face = |p: DVec3, slack: f64| {
             triangles.iter().any(|&t| {
@@ -390,18 +392,9 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
 fn cut(original: &RawMesh, f: usize, moved: Option<&[[f64; 3]]>, pieces: &mut Vec<[usize; 3]>) -> Vec<[DVec3; 3]> {
     let corners = &original.indices[original.face_start[f] as usize..original.face_start[f + 1] as usize];
     let at = |v: u32| original.positions[v as usize];
-    let mut outline: Vec<u32> = Vec::with_capacity(corners.len());
-    if corners.len() > 3 {
-        let key = |v: u32| crate::hash::position_key(at(v));
-        for &v in corners {
-            if outline.last().is_none_or(|&last| key(last) != key(v)) {
-                outline.push(v);
-            }
-        }
-        while outline.len() > 1 && key(outline[0]) == key(outline[outline.len() - 1]) {
-            outline.pop();
-        }
-    }
+    // (As the construction's reader: the outline only where it keeps three corners.)
+    let mut outline = Vec::with_capacity(corners.len());
+    crate::io::polygon::without_repeated_corners(corners, &original.positions, &mut outline);
     if outline.len() < 3 {
         outline.clear();
         outline.extend_from_slice(corners);

@@ -119,6 +119,25 @@ pub fn fan_apex(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> usize {
     fan(n, corner).apex
 }
 
+/// The corners of polygon `p` in `out`, less each one at the position of
+/// the corner kept before it (identical coordinates; around the
+/// outline, so also a last corner at the first one's position): the
+/// outline `--repair` reads a polygon that passes a point twice as (and
+/// `delmesh check --face-map` with it). Positions compare as the readers
+/// weld them (-0 and 0 alike).
+pub fn without_repeated_corners(p: &[u32], positions: &[[f64; 3]], out: &mut Vec<u32>) {
+    let bits = |v: u32| crate::hash::position_key(positions[v as usize]);
+    out.clear();
+    for &v in p {
+        if out.last().is_none_or(|&last| bits(last) != bits(v)) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && bits(out[0]) == bits(out[out.len() - 1]) {
+        out.pop();
+    }
+}
+
 /// Polygons with more corners than this that no corner sees whole are not
 /// cut into ears (quadratic in the worst case) but read as the fan from
 /// their first corner, as a polygon whose outline crosses itself is.

@@ -553,23 +553,6 @@ fn passes_a_point_twice(p: &[u32], positions: &[[f64; 3]], scratch: &mut Vec<[u6
     scratch.windows(2).any(|w| w[0] == w[1])
 }
 
-/// The corners of polygon `p` in `out`, less each one at the position of
-/// the corner kept before it (identical coordinates; around the
-/// outline, so also a last corner at the first one's position).
-/// Positions compare as `finish` welds them.
-fn without_repeated_corners(p: &[u32], positions: &[[f64; 3]], out: &mut Vec<u32>) {
-    let bits = |v: u32| crate::hash::position_key(positions[v as usize]);
-    out.clear();
-    for &v in p {
-        if out.last().is_none_or(|&last| bits(last) != bits(v)) {
-            out.push(v);
-        }
-    }
-    while out.len() > 1 && bits(out[0]) == bits(out[out.len() - 1]) {
-        out.pop();
-    }
-}
-
 /// `finish` with `--repair`: triangulate everything, then let
 /// [`repair::repair`] weld, drop and cut until the mesh is a manifold.
 fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_numbers: bool) -> Result<InputMesh> {
@@ -602,7 +585,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_num
         // two vertex lines at one point) adds nothing to the outline, but
         // its zero-length side keeps every corner from seeing the polygon
         // whole: its fan from the first corner then overlaps itself.
-        without_repeated_corners(p, &raw.positions, &mut outline);
+        polygon::without_repeated_corners(p, &raw.positions, &mut outline);
         if outline.len() < p.len() && outline.len() >= 3 {
             repeated_corners += p.len() - outline.len();
             p = &outline;
