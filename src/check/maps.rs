@@ -4,7 +4,9 @@
 //! Both number the input as its file lists it, so they are judged against the file the run
 //! read (`ORIGINAL`: for a run with `--repair`, not the repaired file the mesh check compares
 //! with), read as it lists its vertices and faces, nothing welded, and the output file, by
-//! geometry alone; nothing is shared with the code that made the maps.
+//! geometry alone; nothing is shared with the code that made the maps (with the construction's
+//! reader, only what a file means: how a polygon is cut, [`triangulate`], and the outline
+//! `--repair` reads one that passes a point twice as).
 //!
 //! # What is checked
 //!
