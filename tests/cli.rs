@@ -2878,6 +2878,56 @@ fn weld_tolerance_and_repaired_file_are_checked_up_front() {
     assert!(stdout.contains("as far as the weld tolerance or farther"), "{stdout}");
 }
 
+/// A negative number after a numeric flag, written with a space as every
+/// other value is, reaches the flag's own check and is refused with what
+/// the flag takes (it read "unexpected argument '-1' found", as if the
+/// number were a flag of its own), on the main command, `check`, `batch`
+/// and `render` alike; nothing is written.
+#[test]
+fn negative_numbers_are_refused_by_the_flag_they_follow() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::data_dir().join("cube.obj");
+    let out = dir.path().join("o.obj");
+    for (flags, expected) in [
+        (&["--repair", "--weld-tolerance", "-1"][..], "is not a distance"),
+        (&["--max-added", "-5"], "is not a number of added vertices"),
+        (&["--attribute-tolerance", "-0.1"], "is not a relative tolerance"),
+        (&["--prune-passes", "-1"], "-1 is not in 1..=8"),
+        (&["-j", "-2"], "-2 is not in 1..="),
+        (&["-s", "-1"], "invalid value '-1' for '--score <N>'"),
+    ] {
+        let run = refine(&cube, &out).args(flags).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{flags:?}: {stderr}");
+        assert!(stderr.contains(expected), "{flags:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(!out.exists());
+    }
+    let cube = cube.to_str().unwrap();
+    let picture = dir.path().join("p.png");
+    let picture = picture.to_str().unwrap();
+    let out_dir = dir.path().join("batch");
+    let out_dir = out_dir.to_str().unwrap();
+    for (args, expected) in [
+        (
+            &["check", cube, cube, "--weld-tolerance", "-1"][..],
+            "is not a distance",
+        ),
+        (&["check", cube, cube, "-j", "-1"], "-1 is not in 1..="),
+        (&["batch", "-d", out_dir, "-j", "-1", cube], "-1 is not in 1..="),
+        (
+            &["render", cube, "-o", picture, "--size", "-5"],
+            "-5 is not in 16..=8192",
+        ),
+    ] {
+        let run = delmesh().args(args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+    assert!(!Path::new(picture).exists() && !Path::new(out_dir).exists());
+}
+
 /// An output name with an extension that names no mesh format is written
 /// as OBJ, and a note says so; a name without an extension (documented as
 /// OBJ), a known extension, or a device gets no note.

@@ -73,7 +73,7 @@ pub(super) struct RunArgs {
     /// How many threads to use (default: one per core): with -all and
     /// --smallest, how many runs at once; otherwise for the passes over all
     /// edges and for formatting the output. Results never depend on it.
-    #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    #[arg(short = 'j', long = "jobs", value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u16).range(1..))]
     pub(super) jobs: Option<u16>,
 
     /// Also write every figure of the run (with -all: of every combination),
@@ -160,7 +160,7 @@ pub(super) struct Settings {
     /// 2 always center (the report's), 3 split-aware (delmesh's: as 2, but
     /// outer edges that can be flipped cost nothing), 4 uniform (delmesh's:
     /// every sample equal, so the median or --shells alone decides).
-    #[arg(short = 's', long = "score", default_value = "2", value_parser = ["0", "1", "2", "3", "4"], value_name = "N")]
+    #[arg(short = 's', long = "score", default_value = "2", allow_negative_numbers = true, value_parser = ["0", "1", "2", "3", "4"], value_name = "N")]
     pub(super) score: String,
 
     /// Take the first best sample from the edge's start instead of the median
@@ -182,7 +182,7 @@ pub(super) struct Settings {
     /// inputs with tiny angles) would otherwise add billions of vertices or
     /// flip quadratically often. With -all and --smallest, each of their
     /// runs.
-    #[arg(long = "max-added", value_name = "N", default_value = "10000000", value_parser = work_limit)]
+    #[arg(long = "max-added", value_name = "N", default_value = "10000000", allow_negative_numbers = true, value_parser = work_limit)]
     pub(super) max_added: WorkLimit,
 
     /// Take the edges in the --ds order to the end. Without it, a stack or
@@ -207,6 +207,7 @@ pub(super) struct Settings {
         value_name = "DIST",
         default_value_t = 0.0,
         requires = "repair",
+        allow_negative_numbers = true,
         value_parser = weld_distance
     )]
     pub(super) weld_tolerance: f64,
@@ -226,7 +227,7 @@ pub(super) struct Settings {
     /// (1-8; without it, until a pass removes nothing, at most 8). On big
     /// meshes one pass removes most of what pruning can in a fraction of
     /// its time.
-    #[arg(long = "prune-passes", value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
+    #[arg(long = "prune-passes", value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u8).range(1..=8))]
     pub(super) prune_passes: Option<u8>,
 
     /// Ignore the input's texture coordinates, normals, colours, groups,
@@ -250,7 +251,7 @@ pub(super) struct Settings {
     /// some, the others keep their defaults. Default: 1e-5 for texture
     /// coordinates and vertex properties, 1e-3 for normals, 4e-3 for
     /// colours (about an 8-bit step)
-    #[arg(long = "attribute-tolerance", value_name = "REL", value_parser = attribute_tolerances)]
+    #[arg(long = "attribute-tolerance", value_name = "REL", allow_negative_numbers = true, value_parser = attribute_tolerances)]
     pub(super) attribute_tolerance: Option<Tolerances>,
 }
 
@@ -340,7 +341,7 @@ pub(super) enum Command {
         #[arg(long, default_value_t = 20.0, allow_negative_numbers = true, value_parser = elevation_degrees)]
         elevation: f64,
         /// Picture width and height in pixels.
-        #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
+        #[arg(long, default_value_t = 800, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(16..=8192))]
         size: u32,
     },
     /// Refine many meshes in one process, several at once: each INPUT is
@@ -359,7 +360,7 @@ pub(super) enum Command {
         /// read the files and run the independent rules side by side on
         /// large meshes). `-j 1` when running many checks at once. The
         /// report never depends on it.
-        #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+        #[arg(short = 'j', long = "jobs", value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u16).range(1..))]
         jobs: Option<u16>,
         /// Also verify the vertex map the run wrote (`--vertex-map`): every
         /// output vertex rebuilt bit for bit from its row.
@@ -375,7 +376,7 @@ pub(super) enum Command {
         original: Option<PathBuf>,
         /// The run's --weld-tolerance, if it gave one: the face map's input
         /// faces are judged where that weld moved them.
-        #[arg(long = "weld-tolerance", value_name = "DIST", default_value_t = 0.0, value_parser = weld_distance)]
+        #[arg(long = "weld-tolerance", value_name = "DIST", default_value_t = 0.0, allow_negative_numbers = true, value_parser = weld_distance)]
         weld_tolerance: f64,
     },
 }

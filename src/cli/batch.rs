@@ -65,7 +65,7 @@ pub(super) struct BatchArgs {
     /// How many files to refine at once (default: one per core); with
     /// --smallest, how many runs of a file at once. Each file's output
     /// never depends on it.
-    #[arg(short = 'j', long = "jobs", value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    #[arg(short = 'j', long = "jobs", value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
 
     /// Verify every output with `delmesh check` (against the input, or with
