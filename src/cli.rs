@@ -19,16 +19,20 @@ use delmesh::io;
 
 /// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
 /// not turn a finished run into a crash. The progress line, if any, is
-/// cleared first.
+/// cleared first. Each call prints one line: control characters in what it
+/// quotes (a file name with a line feed in it) are escaped ([`escaped`]), as
+/// in error messages, so that a script reading the printout line by line
+/// reads each record whole.
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
+        let line = crate::cli::escaped(&format!($($arg)*), false);
         crate::progress::suspend(|| {
             if crate::cli::PRINTOUT_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
-                let _ = writeln!(std::io::stderr(), $($arg)*);
+                let _ = writeln!(std::io::stderr(), "{line}");
             } else {
                 let mut out = std::io::stdout().lock();
-                let written = writeln!(out, $($arg)*).and_then(|()| out.flush());
+                let written = writeln!(out, "{line}").and_then(|()| out.flush());
                 crate::cli::note_stdout_result(written);
             }
         });
@@ -83,12 +87,14 @@ fn refuse_closed_stdout(writes: bool) -> anyhow::Result<()> {
 /// what lands on standard output is that file alone.
 pub(crate) static PRINTOUT_TO_STDERR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// `eprintln!` that never panics, for the same reason.
+/// `eprintln!` that never panics, for the same reason; one line, escaped
+/// as [`say!`] escapes.
 macro_rules! complain {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
+        let line = crate::cli::escaped(&format!($($arg)*), false);
         crate::progress::suspend(|| {
-            let _ = writeln!(std::io::stderr(), $($arg)*);
+            let _ = writeln!(std::io::stderr(), "{line}");
         });
     }};
 }

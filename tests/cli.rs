@@ -2878,6 +2878,39 @@ fn weld_tolerance_and_repaired_file_are_checked_up_front() {
     assert!(stdout.contains("as far as the weld tolerance or farther"), "{stdout}");
 }
 
+/// File names with a line feed or another control character in them keep
+/// each record of the printout to one line, escaped as in error messages
+/// (and as `batch` prints them): the main command's `input` and `output`
+/// lines and `check`'s verdict, which a script reads line by line.
+#[test]
+fn file_names_with_control_characters_keep_to_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("a\nb.obj");
+    copy_fixture("cube.obj", &input);
+    let output = dir.path().join("c\u{1b}[31md.obj");
+    let run = refine(&input, &output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(!stdout.contains('\u{1b}'), "{stdout}");
+    let line = |head: &str| {
+        (stdout.lines().find(|l| l.starts_with(head))).unwrap_or_else(|| panic!("no {head} line: {stdout}"))
+    };
+    assert!(
+        line("input ").contains("a\\nb.obj: ") && line("input ").contains("min angle"),
+        "{stdout}"
+    );
+    assert!(line("output ").contains("c\\u{1b}[31md.obj: "), "{stdout}");
+    assert!(stdout.lines().all(|l| !l.starts_with("b.obj")), "{stdout}");
+    let run = delmesh().arg("check").arg(&input).arg(&output).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    let verdict = stdout.lines().last().unwrap_or_default();
+    assert!(
+        verdict.starts_with("PASS ") && verdict.ends_with("a\\nb.obj"),
+        "{stdout}"
+    );
+}
+
 /// A negative number after a numeric flag, written with a space as every
 /// other value is, reaches the flag's own check and is refused with what
 /// the flag takes (it read "unexpected argument '-1' found", as if the

@@ -19,9 +19,9 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_maps, check_output, check_output_dir, count, escaped, failure_record, file_key, growth_note,
-    longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map,
-    stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
+    check_maps, check_output, check_output_dir, count, failure_record, file_key, growth_note, longest_first_note,
+    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map, stage_vertex_map,
+    stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
@@ -770,8 +770,7 @@ pub(super) fn run_batch(args: &BatchArgs) -> anyhow::Result<ExitCode> {
                         skipped += 1;
                         skipped_paths.push(inputs[i].display().to_string());
                         if !args.quiet {
-                            let line = format!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
-                            say!("{}", escaped(&line, false));
+                            say!("skip    {} -> {}: exists", inputs[i].display(), outputs[i].display());
                         }
                     }
                     Err(Failed {
@@ -877,9 +876,9 @@ fn report_done(input: &Path, done: &Done, checked: bool) {
     if !done.notes.is_empty() {
         line += &format!("; note: {}", done.notes.join("; "));
     }
-    // (File names may hold line feeds and other control characters:
-    // escaped, so that each file gets one line.)
-    say!("{} ({:.4} s)", escaped(&line, false), done.seconds);
+    // (File names may hold line feeds and other control characters: `say!`
+    // escapes them, so that each file gets one line.)
+    say!("{line} ({:.4} s)", done.seconds);
 }
 
 #[cfg(test)]
