@@ -317,12 +317,27 @@ impl fmt::Display for CheckReport {
 /// is itself invalid (see [`CheckError::InvalidInput`]). Everything wrong with the output is
 /// reported as failure lines in the [`CheckReport`].
 pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckError> {
+    check_files_with(input, output, None::<fn(RawMesh, RawMesh, bool)>).map(|(report, _)| report)
+}
+
+/// [`check_files`], handing `also` the two files as they list their vertices and faces (as
+/// [`read_raw`] reads them, for [`maps::check_maps_of`]: INPUT's, OUTPUT's, and whether
+/// OUTPUT's faces share vertices by index) once both are read and before they are compared,
+/// so that the maps' judge need not read them again; its result comes back beside the report
+/// (`None` without `also`). Each file is still read once: the raw meshes are what the judge's
+/// welding starts from.
+pub fn check_files_with<T>(
+    input: &Path,
+    output: &Path,
+    also: Option<impl FnOnce(RawMesh, RawMesh, bool) -> T>,
+) -> Result<(CheckReport, Option<T>), CheckError> {
     // The two files are read at once when they are large enough to repay a thread (the input's
     // error, if any, is still the one reported first).
     let size = |path: &Path| std::fs::metadata(path).map_or(0, |m| m.len());
     let worth_it = size(input).saturating_add(size(output)) >= PARALLEL_BYTES;
+    let keep_raw = also.is_some();
     let read_input = || {
-        read_welded(input).map(|mut welded| {
+        read_welded_keeping(input, keep_raw).map(|(mut welded, raw)| {
             // (Whether the input's file has copies of its own: then the output's are not judged.)
             let copies = copies_apart(&welded.mesh, &welded.file_corners, 0).0 > 0;
             let in_file = welded.mesh.positions.len();
@@ -338,12 +353,19 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
             // only once both files are read.)
             let prepared = prepare_input(&mesh, Some(&around), &welded.naming);
             drop(around);
-            (mesh, settled, welded.naming, in_file, prepared, copies)
+            (mesh, settled, welded.naming, in_file, prepared, copies, raw)
         })
     };
-    let (input_read, output_read) = crate::parallel::join(worth_it, read_input, || read_welded(output));
-    let (input_mesh, input_settled, input_naming, input_in_file, input_prepared, input_copies) = input_read?;
-    let mut welded = output_read?;
+    let read_output = || read_welded_keeping(output, keep_raw);
+    let (input_read, output_read) = crate::parallel::join(worth_it, read_input, read_output);
+    let (input_mesh, input_settled, input_naming, input_in_file, input_prepared, input_copies, input_raw) = input_read?;
+    let (mut welded, output_raw) = output_read?;
+    let also = match (also, input_raw, output_raw) {
+        (Some(also), Some(input_raw), Some((output_raw, shares_vertices))) => {
+            Some(also(input_raw.0, output_raw, shares_vertices))
+        }
+        _ => None,
+    };
     let output_in_file = welded.mesh.positions.len();
     let input_positions = &input_mesh.positions[..input_settled];
     let Settled {
@@ -408,7 +430,7 @@ pub fn check_files(input: &Path, output: &Path) -> Result<CheckReport, CheckErro
         let name = |mesh: &Mesh3, naming: &Naming| Names::new("", mesh, naming).vertex_noun(k as u32);
         (name(&output_mesh, &output_naming), name(&input_mesh, &input_naming))
     });
-    Ok(report)
+    Ok((report, also))
 }
 
 /// The first index below `input.len()` where `output` does not have the input's vertex, bit
@@ -486,7 +508,7 @@ impl Mesh3 {
 
     /// [`Mesh3::read_obj`] on bytes already read; `path` names the file in errors.
     pub fn read_obj_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh3, CheckError> {
-        let welded = read_obj_welded(path, bytes)?;
+        let welded = weld_obj(path, &obj_raw(path, bytes)?)?;
         Ok(settle(welded.mesh, &welded.file_corners).mesh)
     }
 }
@@ -1097,13 +1119,21 @@ fn attribute_looks(raw: &RawMesh) -> Vec<u64> {
 /// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
 /// gzip-compressed) with the readers of [`crate::io::formats`].
 fn read_welded(path: &Path) -> Result<Welded, CheckError> {
-    read_file(path, read_welded_as)
+    read_file(path, |path, bytes, format| read_welded_as(path, bytes, format, false)).map(|(welded, _)| welded)
+}
+
+/// [`read_welded`], and with `keep_raw` the file as it lists its vertices and faces too (as
+/// [`read_raw`] reads it, which the weld was made from).
+fn read_welded_keeping(path: &Path, keep_raw: bool) -> Result<(Welded, Option<(RawMesh, bool)>), CheckError> {
+    read_file(path, |path, bytes, format| {
+        read_welded_as(path, bytes, format, keep_raw)
+    })
 }
 
 /// A mesh file as it lists its vertices and faces, nothing welded or triangulated (for the
 /// maps, which number them so: [`maps`]), and whether its faces share vertices by index (not
 /// an STL, whose facets list their own corners).
-pub(crate) fn read_raw(path: &Path) -> Result<(RawMesh, bool), CheckError> {
+pub fn read_raw(path: &Path) -> Result<(RawMesh, bool), CheckError> {
     read_file(path, |path, bytes, format| {
         let raw = match format {
             None => obj_raw(path, bytes)?,
@@ -1167,10 +1197,21 @@ fn read_file<T>(
 }
 
 /// [`read_welded`] of the file `path`'s (inflated) `bytes`, read as `format` (OBJ if `None`).
-fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::Format>) -> Result<Welded, CheckError> {
+/// With `keep_raw`, the raw mesh the weld was made from is handed back too, with whether its
+/// faces share vertices by index (see [`read_raw`]).
+fn read_welded_as(
+    path: &Path,
+    bytes: &[u8],
+    format: Option<crate::io::formats::Format>,
+    keep_raw: bool,
+) -> Result<(Welded, Option<(RawMesh, bool)>), CheckError> {
     use crate::io::formats;
     let format = match format {
-        None | Some(formats::Format::Obj) => return read_obj_welded(path, bytes),
+        None | Some(formats::Format::Obj) => {
+            let raw = obj_raw(path, bytes)?;
+            let welded = weld_obj(path, &raw)?;
+            return Ok((welded, keep_raw.then_some((raw, true))));
+        }
         Some(format) => format,
     };
     let parse_error = |reason: String| CheckError::Parse {
@@ -1184,11 +1225,12 @@ fn read_welded_as(path: &Path, bytes: &[u8], format: Option<crate::io::formats::
     // only ever welded.
     let shares_vertices = format != formats::Format::Stl;
     // (OFF and PLY copy a vertex at seams.)
-    weld(raw, shares_vertices, shares_vertices)
+    let welded = weld(&raw, shares_vertices, shares_vertices)
         .map_err(parse_error)?
         .ok_or_else(|| CheckError::NoFaces {
             path: path.to_path_buf(),
-        })
+        })?;
+    Ok((welded, keep_raw.then_some((raw, shares_vertices))))
 }
 
 /// A file's (inflated) `bytes`, read as `format`, as the file lists its vertices and faces.
@@ -1256,7 +1298,7 @@ fn copies_apart(mesh: &Mesh3, files: &FileVertices, limit: usize) -> (usize, Vec
 /// `shares_vertices`, a corner's file vertex is its index in the file's vertex list (OFF,
 /// PLY, OBJ); without (STL), its welded vertex. With `seam_copies`, [`FileVertices::looks`]
 /// are found where welding joins file vertices.
-fn weld(mut raw: RawMesh, shares_vertices: bool, seam_copies: bool) -> Result<Option<Welded>, String> {
+fn weld(raw: &RawMesh, shares_vertices: bool, seam_copies: bool) -> Result<Option<Welded>, String> {
     // (Sized for every position at once, as growing the table rehashes all it holds; but
     // not for STL, whose facets repeat each position about six times.)
     let mut welder = Welder::with_capacity(if shares_vertices { raw.positions.len() } else { 0 });
@@ -1291,7 +1333,7 @@ fn weld(mut raw: RawMesh, shares_vertices: bool, seam_copies: bool) -> Result<Op
         return Ok(None);
     }
     let looks = if seam_copies && welder.positions.len() < raw.positions.len() {
-        attribute_looks(&raw)
+        attribute_looks(raw)
     } else {
         Vec::new()
     };
@@ -1313,8 +1355,8 @@ fn weld(mut raw: RawMesh, shares_vertices: bool, seam_copies: bool) -> Result<Op
         numbering: raw.numbering,
         vertex: identity_or(file_vertex),
         face: identity_or(face_of),
-        vertex_origin: std::mem::take(&mut raw.vertex_origin),
-        face_origin: std::mem::take(&mut raw.face_origin),
+        vertex_origin: raw.vertex_origin.clone(),
+        face_origin: raw.face_origin.clone(),
         origin_kind: raw.origin_kind,
     };
     Ok(Some(Welded {
@@ -1377,15 +1419,14 @@ fn obj_raw(path: &Path, bytes: &[u8]) -> Result<RawMesh, CheckError> {
     obj_surface(&joined).map_err(parse_error)
 }
 
-/// An OBJ file's bytes read as [`Mesh3::read_obj`] describes, before any welding is undone,
-/// as [`Welded`].
-fn read_obj_welded(path: &Path, bytes: &[u8]) -> Result<Welded, CheckError> {
+/// An OBJ file's `raw` mesh (of [`obj_raw`]) welded as [`Mesh3::read_obj`] describes, before
+/// any welding is undone, as [`Welded`].
+fn weld_obj(path: &Path, raw: &RawMesh) -> Result<Welded, CheckError> {
     let parse_error = |reason: String| CheckError::Parse {
         path: path.to_path_buf(),
         format: "OBJ",
         reason,
     };
-    let raw = obj_raw(path, bytes)?;
     // (Texture coordinates and normals are the corners', but a colour is the vertex's: OBJ
     // copies a vertex at a colour seam.)
     let welded = weld(raw, true, true)

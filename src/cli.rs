@@ -16,6 +16,7 @@ use crate::stats_json;
 use delmesh::draw::{Format, Rgb};
 use delmesh::face_map::{self, FaceOrigins};
 use delmesh::io;
+use delmesh::io::formats::RawMesh;
 
 /// `println!` that never panics: a closed stdout (`delmesh ... | head`) must
 /// not turn a finished run into a crash. The progress line, if any, is
@@ -1432,9 +1433,14 @@ fn run_refined(
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     let t_check = Instant::now();
+    let mut checked_files = None;
     if args.check {
-        staged = match check_output(input_path, input, staged, output) {
-            Ok(staged) => staged,
+        let keep_files = args.vertex_map.is_some() || args.face_map.is_some();
+        staged = match check_output(input_path, input, staged, output, keep_files) {
+            Ok((staged, files)) => {
+                checked_files = files;
+                staged
+            }
             Err(e) => {
                 report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
                 return Err(e);
@@ -1465,6 +1471,7 @@ fn run_refined(
         match check_maps(
             input_path,
             staged.path(),
+            checked_files,
             args.settings.weld_tolerance,
             vertex_map,
             face_map,
@@ -1696,8 +1703,15 @@ impl std::error::Error for CheckFailed {}
 /// input, written to a temporary file beside the output for the judge to
 /// read); an output that fails, or that the judge cannot read, is renamed
 /// to `<output>.rejected`.
-fn check_output(input: &Path, mesh: &io::InputMesh, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
-    CheckReference::new(input, mesh, output)?.check(staged, output)
+/// With `keep_files`, the files the judge read come back too, for [`check_maps`].
+fn check_output(
+    input: &Path,
+    mesh: &io::InputMesh,
+    staged: io::Staged,
+    output: &Path,
+    keep_files: bool,
+) -> anyhow::Result<(io::Staged, Option<CheckedFiles>)> {
+    CheckReference::new(input, mesh, output)?.check_keeping(staged, output, keep_files)
 }
 
 /// Why a file failed `--check`: its first failure line (of `failures`, not
@@ -1729,9 +1743,11 @@ fn read_only_once(input: &Path) -> bool {
 /// `<map>.rejected` and the run fails. Maps the judge cannot read back (the
 /// input or the map a stream) are not judged, with a note in `notes`. Also
 /// returns what the printout's `check` line adds: which maps are right.
+/// `files` are those the mesh's check read ([`check_output`]), if kept.
 fn check_maps(
     input: &Path,
     output: &Path,
+    files: Option<CheckedFiles>,
     weld_tolerance: f64,
     vertex: Option<(io::Staged, &Path)>,
     face: Option<(io::Staged, &Path)>,
@@ -1767,13 +1783,32 @@ fn check_maps(
         (None, Some(_)) => "; its face map is right",
         (None, None) => return Ok((vertex.map(|m| m.0), face.map(|m| m.0), "")),
     };
-    let reports = delmesh::check::maps::check_map_files(
-        input,
-        output,
-        vertex_path.as_deref(),
-        face_path.as_deref(),
-        weld_tolerance,
-    );
+    let reports = match files {
+        // (The files the mesh's check read, read again only where it did not read them.)
+        Some(files) => (|| {
+            use delmesh::check::maps;
+            let tables = maps::read_map_tables(vertex_path.as_deref(), face_path.as_deref())?;
+            let original = match files.input {
+                Some(raw) => raw,
+                None => delmesh::check::read_raw(input)?.0,
+            };
+            maps::check_maps_of(
+                &original,
+                &files.output,
+                files.shares_vertices,
+                output,
+                &tables,
+                weld_tolerance,
+            )
+        })(),
+        None => delmesh::check::maps::check_map_files(
+            input,
+            output,
+            vertex_path.as_deref(),
+            face_path.as_deref(),
+            weld_tolerance,
+        ),
+    };
     let whys: [Option<String>; 2] = match reports {
         Ok((v, f)) => [v, f].map(|r| r.filter(|r| !r.passed()).map(|r| failed_the_check(&r.failures))),
         Err(e) => {
@@ -1801,6 +1836,19 @@ fn check_maps(
         }
     }
     Err(CheckFailed(errors.join("; ")).into())
+}
+
+/// The files a `--check` read, as they list their vertices and faces, kept for judging the
+/// same run's maps, which would otherwise read them again.
+#[derive(Debug)]
+struct CheckedFiles {
+    /// The input's, when the judge read the input file itself (not a repaired copy, nor the
+    /// copy of an input read only once).
+    input: Option<RawMesh>,
+    /// The output's.
+    output: RawMesh,
+    /// Whether the output's faces share vertices by index (not an STL).
+    shares_vertices: bool,
 }
 
 /// What `--check` compares outputs with: the input file, or the mesh read
@@ -1840,10 +1888,30 @@ impl<'a> CheckReference<'a> {
     /// output is put under its name only once verified, and an input
     /// rewritten in place is replaced only then.
     fn check(&self, staged: io::Staged, output: &Path) -> anyhow::Result<io::Staged> {
+        self.check_keeping(staged, output, false).map(|(staged, _)| staged)
+    }
+
+    /// [`CheckReference::check`], keeping the files it read when `keep` (for judging the
+    /// run's maps next, see [`check_maps`]).
+    fn check_keeping(
+        &self,
+        staged: io::Staged,
+        output: &Path,
+        keep: bool,
+    ) -> anyhow::Result<(io::Staged, Option<CheckedFiles>)> {
         let reference = self.written.as_ref().map_or(self.input, |(_, f)| f.path());
-        let why = match delmesh::check::check_files(reference, staged.path()) {
-            Ok(report) if report.passed() => return Ok(staged),
-            Ok(report) => failed_the_check(&report.failures),
+        // (The input's raw mesh numbers what the maps number only when it is the input file.)
+        let input_file = self.written.is_none();
+        let kept = keep.then_some(
+            move |input: RawMesh, output: RawMesh, shares_vertices: bool| CheckedFiles {
+                input: input_file.then_some(input),
+                output,
+                shares_vertices,
+            },
+        );
+        let why = match delmesh::check::check_files_with(reference, staged.path(), kept) {
+            Ok((report, files)) if report.passed() => return Ok((staged, files)),
+            Ok((report, _)) => failed_the_check(&report.failures),
             Err(e) => format!("the check could not read the files: {e}"),
         };
         let mut rejected = output.as_os_str().to_owned();
@@ -2027,13 +2095,10 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
     let original = maps.original.as_deref().unwrap_or(input);
     let mut read: Vec<(&str, &Path)> = vec![("INPUT", input), ("OUTPUT", output)];
     if maps.any() {
-        // (The maps read INPUT again, unless --original names another file.)
+        // (The maps number INPUT as read for the check, unless --original names another file.)
         read.extend(maps.original.as_deref().map(|o| ("--original", o)));
         read.extend(maps.vertex_map.as_deref().map(|m| ("--vertex-map", m)));
         read.extend(maps.face_map.as_deref().map(|m| ("--face-map", m)));
-        if maps.original.is_none() && io::is_standard_input(input) {
-            bail!("INPUT is standard input, which the maps cannot read again: give the file the run read as INPUT, or as --original FILE");
-        }
     }
     let from_stdin: Vec<&str> = read
         .iter()
@@ -2051,18 +2116,26 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
     refuse_printout_into_inputs(&paths, false)?;
     refuse_closed_stdout(true)?;
     crate::working_on(output);
-    let report = delmesh::check::check_files(input, output)?;
-    let (vertex_report, face_report) = if maps.any() {
-        delmesh::check::maps::check_map_files(
-            original,
+    // The maps are judged on the two files as the check reads them (read once: a big mesh
+    // takes longer to read than its maps to judge), INPUT's replaced by --original's.
+    let judge_maps = |input_raw: RawMesh, output_raw: RawMesh, shares_vertices: bool| {
+        use delmesh::check::maps;
+        let tables = maps::read_map_tables(maps.vertex_map.as_deref(), maps.face_map.as_deref())?;
+        let original_raw = match &maps.original {
+            Some(path) => delmesh::check::read_raw(path)?.0,
+            None => input_raw,
+        };
+        maps::check_maps_of(
+            &original_raw,
+            &output_raw,
+            shares_vertices,
             output,
-            maps.vertex_map.as_deref(),
-            maps.face_map.as_deref(),
+            &tables,
             maps.weld_tolerance,
-        )?
-    } else {
-        (None, None)
+        )
     };
+    let (report, map_reports) = delmesh::check::check_files_with(input, output, maps.any().then_some(judge_maps))?;
+    let (vertex_report, face_report) = map_reports.transpose()?.unwrap_or((None, None));
     say!(
         "check   {} ({} added), {}, {}; non-Delaunay edges: {} (max alpha+beta-pi {})",
         count(report.output_vertices, "vertex", "vertices"),
@@ -2263,7 +2336,7 @@ mod tests {
             io::stage_mesh_after(path, &Default::default(), positions, triangles).unwrap()
         };
         let staged = stage(&output, &mesh.positions, &mesh.triangles);
-        let e = check_output(&cube, &mesh, staged, &output).unwrap_err();
+        let e = check_output(&cube, &mesh, staged, &output, false).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("failed the check"), "{e}");
         // The file it would have replaced is untouched (a run in place
@@ -2278,14 +2351,18 @@ mod tests {
             s
         };
         let staged = stage(&output, &surface.positions, &surface.triangles());
-        check_output(&cube, &mesh, staged, &output).unwrap().commit().unwrap();
+        check_output(&cube, &mesh, staged, &output, false)
+            .unwrap()
+            .0
+            .commit()
+            .unwrap();
         assert!(output.exists());
         std::fs::remove_file(&output).unwrap();
         // One the judge cannot verify (here: its reference is unreadable)
         // is not put in place as if verified either.
         let missing = dir.path().join("missing.obj");
         let staged = stage(&output, &surface.positions, &surface.triangles());
-        let e = check_output(&missing, &mesh, staged, &output).unwrap_err();
+        let e = check_output(&missing, &mesh, staged, &output, true).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(!output.exists());
@@ -2313,7 +2390,7 @@ mod tests {
         // Right maps are handed back, and said right.
         let (vertex, face) = maps();
         let mut notes = Vec::new();
-        let (v, f, said) = check_maps(&cube, staged.path(), 0.0, vertex, face, &mut notes).unwrap();
+        let (v, f, said) = check_maps(&cube, staged.path(), None, 0.0, vertex, face, &mut notes).unwrap();
         assert_eq!(said, "; its maps are right");
         assert!(v.is_some() && f.is_some() && notes.is_empty());
         // A vertex map with a row moved: renamed, the run fails, and the
@@ -2323,7 +2400,16 @@ mod tests {
         let wrong = text.replacen("\n0,0,0,0.0\n", "\n0,1,1,0.0\n", 1);
         assert_ne!(wrong, text);
         let moved = io::stage(&vertex_path, |w| w.write_all(wrong.as_bytes())).unwrap();
-        let e = check_maps(&cube, staged.path(), 0.0, Some((moved, &vertex_path)), face, &mut notes).unwrap_err();
+        let e = check_maps(
+            &cube,
+            staged.path(),
+            None,
+            0.0,
+            Some((moved, &vertex_path)),
+            face,
+            &mut notes,
+        )
+        .unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(
             e.to_string().contains("v.csv: failed the check: vertex map line 2"),
@@ -2334,10 +2420,43 @@ mod tests {
         // One the judge cannot read against (the input gone) neither.
         let (vertex, face) = maps();
         let missing = dir.path().join("missing.obj");
-        let e = check_maps(&missing, staged.path(), 0.0, vertex, face, &mut notes).unwrap_err();
+        let e = check_maps(&missing, staged.path(), None, 0.0, vertex, face, &mut notes).unwrap_err();
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(dir.path().join("f.csv.rejected").exists());
         drop(v);
         drop(f);
+        // With the files the mesh's check read (as `--check` with maps runs): the same verdicts.
+        std::fs::remove_file(dir.path().join("f.csv.rejected")).unwrap();
+        std::fs::remove_file(dir.path().join("v.csv.rejected")).unwrap();
+        let checked = |staged: io::Staged| {
+            let (staged, files) = check_output(&cube, &mesh, staged, &output, true).unwrap();
+            (staged, files.expect("kept"))
+        };
+        let (staged, files) = checked(staged);
+        assert!(files.input.is_some(), "the input file itself was read");
+        let (vertex, face) = maps();
+        let (v, f, said) = check_maps(&cube, staged.path(), Some(files), 0.0, vertex, face, &mut notes).unwrap();
+        assert_eq!(said, "; its maps are right");
+        assert!(v.is_some() && f.is_some() && notes.is_empty());
+        drop((v, f));
+        let (staged, files) = checked(staged);
+        let (_, face) = maps();
+        let moved = io::stage(&vertex_path, |w| w.write_all(wrong.as_bytes())).unwrap();
+        let e = check_maps(
+            &cube,
+            staged.path(),
+            Some(files),
+            0.0,
+            Some((moved, &vertex_path)),
+            face,
+            &mut notes,
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("v.csv: failed the check: vertex map line 2"),
+            "{e}"
+        );
+        assert!(dir.path().join("v.csv.rejected").exists());
+        assert!(!vertex_path.exists() && !face_path.exists());
     }
 }

@@ -336,6 +336,41 @@ fn the_run_check_judges_the_maps() {
     assert!(check(&rotor, &files, &[]).0);
 }
 
+/// INPUT read from standard input is read once, for the check and the maps both: the maps
+/// are judged against it (a damaged one fails), not refused.
+#[test]
+fn the_maps_are_judged_against_an_input_on_standard_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let files = refine(dir.path(), &bunny, "obj", &[]);
+    let from_stdin = |files: &[PathBuf; 3]| {
+        let run = delmesh()
+            .arg("check")
+            .arg("-")
+            .arg(&files[0])
+            .arg("--vertex-map")
+            .arg(&files[1])
+            .arg("--face-map")
+            .arg(&files[2])
+            .pipe_stdin(&bunny)
+            .unwrap()
+            .output()
+            .unwrap();
+        (run.status.code(), String::from_utf8_lossy(&run.stdout).into_owned())
+    };
+    let (code, stdout) = from_stdin(&files);
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("; its maps are right"), "{stdout}");
+    // A row changed fails.
+    let map = std::fs::read_to_string(&files[1]).unwrap();
+    let damaged = map.replacen("\n5,5,5,0.0\n", "\n5,6,6,0.0\n", 1);
+    assert_ne!(damaged, map);
+    std::fs::write(&files[1], damaged).unwrap();
+    let (code, stdout) = from_stdin(&files);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(stdout.contains("vertex map line 7"), "{stdout}");
+}
+
 #[test]
 fn the_map_flags_are_refused_where_they_cannot_work() {
     let bunny = common::data_dir().join("bunny.obj");
@@ -351,10 +386,6 @@ fn the_map_flags_are_refused_where_they_cannot_work() {
     fails(
         &[b, "-", "--vertex-map", "-"],
         "OUTPUT and --vertex-map are both standard input",
-    );
-    fails(
-        &["-", b, "--face-map", b],
-        "INPUT is standard input, which the maps cannot read again",
     );
     fails(&[b, b, "--vertex-map", "/nonexistent/v.csv"], "/nonexistent/v.csv");
     // An STL output (`--no-refine` converts to one) rounds to f32 and has

@@ -36,7 +36,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{read_raw, CheckError, Failures};
+use super::{read_raw, CheckError, Failures, PARALLEL_FACES};
 use crate::hash::FastMap;
 use crate::io::formats::RawMesh;
 use crate::io::polygon::triangulate;
@@ -86,7 +86,30 @@ pub fn check_map_files(
     face_map: Option<&Path>,
     weld_tolerance: f64,
 ) -> Result<(Option<MapReport>, Option<MapReport>), CheckError> {
-    // (Inflated when compressed, as delmesh writes a map named `.gz`.)
+    let tables = read_map_tables(vertex_map, face_map)?;
+    let (original, _) = read_raw(original)?;
+    let (output, shares_vertices) = read_raw(output_path)?;
+    check_maps_of(
+        &original,
+        &output,
+        shares_vertices,
+        output_path,
+        &tables,
+        weld_tolerance,
+    )
+}
+
+/// The text of a vertex map and of a face map, as [`read_map_tables`] reads them.
+#[derive(Debug, Default)]
+pub struct MapTables {
+    /// The vertex map's text, if one is judged.
+    pub vertex: Option<Vec<u8>>,
+    /// The face map's text, if one is judged.
+    pub face: Option<Vec<u8>>,
+}
+
+/// Reads the map files named (inflated when compressed, as delmesh writes a map named `.gz`).
+pub fn read_map_tables(vertex_map: Option<&Path>, face_map: Option<&Path>) -> Result<MapTables, CheckError> {
     let table = |path: &Path| {
         let bytes = crate::io::read_bytes(path).map_err(|source| CheckError::Io {
             path: path.to_path_buf(),
@@ -102,19 +125,37 @@ pub fn check_map_files(
             }),
         }
     };
-    let vertex_table = vertex_map.map(table).transpose()?;
-    let face_table = face_map.map(table).transpose()?;
-    let (original, _) = read_raw(original)?;
-    let (output, shares_vertices) = read_raw(output_path)?;
+    Ok(MapTables {
+        vertex: vertex_map.map(table).transpose()?,
+        face: face_map.map(table).transpose()?,
+    })
+}
+
+/// [`check_map_files`] on files already read: `original` and `output` as they list their
+/// vertices and faces (as [`crate::check::check_files_with`] hands them over), whether the
+/// output's faces share vertices by index (not an STL, which is refused: see
+/// [`check_map_files`]), the output's path (for that error) and the maps' `tables`.
+pub fn check_maps_of(
+    original: &RawMesh,
+    output: &RawMesh,
+    shares_vertices: bool,
+    output_path: &Path,
+    tables: &MapTables,
+    weld_tolerance: f64,
+) -> Result<(Option<MapReport>, Option<MapReport>), CheckError> {
     if !shares_vertices {
         return Err(CheckError::Unjudgeable {
             path: output_path.to_path_buf(),
             reason: "an STL output has no vertex list and rounds coordinates to f32: its maps cannot be judged (write OBJ, OFF or PLY)".into(),
         });
     }
-    let vertices = vertex_table.map(|t| check_vertex_map(&original, &output, &t));
-    let faces = face_table.map(|t| check_face_map(&original, &output, &t, weld_tolerance));
-    Ok((vertices, faces))
+    // The two maps are judged at once when both are large enough to repay a thread.
+    let worth_it = tables.vertex.is_some() && tables.face.is_some() && output.indices.len() >= 3 * PARALLEL_FACES;
+    Ok(crate::parallel::join(
+        worth_it,
+        || (tables.vertex.as_ref()).map(|t| check_vertex_map(original, output, t)),
+        || (tables.face.as_ref()).map(|t| check_face_map(original, output, t, weld_tolerance)),
+    ))
 }
 
 /// The rows of a map's text after its header (lines, numbered from 2); `None` and a failure

@@ -527,8 +527,10 @@ fn refine_read(
     seconds.write = seconds_write;
     let (written, mut staged) = written?;
     notes.extend(written.notes.iter().cloned());
+    let mut checked_files = None;
     if args.check {
-        staged = check_output(input, mesh, staged, output)?;
+        let keep_files = args.vertex_maps || args.face_maps;
+        (staged, checked_files) = check_output(input, mesh, staged, output, keep_files)?;
     }
     // An output stands for a finished file (--skip-existing skips it): it
     // is put in place only with its maps (checked with it) and repaired
@@ -550,6 +552,7 @@ fn refine_read(
         check_maps(
             input,
             staged.path(),
+            checked_files,
             args.settings.weld_tolerance,
             vertex_map,
             face_map,
