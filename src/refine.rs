@@ -99,9 +99,11 @@ pub const FLIPS_PER_ADDED: usize = 3;
 /// where longest edge first takes about n. Runs of the median
 /// rule on the shipped meshes flip at most 0.4 times per edge (the most,
 /// 2.9, is the queue with score 0 and no median, on the armadillo), so the
-/// switch leaves them as they are; after it, the oval's flips grow linearly
-/// (not every flat region's: on a parabola, fanned, every order tried is
-/// quadratic).
+/// switch leaves them as they are; after it, the stack's flips on an oval
+/// fanned from an end of its long axis grow linearly (not every flat
+/// region's: the queue's grow faster there, and an oval fanned from another
+/// corner, or a parabola fanned from one end, is quadratic in every order
+/// tried, longest edge first included).
 pub const FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST: usize = 8;
 
 impl Options {
