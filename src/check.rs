@@ -1116,7 +1116,7 @@ fn attribute_looks(raw: &RawMesh) -> Vec<u64> {
         .collect()
 }
 
-/// Reads a mesh file as [`Welded`]: OBJ with [`read_obj_welded`]; OFF, PLY and STL (possibly
+/// Reads a mesh file as [`Welded`]: OBJ with [`weld_obj`]; OFF, PLY and STL (possibly
 /// gzip-compressed) with the readers of [`crate::io::formats`].
 fn read_welded(path: &Path) -> Result<Welded, CheckError> {
     read_file(path, |path, bytes, format| read_welded_as(path, bytes, format, false)).map(|(welded, _)| welded)

@@ -13,6 +13,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use crate::progress::{self, Phase};
 use crate::stats_json;
+use delmesh::check::maps::MapReport;
 use delmesh::draw::{Format, Rgb};
 use delmesh::face_map::{self, FaceOrigins};
 use delmesh::io;
@@ -1784,23 +1785,14 @@ fn check_maps(
         (None, None) => return Ok((vertex.map(|m| m.0), face.map(|m| m.0), "")),
     };
     let reports = match files {
-        // (The files the mesh's check read, read again only where it did not read them.)
-        Some(files) => (|| {
-            use delmesh::check::maps;
-            let tables = maps::read_map_tables(vertex_path.as_deref(), face_path.as_deref())?;
-            let original = match files.input {
-                Some(raw) => raw,
-                None => delmesh::check::read_raw(input)?.0,
-            };
-            maps::check_maps_of(
-                &original,
-                &files.output,
-                files.shares_vertices,
-                output,
-                &tables,
-                weld_tolerance,
-            )
-        })(),
+        Some(files) => judge_maps_of(
+            files,
+            input,
+            output,
+            vertex_path.as_deref(),
+            face_path.as_deref(),
+            weld_tolerance,
+        ),
         None => delmesh::check::maps::check_map_files(
             input,
             output,
@@ -1838,8 +1830,35 @@ fn check_maps(
     Err(CheckFailed(errors.join("; ")).into())
 }
 
-/// The files a `--check` read, as they list their vertices and faces, kept for judging the
-/// same run's maps, which would otherwise read them again.
+/// `delmesh check --vertex-map --face-map` on the maps at `vertex_map` and `face_map` of the
+/// run that read `original` (`weld_tolerance`: its `--weld-tolerance`) and wrote `output`,
+/// given the `files` a check of that output read: the original is read only if they lack it.
+fn judge_maps_of(
+    files: CheckedFiles,
+    original: &Path,
+    output: &Path,
+    vertex_map: Option<&Path>,
+    face_map: Option<&Path>,
+    weld_tolerance: f64,
+) -> Result<(Option<MapReport>, Option<MapReport>), delmesh::check::CheckError> {
+    use delmesh::check::maps;
+    let tables = maps::read_map_tables(vertex_map, face_map)?;
+    let original = match files.input {
+        Some(raw) => raw,
+        None => delmesh::check::read_raw(original)?.0,
+    };
+    maps::check_maps_of(
+        &original,
+        &files.output,
+        files.shares_vertices,
+        output,
+        &tables,
+        weld_tolerance,
+    )
+}
+
+/// The files a `--check` (or `delmesh check`) read, as they list their vertices and faces,
+/// kept for judging the same run's maps, which would otherwise read them again.
 #[derive(Debug)]
 struct CheckedFiles {
     /// The input's, when the judge read the input file itself (not a repaired copy, nor the
@@ -2119,20 +2138,13 @@ fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<Exi
     // The maps are judged on the two files as the check reads them (read once: a big mesh
     // takes longer to read than its maps to judge), INPUT's replaced by --original's.
     let judge_maps = |input_raw: RawMesh, output_raw: RawMesh, shares_vertices: bool| {
-        use delmesh::check::maps;
-        let tables = maps::read_map_tables(maps.vertex_map.as_deref(), maps.face_map.as_deref())?;
-        let original_raw = match &maps.original {
-            Some(path) => delmesh::check::read_raw(path)?.0,
-            None => input_raw,
-        };
-        maps::check_maps_of(
-            &original_raw,
-            &output_raw,
+        let files = CheckedFiles {
+            input: maps.original.is_none().then_some(input_raw),
+            output: output_raw,
             shares_vertices,
-            output,
-            &tables,
-            maps.weld_tolerance,
-        )
+        };
+        let (vertex_map, face_map) = (maps.vertex_map.as_deref(), maps.face_map.as_deref());
+        judge_maps_of(files, original, output, vertex_map, face_map, maps.weld_tolerance)
     };
     let (report, map_reports) = delmesh::check::check_files_with(input, output, maps.any().then_some(judge_maps))?;
     let (vertex_report, face_report) = map_reports.transpose()?.unwrap_or((None, None));
