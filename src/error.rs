@@ -55,7 +55,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *limit, *median_score_2, *shells, *longest_first, near_coincident, *nearly_flat_edges))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *flips, *limit, *median_score_2, *shells, *longest_first, near_coincident, *nearly_flat_edges))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -291,6 +291,12 @@ fn worst_text(excess: f64) -> String {
     }
 }
 
+/// Flips per split up to which a run that stopped on its flips near
+/// near-coincident vertices is blamed on them in [`work_limit_hint`]
+/// (refining makes about one flip per split; a flat region fanned from a
+/// corner, hundreds).
+const SPLIT_DRIVEN_FLIPS_PER_SPLIT: usize = 10;
+
 /// What to try after [`Error::WorkLimit`]: a low limit can be raised; a run
 /// stopped by its flips (few splits) is a large flat region far from
 /// Delaunay, which the stack and queue flip quadratically often (a polygon
@@ -300,10 +306,13 @@ fn worst_text(excess: f64) -> String {
 /// quadratic in any order);
 /// a run stopped by its splits needs other settings, unless it already used
 /// the ones that usually split least, or the input has near-coincident
-/// vertices, around which most settings split without end. A hint never
+/// vertices, around which most settings split (and flip) without end: a
+/// run near them that made a split per [`SPLIT_DRIVEN_FLIPS_PER_SPLIT`]
+/// flips or more is theirs whichever budget ran out first. A hint never
 /// suggests what the run already used.
 fn work_limit_hint(
     splits: usize,
+    flips: usize,
     limit: usize,
     median_score_2: bool,
     shells: bool,
@@ -317,10 +326,14 @@ fn work_limit_hint(
     } else {
         format!("; {}", nearly_flat_hint(nearly_flat_edges))
     };
+    // Stopped by its flips: a flat region, whose flips outnumber the splits
+    // by hundreds, unless near-coincident vertices made splits and flips
+    // a few to one.
+    let many_splits = splits.saturating_mul(SPLIT_DRIVEN_FLIPS_PER_SPLIT) >= flips;
+    let flat_region = splits < limit && !(near_coincident.edges > 0 && many_splits);
     let general = if limit < 1000 {
         "raise --max-added"
-    } else if splits < limit {
-        // Stopped by its flips.
+    } else if flat_region {
         if !longest_first {
             "a large flat region far from Delaunay (such as a polygon of thousands of corners fanned from one) takes \
              the stack and the queue quadratically many flips; --ds pqueue (longest edge first) usually takes far fewer"
@@ -420,6 +433,43 @@ mod tests {
                 && !defaults.contains("-s 2")
                 && defaults.contains("quadratically many flips in any order; raise --max-added"),
             "{defaults}"
+        );
+    }
+
+    #[test]
+    fn a_flip_bound_stop_among_near_coincident_vertices_names_the_weld() {
+        let stop = |splits| {
+            Error::WorkLimit {
+                splits,
+                flips: 30_000_000,
+                limit: 10_000_000,
+                median_score_2: true,
+                shells: false,
+                longest_first: false,
+                near_coincident: NearCoincident {
+                    edges: 470,
+                    shorter_than: 2.5e-7,
+                    others_from: f64::NAN,
+                },
+                nearly_flat_edges: 0,
+            }
+            .to_string()
+        };
+        // Millions of splits beside the flips (a marching-cubes torus with
+        // --repair): the near-coincident vertices alone.
+        let weld = stop(6_647_283);
+        assert!(
+            weld.ends_with(
+                "too much on this input; the input has 470 edge(s) shorter than 2.5e-7 (near-coincident vertices, \
+                 as marching cubes leaves): --repair --weld-tolerance 2.5e-7 merges them"
+            ),
+            "{weld}"
+        );
+        // Flips by the hundred a split: a flat region first, the weld after.
+        let flat = stop(194_557);
+        assert!(
+            flat.contains("--ds pqueue (longest edge first) usually takes far fewer; the input has 470 edge(s)"),
+            "{flat}"
         );
     }
 
