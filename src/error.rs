@@ -55,7 +55,7 @@ pub enum Error {
     /// as many flips): some settings (the first best sample instead of the
     /// median, on inputs with tiny angles) approach the theoretical bound of
     /// billions of vertices, or flip quadratically often.
-    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint(*splits, *flips, *limit, *median_score_2, *shells, *longest_first, near_coincident, *nearly_flat_edges))]
+    #[error("stopped after {splits} splits and {flips} flips (the work limit of --max-added {limit}): these settings need too much on this input; {}", work_limit_hint((*splits, *flips), *limit, *median_score_2, *shells, *longest_first, near_coincident, *nearly_flat_edges))]
     WorkLimit {
         /// Splits done.
         splits: usize,
@@ -311,8 +311,7 @@ const SPLIT_DRIVEN_FLIPS_PER_SPLIT: usize = 10;
 /// flips or more is theirs whichever budget ran out first. A hint never
 /// suggests what the run already used.
 fn work_limit_hint(
-    splits: usize,
-    flips: usize,
+    (splits, flips): (usize, usize),
     limit: usize,
     median_score_2: bool,
     shells: bool,
