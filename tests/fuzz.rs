@@ -3531,7 +3531,7 @@ fn regression_subnormal_crease_is_not_flipped() {
 /// `check_meshes(m, m)` failed for the single triangle
 /// (5.534023222112866e18, 0, 0), (0.1, 1/3, 0), (0.2, 1/3, 0); on the box,
 /// make_delaunay's output (1 split, 2 flips) failed the check on the face
-/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). Fixed in src/check.rs:
+/// (0, 0.728, 0.091), (0, 0, 0), (0, 0, 3.4e-21). Fixed in src/check/:
 /// the orientation of an output face relative to its region is decided
 /// exactly (orient2d of the projection along the region's main axis), and
 /// normals are computed at the corner opposite the longest edge with exact
@@ -3576,7 +3576,7 @@ fn regression_checker_needle_faces() {
 
 /// Found by `fuzz_pipeline` (seed 2026112201, session of branch
 /// fuzz-nonmanifold; `tests/regressions/README.md`), fixed: the
-/// checker's `angle` (in `check.rs`) worked on unscaled vectors, so at a
+/// checker's `angle` (in `src/check/`) worked on unscaled vectors, so at a
 /// needle face about 1e-323 wide the cross product's squared length
 /// underflows to 0, and with a dot product of -0.0 the right angle opposite
 /// the edge comes out as atan2(0, -0) = pi: a Delaunay edge (exact excess
@@ -3730,7 +3730,7 @@ fn pipeline_problems(name: &str) -> Vec<String> {
 /// bit. The checker took every output vertex at an input vertex's position
 /// for that input vertex, gave it only its regions, and reported the faces
 /// around the added vertex as lying in no region (and two regions' areas as
-/// changed). Fixed in `check.rs`: a vertex at such a position also gets the
+/// changed). Fixed in `src/check/`: a vertex at such a position also gets the
 /// regions of the input edges it lies inside.
 ///
 /// Still open, and not a checker matter: written to a file, such an output
@@ -3761,7 +3761,7 @@ fn regression_checker_vertex_at_t_junction() {
 ///   area 11.589 "became 5.177", region 13's 12.093 "became 18.506"), an
 ///   ambiguity the checker had before the fix above too.
 ///
-/// Fixed in `check.rs`: the T-junction rule applies only where the output
+/// Fixed in `src/check/`: the T-junction rule applies only where the output
 /// has more vertices than the input at the position, and a point takes the
 /// regions of the input edges nearest to it (within 16 units of roundoff of
 /// the nearest distance), not of every edge within the tolerance.
@@ -3790,7 +3790,7 @@ fn regression_checker_vertex_near_other_edges() {
 /// geometrically consistent with two coplanar regions, and the checker gave
 /// each face to one of them by rounding: with every combination without the
 /// median, region 2's area "0.1 became 0.0889" (and region 4's grew by as
-/// much). No geometric judge can tell such faces apart; fixed in `check.rs`
+/// much). No geometric judge can tell such faces apart; fixed in `src/check/`
 /// by checking the total area of each group of regions that some face fits
 /// equally. The check stays strict: removing any face of the output is
 /// still reported as an area change.
@@ -3944,7 +3944,7 @@ fn regression_refine_samples_below_f64_resolution() {
 /// point near the middle of such an edge is off it by up to about 1e-7,
 /// 5e-8 of the needle's width. The checker was inconsistent: it accepted
 /// these positions as on the edge (rule 2) but not what their rounding does
-/// to the areas. Fixed in src/check.rs: every input edge on a region's
+/// to the areas. Fixed in src/check/: every input edge on a region's
 /// border that carries added vertices adds `AREA_ROUNDING` (8) units of
 /// roundoff of its largest coordinate times its length to the region's area
 /// tolerance: 2.3e4 here for each region (5e-6 and 9e-6 relative; the worst
@@ -4002,7 +4002,7 @@ fn regression_checker_needle_region_rounding() {
 /// another input edge, it took that edge's regions instead, and faces around
 /// it were reported as lying in no region and reversed (two more inputs of
 /// the run, `fuzz-pipeline-8b347f0d89256c49.bin` and
-/// `fuzz-pipeline-f31cc88c44dc0594.bin`). Fixed in `check.rs`: "strictly
+/// `fuzz-pipeline-f31cc88c44dc0594.bin`). Fixed in `src/check/`: "strictly
 /// between the endpoints" is decided from the nearer end, `(p - a) . d > 0`
 /// and `(p - b) . d < 0`. A vertex the same distance beyond vertex 3 is
 /// still refused.
@@ -4204,7 +4204,7 @@ fn regression_attributes_seam_inside_region() {
 /// 0 --nomedian --check` rejected its own output; the same mesh as OBJ (no
 /// copies) passed. Fixed (sessions 46-47): file vertices that a seam joins
 /// (open edges running opposite ways, copies whose values differ) stay one
-/// vertex (`join_seams` in src/check.rs).
+/// vertex (`join_seams` in src/check/cuts.rs).
 #[test]
 fn regression_attributes_coincident_copies() {
     let path = regression_file("fuzz-attributes-coincident-copies.obj");
@@ -4334,7 +4334,7 @@ fn regression_attributes_text_float_property_kept() {
 ///
 /// The checker was wrong, the construction right: the checker's
 /// `(b - a) x (c - a)` crossed two long, nearly parallel edges (coordinates
-/// near 4e9, faces a few units wide) and cancelled. Fixed in src/check.rs
+/// near 4e9, faces a few units wide) and cancelled. Fixed in src/check/
 /// (`triangle_normal`: origin at the corner opposite the longest edge, exact
 /// edge vectors; region areas summed with compensation): the areas before
 /// and after now agree to 1e-16. The 18 inputs of that session that failed
