@@ -452,7 +452,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
 
 /// The attributes of `raw` on its triangles, given the raw corners and the
 /// face of each triangle. A channel may leave whole faces without values
-/// ([`Channel::is_partial`]); one that leaves some corners of a face
+/// ([`crate::attributes::Channel::is_partial`]); one that leaves some corners of a face
 /// without, or refers to values it lacks, is dropped with a note. The
 /// notes: the reader's, then those on attributes.
 fn triangle_attributes(raw: &RawMesh, raw_corners: &[[u32; 3]], triangle_face: &[u32]) -> (Attributes, Vec<String>) {

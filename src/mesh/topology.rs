@@ -205,8 +205,8 @@ const UNSET: u32 = u32::MAX;
 /// The twin of a corner on the boundary: no corner runs the other way.
 const NO_TWIN: u32 = u32::MAX - 1;
 
-/// The corners of `triangles` (c = 3f + i: the directed edge tri[i] ->
-/// tri[i+1]) paired along their edges: `twin[c]` runs the other way along
+/// The corners of `triangles` (c = 3f + i: the directed edge `tri[i]` ->
+/// `tri[i + 1]`) paired along their edges: `twin[c]` runs the other way along
 /// c's edge, [`NO_TWIN`] on the boundary. `None` if some edge is not a
 /// plain pair (three or more corners, or two in the same direction), or
 /// the mesh has 2^31 corners or more.

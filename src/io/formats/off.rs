@@ -638,7 +638,7 @@ fn push_numbers(line: &mut Vec<u8>, num: &mut zmij::Buffer, values: &[f64]) {
     }
 }
 
-/// Appends " r g b [a]", colour `i` of `c`.
+/// Appends `" r g b [a]"`, colour `i` of `c`.
 fn push_color(line: &mut Vec<u8>, num: &mut zmij::Buffer, c: &OffColors, i: usize) {
     for &x in &c.values[c.dim * i..c.dim * (i + 1)] {
         line.push(b' ');
