@@ -46,6 +46,14 @@
 //!
 //! The maps a run writes beside its output are judged by [`maps`].
 //!
+//! Where each part lives: reading the two files (and rule 7) in `read.rs`, keeping apart what
+//! `--repair` cut in `cuts.rs`; indices, edges, fans and rule 5 in `topology.rs`; the input's
+//! planar regions in `regions.rs`; rules 1 and 2 in `vertices.rs`, with the spatial hash over
+//! the input edges in `grid.rs`; rules 3 and 4 in `faces.rs`; rule 6 in `delaunay.rs`; the
+//! exact predicates in `exact.rs`; the failure lines in `failures.rs`; small index tables in
+//! `tables.rs`. This file holds the meshes, the report, the names of vertices and faces, and
+//! the check's order ([`check_files_with`]).
+//!
 //! # How files are read
 //!
 //! Polygons are triangulated (by [`triangulate`]: a fan, or ears) and identical positions welded
