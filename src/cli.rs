@@ -16,6 +16,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use crate::progress::{self, Phase};
 use crate::stats_json;
 use delmesh::check::maps::MapReport;
+use delmesh::convex_regions::ConvexRegions;
 use delmesh::draw::{Format, Rgb};
 use delmesh::face_map::{self, FaceOrigins};
 use delmesh::io;
@@ -561,21 +562,42 @@ impl Outcome {
 
 /// The first pass of Algorithm 2 on the input, shared by the runs: its
 /// non-Delaunay edges, and the seconds it took (counted in every run's
-/// refine time).
+/// refine time); before it, unless `--keep-order`, large convex flat regions
+/// flipped to Delaunay directly (as [`refine::make_delaunay`] does; their
+/// flips are counted in every run's).
 struct FirstPass {
     edges: Vec<EdgeId>,
     seconds: f64,
+    convex: ConvexRegions,
 }
 
 impl FirstPass {
-    fn new(surface: &Surface) -> FirstPass {
+    fn new(surface: &mut Surface, keep_order: bool) -> FirstPass {
         let t = Instant::now();
+        let convex = match keep_order {
+            true => ConvexRegions::default(),
+            false => delmesh::convex_regions::flip_convex_regions(surface),
+        };
         let edges = refine::non_delaunay_edges(surface);
         FirstPass {
             edges,
             seconds: t.elapsed().as_secs_f64(),
+            convex,
         }
     }
+}
+
+/// What the printout says of the convex regions the first pass flipped.
+fn convex_regions_note(convex: &ConvexRegions) -> Option<String> {
+    (convex.regions > 0).then(|| {
+        format!(
+            "{} flipped to Delaunay directly ({} corners, {} flips; Algorithm 2's flips would take about the square of \
+             the corners; --keep-order leaves them to it)",
+            count(convex.regions, "convex flat region", "convex flat regions"),
+            convex.corners,
+            convex.flips
+        )
+    })
 }
 
 fn refine_once(
@@ -586,8 +608,10 @@ fn refine_once(
     prune: Option<usize>,
 ) -> anyhow::Result<Outcome> {
     let start = Instant::now();
-    let stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
+    let mut stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
         .with_context(|| path.display().to_string())?;
+    stats.flips += first_pass.convex.flips;
+    stats.non_delaunay_before = first_pass.convex.non_delaunay_before(stats.non_delaunay_before);
     let out = Outcome {
         surface,
         stats,
@@ -832,7 +856,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Build {
         faces: input.triangles.len(),
     });
-    let surface = args.settings.build(&mut input, input_path)?;
+    let mut surface = args.settings.build(&mut input, input_path)?;
     let transfer =
         (!input.attributes.is_empty()).then(|| Transfer::new(input.attributes.clone(), &input.triangles, &surface));
     let face_origins = args
@@ -843,10 +867,13 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     progress::phase(Phase::Idle);
     // The input's non-Delaunay edges: the first pass of every run, and where
     // the lower bound is counted.
-    let first_pass = FirstPass::new(&surface);
+    let first_pass = FirstPass::new(&mut surface, args.settings.keep_order || args.no_refine);
     let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
     if !args.quiet {
         say_input(input_path, &input, &surface, lower_bound, transfer.as_ref());
+        if let Some(note) = convex_regions_note(&first_pass.convex) {
+            say!("note    {note}");
+        }
     }
     // The repaired input: with -all put in place now (the sweep writes its
     // files as it goes), otherwise staged and put in place with the other

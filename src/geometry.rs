@@ -608,6 +608,12 @@ pub fn flat_pair_in_range(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     false
 }
 
+/// Exact test: are the triangle (a, b, c) and the point d in one plane?
+/// Exact for every finite input.
+pub fn coplanar(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    in_axis_plane(a, b, c, d) || orient3d_sign(a, b, c, d) == 0
+}
+
 /// Whether the four points have one coordinate equal, bit for bit: they
 /// then lie in a plane `x = const` (or y, z), and orient3d is exactly zero
 /// (one column of its determinant of differences is zero). Most flat pairs

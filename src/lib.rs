@@ -69,6 +69,7 @@
 
 pub mod attributes;
 pub mod check;
+pub mod convex_regions;
 pub mod draw;
 pub mod error;
 pub mod face_map;

@@ -2210,7 +2210,12 @@ fn fanned_ellipse(dir: &Path, n: usize) -> PathBuf {
     let mut text = String::new();
     for i in 0..n {
         let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
-        text += &format!("v {} {} 0\n", 2.0 * a.cos(), a.sin());
+        // The corner at the top of the ellipse pulled in by 0.1%: not convex
+        // there, so Algorithm 2's flips make it Delaunay (a convex polygon of
+        // 256 corners or more is flipped directly first:
+        // tests/convex_regions.rs).
+        let r = if i == n / 4 { 0.999 } else { 1.0 };
+        text += &format!("v {} {} 0\n", 2.0 * r * a.cos(), r * a.sin());
     }
     // Written as triangles, as CAD exporters write it: a polygon of the
     // file would be read as its Delaunay triangulation.
@@ -2366,8 +2371,9 @@ fn a_work_limit_relative_to_the_input_is_set_file_by_file() {
     }
 }
 
-/// A flat 400-gon on an ellipse, fanned from its first corner: the stack
-/// flips it about n²/12 times, longest edge first about n times. A run
+/// A flat 400-gon on an ellipse, fanned from its first corner (with a dent:
+/// see `fanned_ellipse`): the stack flips it about n²/12 times, longest edge
+/// first about n times. A run
 /// stopped by its flips says so and points to --ds pqueue, which gets
 /// through under the same limit.
 #[test]
@@ -2394,7 +2400,7 @@ fn a_flip_bound_work_limit_points_to_the_priority_queue() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");
     let flips = flips_of_no_split_run(&stdout);
-    assert!(flips <= n, "{flips} flips for a {n}-gon, longest edge first");
+    assert!(flips < 2 * n, "{flips} flips for a {n}-gon, longest edge first");
     check_passes(&input, &out);
 }
 

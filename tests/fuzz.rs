@@ -2028,6 +2028,14 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
         let n = input.positions.len();
         let transfer = delmesh::attributes::Transfer::new(input.attributes.clone(), &input.triangles, &s);
         let origins = delmesh::face_map::FaceOrigins::new(&input.triangles, &input.triangle_polygon, &s);
+        // Half the time, every convex flat region of 4 corners or more is
+        // flipped to Delaunay directly first (make_delaunay does so from
+        // `convex_regions::MIN_CORNERS` corners, which small inputs lack).
+        if h & 16 != 0 {
+            delmesh::convex_regions::flip_convex_regions_of(&mut s, 4);
+            s.validate()
+                .map_err(|e| format!("after the convex regions' flips: {e}"))?;
+        }
         match make_delaunay(&mut s, &options) {
             Ok(stats) => {
                 // The output's attributes: one value per corner, whatever came in.

@@ -185,11 +185,13 @@ pub(super) struct Settings {
     #[arg(long = "max-added", value_name = "N", default_value = "10000000", allow_negative_numbers = true, value_parser = work_limit)]
     pub(super) max_added: WorkLimit,
 
-    /// Take the edges in the --ds order to the end. Without it, a stack or
-    /// queue run that has flipped more than 8 times per edge of the mesh
-    /// (a large flat region far from Delaunay, such as an oval polygon
-    /// fanned from one corner) takes the rest longest edge first, and says
-    /// so: the stack would flip such a region quadratically often.
+    /// Make every flip Algorithm 2's, in the --ds order to the end, as the
+    /// report's tool did. Without it, a flat region that is a convex polygon
+    /// of 256 corners or more (an oval cap fanned from one corner) is first
+    /// flipped to Delaunay directly, in fewer than 2 flips per corner, and a
+    /// stack or queue run that has flipped more than 8 times per edge of the
+    /// mesh takes the rest longest edge first; each says so: the stack would
+    /// flip such regions quadratically often.
     #[arg(long = "keep-order")]
     pub(super) keep_order: bool,
 

@@ -19,9 +19,9 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_maps, check_output, check_output_dir, count, failure_record, file_key, growth_note, longest_first_note,
-    name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map, stage_vertex_map,
-    stuck_elsewhere, write_output, FirstPass, Settings,
+    check_maps, check_output, check_output_dir, convex_regions_note, count, failure_record, file_key, growth_note,
+    longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map,
+    stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
@@ -404,7 +404,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         let surface = args.settings.build(&mut mesh, input)?;
         Ok((mesh, surface, read_s, t_build.elapsed().as_secs_f64()))
     };
-    let (mut mesh, surface, read_s, build_s) = read().map_err(|error| Failed {
+    let (mut mesh, mut surface, read_s, build_s) = read().map_err(|error| Failed {
         error,
         doc: None,
         refused: true,
@@ -416,7 +416,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
     };
     let figures = surface.input_figures;
     let constants = delmesh::refine::sample_constants(&surface);
-    let first_pass = FirstPass::new(&surface);
+    let first_pass = FirstPass::new(&mut surface, args.settings.keep_order);
     let json = args.stats_json.is_some();
     let lower_bound = if json {
         surface.added_vertex_lower_bound_among(&first_pass.edges)
@@ -520,6 +520,7 @@ fn refine_read(
         out.pruned.is_some(),
         args.smallest,
     ));
+    notes.extend(convex_regions_note(&first_pass.convex));
     notes.extend(longest_first_note(&out.stats));
     *seconds = out.seconds(0.0);
     let written = write_output(output, input, &out.surface, transfer.as_ref(), &Default::default());

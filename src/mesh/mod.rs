@@ -734,8 +734,23 @@ impl Surface {
     /// a flip can fold a face or duplicate an edge (also where the region
     /// overlaps itself). The adjacency test walks the fans of c and d side
     /// by side ([`Topology::are_adjacent_within_either`]), so that a flip
-    /// beside a vertex with thousands of neighbours stays cheap.
+    /// beside a vertex with thousands of neighbours stays cheap. The new
+    /// edge c–d must also be Delaunay itself (see below).
+    #[inline]
     pub fn flip_is_valid(&self, e: EdgeId) -> bool {
+        self.flip_check(e, true)
+    }
+
+    /// [`Surface::flip_is_valid`] without its Delaunay test: whether the
+    /// flip gives a valid mesh, whatever it does to the angles (the flips
+    /// of [`crate::convex_regions`], which pass through triangulations
+    /// farther from Delaunay on their way to it).
+    pub fn flip_is_possible(&self, e: EdgeId) -> bool {
+        self.flip_check(e, false)
+    }
+
+    #[inline(always)]
+    fn flip_check(&self, e: EdgeId, new_edge_delaunay: bool) -> bool {
         let h = e.halfedge();
         let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
         if c == d {
@@ -755,7 +770,7 @@ impl Surface {
         // The new edge must itself be Delaunay: on a quad that is degenerate
         // to rounding, both diagonals can look non-Delaunay, and flipping
         // would then go back and forth for ever.
-        if geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE) {
+        if new_edge_delaunay && geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE) {
             return false;
         }
         // Unknown (both fans longer than the limit, which only settings
