@@ -315,7 +315,9 @@ impl Polygon {
         {
             return (0, false);
         }
-        let steps = target.flip_to_fan(apex as u32);
+        let Some(steps) = target.flip_to_fan(apex as u32) else {
+            return (0, false);
+        };
         // The input edges the diagonals lie on, to label them again where
         // step 3 makes the same diagonal (a flip forgets its edge's label).
         let mut labels: FastMap<(u32, u32), u32> = FastMap::default();
@@ -476,7 +478,7 @@ impl Corners {
                     return None;
                 }
                 budget -= 1;
-                t.flip(u, w);
+                t.flip(u, w)?;
                 stack.push((u, y));
                 stack.push((y, w));
             }
@@ -505,9 +507,10 @@ impl Corners {
     }
 
     /// Flips the diagonal a-b: (a, b, c) and (b, a, d) become (a, d, c) and
-    /// (d, b, c). Returns d.
-    fn flip(&mut self, a: u32, b: u32) -> u32 {
-        let (i, j) = (self.holding[&(a, b)], self.holding[&(b, a)]);
+    /// (d, b, c). `None` (nothing done) if a-b is not a diagonal, which the
+    /// callers' bookkeeping rules out.
+    fn flip(&mut self, a: u32, b: u32) -> Option<()> {
+        let (&i, &j) = (self.holding.get(&(a, b))?, self.holding.get(&(b, a))?);
         let third = |tri: [u32; 3]| tri.into_iter().find(|&x| x != a && x != b).unwrap_or(a);
         let (c, d) = (third(self.triangles[i as usize]), third(self.triangles[j as usize]));
         self.holding.remove(&(a, b));
@@ -516,12 +519,13 @@ impl Corners {
         self.triangles[j as usize] = [d, b, c];
         self.hold(i);
         self.hold(j);
-        d
+        Some(())
     }
 
     /// Flips this triangulation to the fan of corner `v`, and returns the
-    /// flips made: `(x, y, z)` turned the diagonal x-y into v-z.
-    fn flip_to_fan(&mut self, v: u32) -> Vec<(u32, u32, u32)> {
+    /// flips made: `(x, y, z)` turned the diagonal x-y into v-z (`None` if
+    /// the bookkeeping failed, which it does not).
+    fn flip_to_fan(&mut self, v: u32) -> Option<Vec<(u32, u32, u32)>> {
         let mut facing: Vec<(u32, u32)> = Vec::new();
         for tri in &self.triangles {
             if let Some(k) = tri.iter().position(|&c| c == v) {
@@ -532,12 +536,12 @@ impl Corners {
         while let Some((x, y)) = facing.pop() {
             // (v, x, y) holds x->y; beyond it lies z.
             let Some(z) = self.across(x, y) else { continue };
-            self.flip(x, y);
+            self.flip(x, y)?;
             steps.push((x, y, z));
             facing.push((x, z));
             facing.push((z, y));
         }
-        steps
+        Some(steps)
     }
 }
 
@@ -594,7 +598,7 @@ mod tests {
     fn a_triangulation_goes_to_a_fan_of_n_minus_3_diagonals() {
         let p = parabola(500);
         let mut t = Corners::delaunay(&p).unwrap();
-        let steps = t.flip_to_fan(7);
+        let steps = t.flip_to_fan(7).unwrap();
         assert!(steps.len() <= 497);
         for tri in &t.triangles {
             assert!(tri.contains(&7), "{tri:?} not in the fan of 7");
