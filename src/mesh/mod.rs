@@ -736,7 +736,6 @@ impl Surface {
     /// by side ([`Topology::are_adjacent_within_either`]), so that a flip
     /// beside a vertex with thousands of neighbours stays cheap. The new
     /// edge c–d must also be Delaunay itself (see below).
-    #[inline]
     pub fn flip_is_valid(&self, e: EdgeId) -> bool {
         self.flip_check(e, true)
     }
