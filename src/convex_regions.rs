@@ -184,25 +184,26 @@ impl Polygon {
         };
         // The outline: half-edges of the region's faces whose twins are not
         // in the region, by their origins.
-        let mut outline: Vec<(VertexId, HalfEdgeId)> = Vec::new();
-        let mut bad_inside = false;
-        for &f in faces {
-            let mut h = topo.face_halfedge(f);
-            for _ in 0..3 {
-                if !in_region(h.twin()) {
-                    outline.push((topo.origin(h), h));
-                } else if h < h.twin() && !bad_inside {
-                    bad_inside = s.is_non_delaunay(h.edge(), SEED_TOLERANCE);
-                }
-                h = topo.next(h);
-            }
-        }
-        let n = outline.len();
+        let half_edges = || {
+            faces.iter().flat_map(|&f| {
+                let h = topo.face_halfedge(f);
+                [h, topo.next(h), topo.next(topo.next(h))]
+            })
+        };
+        let n = half_edges().filter(|&h| !in_region(h.twin())).count();
         // A disc whose every vertex is on its outline has n - 2 faces (with
-        // k vertices inside, n - 2 + 2k; an annulus n).
-        if !bad_inside || faces.len() + 2 != n {
+        // k vertices inside, n - 2 + 2k; an annulus n): told before any
+        // Delaunay test or allocation, as most large flat regions (of scans,
+        // terrains, voxel models) have vertices inside.
+        if faces.len() + 2 != n
+            || !half_edges().any(|h| h < h.twin() && in_region(h.twin()) && s.is_non_delaunay(h.edge(), SEED_TOLERANCE))
+        {
             return None;
         }
+        let mut outline: Vec<(VertexId, HalfEdgeId)> = half_edges()
+            .filter(|&h| !in_region(h.twin()))
+            .map(|h| (topo.origin(h), h))
+            .collect();
         outline.sort_unstable();
         if outline.windows(2).any(|w| w[0].0 == w[1].0) {
             return None; // a corner twice on the outline
