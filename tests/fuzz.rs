@@ -45,7 +45,9 @@
 //! A failing input is printed escaped and saved under
 //! `$TMPDIR/delmesh-fuzz/`; replay saved inputs with the `replay` tool
 //! (`FUZZ_REPLAY=a.bin:b.bin cargo test --test fuzz replay -- --ignored
-//! --nocapture`). Past runs, seeds and findings: tests/regressions/README.md.
+//! --nocapture`; with `FUZZ_DUMP=DIR`, an output the checker wrongly accepts
+//! is written to DIR as input.obj, output.obj and damaged.obj). Past runs,
+//! seeds and findings: tests/regressions/README.md.
 
 mod common;
 
@@ -2284,12 +2286,33 @@ fn damaged_output_is_refused(input: &InputMesh, s: &Surface, h: u64, tag: &str) 
                 triangles: input.triangles.clone(),
             };
             if check_meshes(&original, &damaged).passed() {
+                if let Some(dir) = std::env::var_os("FUZZ_DUMP") {
+                    let dir = PathBuf::from(dir);
+                    for (name, m) in [("input", &original), ("output", &out), ("damaged", &damaged)] {
+                        dump_obj(&dir.join(format!("{name}.obj")), m);
+                    }
+                }
                 return Err(format!("{tag}: the checker accepted the output with {kind:?}"));
             }
             return Ok(());
         }
     }
     Ok(())
+}
+
+/// Writes `m` as an OBJ file at `path` (positions shortest round trip),
+/// for a look at a finding; a failure to write is only printed.
+fn dump_obj(path: &Path, m: &Mesh3) {
+    let mut text = String::new();
+    for p in &m.positions {
+        text += &format!("v {:?} {:?} {:?}\n", p.x, p.y, p.z);
+    }
+    for [a, b, c] in &m.triangles {
+        text += &format!("f {} {} {}\n", a + 1, b + 1, c + 1);
+    }
+    if let Err(e) = std::fs::write(path, text) {
+        eprintln!("{}: {e}", path.display());
+    }
 }
 
 /// The work limit of the attributes target (three refinements an input).

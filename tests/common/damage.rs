@@ -42,7 +42,8 @@ pub enum Damage {
     /// edge's largest coordinate to a thousandth of its shortest edge.
     AddedVertexOffItsEdge,
     /// An added vertex moved along its input edge, halfway past the next
-    /// vertex on it (or past the edge's end).
+    /// vertex on it (or past the edge's end); not where the surface is
+    /// folded flat onto itself at the vertex.
     AddedVertexPastItsNeighbour,
     /// An input vertex moved by one unit in the last place of a coordinate.
     InputVertexOneUlp,
@@ -156,6 +157,24 @@ pub fn neighbours_on_edge(s: &Surface, edge: u32, t: f64) -> (f64, f64) {
     (before, after)
 }
 
+/// Whether two faces at vertex `v` of `m` lie flat on each other: unit
+/// normals opposite within 1e-9 (a fold of the input shut to within
+/// rounding, as where a face's corner is one unit in the last place from
+/// its neighbour's across the edge). There a face turned over on one side
+/// is, within rounding, a face of the other side the right way up, and the
+/// other side's edges are within rounding of this side's: the checker
+/// rightly cannot tell them apart.
+fn on_a_flat_fold(m: &Mesh3, v: usize) -> bool {
+    let normals: Vec<DVec3> = (m.triangles.iter())
+        .filter(|t| t.contains(&(v as u32)))
+        .map(|t| {
+            let [a, b, c] = t.map(|x| m.positions[x as usize]);
+            (b - a).cross(c - a).normalize_or_zero()
+        })
+        .collect();
+    normals.iter().any(|n| normals.iter().any(|o| n.dot(*o) < -1.0 + 1e-9))
+}
+
 /// `out`, the refined `s` as a [`Mesh3`], with damage of `kind` at a random
 /// place; `None` if it has no place for it.
 pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<Mesh3> {
@@ -188,6 +207,9 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<M
             // added one, or the edge's end: then off the edge): the faces
             // between the two turn over.
             let (v, edge, t) = random_added_vertex(s, rng)?;
+            if on_a_flat_fold(&m, v) {
+                return None;
+            }
             let (_, next) = neighbours_on_edge(s, edge, t);
             let [a, b] = s.input_edge_ends(edge);
             m.positions[v] = delmesh::samples::point_on_edge(a, b, next + 0.5 * (next - t));
