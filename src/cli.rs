@@ -16,9 +16,9 @@ use clap::{Parser, Subcommand, ValueEnum};
 use crate::progress::{self, Phase};
 use crate::stats_json;
 use delmesh::check::maps::MapReport;
-use delmesh::convex_regions::ConvexRegions;
 use delmesh::draw::{Format, Rgb};
 use delmesh::face_map::{self, FaceOrigins};
+use delmesh::flat_regions::FlatRegions;
 use delmesh::io;
 use delmesh::io::formats::RawMesh;
 
@@ -562,42 +562,54 @@ impl Outcome {
 
 /// The first pass of Algorithm 2 on the input, shared by the runs: its
 /// non-Delaunay edges, and the seconds it took (counted in every run's
-/// refine time); before it, unless `--keep-order`, large convex flat regions
-/// flipped to Delaunay directly (as [`refine::make_delaunay`] does; their
-/// flips are counted in every run's).
+/// refine time); before it, unless `--keep-order`, large flat regions made
+/// Delaunay directly (as [`refine::make_delaunay`] does; the flips of convex
+/// ones are counted in every run's).
 struct FirstPass {
     edges: Vec<EdgeId>,
     seconds: f64,
-    convex: ConvexRegions,
+    flat: FlatRegions,
 }
 
 impl FirstPass {
     fn new(surface: &mut Surface, keep_order: bool) -> FirstPass {
         let t = Instant::now();
-        let convex = match keep_order {
-            true => ConvexRegions::default(),
-            false => delmesh::convex_regions::flip_convex_regions(surface),
+        let flat = match keep_order {
+            true => FlatRegions::default(),
+            false => delmesh::flat_regions::make_flat_regions_delaunay(surface),
         };
         let edges = refine::non_delaunay_edges(surface);
         FirstPass {
             edges,
             seconds: t.elapsed().as_secs_f64(),
-            convex,
+            flat,
         }
     }
 }
 
-/// What the printout says of the convex regions the first pass flipped.
-fn convex_regions_note(convex: &ConvexRegions) -> Option<String> {
-    (convex.regions > 0).then(|| {
-        format!(
+/// What the printout says of the flat regions the first pass made Delaunay
+/// (none, one or two lines).
+fn flat_regions_notes(flat: &FlatRegions) -> Vec<String> {
+    let mut notes = Vec::new();
+    let convex = &flat.convex;
+    if convex.regions > 0 {
+        notes.push(format!(
             "{} flipped to Delaunay directly ({} corners, {} flips; Algorithm 2's flips would take about the square of \
              the corners; --keep-order leaves them to it)",
             count(convex.regions, "convex flat region", "convex flat regions"),
             convex.corners,
             convex.flips
-        )
-    })
+        ));
+    }
+    if flat.rebuilt > 0 {
+        notes.push(format!(
+            "{} rebuilt to Delaunay directly ({} vertices, as constrained Delaunay triangulations; Algorithm 2's \
+             flips could take up to the square of the vertices; --keep-order leaves them to it)",
+            count(flat.rebuilt, "flat region", "flat regions"),
+            flat.rebuilt_vertices
+        ));
+    }
+    notes
 }
 
 fn refine_once(
@@ -610,8 +622,8 @@ fn refine_once(
     let start = Instant::now();
     let mut stats = refine::make_delaunay_from(&mut surface, options, &first_pass.edges)
         .with_context(|| path.display().to_string())?;
-    stats.flips += first_pass.convex.flips;
-    stats.non_delaunay_before = first_pass.convex.non_delaunay_before(stats.non_delaunay_before);
+    stats.flips += first_pass.flat.flips();
+    stats.non_delaunay_before = first_pass.flat.non_delaunay_before(stats.non_delaunay_before);
     let out = Outcome {
         surface,
         stats,
@@ -871,7 +883,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let lower_bound = surface.added_vertex_lower_bound_among(&first_pass.edges);
     if !args.quiet {
         say_input(input_path, &input, &surface, lower_bound, transfer.as_ref());
-        if let Some(note) = convex_regions_note(&first_pass.convex) {
+        for note in flat_regions_notes(&first_pass.flat) {
             say!("note    {note}");
         }
     }

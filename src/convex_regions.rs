@@ -89,33 +89,7 @@ pub fn flip_convex_regions(surface: &mut Surface) -> ConvexRegions {
 /// [`flip_convex_regions`] with another least number of corners (tests).
 pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegions {
     let mut done = ConvexRegions::default();
-    let min_faces = min_corners.max(4) - 2;
-    // A region of k faces makes k - 1 fewer regions than faces: most
-    // meshes have no candidate, told without a pass.
-    let n_faces = s.topo.n_faces();
-    if n_faces < s.n_regions + min_faces - 1 {
-        return done;
-    }
-    let mut count = vec![0u32; s.n_regions];
-    for &r in &s.face_region {
-        count[r as usize] += 1;
-    }
-    let mut slot = vec![u32::MAX; s.n_regions];
-    let mut faces: Vec<Vec<FaceId>> = Vec::new();
-    for (r, &c) in count.iter().enumerate() {
-        if c as usize >= min_faces {
-            slot[r] = faces.len() as u32;
-            faces.push(Vec::with_capacity(c as usize));
-        }
-    }
-    if faces.is_empty() {
-        return done;
-    }
-    for (f, &r) in s.face_region.iter().enumerate() {
-        if let Some(list) = faces.get_mut(slot[r as usize] as usize) {
-            list.push(FaceId(f as u32));
-        }
-    }
+    let faces = large_regions(s, min_corners.max(4) - 2);
     // Each vertex's number among its region's corners (u32::MAX: none), for
     // the region at hand.
     let mut local: Vec<u32> = Vec::new();
@@ -159,6 +133,38 @@ pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegi
         }
     }
     done
+}
+
+/// The faces of every planar region of `s` with at least `min_faces` faces
+/// (`min_faces` ≥ 2), a list per region, in face order.
+pub(crate) fn large_regions(s: &Surface, min_faces: usize) -> Vec<Vec<FaceId>> {
+    // A region of k faces makes k - 1 fewer regions than faces: most
+    // meshes have no such region, told without a pass.
+    let n_faces = s.topo.n_faces();
+    if n_faces < s.n_regions + min_faces - 1 {
+        return Vec::new();
+    }
+    let mut count = vec![0u32; s.n_regions];
+    for &r in &s.face_region {
+        count[r as usize] += 1;
+    }
+    let mut slot = vec![u32::MAX; s.n_regions];
+    let mut faces: Vec<Vec<FaceId>> = Vec::new();
+    for (r, &c) in count.iter().enumerate() {
+        if c as usize >= min_faces {
+            slot[r] = faces.len() as u32;
+            faces.push(Vec::with_capacity(c as usize));
+        }
+    }
+    if faces.is_empty() {
+        return faces;
+    }
+    for (f, &r) in s.face_region.iter().enumerate() {
+        if let Some(list) = faces.get_mut(slot[r as usize] as usize) {
+            list.push(FaceId(f as u32));
+        }
+    }
+    faces
 }
 
 /// A flat region that is a strictly convex polygon with no vertex inside.

@@ -73,6 +73,7 @@ pub mod convex_regions;
 pub mod draw;
 pub mod error;
 pub mod face_map;
+pub mod flat_regions;
 pub mod geometry;
 pub mod hash;
 pub mod io;

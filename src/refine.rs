@@ -47,9 +47,9 @@ pub struct Options {
     /// default), a stack or queue run that has flipped more than
     /// [`FLIPS_PER_EDGE_BEFORE_LONGEST_FIRST`] times per edge of the mesh
     /// takes the rest longest edge first ([`Stats::longest_first_after`]),
-    /// and [`make_delaunay`] first flips large convex flat regions to
-    /// Delaunay directly ([`crate::convex_regions`]). If `true`, every flip
-    /// is Algorithm 2's, as in the report's tool.
+    /// and [`make_delaunay`] first makes large flat regions Delaunay
+    /// directly ([`crate::flat_regions`]). If `true`, every flip is
+    /// Algorithm 2's, as in the report's tool.
     pub keep_order: bool,
     /// Called every [`PROGRESS_INTERVAL`] edges taken from DS; `None` costs
     /// nothing. It does not change the result: any two hooks compare equal.
@@ -307,31 +307,30 @@ pub fn split_conditions([a, b, c, d]: [DVec3; 4], beyond: [Option<DVec3>; 4]) ->
 /// (within [`ALGORITHM_TOLERANCE`]; an input edge within
 /// [`SEED_TOLERANCE`] whose quad nothing changes is left as it is).
 ///
-/// Unless [`Options::keep_order`], large flat regions that are convex
-/// polygons are first flipped to Delaunay directly
-/// ([`crate::convex_regions::flip_convex_regions`]; their flips are counted
-/// in [`Stats::flips`]).
+/// Unless [`Options::keep_order`], large flat regions are first made
+/// Delaunay directly ([`crate::flat_regions::make_flat_regions_delaunay`]:
+/// convex ones flipped, counted in [`Stats::flips`]; others rebuilt).
 ///
 /// Fails with [`Error::Unsplittable`] if some non-Delaunay sub-edge has no
 /// sample left inside it; it never loops.
 pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> {
-    let convex = match options.keep_order {
+    let flat = match options.keep_order {
         true => Default::default(),
-        false => crate::convex_regions::flip_convex_regions(surface),
+        false => crate::flat_regions::make_flat_regions_delaunay(surface),
     };
     let first_pass = non_delaunay_edges(surface);
     let mut stats = make_delaunay_from(surface, options, &first_pass)?;
-    stats.flips += convex.flips;
-    stats.non_delaunay_before = convex.non_delaunay_before(stats.non_delaunay_before);
+    stats.flips += flat.flips();
+    stats.non_delaunay_before = flat.non_delaunay_before(stats.non_delaunay_before);
     Ok(stats)
 }
 
 /// [`make_delaunay`], given the result of its first pass,
 /// [`non_delaunay_edges`]`(surface)`: several runs on copies of one mesh (and
-/// [`Surface::added_vertex_lower_bound_among`]) can share it. It flips no
-/// convex region itself: call
-/// [`crate::convex_regions::flip_convex_regions`] before the first pass,
-/// as [`make_delaunay`] does.
+/// [`Surface::added_vertex_lower_bound_among`]) can share it. It makes no
+/// flat region Delaunay directly itself: call
+/// [`crate::flat_regions::make_flat_regions_delaunay`] before the first
+/// pass, as [`make_delaunay`] does.
 pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: &[EdgeId]) -> Result<Stats> {
     let constants = sample_constants(surface);
     let mut run = Run {

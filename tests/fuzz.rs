@@ -2038,6 +2038,16 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
             s.validate()
                 .map_err(|e| format!("after the convex regions' flips: {e}"))?;
         }
+        // Half the time (independently), every flat region of 4 vertices or
+        // more with a flip to make is rebuilt as its constrained Delaunay
+        // triangulation first (make_delaunay does so from
+        // `flat_regions::MIN_VERTICES` vertices, where Lawson's flips are
+        // slow).
+        if h & 32 != 0 {
+            delmesh::flat_regions::rebuild_flat_regions_of(&mut s, 4, 0);
+            s.validate()
+                .map_err(|e| format!("after rebuilding the flat regions: {e}"))?;
+        }
         match make_delaunay(&mut s, &options) {
             Ok(stats) => {
                 // The output's attributes: one value per corner, whatever came in.

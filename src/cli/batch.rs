@@ -19,7 +19,7 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_maps, check_output, check_output_dir, convex_regions_note, count, failure_record, file_key, growth_note,
+    check_maps, check_output, check_output_dir, count, failure_record, file_key, flat_regions_notes, growth_note,
     longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map,
     stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
 };
@@ -520,7 +520,7 @@ fn refine_read(
         out.pruned.is_some(),
         args.smallest,
     ));
-    notes.extend(convex_regions_note(&first_pass.convex));
+    notes.extend(flat_regions_notes(&first_pass.flat));
     notes.extend(longest_first_note(&out.stats));
     *seconds = out.seconds(0.0);
     let written = write_output(output, input, &out.surface, transfer.as_ref(), &Default::default());

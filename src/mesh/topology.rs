@@ -649,6 +649,30 @@ impl Topology {
         }
     }
 
+    /// Calls `f(edge, w)` for every edge at `v` and the vertex `w` at its
+    /// other end, counter-clockwise from `v`'s half-edge.
+    pub fn for_each_neighbour(&self, v: VertexId, mut f: impl FnMut(EdgeId, VertexId)) {
+        let first = self.vertex_he[v.idx()];
+        if first.is_none() {
+            return;
+        }
+        let mut h = first;
+        for _ in 0..self.he_face.len() {
+            f(h.edge(), self.dest(h));
+            let n = self.rotate_ccw(h);
+            if n.is_none() {
+                // A boundary vertex: the fan's last edge comes into v.
+                let last = self.next(self.next(h));
+                f(last.edge(), self.origin(last));
+                return;
+            }
+            if n == first {
+                return;
+            }
+            h = n;
+        }
+    }
+
     /// Whether an edge joins `u` and `v`, walking the two fans side by side:
     /// 64 edges of each, then 256, and so on up to `limit`; `None` if both
     /// fans are longer than that. The cost is of the order of the shorter
@@ -1043,6 +1067,96 @@ impl Topology {
         self.vertex_he.reserve(splits);
     }
 
+    /// Replaces the triangles of a patch, the faces `faces` whose edges
+    /// inside the patch (both sides in it) are `inner`, by `triangles`,
+    /// another triangulation of the same patch: the same vertices, the same
+    /// outline. The faces and the inner edges keep their ids (face `faces[i]`
+    /// becomes `triangles[i]`, the inner edges are dealt out in turn to the
+    /// new inner edges), the outline's half-edges keep theirs and their
+    /// origins. Returns false, changing nothing, if `triangles` does not fit:
+    /// another count, an outline half-edge not used exactly once, an inner
+    /// edge used on one side only or twice the same way.
+    ///
+    /// ```text
+    ///    a-------b         a-------b      the outline (a, b, c, d, e) and
+    ///    |\      |         |    _/ |      its half-edges stay; the inner
+    ///    | \  f0 |   ==>   | f0/ f1|      edges (here 2) and faces (3) are
+    ///    |f1\____c         |  / ___c      dealt out again
+    ///    |  / f2 /          | /_/ f2/
+    ///    e-'----d           e-------d
+    /// ```
+    pub fn retriangulate(&mut self, faces: &[FaceId], inner: &[EdgeId], triangles: &[[VertexId; 3]]) -> bool {
+        use crate::hash::FastMap;
+        if triangles.len() != faces.len() {
+            return false;
+        }
+        let is_inner: FastMap<EdgeId, ()> = inner.iter().map(|&e| (e, ())).collect();
+        let mut outline: FastMap<(VertexId, VertexId), HalfEdgeId> = FastMap::default();
+        for &f in faces {
+            let mut h = self.face_halfedge(f);
+            for _ in 0..3 {
+                if !is_inner.contains_key(&h.edge()) {
+                    outline.insert((self.origin(h), self.dest(h)), h);
+                }
+                h = self.next(h);
+            }
+        }
+        // Each triangle's three half-edges: an outline one, or a side of an
+        // inner edge, whose other side is then waiting (Some) until the
+        // neighbouring triangle takes it (None: both sides taken).
+        let mut sides: FastMap<(VertexId, VertexId), Option<HalfEdgeId>> = FastMap::default();
+        let mut dealt = 0;
+        let mut plan: Vec<[HalfEdgeId; 3]> = Vec::with_capacity(triangles.len());
+        for t in triangles {
+            let mut hs = [HalfEdgeId::NONE; 3];
+            for k in 0..3 {
+                let (u, v) = (t[k], t[(k + 1) % 3]);
+                hs[k] = if let Some(h) = outline.remove(&(u, v)) {
+                    h
+                } else if let Some(side) = sides.get_mut(&(u, v)) {
+                    match side.take() {
+                        Some(h) => h,
+                        None => return false, // u -> v twice
+                    }
+                } else {
+                    let Some(&e) = inner.get(dealt) else {
+                        return false; // more inner edges than the patch has
+                    };
+                    dealt += 1;
+                    sides.insert((u, v), None);
+                    sides.insert((v, u), Some(e.halfedge().twin()));
+                    e.halfedge()
+                };
+            }
+            plan.push(hs);
+        }
+        if !outline.is_empty() || dealt != inner.len() || sides.values().any(Option::is_some) {
+            return false;
+        }
+        for ((&f, t), hs) in faces.iter().zip(triangles).zip(&plan) {
+            for k in 0..3 {
+                let h = hs[k].idx();
+                self.he_origin[h] = t[k];
+                self.he_next[h] = hs[(k + 1) % 3];
+                self.he_face[h] = f;
+            }
+            self.face_he[f.idx()] = hs[0];
+        }
+        // A vertex whose outgoing half-edge was an inner one dealt out to
+        // another vertex takes one of its new ones. (A vertex on the mesh's
+        // boundary keeps its own: a boundary half-edge is on the outline.)
+        for (t, hs) in triangles.iter().zip(&plan) {
+            for k in 0..3 {
+                let v = t[k];
+                let h = self.vertex_he[v.idx()];
+                if is_inner.contains_key(&h.edge()) && self.origin(h) != v {
+                    self.vertex_he[v.idx()] = hs[k];
+                }
+            }
+        }
+        true
+    }
+
     /// The faces as vertex triples, in face order.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         crate::parallel::map(self.n_faces(), |f| self.face_vertices(FaceId(f as u32)).map(|v| v.0))
@@ -1150,6 +1264,65 @@ impl Topology {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The faces of `t` as vertex triples, each from its lowest corner, sorted.
+    fn face_set(t: &Topology) -> Vec<[u32; 3]> {
+        let mut faces: Vec<[u32; 3]> = (t.triangles().into_iter())
+            .map(|f| {
+                let k = (0..3).min_by_key(|&k| f[k]).unwrap();
+                [f[k], f[(k + 1) % 3], f[(k + 2) % 3]]
+            })
+            .collect();
+        faces.sort_unstable();
+        faces
+    }
+
+    #[test]
+    fn retriangulate_deals_out_faces_and_inner_edges_again_or_changes_nothing() {
+        // A pentagon fanned from 0 (inner edges 0-2 and 0-3) inside an
+        // octahedron-like closed mesh: the fan's apex 5 caps it below.
+        let pentagon: Vec<[u32; 3]> = vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]];
+        let mut triangles = pentagon.clone();
+        triangles.extend((0..5).map(|i| [(i + 1) % 5, i, 5]));
+        let mut t = Topology::from_triangles(6, &triangles).unwrap();
+        let faces = [FaceId(0), FaceId(1), FaceId(2)];
+        let inner: Vec<EdgeId> = (0..t.n_edges() as u32)
+            .map(EdgeId)
+            .filter(|&e| {
+                let h = e.halfedge();
+                faces.contains(&t.face(h)) && faces.contains(&t.face(h.twin()))
+            })
+            .collect();
+        assert_eq!(inner.len(), 2);
+        let before = t.clone();
+        let v = |t: [u32; 3]| t.map(VertexId);
+        // Wrong: a face too few; an edge used twice the same way; a
+        // triangle off the outline.
+        for wrong in [
+            vec![v([1, 2, 4]), v([2, 3, 4])],
+            vec![v([1, 2, 4]), v([1, 2, 4]), v([4, 0, 1])],
+            vec![v([0, 1, 2]), v([0, 2, 3]), v([0, 3, 5])],
+        ] {
+            assert!(!t.retriangulate(&faces, &inner, &wrong), "{wrong:?}");
+            assert!(t == before);
+        }
+        // Right: the fan of 2, then back to the fan of 0.
+        let fan2 = vec![v([2, 3, 4]), v([2, 4, 0]), v([2, 0, 1])];
+        assert!(t.retriangulate(&faces, &inner, &fan2));
+        t.validate().unwrap();
+        let mut expected: Vec<[u32; 3]> = vec![[0, 1, 2], [0, 2, 4], [2, 3, 4]];
+        expected.extend((0..5).map(|i| {
+            let f = [(i + 1) % 5, i, 5];
+            let k = (0..3).min_by_key(|&k| f[k]).unwrap();
+            [f[k], f[(k + 1) % 3], f[(k + 2) % 3]]
+        }));
+        expected.sort_unstable();
+        assert_eq!(face_set(&t), expected);
+        let fan0: Vec<[VertexId; 3]> = pentagon.iter().map(|&f| v(f)).collect();
+        assert!(t.retriangulate(&faces, &inner, &fan0));
+        t.validate().unwrap();
+        assert_eq!(face_set(&t), face_set(&before));
+    }
 
     /// Octahedron: closed, every vertex of degree 4.
     fn octahedron() -> Vec<[u32; 3]> {

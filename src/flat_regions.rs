@@ -1,0 +1,420 @@
+//! Large flat regions made Delaunay before Algorithm 2 starts: convex ones by
+//! a linear number of flips ([`crate::convex_regions`]), any other by
+//! building its constrained Delaunay triangulation outright.
+//!
+//! Inside a flat region, Algorithm 2's flips (Lawson's) end at the region's
+//! constrained Delaunay triangulation: the one whose every inner edge is
+//! Delaunay, its outline edges kept. But they may take quadratically many
+//! flips to get there, in any order: a flat strip with n corners on each long
+//! side takes n(n − 1)/2, a non-convex cap cut into ears by a CAD exporter
+//! about n^1.5 (README, "Large flat regions far from Delaunay"). So a flat
+//! region of at least [`MIN_VERTICES`] vertices (its outlines' corners and
+//! the vertices inside it), with some edge not Delaunay, is
+//!
+//! 1. laid flat in an orthonormal frame of its plane (rounded: the frame is
+//!    not exact, the test below is);
+//! 2. triangulated there by `spade`'s constrained Delaunay triangulation,
+//!    its outline edges (outer and around holes) as constraints, keeping the
+//!    triangles inside the outlines (reached from them without crossing
+//!    one);
+//! 3. checked: the same number of faces, every new face with the region's
+//!    orientation and non-zero area, exactly ([`RegionPlane::is_proper`]),
+//!    and no new edge joining two vertices that an edge outside the region
+//!    joins already;
+//! 4. written into the mesh in place of the region's faces
+//!    ([`crate::mesh::Topology::retriangulate`]): faces, inner edges and
+//!    outline half-edges keep their ids; an inner edge that lies on an
+//!    input edge (a diagonal of the input's own) gets its label back.
+//!
+//! ```text
+//!     a-----------------b          a-----------------b
+//!     |\___             |          |\   /\    /\    /|
+//!     |    \____        |   ==>    | \ /  \  /  \  / |
+//!     |         \____   |          |  /    \/    \/  |
+//!     c---d---e---f--\--g          c---d---e---f-----g
+//!      (fanned strip)              (constrained Delaunay)
+//! ```
+//!
+//! A region is left to Algorithm 2 as it is when any step fails: a vertex
+//! twice on its outline, a face beyond its outline folded flat onto it,
+//! two of its vertices at one point of the frame, outlines that cross in
+//! it, or a new face that the exact test refuses (the frame's rounding).
+//! Where rounding or four vertices on a circle leave edges of the new
+//! triangulation a hair from Delaunay, Algorithm 2's first pass flips them
+//! as usual. No flip is made and none counted: the region's faces are
+//! rebuilt, in time n log n.
+
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use crate::convex_regions::{flip_convex_regions, large_regions, ConvexRegions};
+use crate::geometry::{coplanar, flat_pair, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
+use crate::hash::FastMap;
+use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, VertexId, NO_INPUT_EDGE};
+use glam::DVec3;
+
+/// Regions with fewer vertices are left to Algorithm 2's flips, which make
+/// them Delaunay in a few thousand flips at most.
+pub const MIN_VERTICES: usize = 256;
+
+/// A region is rebuilt only if Lawson's flips, tried on a copy, take more
+/// than this many flips a vertex (more than the rebuilding costs).
+pub const LAWSON_FLIPS_PER_VERTEX: usize = 8;
+
+/// What [`make_flat_regions_delaunay`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FlatRegions {
+    /// Convex regions flipped to Delaunay ([`crate::convex_regions`]).
+    pub convex: ConvexRegions,
+    /// Regions rebuilt as their constrained Delaunay triangulation.
+    pub rebuilt: usize,
+    /// Their vertices, in all.
+    pub rebuilt_vertices: usize,
+    /// Edges in and around the rebuilt regions non-Delaunay by more than
+    /// [`ACCEPT_TOLERANCE`] before, and after.
+    pub non_delaunay: [usize; 2],
+}
+
+impl FlatRegions {
+    /// The flips made (by the convex regions' pass).
+    pub fn flips(&self) -> usize {
+        self.convex.flips
+    }
+
+    /// The input's non-Delaunay edges, given their count after both passes
+    /// ([`crate::Stats::non_delaunay_before`]).
+    pub fn non_delaunay_before(&self, after: usize) -> usize {
+        let before_rebuilding = (after + self.non_delaunay[0]).saturating_sub(self.non_delaunay[1]);
+        self.convex.non_delaunay_before(before_rebuilding)
+    }
+}
+
+/// Makes every large flat region of `surface` that is not Delaunay
+/// Delaunay: convex ones by flips ([`flip_convex_regions`]), then any other
+/// by [`rebuild_flat_regions_of`]. Meant for a freshly built surface, before
+/// the first pass of Algorithm 2.
+pub fn make_flat_regions_delaunay(surface: &mut Surface) -> FlatRegions {
+    let convex = flip_convex_regions(surface);
+    FlatRegions {
+        convex,
+        ..rebuild_flat_regions_of(surface, MIN_VERTICES, LAWSON_FLIPS_PER_VERTEX)
+    }
+}
+
+/// Rebuilds every flat region of `s` with at least `min_vertices` vertices,
+/// some edge not Delaunay, and on which Lawson's flips take more than
+/// `lawson_flips_per_vertex` flips a vertex, as its constrained Delaunay
+/// triangulation (see the module doc); `convex` of the result is left
+/// empty. ([`make_flat_regions_delaunay`] passes [`MIN_VERTICES`] and
+/// [`LAWSON_FLIPS_PER_VERTEX`]; tests pass less, down to 0: any region with
+/// a flip to make.)
+pub fn rebuild_flat_regions_of(s: &mut Surface, min_vertices: usize, lawson_flips_per_vertex: usize) -> FlatRegions {
+    let mut done = FlatRegions::default();
+    // A region of v vertices has at least v - 2 faces.
+    let regions = large_regions(s, min_vertices.max(3) - 2);
+    let mut local: Vec<u32> = Vec::new();
+    for faces in &regions {
+        local.resize(s.topo.n_vertices(), u32::MAX);
+        let Some(patch) = Patch::of_region(s, faces, &mut local) else {
+            continue;
+        };
+        for v in &patch.vertices {
+            local[v.idx()] = u32::MAX;
+        }
+        if patch.vertices.len() < min_vertices || !patch.lawson_is_slow(s, lawson_flips_per_vertex) {
+            continue;
+        }
+        // The edges whose quads the new triangulation changes: those inside
+        // and on the outline.
+        let edges: Vec<EdgeId> = (patch.inner.iter().copied())
+            .chain(
+                patch
+                    .outline
+                    .iter()
+                    .filter(|h| !s.topo.is_boundary_he(h.twin()))
+                    .map(|h| h.edge()),
+            )
+            .collect();
+        let bad = |s: &Surface| {
+            edges
+                .iter()
+                .filter(|&&e| s.is_non_delaunay(e, ACCEPT_TOLERANCE))
+                .count()
+        };
+        let before = bad(s);
+        if patch.rebuild(s, faces) {
+            done.rebuilt += 1;
+            done.rebuilt_vertices += patch.vertices.len();
+            done.non_delaunay[0] += before;
+            done.non_delaunay[1] += bad(s);
+        }
+    }
+    done
+}
+
+/// A flat region as the constrained triangulation takes it.
+struct Patch {
+    /// Its vertices, corners of its outlines and vertices inside.
+    vertices: Vec<VertexId>,
+    /// Its outline: the half-edges of its faces whose twins are not in it.
+    outline: Vec<HalfEdgeId>,
+    /// Its inner edges, both sides in it.
+    inner: Vec<EdgeId>,
+    /// The outline's half-edges as pairs of numbers in `vertices`.
+    outline_local: Vec<[usize; 2]>,
+    /// The faces as triples of numbers in `vertices`.
+    triangles_local: Vec<[u32; 3]>,
+    /// Pairs of numbers in `vertices` (lower first), sorted, that an edge
+    /// outside the patch joins: new edges may not join them again.
+    joined_outside: Vec<[usize; 2]>,
+    /// The region.
+    region: u32,
+}
+
+impl Patch {
+    /// The region whose faces are `faces` as a patch to rebuild, if it has
+    /// an inner edge that is not Delaunay, no vertex twice on its outline
+    /// and no face beyond its outline folded flat onto it. `local` (all
+    /// `u32::MAX`, one per vertex) is left numbering the patch's vertices.
+    fn of_region(s: &Surface, faces: &[FaceId], local: &mut [u32]) -> Option<Patch> {
+        let topo = &s.topo;
+        let region = s.face_region[faces[0].idx()];
+        let in_region = |h: HalfEdgeId| {
+            let f = topo.face(h);
+            !f.is_none() && s.face_region[f.idx()] == region
+        };
+        let half_edges = || {
+            faces.iter().flat_map(|&f| {
+                let h = topo.face_halfedge(f);
+                [h, topo.next(h), topo.next(topo.next(h))]
+            })
+        };
+        if s.region_plane[region as usize].sign == 0
+            || !half_edges().any(|h| h < h.twin() && in_region(h.twin()) && s.is_non_delaunay(h.edge(), SEED_TOLERANCE))
+        {
+            return None;
+        }
+        let mut vertices = Vec::new();
+        let (mut outline, mut inner) = (Vec::new(), Vec::new());
+        for h in half_edges() {
+            let v = topo.origin(h);
+            if local[v.idx()] == u32::MAX {
+                local[v.idx()] = vertices.len() as u32;
+                vertices.push(v);
+            }
+            if !in_region(h.twin()) {
+                outline.push(h);
+            } else if h < h.twin() {
+                inner.push(h.edge());
+            }
+        }
+        let mut origins: Vec<VertexId> = outline.iter().map(|&h| topo.origin(h)).collect();
+        origins.sort_unstable();
+        let at = |v: VertexId| s.positions[v.idx()];
+        let folded = |h: HalfEdgeId| {
+            let (a, b, c, d) = (topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin()));
+            !d.is_none() && {
+                let [a, b, c, d] = [a, b, c, d].map(at);
+                coplanar(a, b, c, d) && !flat_pair(a, b, c, d)
+            }
+        };
+        if origins.windows(2).any(|w| w[0] == w[1]) || outline.iter().any(|&h| folded(h)) {
+            for v in &vertices {
+                local[v.idx()] = u32::MAX;
+            }
+            return None;
+        }
+        let outline_local = (outline.iter())
+            .map(|&h| [local[topo.origin(h).idx()] as usize, local[topo.dest(h).idx()] as usize])
+            .collect();
+        let triangles_local = (faces.iter())
+            .map(|&f| topo.face_vertices(f).map(|v| local[v.idx()]))
+            .collect();
+        // (Only the outline's corners have edges outside the patch.)
+        let mut own: Vec<EdgeId> = outline.iter().map(|h| h.edge()).chain(inner.iter().copied()).collect();
+        own.sort_unstable();
+        let mut joined_outside = Vec::new();
+        for &h in &outline {
+            let v = topo.origin(h);
+            topo.for_each_neighbour(v, |e, w| {
+                if local[w.idx()] != u32::MAX && own.binary_search(&e).is_err() {
+                    let (a, b) = (local[v.idx()] as usize, local[w.idx()] as usize);
+                    joined_outside.push([a.min(b), a.max(b)]);
+                }
+            });
+        }
+        joined_outside.sort_unstable();
+        joined_outside.dedup();
+        Some(Patch {
+            vertices,
+            outline,
+            inner,
+            outline_local,
+            triangles_local,
+            joined_outside,
+            region,
+        })
+    }
+
+    /// Whether Lawson's flips, tried on a copy of the patch, take more than
+    /// `per_vertex` flips a vertex to make it Delaunay. Where they take
+    /// fewer, Algorithm 2 flips the region itself, and its output is the one
+    /// it always was.
+    fn lawson_is_slow(&self, s: &Surface, per_vertex: usize) -> bool {
+        let positions = self.vertices.iter().map(|v| s.positions[v.idx()]).collect();
+        let Ok(mut copy) = Surface::new(positions, &self.triangles_local) else {
+            return false;
+        };
+        let budget = per_vertex * self.vertices.len();
+        let n_edges = copy.topo.n_edges();
+        let mut stack: Vec<EdgeId> = (0..n_edges as u32)
+            .map(EdgeId)
+            .filter(|&e| copy.topo.is_interior(e))
+            .collect();
+        let mut queued = vec![false; n_edges];
+        for e in &stack {
+            queued[e.idx()] = true;
+        }
+        let mut flips = 0;
+        while let Some(e) = stack.pop() {
+            queued[e.idx()] = false;
+            // (Without the mesh's validity test, whose walk round both ends
+            // would cost more than the flips: in a flat patch, an edge that
+            // is not Delaunay has a convex quad, and this copy is only
+            // counted, never kept.)
+            let h = e.halfedge();
+            if copy.is_non_delaunay(e, ALGORITHM_TOLERANCE) && copy.topo.apex(h) != copy.topo.apex(h.twin()) {
+                copy.topo.flip(e);
+                flips += 1;
+                if flips > budget {
+                    return true;
+                }
+                for h in copy.topo.outer_halfedges(e) {
+                    let g = h.edge();
+                    if copy.topo.is_interior(g) && !std::mem::replace(&mut queued[g.idx()], true) {
+                        stack.push(g);
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// Rebuilds the patch, whose faces are `faces`, as its constrained
+    /// Delaunay triangulation (steps 1-4 of the module doc); false, changing
+    /// nothing, if a step fails.
+    fn rebuild(&self, s: &mut Surface, faces: &[FaceId]) -> bool {
+        let Some(triangles) = self.triangulate(s, faces.len()) else {
+            return false;
+        };
+        let plane = s.region_plane[self.region as usize];
+        let at = |v: usize| s.positions[self.vertices[v].idx()];
+        if !triangles.iter().all(|t| plane.is_proper(t.map(at))) {
+            return false;
+        }
+        // No new edge may join two vertices that an edge outside joins.
+        if (triangles.iter())
+            .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+            .any(|[a, b]| self.joined_outside.binary_search(&[a.min(b), a.max(b)]).is_ok())
+        {
+            return false;
+        }
+        let pair = |a: VertexId, b: VertexId| (a.min(b), a.max(b));
+        // The input edges the old inner edges lie on, to label the new ones
+        // that lie on the same.
+        let labels: FastMap<(VertexId, VertexId), u32> = (self.inner.iter())
+            .filter(|&&e| s.edge_input[e.idx()] != NO_INPUT_EDGE)
+            .map(|&e| {
+                let h = e.halfedge();
+                (pair(s.topo.origin(h), s.topo.dest(h)), s.edge_input[e.idx()])
+            })
+            .collect();
+        let triangles: Vec<[VertexId; 3]> = triangles.iter().map(|t| t.map(|v| self.vertices[v])).collect();
+        if !s.topo.retriangulate(faces, &self.inner, &triangles) {
+            return false;
+        }
+        for &e in &self.inner {
+            let h = e.halfedge();
+            let key = pair(s.topo.origin(h), s.topo.dest(h));
+            s.edge_input[e.idx()] = labels.get(&key).copied().unwrap_or(NO_INPUT_EDGE);
+        }
+        true
+    }
+
+    /// The constrained Delaunay triangulation of the patch in a frame of its
+    /// plane, as triples of numbers in `vertices` turning the region's way:
+    /// the triangles inside the outline. `None` if it does not have `n_faces`
+    /// of them, or the frame put two vertices at one point, or outlines
+    /// cross there.
+    fn triangulate(&self, s: &Surface, n_faces: usize) -> Option<Vec<[usize; 3]>> {
+        let at: Vec<DVec3> = self.vertices.iter().map(|v| s.positions[v.idx()]).collect();
+        // The region's normal, the way its faces turn: the sum of the
+        // outline's cross products (Newell), from the first vertex.
+        let origin = at[0];
+        let normal: DVec3 = (self.outline_local.iter())
+            .map(|&[a, b]| (at[a] - origin).cross(at[b] - origin))
+            .sum();
+        let n = normal.try_normalize()?;
+        // A frame (u, w, n), right-handed: faces turning the region's way
+        // turn counter-clockwise in (u, w), as spade's do.
+        let least = n.abs().min_element();
+        let axis = if n.x.abs() == least {
+            DVec3::X
+        } else if n.y.abs() == least {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let u = axis.cross(n).try_normalize()?;
+        let w = n.cross(u);
+        let points: Vec<Point2<f64>> = (at.iter())
+            .map(|&p| {
+                let d = p - origin;
+                Point2::new(d.dot(u), d.dot(w))
+            })
+            .collect();
+        let mut conflict = false;
+        let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+            points,
+            self.outline_local.clone(),
+            |_| conflict = true,
+        )
+        .ok()?;
+        if conflict || cdt.num_vertices() != at.len() || cdt.num_constraints() != self.outline_local.len() {
+            return None;
+        }
+        // The faces inside: from the left of every outline edge, across
+        // edges that are not constraints. Reaching the outer face means an
+        // outline is not where the faces said.
+        let handle = FixedVertexHandle::from_index;
+        let mut inside = vec![false; cdt.num_all_faces()];
+        let mut stack = Vec::new();
+        for &[a, b] in &self.outline_local {
+            let edge = cdt.get_edge_from_neighbors(handle(a), handle(b))?;
+            if !edge.is_constraint_edge() {
+                return None;
+            }
+            stack.push(edge.face().as_inner()?.fix());
+        }
+        let mut triangles = Vec::with_capacity(n_faces);
+        while let Some(f) = stack.pop() {
+            if std::mem::replace(&mut inside[f.index()], true) {
+                continue;
+            }
+            let face = cdt.face(f);
+            triangles.push(face.vertices().map(|v| v.fix().index()));
+            if triangles.len() > n_faces {
+                return None;
+            }
+            for edge in face.adjacent_edges() {
+                if !edge.is_constraint_edge() {
+                    let beyond = edge.rev().face().as_inner()?.fix();
+                    if !inside[beyond.index()] {
+                        stack.push(beyond);
+                    }
+                }
+            }
+        }
+        (triangles.len() == n_faces).then_some(triangles)
+    }
+}
