@@ -48,9 +48,9 @@ use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::convex_regions::{flip_convex_regions, large_regions, ConvexRegions};
-use crate::geometry::{coplanar, flat_pair, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
+use crate::geometry::{coplanar, flat_pair, is_non_delaunay, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
-use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, VertexId, NO_INPUT_EDGE};
+use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, Topology, VertexId, NO_INPUT_EDGE};
 use glam::DVec3;
 
 /// Regions with fewer vertices are left to Algorithm 2's flips, which make
@@ -261,15 +261,23 @@ impl Patch {
     /// fewer, Algorithm 2 flips the region itself, and its output is the one
     /// it always was.
     fn lawson_is_slow(&self, s: &Surface, per_vertex: usize) -> bool {
-        let positions = self.vertices.iter().map(|v| s.positions[v.idx()]).collect();
-        let Ok(mut copy) = Surface::new(positions, &self.triangles_local) else {
+        let at: Vec<DVec3> = self.vertices.iter().map(|v| s.positions[v.idx()]).collect();
+        // The copy: the patch's connectivity and positions alone.
+        let Ok(mut copy) = Topology::from_triangles(at.len(), &self.triangles_local) else {
             return false;
         };
-        let budget = per_vertex * self.vertices.len();
-        let n_edges = copy.topo.n_edges();
+        let non_delaunay = |t: &Topology, e: EdgeId| {
+            let h = e.halfedge();
+            t.is_interior(e) && t.apex(h) != t.apex(h.twin()) && {
+                let [a, b, c, d] = [t.origin(h), t.dest(h), t.apex(h), t.apex(h.twin())].map(|v| at[v.idx()]);
+                is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE)
+            }
+        };
+        let budget = per_vertex * at.len();
+        let n_edges = copy.n_edges();
         let mut stack: Vec<EdgeId> = (0..n_edges as u32)
             .map(EdgeId)
-            .filter(|&e| copy.topo.is_interior(e))
+            .filter(|&e| copy.is_interior(e))
             .collect();
         let mut queued = vec![false; n_edges];
         for e in &stack {
@@ -282,16 +290,15 @@ impl Patch {
             // would cost more than the flips: in a flat patch, an edge that
             // is not Delaunay has a convex quad, and this copy is only
             // counted, never kept.)
-            let h = e.halfedge();
-            if copy.is_non_delaunay(e, ALGORITHM_TOLERANCE) && copy.topo.apex(h) != copy.topo.apex(h.twin()) {
-                copy.topo.flip(e);
+            if non_delaunay(&copy, e) {
+                copy.flip(e);
                 flips += 1;
                 if flips > budget {
                     return true;
                 }
-                for h in copy.topo.outer_halfedges(e) {
+                for h in copy.outer_halfedges(e) {
                     let g = h.edge();
-                    if copy.topo.is_interior(g) && !std::mem::replace(&mut queued[g.idx()], true) {
+                    if copy.is_interior(g) && !std::mem::replace(&mut queued[g.idx()], true) {
                         stack.push(g);
                     }
                 }

@@ -304,6 +304,47 @@ fn what_cannot_be_rebuilt_safely_is_left_alone() {
     assert!(s == before);
 }
 
+/// A flat disc under a roof of two gables that meet along a chord (u, v)
+/// of the disc's outline: the disc's constrained Delaunay triangulation has
+/// that chord too, which the roof's edge already is. Rebuilding would
+/// double the edge: the disc is left alone.
+#[test]
+fn a_region_whose_delaunay_chord_an_outside_edge_joins_is_left_alone() {
+    let mut rng = Rng::new(65);
+    let n = 40u32;
+    let corners = blob(n as usize, 0.0, &mut rng);
+    let disc: Vec<DVec3> = corners.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect();
+    let fan: Vec<[u32; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
+    // The chord: an inner edge of the disc's rebuilt triangulation away
+    // from corner 0 (whose fan edges the disc has already).
+    let mut open = Surface::new(disc.clone(), &fan).unwrap();
+    assert_eq!(rebuild_flat_regions_of(&mut open, 4, 0).rebuilt, 1);
+    let (u, v) = (open.triangles().into_iter())
+        .flat_map(|[a, b, c]| [(a, b), (b, c), (c, a)])
+        .find(|&(a, b)| a != 0 && b != 0 && a < b && b - a > 1 && b - a < n - 1)
+        .unwrap();
+    // The roof: the outline from u to v fanned from p above it, the rest
+    // from q, the two gables meeting along (u, v).
+    let mut positions = disc.clone();
+    let (p, q) = (n, n + 1);
+    let centre = |a: u32, b: u32| {
+        let ks: Vec<u32> = (a..=b).collect();
+        ks.iter().map(|&k| disc[(k % n) as usize]).sum::<DVec3>() / ks.len() as f64 + DVec3::new(0.0, 0.0, 0.5)
+    };
+    positions.push(centre(u, v));
+    positions.push(centre(v, u + n));
+    let mut triangles: Vec<[u32; 3]> = fan.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    triangles.extend((u..v).map(|k| [k, k + 1, p]));
+    triangles.push([v, u, p]);
+    triangles.extend((v..u + n).map(|k| [k % n, (k + 1) % n, q]));
+    triangles.push([u, v, q]);
+    let mut s = Surface::new(positions, &triangles).unwrap();
+    s.validate().unwrap();
+    let before = s.clone();
+    assert_eq!(rebuild_flat_regions_of(&mut s, 4, 0).rebuilt, 0);
+    assert!(s == before);
+}
+
 #[test]
 fn every_fixture_with_its_small_flat_regions_rebuilt_first() {
     let mut paths = common::fixtures();

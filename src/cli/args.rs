@@ -186,12 +186,15 @@ pub(super) struct Settings {
     pub(super) max_added: WorkLimit,
 
     /// Make every flip Algorithm 2's, in the --ds order to the end, as the
-    /// report's tool did. Without it, a flat region that is a convex polygon
-    /// of 256 corners or more (an oval cap fanned from one corner) is first
-    /// flipped to Delaunay directly, in fewer than 2 flips per corner, and a
-    /// stack or queue run that has flipped more than 8 times per edge of the
-    /// mesh takes the rest longest edge first; each says so: the stack would
-    /// flip such regions quadratically often.
+    /// report's tool did. Without it, large flat regions far from Delaunay
+    /// are first made Delaunay directly: a convex polygon of 256 corners or
+    /// more (an oval cap fanned from one corner) by fewer than 2 flips per
+    /// corner, any other region of 256 vertices or more on which flips would
+    /// take over 8 per vertex (a strip, a non-convex cap cut into ears) by
+    /// rebuilding it as its constrained Delaunay triangulation; and a stack
+    /// or queue run that has flipped more than 8 times per edge of the mesh
+    /// takes the rest longest edge first. Each says so: the stack would flip
+    /// such regions quadratically often.
     #[arg(long = "keep-order")]
     pub(super) keep_order: bool,
 
