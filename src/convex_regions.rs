@@ -100,16 +100,10 @@ pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegi
         };
         // The edges whose quads the flips may change: those inside and on
         // the outline (edge ids stay through flips).
-        let mut edges: Vec<EdgeId> = Vec::new();
-        for &f in list {
-            let mut h = s.topo.face_halfedge(f);
-            for _ in 0..3 {
-                if !s.topo.is_boundary_he(h.twin()) && (h < h.twin() || !polygon.holds(s, h.twin())) {
-                    edges.push(h.edge());
-                }
-                h = s.topo.next(h);
-            }
-        }
+        let edges: Vec<EdgeId> = (s.topo.half_edges_of(list))
+            .filter(|&h| !s.topo.is_boundary_he(h.twin()) && (h < h.twin() || !polygon.holds(s, h.twin())))
+            .map(HalfEdgeId::edge)
+            .collect();
         let bad = |s: &Surface| {
             edges
                 .iter()
@@ -190,12 +184,7 @@ impl Polygon {
         };
         // The outline: half-edges of the region's faces whose twins are not
         // in the region, by their origins.
-        let half_edges = || {
-            faces.iter().flat_map(|&f| {
-                let h = topo.face_halfedge(f);
-                [h, topo.next(h), topo.next(topo.next(h))]
-            })
-        };
+        let half_edges = || topo.half_edges_of(faces);
         let n = half_edges().filter(|&h| !in_region(h.twin())).count();
         // A disc whose every vertex is on its outline has n - 2 faces (with
         // k vertices inside, n - 2 + 2k; an annulus n): told before any
@@ -291,14 +280,18 @@ impl Polygon {
         // the target, may not join corners that an edge outside the region
         // joins already (a disc whose two sides are two regions on the same
         // corners): such a region is left to Algorithm 2.
+        // (And the input edges the diagonals lie on, to label them again
+        // where step 3 makes the same diagonal: a flip forgets its edge's
+        // label.)
         let mut own: Vec<(u32, u32)> = Vec::with_capacity(n);
-        for &f in faces {
-            let mut h = s.topo.face_halfedge(f);
-            for _ in 0..3 {
-                if let (Some(a), Some(b)) = (local_of(s.topo.origin(h)), local_of(s.topo.dest(h))) {
-                    own.push((a.min(b), a.max(b)));
+        let mut labels: FastMap<(u32, u32), u32> = FastMap::default();
+        for h in s.topo.half_edges_of(faces) {
+            if let (Some(a), Some(b)) = (local_of(s.topo.origin(h)), local_of(s.topo.dest(h))) {
+                own.push((a.min(b), a.max(b)));
+                let label = s.edge_input[h.edge().idx()];
+                if label != NO_INPUT_EDGE {
+                    labels.insert((a.min(b), a.max(b)), label);
                 }
-                h = s.topo.next(h);
             }
         }
         own.sort_unstable();
@@ -325,21 +318,6 @@ impl Polygon {
         let Some(steps) = target.flip_to_fan(apex as u32) else {
             return (0, false);
         };
-        // The input edges the diagonals lie on, to label them again where
-        // step 3 makes the same diagonal (a flip forgets its edge's label).
-        let mut labels: FastMap<(u32, u32), u32> = FastMap::default();
-        for &f in faces {
-            let mut h = s.topo.face_halfedge(f);
-            for _ in 0..3 {
-                let label = s.edge_input[h.edge().idx()];
-                if label != NO_INPUT_EDGE {
-                    if let (Some(a), Some(b)) = (local_of(s.topo.origin(h)), local_of(s.topo.dest(h))) {
-                        labels.insert((a.min(b), a.max(b)), label);
-                    }
-                }
-                h = s.topo.next(h);
-            }
-        }
         let mut flips = 0;
         let v = self.corners[apex];
         // Step 2: the mesh to the fan of v. The edges facing v in its faces
@@ -373,15 +351,9 @@ impl Polygon {
         // to the same fan, in reverse: each turns the edge v-z back into the
         // diagonal x-y.
         let mut from_v = vec![EdgeId::NONE; n];
-        for &f in faces {
-            let mut h = s.topo.face_halfedge(f);
-            for _ in 0..3 {
-                if s.topo.origin(h) == v {
-                    if let Some(z) = local_of(s.topo.dest(h)) {
-                        from_v[z as usize] = h.edge();
-                    }
-                }
-                h = s.topo.next(h);
+        for h in s.topo.half_edges_of(faces).filter(|&h| s.topo.origin(h) == v) {
+            if let Some(z) = local_of(s.topo.dest(h)) {
+                from_v[z as usize] = h.edge();
             }
         }
         for &(x, y, z) in steps.iter().rev() {

@@ -183,12 +183,7 @@ impl Patch {
             let f = topo.face(h);
             !f.is_none() && s.face_region[f.idx()] == region
         };
-        let half_edges = || {
-            faces.iter().flat_map(|&f| {
-                let h = topo.face_halfedge(f);
-                [h, topo.next(h), topo.next(topo.next(h))]
-            })
-        };
+        let half_edges = || topo.half_edges_of(faces);
         if s.region_plane[region as usize].sign == 0
             || !half_edges().any(|h| h < h.twin() && in_region(h.twin()) && s.is_non_delaunay(h.edge(), SEED_TOLERANCE))
         {

@@ -649,6 +649,14 @@ impl Topology {
         }
     }
 
+    /// The three half-edges of each of `faces`, face by face.
+    pub fn half_edges_of<'a>(&'a self, faces: &'a [FaceId]) -> impl Iterator<Item = HalfEdgeId> + Clone + 'a {
+        faces.iter().flat_map(|&f| {
+            let h = self.face_halfedge(f);
+            [h, self.next(h), self.next(self.next(h))]
+        })
+    }
+
     /// Calls `f(edge, w)` for every edge at `v` and the vertex `w` at its
     /// other end, counter-clockwise from `v`'s half-edge.
     pub fn for_each_neighbour(&self, v: VertexId, mut f: impl FnMut(EdgeId, VertexId)) {
