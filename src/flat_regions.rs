@@ -18,7 +18,7 @@
 //!    triangles inside the outlines (reached from them without crossing
 //!    one);
 //! 3. checked: the same number of faces, every new face with the region's
-//!    orientation and non-zero area, exactly ([`RegionPlane::is_proper`]),
+//!    orientation and non-zero area, exactly ([`crate::geometry::RegionPlane::is_proper`]),
 //!    and no new edge joining two vertices that an edge outside the region
 //!    joins already;
 //! 4. written into the mesh in place of the region's faces
