@@ -104,12 +104,7 @@ pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegi
             .filter(|&h| !s.topo.is_boundary_he(h.twin()) && (h < h.twin() || !polygon.holds(s, h.twin())))
             .map(HalfEdgeId::edge)
             .collect();
-        let bad = |s: &Surface| {
-            edges
-                .iter()
-                .filter(|&&e| s.is_non_delaunay(e, ACCEPT_TOLERANCE))
-                .count()
-        };
+        let bad = |s: &Surface| s.count_non_delaunay_among(edges.iter().copied(), ACCEPT_TOLERANCE).0;
         done.non_delaunay[0] += bad(s);
         local.resize(s.topo.n_vertices(), u32::MAX);
         for (i, v) in polygon.corners.iter().enumerate() {
@@ -127,6 +122,18 @@ pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegi
         }
     }
     done
+}
+
+/// Whether the face beyond the edge of half-edge `h` (of a face of a flat
+/// region) is folded flat onto `h`'s face: coplanar with it, on the same
+/// side of the edge.
+pub(crate) fn folded_across(s: &Surface, h: HalfEdgeId) -> bool {
+    let topo = &s.topo;
+    let (a, b, c, d) = (topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin()));
+    !d.is_none() && {
+        let [a, b, c, d] = [a, b, c, d].map(|v| s.positions[v.idx()]);
+        coplanar(a, b, c, d) && !flat_pair(a, b, c, d)
+    }
 }
 
 /// The faces of every planar region of `s` with at least `min_faces` faces
@@ -206,15 +213,7 @@ impl Polygon {
         // A face beyond the outline folded flat onto the region (a disc whose
         // two sides are both in the mesh): the region's Delaunay diagonals
         // may be the other side's too, and it is left to Algorithm 2.
-        let at_of = |v: VertexId| s.positions[v.idx()];
-        let folded = |h: HalfEdgeId| {
-            let (a, b, c, d) = (topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin()));
-            !d.is_none() && {
-                let [a, b, c, d] = [a, b, c, d].map(at_of);
-                coplanar(a, b, c, d) && !flat_pair(a, b, c, d)
-            }
-        };
-        if outline.iter().any(|&(_, h)| folded(h)) {
+        if outline.iter().any(|&(_, h)| folded_across(s, h)) {
             return None;
         }
         let leaving = |v: VertexId| outline.binary_search_by_key(&v, |&(u, _)| u).ok().map(|i| outline[i].1);

@@ -47,8 +47,8 @@
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::convex_regions::{flip_convex_regions, large_regions, ConvexRegions};
-use crate::geometry::{coplanar, flat_pair, is_non_delaunay, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
+use crate::convex_regions::{flip_convex_regions, folded_across, large_regions, ConvexRegions};
+use crate::geometry::{is_non_delaunay, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
 use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, Topology, VertexId, NO_INPUT_EDGE};
 use glam::DVec3;
@@ -135,12 +135,7 @@ pub fn rebuild_flat_regions_of(s: &mut Surface, min_vertices: usize, lawson_flip
                     .map(|h| h.edge()),
             )
             .collect();
-        let bad = |s: &Surface| {
-            edges
-                .iter()
-                .filter(|&&e| s.is_non_delaunay(e, ACCEPT_TOLERANCE))
-                .count()
-        };
+        let bad = |s: &Surface| s.count_non_delaunay_among(edges.iter().copied(), ACCEPT_TOLERANCE).0;
         let before = bad(s);
         if patch.rebuild(s, faces) {
             done.rebuilt += 1;
@@ -205,15 +200,7 @@ impl Patch {
         }
         let mut origins: Vec<VertexId> = outline.iter().map(|&h| topo.origin(h)).collect();
         origins.sort_unstable();
-        let at = |v: VertexId| s.positions[v.idx()];
-        let folded = |h: HalfEdgeId| {
-            let (a, b, c, d) = (topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin()));
-            !d.is_none() && {
-                let [a, b, c, d] = [a, b, c, d].map(at);
-                coplanar(a, b, c, d) && !flat_pair(a, b, c, d)
-            }
-        };
-        if origins.windows(2).any(|w| w[0] == w[1]) || outline.iter().any(|&h| folded(h)) {
+        if origins.windows(2).any(|w| w[0] == w[1]) || outline.iter().any(|&h| folded_across(s, h)) {
             for v in &vertices {
                 local[v.idx()] = u32::MAX;
             }

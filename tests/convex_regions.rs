@@ -6,21 +6,12 @@
 
 mod common;
 
-use assert_cmd::Command;
+use common::flat::{judge, prism_triangles, says_unless_keep_order, triangle_set, LIFTS};
 use common::Rng;
-use delmesh::check::{check_meshes, Mesh3};
 use delmesh::convex_regions::{flip_convex_regions, flip_convex_regions_of, MIN_CORNERS};
 use delmesh::geometry::ALGORITHM_TOLERANCE;
 use delmesh::{io, make_delaunay, Options, Surface};
 use glam::DVec3;
-
-/// Exactly planar lifts of (x, y) (dyadic coordinates: every product and
-/// sum below is exact): the plane z = 0, a tilted plane, and a vertical one.
-const LIFTS: [fn(f64, f64) -> DVec3; 3] = [
-    |x, y| DVec3::new(x, y, 0.0),
-    |x, y| DVec3::new(x, y, x / 2.0 + y / 4.0),
-    |x, y| DVec3::new(x, 0.75, y),
-];
 
 /// `n` corners of an ellipse (3 by 1) at jittered angles, counter-clockwise,
 /// rounded to multiples of 2^-20.
@@ -55,33 +46,6 @@ fn random_triangulation(n: usize, rng: &mut Rng) -> Vec<[u32; 3]> {
         todo.push((k, j));
     }
     out
-}
-
-/// The triangles of `s`, each from its lowest corner, sorted.
-fn triangle_set(s: &Surface) -> Vec<[u32; 3]> {
-    let mut t: Vec<[u32; 3]> = s
-        .triangles()
-        .into_iter()
-        .map(|t| {
-            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-        })
-        .collect();
-    t.sort_unstable();
-    t
-}
-
-fn judge(positions: &[DVec3], triangles: &[[u32; 3]], s: &Surface) {
-    let input = Mesh3 {
-        positions: positions.to_vec(),
-        triangles: triangles.to_vec(),
-    };
-    let output = Mesh3 {
-        positions: s.positions.clone(),
-        triangles: s.triangles(),
-    };
-    let report = check_meshes(&input, &output);
-    assert!(report.passed(), "{:?}", report.failures);
 }
 
 #[test]
@@ -206,17 +170,7 @@ fn twisted_prism(n: usize, apex: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         let a = std::f64::consts::TAU * (i as f64 + 1.2) / n as f64;
         DVec3::new(3.0 * a.cos(), a.sin(), 0.3)
     }));
-    let m = n as u32;
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    for [a, b, c] in fan(n, apex) {
-        triangles.push([a, c, b]);
-        triangles.push([m + a, m + b, m + c]);
-    }
-    for i in 0..m {
-        let j = (i + 1) % m;
-        triangles.push([i, j, m + j]);
-        triangles.push([i, m + j, m + i]);
-    }
+    let triangles = prism_triangles(n, &fan(n, apex), &fan(n, apex));
     (positions, triangles)
 }
 
@@ -266,39 +220,9 @@ fn every_fixture_with_its_small_convex_regions_flipped_first() {
 
 #[test]
 fn the_command_line_says_so_and_keep_order_leaves_it() {
-    let dir = tempfile::tempdir().unwrap();
     let (positions, triangles) = twisted_prism(400, 50);
-    let path = dir.path().join("prism.obj");
-    io::write_obj(&path, &positions, &triangles).unwrap();
-    let run = |extra: &[&str]| {
-        let out = dir.path().join("out.obj");
-        let output = Command::cargo_bin("delmesh")
-            .unwrap()
-            .arg("-i")
-            .arg(&path)
-            .arg("-o")
-            .arg(&out)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-        let check = Command::cargo_bin("delmesh")
-            .unwrap()
-            .arg("check")
-            .arg(&path)
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
-        String::from_utf8(output.stdout).unwrap()
-    };
-    let said = run(&[]);
-    assert!(
-        said.contains("note    2 convex flat regions flipped to Delaunay directly (800 corners"),
-        "{said}"
-    );
-    let kept = run(&["--keep-order"]);
-    assert!(!kept.contains("convex flat region"), "{kept}");
+    let note = "note    2 convex flat regions flipped to Delaunay directly (800 corners";
+    says_unless_keep_order(&positions, &triangles, note, "convex flat region");
 }
 
 #[test]

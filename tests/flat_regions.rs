@@ -7,21 +7,12 @@
 
 mod common;
 
-use assert_cmd::Command;
+use common::flat::{judge, prism_triangles, says_unless_keep_order, triangle_set, LIFTS};
 use common::Rng;
-use delmesh::check::{check_meshes, Mesh3};
 use delmesh::flat_regions::{make_flat_regions_delaunay, rebuild_flat_regions_of, MIN_VERTICES};
 use delmesh::geometry::ALGORITHM_TOLERANCE;
 use delmesh::{io, make_delaunay, Options, Surface};
 use glam::DVec3;
-
-/// Exactly planar lifts of (x, y) (dyadic coordinates: every product and
-/// sum below is exact): the plane z = 0, a tilted plane, and a vertical one.
-const LIFTS: [fn(f64, f64) -> DVec3; 3] = [
-    |x, y| DVec3::new(x, y, 0.0),
-    |x, y| DVec3::new(x, y, x / 2.0 + y / 4.0),
-    |x, y| DVec3::new(x, 0.75, y),
-];
 
 /// `v` rounded to a multiple of 2^-20.
 fn round(v: f64) -> f64 {
@@ -176,33 +167,6 @@ fn jittered_grid(rng: &mut Rng) -> (Vec<(f64, f64)>, Vec<[u32; 3]>) {
         }
     }
     (corners, triangles)
-}
-
-/// The triangles of `s`, each from its lowest corner, sorted.
-fn triangle_set(s: &Surface) -> Vec<[u32; 3]> {
-    let mut t: Vec<[u32; 3]> = s
-        .triangles()
-        .into_iter()
-        .map(|t| {
-            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-        })
-        .collect();
-    t.sort_unstable();
-    t
-}
-
-fn judge(positions: &[DVec3], triangles: &[[u32; 3]], s: &Surface) {
-    let input = Mesh3 {
-        positions: positions.to_vec(),
-        triangles: triangles.to_vec(),
-    };
-    let output = Mesh3 {
-        positions: s.positions.clone(),
-        triangles: s.triangles(),
-    };
-    let report = check_meshes(&input, &output);
-    assert!(report.passed(), "{:?}", report.failures);
 }
 
 /// Rebuilds the one flat region of (`positions`, `triangles`) and checks
@@ -368,10 +332,7 @@ fn every_fixture_with_its_small_flat_regions_rebuilt_first() {
 /// bottom turned by a third of a segment and shrunk (its sides are not flat,
 /// and need splits).
 fn blob_prism(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    blob_prism_with(n, 1.0 / 3.0, 0.9, 0.3)
-}
-
-fn blob_prism_with(n: usize, turn: f64, scale: f64, height: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (turn, scale, height) = (1.0 / 3.0, 0.9, 0.3);
     let bottom = blob(n, 5.0, &mut Rng::new(64));
     let mut positions: Vec<DVec3> = bottom.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect();
     let (sin, cos) = (turn * std::f64::consts::TAU / n as f64).sin_cos();
@@ -383,14 +344,7 @@ fn blob_prism_with(n: usize, turn: f64, scale: f64, height: f64) -> (Vec<DVec3>,
         )
     }));
     let top: Vec<(f64, f64)> = positions[n..].iter().map(|p| (p.x, p.y)).collect();
-    let m = n as u32;
-    let mut triangles: Vec<[u32; 3]> = ears(&bottom).into_iter().map(|[a, b, c]| [a, c, b]).collect();
-    triangles.extend(ears(&top).into_iter().map(|t| t.map(|v| m + v)));
-    for i in 0..m {
-        let j = (i + 1) % m;
-        triangles.push([i, j, m + j]);
-        triangles.push([i, m + j, m + i]);
-    }
+    let triangles = prism_triangles(n, &ears(&bottom), &ears(&top));
     (positions, triangles)
 }
 
@@ -437,49 +391,7 @@ fn the_blob_prism_through_every_median_combination_and_shells() {
 
 #[test]
 fn the_command_line_says_so_its_maps_pass_and_keep_order_leaves_it() {
-    let dir = tempfile::tempdir().unwrap();
     let (positions, triangles) = blob_prism(400);
-    let path = dir.path().join("blob.obj");
-    io::write_obj(&path, &positions, &triangles).unwrap();
-    let run = |extra: &[&str]| {
-        let (out, vm, fm) = (
-            dir.path().join("out.obj"),
-            dir.path().join("v.csv"),
-            dir.path().join("f.csv"),
-        );
-        let output = Command::cargo_bin("delmesh")
-            .unwrap()
-            .arg("-i")
-            .arg(&path)
-            .arg("-o")
-            .arg(&out)
-            .arg("--vertex-map")
-            .arg(&vm)
-            .arg("--face-map")
-            .arg(&fm)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-        let check = Command::cargo_bin("delmesh")
-            .unwrap()
-            .arg("check")
-            .arg(&path)
-            .arg(&out)
-            .arg("--vertex-map")
-            .arg(&vm)
-            .arg("--face-map")
-            .arg(&fm)
-            .output()
-            .unwrap();
-        assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
-        String::from_utf8(output.stdout).unwrap()
-    };
-    let said = run(&[]);
-    assert!(
-        said.contains("note    2 flat regions rebuilt to Delaunay directly (800 vertices"),
-        "{said}"
-    );
-    let kept = run(&["--keep-order"]);
-    assert!(!kept.contains("rebuilt"), "{kept}");
+    let note = "note    2 flat regions rebuilt to Delaunay directly (800 vertices";
+    says_unless_keep_order(&positions, &triangles, note, "rebuilt");
 }

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 pub mod damage;
+pub mod flat;
 
 /// A small deterministic PRNG (xorshift64*), so tests need no `rand`.
 pub struct Rng(u64);
