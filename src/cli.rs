@@ -706,7 +706,7 @@ fn stage_face_map(
     let across = map.iter().filter(|o| !o.inside).count();
     let note = (across > 0).then(|| {
         format!(
-            "{across} of {} output faces lie across several input faces (flipped in flat regions): their face-map \
+            "{across} of {} output faces lie across several input faces (flipped or rebuilt in flat regions): their face-map \
              rows name the face under their centroid, with inside 0",
             map.len()
         )
