@@ -393,5 +393,5 @@ fn the_blob_prism_through_every_median_combination_and_shells() {
 fn the_command_line_says_so_its_maps_pass_and_keep_order_leaves_it() {
     let (positions, triangles) = blob_prism(400);
     let note = "note    2 flat regions rebuilt to Delaunay directly (800 vertices";
-    says_unless_keep_order(&positions, &triangles, note, "rebuilt");
+    says_unless_keep_order(&positions, &triangles, note, "rebuilt to Delaunay");
 }
