@@ -115,13 +115,18 @@ pub fn rebuild_flat_regions_of(s: &mut Surface, min_vertices: usize, lawson_flip
     let mut local: Vec<u32> = Vec::new();
     for faces in &regions {
         local.resize(s.topo.n_vertices(), u32::MAX);
-        let Some(patch) = Patch::of_region(s, faces, &mut local) else {
+        let Some(mut patch) = Patch::of_region(s, faces, &mut local) else {
             continue;
         };
+        // The cheap tests first; what only the rebuilding needs after.
+        let slow = patch.vertices.len() >= min_vertices && patch.lawson_is_slow(s, lawson_flips_per_vertex);
+        if slow {
+            patch.number_outline(s, &local);
+        }
         for v in &patch.vertices {
             local[v.idx()] = u32::MAX;
         }
-        if patch.vertices.len() < min_vertices || !patch.lawson_is_slow(s, lawson_flips_per_vertex) {
+        if !slow {
             continue;
         }
         // The edges whose quads the new triangulation changes: those inside
@@ -155,12 +160,14 @@ struct Patch {
     outline: Vec<HalfEdgeId>,
     /// Its inner edges, both sides in it.
     inner: Vec<EdgeId>,
-    /// The outline's half-edges as pairs of numbers in `vertices`.
-    outline_local: Vec<[usize; 2]>,
     /// The faces as triples of numbers in `vertices`.
     triangles_local: Vec<[u32; 3]>,
+    /// The outline's half-edges as pairs of numbers in `vertices` (empty
+    /// until [`Patch::number_outline`]).
+    outline_local: Vec<[usize; 2]>,
     /// Pairs of numbers in `vertices` (lower first), sorted, that an edge
-    /// outside the patch joins: new edges may not join them again.
+    /// outside the patch joins: new edges may not join them again (empty
+    /// until [`Patch::number_outline`]).
     joined_outside: Vec<[usize; 2]>,
     /// The region.
     region: u32,
@@ -206,17 +213,34 @@ impl Patch {
             }
             return None;
         }
-        let outline_local = (outline.iter())
-            .map(|&h| [local[topo.origin(h).idx()] as usize, local[topo.dest(h).idx()] as usize])
-            .collect();
         let triangles_local = (faces.iter())
             .map(|&f| topo.face_vertices(f).map(|v| local[v.idx()]))
             .collect();
+        Some(Patch {
+            vertices,
+            outline,
+            inner,
+            triangles_local,
+            outline_local: Vec::new(),
+            joined_outside: Vec::new(),
+            region,
+        })
+    }
+
+    /// Fills in what only the rebuilding needs: the outline and the pairs
+    /// of vertices joined outside, in the numbering `local` still holds.
+    fn number_outline(&mut self, s: &Surface, local: &[u32]) {
+        let topo = &s.topo;
+        self.outline_local = (self.outline.iter())
+            .map(|&h| [local[topo.origin(h).idx()] as usize, local[topo.dest(h).idx()] as usize])
+            .collect();
         // (Only the outline's corners have edges outside the patch.)
-        let mut own: Vec<EdgeId> = outline.iter().map(|h| h.edge()).chain(inner.iter().copied()).collect();
+        let mut own: Vec<EdgeId> = (self.outline.iter().map(|h| h.edge()))
+            .chain(self.inner.iter().copied())
+            .collect();
         own.sort_unstable();
         let mut joined_outside = Vec::new();
-        for &h in &outline {
+        for &h in &self.outline {
             let v = topo.origin(h);
             topo.for_each_neighbour(v, |e, w| {
                 if local[w.idx()] != u32::MAX && own.binary_search(&e).is_err() {
@@ -227,15 +251,7 @@ impl Patch {
         }
         joined_outside.sort_unstable();
         joined_outside.dedup();
-        Some(Patch {
-            vertices,
-            outline,
-            inner,
-            outline_local,
-            triangles_local,
-            joined_outside,
-            region,
-        })
+        self.joined_outside = joined_outside;
     }
 
     /// Whether Lawson's flips, tried on a copy of the patch, take more than
