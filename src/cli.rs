@@ -139,6 +139,7 @@ pub fn main() -> ExitCode {
             face_map,
             original,
             weld_tolerance,
+            quiet,
         }) => {
             if let Some(jobs) = jobs {
                 delmesh::parallel::set_threads(usize::from(jobs));
@@ -149,7 +150,7 @@ pub fn main() -> ExitCode {
                 original,
                 weld_tolerance,
             };
-            run_check(&input, &output, &maps)
+            run_check(&input, &output, &maps, quiet)
         }
         Some(Command::Batch(args)) => batch::run_batch(&args),
         Some(Command::Completions { shell }) => {

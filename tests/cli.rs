@@ -2324,6 +2324,32 @@ fn check_with_its_files_swapped_says_so() {
     assert!(run.status.success() && !stdout.contains("swapped"), "{stdout}");
 }
 
+/// `check -q`: nothing printed when it passes; when it fails, only the
+/// lines that say why (FAIL, FAILED, and the note on swapped files), the
+/// same ones and in the same order as without it, and the same exit status.
+#[test]
+fn quiet_check_prints_only_failures() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    assert!(refine(&bunny, &out).arg("-q").output().unwrap().status.success());
+    let quiet = delmesh().args(["check", "-q"]).arg(&bunny).arg(&out).output().unwrap();
+    assert!(quiet.status.success());
+    assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{quiet:?}");
+    for (a, b) in [(&bunny, &bunny), (&out, &bunny)] {
+        let loud = delmesh().arg("check").arg(a).arg(b).output().unwrap();
+        let quiet = delmesh().args(["check", "--quiet"]).arg(a).arg(b).output().unwrap();
+        assert_eq!((quiet.status.code(), loud.status.code()), (Some(1), Some(1)));
+        let loud = String::from_utf8_lossy(&loud.stdout);
+        let quiet = String::from_utf8_lossy(&quiet.stdout);
+        let why: Vec<&str> = (loud.lines())
+            .filter(|l| l.starts_with("FAIL") || l.contains("swapped?"))
+            .collect();
+        assert!(why.len() > 2 && why.len() < loud.lines().count(), "{loud}");
+        assert_eq!(quiet.lines().collect::<Vec<_>>(), why);
+    }
+}
+
 /// `--max-added Nx`: N times the input's vertex count (the bunny's 1,839:
 /// 0.1x is 183, short of its 315 added vertices; 0.2x is 367), file by file
 /// in `batch` (the cube fixture's 13 vertices give 0.2x a limit of 2, short

@@ -383,6 +383,11 @@ pub(super) enum Command {
         /// faces are judged where that weld moved them.
         #[arg(long = "weld-tolerance", value_name = "DIST", default_value_t = 0.0, allow_negative_numbers = true, value_parser = weld_distance)]
         weld_tolerance: f64,
+        /// Print nothing when it passes; when it fails, only the FAIL and
+        /// FAILED lines (and the notes that say why). The exit status is
+        /// the same.
+        #[arg(short = 'q', long = "quiet")]
+        quiet: bool,
     },
 }
 

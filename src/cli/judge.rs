@@ -276,7 +276,7 @@ impl MapFiles {
     }
 }
 
-pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow::Result<ExitCode> {
+pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: bool) -> anyhow::Result<ExitCode> {
     if maps.original.is_some() && !maps.any() {
         bail!("--original names the file the maps number: give --vertex-map or --face-map with it");
     }
@@ -304,8 +304,8 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow:
         );
     }
     let paths: Vec<&Path> = read.iter().map(|(_, p)| *p).collect();
-    refuse_printout_into_inputs(&paths, false)?;
-    refuse_closed_stdout(true)?;
+    refuse_printout_into_inputs(&paths, quiet)?;
+    refuse_closed_stdout(!quiet)?;
     crate::working_on(output);
     // The maps are judged on the two files as the check reads them (read once: a big mesh
     // takes longer to read than its maps to judge), INPUT's replaced by --original's.
@@ -320,7 +320,16 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow:
     };
     let (report, map_reports) = delmesh::check::check_files_with(input, output, maps.any().then_some(judge_maps))?;
     let (vertex_report, face_report) = map_reports.transpose()?.unwrap_or((None, None));
-    say!(
+    // With --quiet, a check that passes prints nothing, and one that fails
+    // only its FAIL and FAILED lines and the notes that say why.
+    macro_rules! inform {
+        ($($arg:tt)*) => {
+            if !quiet {
+                say!($($arg)*);
+            }
+        };
+    }
+    inform!(
         "check   {} ({} added), {}, {}; non-Delaunay edges: {} (max alpha+beta-pi {})",
         count(report.output_vertices, "vertex", "vertices"),
         report.added_vertices,
@@ -332,7 +341,7 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow:
     if report.unused_vertices > 0 {
         let n = report.unused_vertices;
         let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
-        say!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
+        inform!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
     }
     // The refined mesh given first: OUTPUT then has no vertex of its own
     // and lacks INPUT's added ones (and the order of its vertices says
@@ -346,19 +355,19 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow:
             report.input_vertices - report.output_vertices
         );
     } else if let Some((output, input)) = &report.first_reordered_vertex_names {
-        say!(
+        inform!(
             "note    the output does not begin with the input's vertices in their order (output {output} is not input {input}): per-vertex data of the input does not carry over by number"
         );
     }
     if let Some(r) = &vertex_report {
-        say!(
+        inform!(
             "maps    vertex map: {}, each output vertex rebuilt bit for bit from two vertices of {}",
             count(r.rows, "row", "rows"),
             original.display()
         );
     }
     if let Some(r) = &face_report {
-        say!(
+        inform!(
             "maps    face map: {}, each output face on the face of {} it names ({} said inside it, {} not)",
             count(r.rows, "row", "rows"),
             original.display(),
@@ -385,7 +394,7 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles) -> anyhow:
             (None, Some(_)) => "; its face map is right",
             (None, None) => "",
         };
-        say!(
+        inform!(
             "PASS    {} is a Delaunay mesh with the geometry of {}{and_maps}",
             output.display(),
             input.display()
