@@ -16,7 +16,7 @@
 //! 2. triangulated there by `spade`'s constrained Delaunay triangulation,
 //!    its outline edges (outer and around holes) as constraints, keeping the
 //!    triangles inside the outlines (reached from them without crossing
-//!    one);
+//!    one): steps 1 and 2 are [`crate::constrained_delaunay`];
 //! 3. checked: the same number of faces, every new face with the region's
 //!    orientation and non-zero area, exactly ([`crate::geometry::RegionPlane::is_proper`]),
 //!    and no new edge joining two vertices that an edge outside the region
@@ -44,9 +44,7 @@
 //! as usual. No flip is made and none counted: the region's faces are
 //! rebuilt, in time n log n.
 
-use spade::handles::FixedVertexHandle;
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
-
+use crate::constrained_delaunay::triangulate_inside;
 use crate::convex_regions::{flip_convex_regions, folded_across, large_regions, ConvexRegions};
 use crate::geometry::{is_non_delaunay, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
@@ -348,78 +346,12 @@ impl Patch {
 
     /// The constrained Delaunay triangulation of the patch in a frame of its
     /// plane, as triples of numbers in `vertices` turning the region's way:
-    /// the triangles inside the outline. `None` if it does not have `n_faces`
-    /// of them, or the frame put two vertices at one point, or outlines
-    /// cross there.
+    /// the triangles inside the outline
+    /// ([`crate::constrained_delaunay::triangulate_inside`]). `None` if it
+    /// does not have `n_faces` of them, or the frame put two vertices at one
+    /// point, or outlines cross there.
     fn triangulate(&self, s: &Surface, n_faces: usize) -> Option<Vec<[usize; 3]>> {
         let at: Vec<DVec3> = self.vertices.iter().map(|v| s.positions[v.idx()]).collect();
-        // The region's normal, the way its faces turn: the sum of the
-        // outline's cross products (Newell), from the first vertex.
-        let origin = at[0];
-        let normal: DVec3 = (self.outline_local.iter())
-            .map(|&[a, b]| (at[a] - origin).cross(at[b] - origin))
-            .sum();
-        let n = normal.try_normalize()?;
-        // A frame (u, w, n), right-handed: faces turning the region's way
-        // turn counter-clockwise in (u, w), as spade's do.
-        let least = n.abs().min_element();
-        let axis = if n.x.abs() == least {
-            DVec3::X
-        } else if n.y.abs() == least {
-            DVec3::Y
-        } else {
-            DVec3::Z
-        };
-        let u = axis.cross(n).try_normalize()?;
-        let w = n.cross(u);
-        let points: Vec<Point2<f64>> = (at.iter())
-            .map(|&p| {
-                let d = p - origin;
-                Point2::new(d.dot(u), d.dot(w))
-            })
-            .collect();
-        let mut conflict = false;
-        let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
-            points,
-            self.outline_local.clone(),
-            |_| conflict = true,
-        )
-        .ok()?;
-        if conflict || cdt.num_vertices() != at.len() || cdt.num_constraints() != self.outline_local.len() {
-            return None;
-        }
-        // The faces inside: from the left of every outline edge, across
-        // edges that are not constraints. Reaching the outer face means an
-        // outline is not where the faces said.
-        let handle = FixedVertexHandle::from_index;
-        let mut inside = vec![false; cdt.num_all_faces()];
-        let mut stack = Vec::new();
-        for &[a, b] in &self.outline_local {
-            let edge = cdt.get_edge_from_neighbors(handle(a), handle(b))?;
-            if !edge.is_constraint_edge() {
-                return None;
-            }
-            stack.push(edge.face().as_inner()?.fix());
-        }
-        let mut triangles = Vec::with_capacity(n_faces);
-        while let Some(f) = stack.pop() {
-            if std::mem::replace(&mut inside[f.index()], true) {
-                continue;
-            }
-            let face = cdt.face(f);
-            triangles.push(face.vertices().map(|v| v.fix().index()));
-            if triangles.len() > n_faces {
-                return None;
-            }
-            for edge in face.adjacent_edges() {
-                if !edge.is_constraint_edge() {
-                    let beyond = edge.rev().face().as_inner()?.fix();
-                    if !inside[beyond.index()] {
-                        stack.push(beyond);
-                    }
-                }
-            }
-        }
-        (triangles.len() == n_faces).then_some(triangles)
+        triangulate_inside(&at, &self.outline_local, n_faces)
     }
 }

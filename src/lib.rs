@@ -69,6 +69,7 @@
 
 pub mod attributes;
 pub mod check;
+pub mod constrained_delaunay;
 pub mod convex_regions;
 pub mod draw;
 pub mod error;

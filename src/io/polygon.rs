@@ -28,10 +28,12 @@
 //! ```
 //!
 //! A larger polygon's fan or ears are then flipped towards its Delaunay
-//! triangulation ([`triangulate`], up to [`MAX_DELAUNAY_FLIPPED`]
-//! corners): a flat face that is flat only up to rounding (a CAD part
-//! tilted in floating point) is cut up by creases that no flip may cross,
-//! and a fan's thin triangles there needed vertices by the thousand.
+//! triangulation ([`triangulate`]): a flat face that is flat only up to
+//! rounding (a CAD part tilted in floating point) is cut up by creases that
+//! no flip may cross, and a fan's thin triangles there needed vertices by
+//! the thousand. A polygon of [`MIN_CUT_AS_CDT`] corners or more on which
+//! the flips would be slow gets its constrained Delaunay triangulation
+//! outright.
 //!
 //! This is part of what a file *means*: the construction's readers and the
 //! judge (`delmesh check`) both triangulate with [`triangulate`], so that
@@ -145,7 +147,9 @@ pub const MAX_EAR_CLIPPED: usize = 100_000;
 
 /// The triangles of the polygon with `n` corners, as corner numbers, each
 /// turning the polygon's way, into `out` (cleared first): the [`fan`] when it
-/// draws the polygon, else its ears (clipped in its plane). `false` when
+/// draws the polygon, else its ears (clipped in its plane), then flipped
+/// towards Delaunay, or replaced by its constrained Delaunay triangulation
+/// where the flips would be slow (see [`MIN_CUT_AS_CDT`]). `false` when
 /// neither does (an outline that crosses or folds onto itself or is too
 /// warped for every triangle to turn its way clearly, or more than
 /// [`MAX_EAR_CLIPPED`] corners): `out` then holds the fan from the first
@@ -166,17 +170,109 @@ pub fn triangulate(n: usize, corner: impl Fn(usize) -> [f64; 3], out: &mut Vec<[
             return false;
         }
     }
-    if n > 4 && n <= MAX_DELAUNAY_FLIPPED {
-        delaunay_flips(n, &corner, out);
+    if n > 4 {
+        make_delaunay(n, &corner, out);
     }
     true
 }
 
-/// Polygons with more corners than this keep their fan or ears as they
-/// are: flipping one towards Delaunay takes about n²/8 flips from a fan
-/// (an elliptic 2,000-gon: 0.05 s), which both the construction and the
-/// judge would pay.
+/// Polygons with fewer corners than this are flipped towards Delaunay
+/// however many flips it takes; from this many on, a polygon whose flips
+/// would take more than [`FLIPS_PER_CORNER`] a corner is cut by its
+/// constrained Delaunay triangulation instead, if every triangle of it
+/// turns the polygon's way clearly ([`triangulate`]).
+pub const MIN_CUT_AS_CDT: usize = 256;
+
+/// See [`MIN_CUT_AS_CDT`].
+pub const FLIPS_PER_CORNER: usize = 8;
+
+/// Polygons with more corners than this are never flipped to the end:
+/// that takes about n²/8 flips from a fan (an elliptic 4,000-gon: 0.5 s),
+/// which both the construction and the judge would pay. Past it, a
+/// polygon is cut by its constrained Delaunay triangulation where the
+/// flips would be slow, as from [`MIN_CUT_AS_CDT`] on, and one exactly in
+/// a plane is left as it is.
 pub const MAX_DELAUNAY_FLIPPED: usize = 4096;
+
+/// Makes the triangulation `t` (the fan or ears, each triangle turning the
+/// polygon's way) of the polygon with `n` corners Delaunay, or as near as
+/// flips allow:
+///
+/// - under [`MIN_CUT_AS_CDT`] corners, by [`delaunay_flips`];
+/// - above [`MAX_DELAUNAY_FLIPPED`] corners, if they lie in one plane
+///   exactly, not at all (as before: the mesh's flat-region passes make
+///   such a polygon Delaunay);
+/// - else, by the same flips if they end within
+///   [`FLIPS_PER_CORNER`] flips a corner (the result is then what it
+///   always was up to [`MAX_DELAUNAY_FLIPPED`] corners), else by the
+///   polygon's constrained Delaunay triangulation in its plane
+///   ([`crate::constrained_delaunay`]) if every one of its triangles turns
+///   the polygon's way clearly, else, from `t` as it came, by the flips up
+///   to [`flip_budget`] (up to [`MAX_DELAUNAY_FLIPPED`] corners) or none.
+///
+/// An elliptic cylinder tilted in floating point, its caps 4,000-gons, was
+/// read in 1 s (4 million flips); with 5,000-gons, fanned, it stopped at
+/// the work limit. Both now read in hundredths of a second and need no
+/// vertex on the caps. (The flips come first because the triangulation
+/// is slower where many corners lie on one circle, which its exact
+/// predicates then decide, and a polygon near Delaunay needs few.) The
+/// result depends only on the polygon.
+fn make_delaunay(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut Vec<[usize; 3]>) {
+    if n < MIN_CUT_AS_CDT {
+        delaunay_flips(n, corner, t, flip_budget(n));
+        return;
+    }
+    if n > MAX_DELAUNAY_FLIPPED && exactly_planar(n, corner) {
+        // One planar region however it is cut, which the mesh's own passes
+        // make Delaunay ([`crate::flat_regions`]) faster than this could.
+        return;
+    }
+    let start = t.clone();
+    if delaunay_flips(n, corner, t, FLIPS_PER_CORNER * n) {
+        return;
+    }
+    if let Some(cut) = constrained_delaunay(n, corner) {
+        *t = cut;
+    } else {
+        *t = start;
+        if n <= MAX_DELAUNAY_FLIPPED {
+            delaunay_flips(n, corner, t, flip_budget(n));
+        }
+    }
+}
+
+/// Whether the polygon's corners lie in one plane exactly (tested against
+/// corner 0, the corner farthest from it, and the corner farthest from
+/// their line).
+fn exactly_planar(n: usize, corner: &impl Fn(usize) -> [f64; 3]) -> bool {
+    let p = |i: usize| DVec3::from_array(corner(i));
+    let a = p(0);
+    let farthest = |key: &dyn Fn(DVec3) -> f64| (1..n).map(p).max_by(|&x, &y| key(x).total_cmp(&key(y)));
+    let Some(b) = farthest(&|x| (x - a).length_squared()) else {
+        return false;
+    };
+    let Some(c) = farthest(&|x| (x - a).cross(b - a).length_squared()) else {
+        return false;
+    };
+    (c - a).cross(b - a) != DVec3::ZERO && (0..n).all(|i| crate::geometry::coplanar(a, b, c, p(i)))
+}
+
+/// The polygon's constrained Delaunay triangulation, if every one of its
+/// triangles turns the polygon's way clearly (by more than [`MIN_TURN`],
+/// as a fan's must): not where the outline crosses itself, passes a
+/// point twice, or is too warped for a plane to hold it.
+fn constrained_delaunay(n: usize, corner: &impl Fn(usize) -> [f64; 3]) -> Option<Vec<[usize; 3]>> {
+    let normal = newell_normal(n, corner);
+    let unit = scale(normal, 1.0 / length(normal));
+    if !unit.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let at: Vec<DVec3> = (0..n).map(|i| DVec3::from_array(corner(i))).collect();
+    let outline: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
+    let cut = crate::constrained_delaunay::triangulate_inside(&at, &outline, n - 2)?;
+    let clear = |&[a, b, c]: &[usize; 3]| turns_clearly((at[b] - at[a]).to_array(), (at[c] - at[a]).to_array(), unit);
+    cut.iter().all(clear).then_some(cut)
+}
 
 /// The most flips [`delaunay_flips`] makes in a polygon of `n` corners: n²,
 /// more than Lawson's flips need to reach the Delaunay triangulation of a
@@ -197,8 +293,9 @@ fn flip_budget(n: usize) -> usize {
 /// with the planar Delaunay triangulation, whose diagonals then need no
 /// vertex; fans of its thin triangles needed thousands (an elliptic
 /// cylinder's two 64-gon caps: 18,751 added vertices). Each flip lowers the excess of the quad it
-/// is made in; at most [`flip_budget`] are made, in an order fixed by `t`,
-/// so the result depends only on the polygon.
+/// is made in; at most `budget` are made, in an order fixed by `t`,
+/// so the result depends only on the polygon and the budget. Returns
+/// whether they ended within it (`false` if it ran out).
 ///
 /// ```text
 ///      c                 c
@@ -207,7 +304,7 @@ fn flip_budget(n: usize) -> usize {
 ///     \ /               \|/      becomes c-d
 ///      d                 d
 /// ```
-fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize; 3]]) {
+fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize; 3]], budget: usize) -> bool {
     // Most polygons are fans whose diagonals are all Delaunay already (a
     // convex polygon on a circle, a planar hexagon): a fan's diagonal
     // (k, k+i) has the corners k+i-1 and k+i+1 beyond it, so that is told
@@ -223,12 +320,12 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
             delaunay_test(at(k), at(k + i), at(k + i - 1), at(k + i + 1), SEED_TOLERANCE) != DelaunayTest::NonDelaunay
         })
     {
-        return;
+        return true;
     }
     let normal = newell_normal(n, corner);
     let unit = scale(normal, 1.0 / length(normal));
     if !unit.iter().all(|x| x.is_finite()) {
-        return;
+        return true;
     }
     let p: Vec<DVec3> = (0..n).map(|i| DVec3::from_array(corner(i))).collect();
     let clear = |[a, b, c]: [usize; 3]| turns_clearly((p[b] - p[a]).to_array(), (p[c] - p[a]).to_array(), unit);
@@ -257,12 +354,12 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
         }
     }
     stack.reverse();
-    let mut budget = flip_budget(n);
+    let mut budget = budget;
     // The corner of triangle `tri` that is not on edge (a, b).
     let apex = |tri: [usize; 3], a: usize, b: usize| tri.into_iter().find(|&v| v != a && v != b);
     while let Some((a, b)) = stack.pop() {
         if budget == 0 {
-            break;
+            return false;
         }
         let Some(&[f, g]) = faces.get(&(a, b)) else { continue };
         if g == usize::MAX {
@@ -310,6 +407,7 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
             }
         }
     }
+    true
 }
 
 /// Ear clipping in the plane of the polygon's Newell normal: repeatedly cuts
@@ -626,6 +724,105 @@ mod tests {
         assert!(fan_excess.fold(f64::MIN, f64::max) > 0.1);
     }
 
+    /// A tilted ellipse of `n` corners (3:1), each moved along it by up to
+    /// `jitter` of a step at random (no four then on a circle).
+    fn tilted_ellipse(n: usize, jitter: f64) -> Vec<[f64; 3]> {
+        let mut rng = crate::test_rng::Rng(n as u64);
+        let (s, c) = 0.3f64.sin_cos();
+        (0..n)
+            .map(|i| {
+                let a = (i as f64 + jitter * (rng.centered() + 0.5)) * std::f64::consts::TAU / n as f64;
+                let [x, y, z] = [3.0 * a.cos(), a.sin(), 0.0];
+                let (x, z) = (x * c + z * s, -x * s + z * c);
+                [x, y * c - z * s, y * s + z * c]
+            })
+            .collect()
+    }
+
+    /// Each triangle as its corners from the least, the list sorted: the
+    /// same set of triangles compares equal.
+    fn triangle_set(t: &[[usize; 3]]) -> Vec<[usize; 3]> {
+        let mut set: Vec<[usize; 3]> = (t.iter())
+            .map(|&[a, b, c]| match a.min(b).min(c) {
+                m if m == a => [a, b, c],
+                m if m == b => [b, c, a],
+                _ => [c, a, b],
+            })
+            .collect();
+        set.sort_unstable();
+        set
+    }
+
+    /// Polygons of [`MIN_CUT_AS_CDT`] corners or more on which the flips
+    /// would take more than [`FLIPS_PER_CORNER`] a corner get their
+    /// constrained Delaunay triangulation: the triangles the flips reach
+    /// where those are unique (corners jittered), and a Delaunay
+    /// triangulation above [`MAX_DELAUNAY_FLIPPED`] corners too, where the
+    /// fan used to be kept.
+    #[test]
+    fn large_polygons_far_from_delaunay_get_their_constrained_delaunay_triangulation() {
+        for (n, jitter) in [(300, 0.5), (1000, 0.5), (5000, 0.0), (5000, 0.5)] {
+            let q = tilted_ellipse(n, jitter);
+            let corner = |i: usize| q[i];
+            let mut t = Vec::new();
+            assert!(triangulate(n, corner, &mut t));
+            assert_eq!(t.len(), n - 2);
+            let unit = DVec3::from_array(newell_normal(n, &corner)).normalize();
+            let p = |i: usize| DVec3::from_array(q[i]);
+            let mut sides = std::collections::HashMap::new();
+            for (f, tri) in t.iter().enumerate() {
+                assert!(turns_clearly(
+                    sub(q[tri[1]], q[tri[0]]),
+                    sub(q[tri[2]], q[tri[0]]),
+                    unit.to_array()
+                ));
+                for k in 0..3 {
+                    assert!(sides.insert((tri[k], tri[(k + 1) % 3]), f).is_none(), "{n}");
+                }
+            }
+            for (&(a, b), &f) in &sides {
+                match sides.get(&(b, a)) {
+                    None => assert_eq!((a + 1) % n, b, "{n}: {a}-{b} is not on the outline"),
+                    Some(&g) => {
+                        let apex = |f: usize| t[f].into_iter().find(|&v| v != a && v != b).unwrap();
+                        let excess = delaunay_excess(p(a), p(b), p(apex(f)), p(apex(g)));
+                        assert!(excess <= SEED_TOLERANCE, "{n}: {a}-{b} {excess}");
+                    }
+                }
+            }
+            let fan: Vec<[usize; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
+            let mut trial = fan.clone();
+            assert!(
+                !delaunay_flips(n, &corner, &mut trial, FLIPS_PER_CORNER * n),
+                "{n}: quick"
+            );
+            if n <= MAX_DELAUNAY_FLIPPED {
+                let mut flipped = fan.clone();
+                assert!(delaunay_flips(n, &corner, &mut flipped, flip_budget(n)));
+                assert_eq!(triangle_set(&t), triangle_set(&flipped), "{n}");
+            }
+        }
+        // Past MAX_DELAUNAY_FLIPPED corners, a polygon exactly in a plane
+        // keeps its fan (the mesh's flat-region passes take it); a hair off
+        // the plane, it does not.
+        let n = 5000;
+        let mut flat: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / n as f64;
+                [3.0 * a.cos(), a.sin(), 0.5]
+            })
+            .collect();
+        let fan: Vec<[usize; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
+        let mut t = Vec::new();
+        assert!(exactly_planar(n, &|i| flat[i]));
+        assert!(triangulate(n, |i| flat[i], &mut t));
+        assert_eq!(t, fan);
+        flat[1234][2] = 0.5 + 1e-15;
+        assert!(!exactly_planar(n, &|i| flat[i]));
+        assert!(triangulate(n, |i| flat[i], &mut t));
+        assert_ne!(t, fan);
+    }
+
     /// Random star-shaped polygons (5 to 40 corners at random angles and
     /// radii; flat, tilted, or warped): after the flips, the triangles still
     /// cover the polygon once (each side of the outline in one triangle,
@@ -633,56 +830,103 @@ mod tests {
     /// areas add up to the outline's) and each turns the polygon's way.
     #[test]
     fn flips_keep_a_triangulation_of_the_polygon() {
-        let mut rng = crate::test_rng::Rng(11);
-        let mut flipped = 0;
+        let (mut rng, mut flipped) = (crate::test_rng::Rng(11), 0);
         for k in 0..3000 {
             let n = 5 + rng.below(36) as usize;
-            let mut angles: Vec<f64> = (0..n).map(|_| (rng.centered() + 0.5) * std::f64::consts::TAU).collect();
-            angles.sort_by(f64::total_cmp);
-            let warp = [0.0, 0.0, 0.05][k % 3];
-            let q: Vec<[f64; 3]> = angles
-                .iter()
-                .map(|&a| {
-                    let r = 1.0 + 0.9 * rng.centered();
-                    let z = if k % 3 == 1 {
-                        0.3 * r * a.cos()
-                    } else {
-                        warp * rng.centered()
-                    };
-                    [r * a.cos(), r * a.sin(), z]
-                })
-                .collect();
+            let q = random_star(&mut rng, n, k % 3);
             let fan = fan(n, |i| q[i]);
             let mut t = Vec::new();
             if !triangulate(n, |i| q[i], &mut t) {
                 continue;
             }
-            assert_eq!(t.len(), n - 2);
+            assert_triangulates(&q, &t, k % 3 == 0, k);
             flipped += (fan.proper && t.iter().any(|tri| tri[0] != fan.apex)) as usize;
-            let normal = DVec3::from_array(newell_normal(n, &|i| q[i]));
-            let p = |i: usize| DVec3::from_array(q[i]);
-            let mut sides = std::collections::BTreeMap::new();
-            for tri in &t {
-                let [a, b, c] = tri.map(p);
-                assert!((b - a).cross(c - a).dot(normal) > 0.0, "{k}: {tri:?}");
-                for j in 0..3 {
-                    *sides.entry((tri[j], tri[(j + 1) % 3])).or_insert(0) += 1;
-                }
-            }
-            for (&(a, b), &count) in &sides {
-                assert_eq!(count, 1, "{k}");
-                assert_eq!(sides.contains_key(&(b, a)), (a + 1) % n != b, "{k}: {a}-{b}");
-            }
-            assert!((0..n).all(|i| sides.contains_key(&(i, (i + 1) % n))), "{k}");
-            if k % 3 == 0 {
-                let area: f64 = t.iter().map(|tri| doubled_areas(&q, &[*tri])[0]).sum();
-                let outline: f64 = (0..n)
-                    .map(|i| q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1])
-                    .sum();
-                assert!((area - outline).abs() <= 1e-12 * outline.abs(), "{k}: {area} {outline}");
-            }
         }
         assert!(flipped > 500, "{flipped}");
+    }
+
+    /// The same for polygons of 256 to 3,000 corners, some of which the
+    /// flips would take long on and that are cut as their constrained
+    /// Delaunay triangulation instead.
+    #[test]
+    fn large_polygons_are_triangulations_of_the_polygon_however_they_are_cut() {
+        let (mut rng, mut cut) = (crate::test_rng::Rng(12), 0);
+        for k in 0..60 {
+            let n = MIN_CUT_AS_CDT + rng.below(2745) as usize;
+            let mut q = random_star(&mut rng, n, k % 3);
+            if k % 2 == 0 {
+                // Ovals, which fans cut into slivers: the flips' slow case.
+                let (a, b) = (3.0 + rng.centered(), 0.5 + rng.centered() * 0.3);
+                for (i, c) in q.iter_mut().enumerate() {
+                    let angle = (i as f64 + 0.4 * rng.centered()) * std::f64::consts::TAU / n as f64;
+                    let z = if k % 3 == 1 { 0.3 * a * angle.cos() } else { c[2] };
+                    *c = [a * angle.cos(), b * angle.sin(), z];
+                }
+            }
+            let Fan { apex, proper } = fan(n, |i| q[i]);
+            let mut t = Vec::new();
+            if !triangulate(n, |i| q[i], &mut t) {
+                continue;
+            }
+            assert_triangulates(&q, &t, k % 3 == 0, k);
+            if proper {
+                let mut trial: Vec<[usize; 3]> =
+                    (1..n - 1).map(|i| [apex, (apex + i) % n, (apex + i + 1) % n]).collect();
+                cut += !delaunay_flips(n, &|i| q[i], &mut trial, FLIPS_PER_CORNER * n) as usize;
+            }
+        }
+        assert!(cut >= 10, "{cut}");
+    }
+
+    /// `n` corners at random angles (sorted) and radii around the origin:
+    /// in the plane z = 0 (`shape` 0), tilted (1), or warped by up to 0.05
+    /// (2).
+    fn random_star(rng: &mut crate::test_rng::Rng, n: usize, shape: usize) -> Vec<[f64; 3]> {
+        let mut angles: Vec<f64> = (0..n).map(|_| (rng.centered() + 0.5) * std::f64::consts::TAU).collect();
+        angles.sort_by(f64::total_cmp);
+        let warp = [0.0, 0.0, 0.05][shape];
+        (angles.iter())
+            .map(|&a| {
+                let r = 1.0 + 0.9 * rng.centered();
+                let z = if shape == 1 {
+                    0.3 * r * a.cos()
+                } else {
+                    warp * rng.centered()
+                };
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect()
+    }
+
+    /// That `t` covers the polygon `q` once: each side of the outline in
+    /// one triangle, each diagonal in two, in opposite directions, each
+    /// triangle turning the polygon's way; if `flat` (in the plane z = 0),
+    /// the areas add up to the outline's.
+    fn assert_triangulates(q: &[[f64; 3]], t: &[[usize; 3]], flat: bool, k: usize) {
+        let n = q.len();
+        assert_eq!(t.len(), n - 2);
+        let normal = DVec3::from_array(newell_normal(n, &|i| q[i]));
+        let p = |i: usize| DVec3::from_array(q[i]);
+        let mut sides = std::collections::BTreeMap::new();
+        for tri in t {
+            let [a, b, c] = tri.map(p);
+            assert!((b - a).cross(c - a).dot(normal) > 0.0, "{k}: {tri:?}");
+            for j in 0..3 {
+                *sides.entry((tri[j], tri[(j + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &count) in &sides {
+            assert_eq!(count, 1, "{k}");
+            assert_eq!(sides.contains_key(&(b, a)), (a + 1) % n != b, "{k}: {a}-{b}");
+        }
+        assert!((0..n).all(|i| sides.contains_key(&(i, (i + 1) % n))), "{k}");
+        if flat {
+            let area: f64 = t.iter().map(|tri| doubled_areas(q, &[*tri])[0]).sum();
+            let outline: f64 = (0..n)
+                .map(|i| q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1])
+                .sum();
+            assert!((area - outline).abs() <= 1e-12 * outline.abs(), "{k}: {area} {outline}");
+        }
     }
 
     /// The L of the module's sketch.
