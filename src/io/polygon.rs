@@ -187,7 +187,7 @@ pub const MIN_CUT_AS_CDT: usize = 256;
 pub const FLIPS_PER_CORNER: usize = 8;
 
 /// Polygons with more corners than this are never flipped to the end:
-/// that takes about n²/8 flips from a fan (an elliptic 4,000-gon: 0.5 s),
+/// that takes about n²/8 flips from a fan (an elliptic 4,000-gon: 0.27 s),
 /// which both the construction and the judge would pay. Past it, a
 /// polygon is cut by its constrained Delaunay triangulation where the
 /// flips would be slow, as from [`MIN_CUT_AS_CDT`] on, and one exactly in
@@ -210,10 +210,10 @@ pub const MAX_DELAUNAY_FLIPPED: usize = 4096;
 ///   the polygon's way clearly, else, from `t` as it came, by the flips up
 ///   to [`flip_budget`] (up to [`MAX_DELAUNAY_FLIPPED`] corners) or none.
 ///
-/// An elliptic cylinder tilted in floating point, its caps 4,000-gons, was
-/// read in 1 s (4 million flips); with 5,000-gons, fanned, it stopped at
-/// the work limit. Both now read in hundredths of a second and need no
-/// vertex on the caps. (The flips come first because the triangulation
+/// An elliptic cylinder tilted in floating point, its caps 4,000-gons, took
+/// 0.55 s (4 million flips); with 5,000-gons, fanned, it stopped at the
+/// work limit. Both now take hundredths of a second and need no vertex on
+/// the caps. (The flips come first because the triangulation
 /// is slower where many corners lie on one circle, which its exact
 /// predicates then decide, and a polygon near Delaunay needs few.) The
 /// result depends only on the polygon.
