@@ -2309,15 +2309,21 @@ fn a_folder_as_input_points_to_batch() {
     }
 }
 
+/// The shipped bunny and its refined copy, written as `out.obj` in `dir`.
+fn refined_bunny(dir: &Path) -> (PathBuf, PathBuf) {
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.join("out.obj");
+    assert!(refine(&bunny, &out).arg("-q").output().unwrap().status.success());
+    (bunny, out)
+}
+
 /// `check REFINED ORIGINAL` (the two swapped) fails with a note asking
 /// whether they are swapped, instead of the note on vertex order (which
 /// would name a vertex past the end of the output).
 #[test]
 fn check_with_its_files_swapped_says_so() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = common::data_dir().join("bunny.obj");
-    let out = dir.path().join("out.obj");
-    assert!(refine(&bunny, &out).arg("-q").output().unwrap().status.success());
+    let (bunny, out) = refined_bunny(dir.path());
     let run = delmesh().arg("check").arg(&out).arg(&bunny).output().unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert_eq!(run.status.code(), Some(1), "{stdout}");
@@ -2337,9 +2343,7 @@ fn check_with_its_files_swapped_says_so() {
 #[test]
 fn quiet_check_prints_only_failures() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = common::data_dir().join("bunny.obj");
-    let out = dir.path().join("out.obj");
-    assert!(refine(&bunny, &out).arg("-q").output().unwrap().status.success());
+    let (bunny, out) = refined_bunny(dir.path());
     let quiet = delmesh().args(["check", "-q"]).arg(&bunny).arg(&out).output().unwrap();
     assert!(quiet.status.success());
     assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{quiet:?}");
