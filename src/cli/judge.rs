@@ -304,7 +304,8 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: boo
         );
     }
     let paths: Vec<&Path> = read.iter().map(|(_, p)| *p).collect();
-    refuse_printout_into_inputs(&paths, quiet)?;
+    // (Even with --quiet: a failure's lines would still go there.)
+    refuse_printout_into_inputs(&paths, false)?;
     refuse_closed_stdout(!quiet)?;
     crate::working_on(output);
     // The maps are judged on the two files as the check reads them (read once: a big mesh
