@@ -1315,32 +1315,13 @@ fn tilted_polygon_caps_are_read_as_their_delaunay_triangulations() {
 
 fn tilted_cylinder_with_polygon_caps_needs_no_vertex(n: usize) {
     let dir = tempfile::tempdir().unwrap();
-    let (s, c) = 0.3f64.sin_cos();
-    let tilt = |[x, y, z]: [f64; 3]| {
-        let (x, z) = (x * c + z * s, -x * s + z * c);
-        [x, y * c - z * s, y * s + z * c]
-    };
-    let mut obj = String::new();
-    let mut off = format!("OFF\n{} {} 0\n", 2 * n, n + 2);
-    for h in [0.0, 2.0] {
-        for j in 0..n {
+    let cap: Vec<[f64; 2]> = (0..n)
+        .map(|j| {
             let a = j as f64 * std::f64::consts::TAU / n as f64;
-            let [x, y, z] = tilt([3.0 * a.cos(), a.sin(), h]);
-            obj += &format!("v {x:?} {y:?} {z:?}\n");
-            off += &format!("{x:?} {y:?} {z:?}\n");
-        }
-    }
-    for j in 0..n {
-        let (a, b) = (j, (j + 1) % n);
-        obj += &format!("f {} {} {} {}\n", a + 1, b + 1, n + b + 1, n + a + 1);
-        off += &format!("4 {a} {b} {} {}\n", n + b, n + a);
-    }
-    let bottom: Vec<usize> = (0..n).rev().collect();
-    let top: Vec<usize> = (n..2 * n).collect();
-    for cap in [&bottom, &top] {
-        obj += &format!("f{}\n", cap.iter().map(|v| format!(" {}", v + 1)).collect::<String>());
-        off += &format!("{n}{}\n", cap.iter().map(|v| format!(" {v}")).collect::<String>());
-    }
+            [3.0 * a.cos(), a.sin()]
+        })
+        .collect();
+    let (obj, off) = common::tilted_prism_with_polygon_caps(&cap, 0.3, 0.3);
     for (name, text) in [("cylinder.obj", &obj), ("cylinder.off", &off)] {
         let stdout = refine_text_checked(dir.path(), name, text, true);
         assert!(stdout.contains(", 0 added vertices"), "{name}: {stdout}");

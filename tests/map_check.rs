@@ -242,6 +242,49 @@ fn damaged_maps_fail() {
     }
 }
 
+/// Prisms over random ovals of 256 to 2,000 corners (half of them with
+/// their corners moved along them at random, half evenly spaced, four by
+/// four on circles), tilted at random: large polygons that the reader cuts
+/// as their constrained Delaunay triangulation, whose faces the face map's
+/// judge finds through a grid. Each refines without an added vertex and its
+/// maps pass; a cap's output face named after the other cap fails.
+#[test]
+fn maps_of_large_polygons_pass_and_fail_as_they_should() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = common::Rng::new(62);
+    for k in 0..6 {
+        let n = 256 + rng.below(1744) as usize;
+        let (a, b) = (rng.range(2.0, 4.0), rng.range(0.5, 1.5));
+        let jitter = if k % 2 == 0 { 0.8 } else { 0.0 };
+        let cap: Vec<[f64; 2]> = (0..n)
+            .map(|j| {
+                let t = (j as f64 + jitter * rng.f64()) / n as f64 * std::f64::consts::TAU;
+                [a * t.cos(), b * t.sin()]
+            })
+            .collect();
+        let (obj, _) = common::tilted_prism_with_polygon_caps(&cap, rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+        let input = dir.path().join(format!("prism{k}.obj"));
+        std::fs::write(&input, obj).unwrap();
+        let files = refine(dir.path(), &input, "ply", &[]);
+        let (ok, stdout) = check(&input, &files, &[]);
+        assert!(ok && stdout.contains("its maps are right"), "{k}: {stdout}");
+        assert!(stdout.contains(" (0 added), "), "{k}: {stdout}");
+        if k == 0 {
+            // The sides are faces 0 to n - 1, the caps n and n + 1.
+            let face_map = std::fs::read_to_string(&files[2]).unwrap();
+            let on_cap = format!(",{n},1");
+            let moved = edit(&face_map, |_, l| {
+                l.ends_with(&on_cap)
+                    .then(|| l.replace(&on_cap, &format!(",{},1", n + 1)))
+            });
+            assert_ne!(moved, face_map);
+            std::fs::write(&files[2], moved).unwrap();
+            let (ok, stdout) = check(&input, &files, &[]);
+            assert!(!ok && stdout.contains("is not on input face"), "{stdout}");
+        }
+    }
+}
+
 #[test]
 fn a_vertex_defined_twice_is_named_by_its_first_definition() {
     let dir = tempfile::tempdir().unwrap();

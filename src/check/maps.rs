@@ -341,7 +341,7 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
     // The triangles of an input face, as its file's polygon is cut (as the construction and
     // the mesh check cut it): a polygon's found once.
     let mut pieces = Vec::new();
-    let mut polygons = FastMap::<usize, Vec<[DVec3; 3]>>::default();
+    let mut polygons = FastMap::<usize, Pieces>::default();
     let mut corners = Vec::new();
     let mut not_inside = 0;
     let mut count = 0;
@@ -374,23 +374,28 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         }
         let corner_ids = &original.indices[original.face_start[f] as usize..original.face_start[f + 1] as usize];
         let triangle;
-        let triangles: &[[DVec3; 3]] = if let &[a, b, c] = corner_ids {
+        let (triangles, grid): (&[[DVec3; 3]], _) = if let &[a, b, c] = corner_ids {
             // (A triangle as it is, or where the weld moved its corners: nothing to keep.)
             let at =
                 |v: u32| DVec3::from_array(moved.as_ref().map_or(original.positions[v as usize], |m| m[v as usize]));
             triangle = [at(a), at(b), at(c)];
-            std::slice::from_ref(&triangle)
+            (std::slice::from_ref(&triangle), None)
         } else {
-            polygons
-                .entry(f)
-                .or_insert_with(|| cut(original, f, moved.as_deref(), &mut pieces))
+            let pieces = polygons.entry(f).or_insert_with(|| {
+                let triangles = cut(original, f, moved.as_deref(), &mut pieces);
+                let grid = PieceGrid::new(&triangles, rounding);
+                Pieces { triangles, grid }
+            });
+            (&pieces.triangles[..], pieces.grid.as_ref())
         };
-        let on_face = |p: DVec3, slack: f64| {
-            triangles.iter().any(|&t| {
-                let [a, b, c] = t;
-                let side = (b - a).length().max((c - b).length()).max((a - c).length());
-                on_triangle(p, t, rounding + slack * side)
-            })
+        let on = |p: DVec3, slack: f64, t: [DVec3; 3]| {
+            let [a, b, c] = t;
+            let side = (b - a).length().max((c - b).length()).max((a - c).length());
+            on_triangle(p, t, rounding + slack * side)
+        };
+        let on_face = |p: DVec3, slack: f64| match grid {
+            Some(grid) => grid.near(p).any(|i| on(p, slack, triangles[i as usize])),
+            None => triangles.iter().any(|&t| on(p, slack, t)),
         };
         polygon(output, k, &mut corners);
         let centroid = corners.iter().sum::<DVec3>() / corners.len() as f64;
@@ -424,6 +429,141 @@ pub fn check_face_map(original: &RawMesh, output: &RawMesh, text: &[u8], weld_to
         rows: count,
         not_inside,
         failures: failures.finish(),
+    }
+}
+
+/// A polygon's triangles, as [`cut`] gives them, and for a large one a grid to find those
+/// near a point.
+struct Pieces {
+    triangles: Vec<[DVec3; 3]>,
+    grid: Option<PieceGrid>,
+}
+
+/// The triangles of a large polygon by grid cell: each listed in every cell its bounding box
+/// meets, grown by more than the farthest a point on it can be ([`on_triangle`]'s tolerance,
+/// `rounding` plus [`CENTROID_SLACK`] of its longest side). So the triangles a point is on
+/// are among those of its cell, and judging a polygon's faces costs about their number, not
+/// its square (a 2,000-gon's face map took 1.7 s). A triangle without a normal (no area),
+/// which [`on_triangle`] takes every point to be on, is in every cell's list.
+struct PieceGrid {
+    /// The grown boxes' corner of least coordinates.
+    low: DVec3,
+    /// Cells per unit of length, along each axis.
+    scale: DVec3,
+    /// Cells along each axis.
+    dims: [usize; 3],
+    /// Where each cell's triangles start in `items` (one more entry than cells).
+    start: Vec<u32>,
+    /// The triangles (numbers in the polygon's list), cell by cell.
+    items: Vec<u32>,
+    /// The triangles without a normal.
+    everywhere: Vec<u32>,
+}
+
+impl PieceGrid {
+    /// A grid over `triangles` if there are more than a few, about one cell per triangle
+    /// across the polygon's two widest extents.
+    fn new(triangles: &[[DVec3; 3]], rounding: f64) -> Option<PieceGrid> {
+        if triangles.len() < 32 {
+            return None;
+        }
+        let grown: Vec<(DVec3, DVec3)> = (triangles.iter())
+            .map(|&[a, b, c]| {
+                let side = (b - a).length().max((c - b).length()).max((a - c).length());
+                let magnitude = a.abs().max(b.abs()).max(c.abs()).max_element();
+                let margin = 2.0 * (rounding + CENTROID_SLACK * side) + 8.0 * f64::EPSILON * magnitude;
+                (
+                    a.min(b).min(c) - DVec3::splat(margin),
+                    a.max(b).max(c) + DVec3::splat(margin),
+                )
+            })
+            .collect();
+        if !grown.iter().all(|(lo, hi)| lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        let low = grown.iter().fold(DVec3::splat(f64::INFINITY), |m, b| m.min(b.0));
+        let high = grown.iter().fold(DVec3::splat(f64::NEG_INFINITY), |m, b| m.max(b.1));
+        let extent = high - low;
+        let mut widths = extent.to_array();
+        widths.sort_by(f64::total_cmp);
+        let cell = (widths[1] * widths[2] / triangles.len() as f64)
+            .sqrt()
+            .max(widths[2] / 1024.0);
+        if !(cell > 0.0 && cell.is_finite()) {
+            return None;
+        }
+        let dims = extent.to_array().map(|e| ((e / cell).ceil() as usize).clamp(1, 1024));
+        let scale = DVec3::from_array([0, 1, 2].map(|k| dims[k] as f64 / extent[k].max(f64::MIN_POSITIVE)));
+        let grid = PieceGrid {
+            low,
+            scale,
+            dims,
+            start: Vec::new(),
+            items: Vec::new(),
+            everywhere: Vec::new(),
+        };
+        let has_normal = |&[a, b, c]: &[DVec3; 3]| (b - a).cross(c - a).normalize_or_zero() != DVec3::ZERO;
+        let mut count = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
+        let mut everywhere = Vec::new();
+        for (i, (t, b)) in triangles.iter().zip(&grown).enumerate() {
+            if !has_normal(t) {
+                everywhere.push(i as u32);
+                continue;
+            }
+            grid.for_each_cell(b.0, b.1, |c| count[c + 1] += 1);
+        }
+        for c in 1..count.len() {
+            count[c] += count[c - 1];
+        }
+        let mut items = vec![0u32; count[count.len() - 1] as usize];
+        let mut next = count.clone();
+        for (i, (t, b)) in triangles.iter().zip(&grown).enumerate() {
+            if has_normal(t) {
+                grid.for_each_cell(b.0, b.1, |c| {
+                    items[next[c] as usize] = i as u32;
+                    next[c] += 1;
+                });
+            }
+        }
+        Some(PieceGrid {
+            start: count,
+            items,
+            everywhere,
+            ..grid
+        })
+    }
+
+    /// The cell along each axis of `p`, clamped to the grid.
+    fn cell_of(&self, p: DVec3) -> [usize; 3] {
+        let q = (p - self.low) * self.scale;
+        [0, 1, 2].map(|k| (q[k].max(0.0) as usize).min(self.dims[k] - 1))
+    }
+
+    /// Calls `f` with the number of every cell the box from `lo` to `hi` meets.
+    fn for_each_cell(&self, lo: DVec3, hi: DVec3, mut f: impl FnMut(usize)) {
+        let ([x0, y0, z0], [x1, y1, z1]) = (self.cell_of(lo), self.cell_of(hi));
+        for z in z0..=z1 {
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    f((z * self.dims[1] + y) * self.dims[0] + x);
+                }
+            }
+        }
+    }
+
+    /// The triangles that `p` may be on: those of its cell (none outside the grid) and
+    /// those without a normal.
+    fn near(&self, p: DVec3) -> impl Iterator<Item = u32> + '_ {
+        let high = self.low + DVec3::from_array([0, 1, 2].map(|k| self.dims[k] as f64)) / self.scale;
+        let inside = p.cmpge(self.low).all() && p.cmple(high).all();
+        let cell = inside.then(|| {
+            let [x, y, z] = self.cell_of(p);
+            (z * self.dims[1] + y) * self.dims[0] + x
+        });
+        let here = cell.map_or(&[][..], |c| {
+            &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+        });
+        here.iter().chain(&self.everywhere).copied()
     }
 }
 
@@ -518,4 +658,69 @@ fn on_triangle(p: DVec3, t: [DVec3; 3], tol: f64) -> bool {
         let s = if s.is_finite() { s } else { 0.0 };
         (a + s * e).distance(p) <= tol
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The grid finds every triangle a point is on: for points on, near and off the triangles
+    /// of polygons cut into fans and into their Delaunay triangulations (tilted ovals, flat
+    /// and off any axis, with a needle and a triangle of no area among them), the triangles
+    /// of the point's cell say what all of them say, with either slack.
+    #[test]
+    fn the_grid_finds_what_testing_every_triangle_finds() {
+        let mut rng = crate::test_rng::Rng(62);
+        let (mut on, mut off) = (0, 0);
+        for n in [40, 300, 1000] {
+            let (s, c) = 0.4f64.sin_cos();
+            let corners: Vec<[f64; 3]> = (0..n)
+                .map(|i| {
+                    let a = i as f64 * std::f64::consts::TAU / n as f64;
+                    let [x, y] = [5.0 * a.cos(), a.sin()];
+                    [x * c, y, x * s + 100.0]
+                })
+                .collect();
+            let fan: Vec<[usize; 3]> = (1..n - 1).map(|i| [0, i, i + 1]).collect();
+            let mut cut = Vec::new();
+            triangulate(n, |i| corners[i], &mut cut);
+            let mut with_no_area = cut.clone();
+            with_no_area.push([3, 3, 7]); // (on_triangle takes every point to be on it)
+            for pieces in [fan, cut, with_no_area] {
+                let triangles: Vec<[DVec3; 3]> = (pieces.iter())
+                    .map(|t| t.map(|i| DVec3::from_array(corners[i])))
+                    .collect();
+                let rounding = ROUNDING * 10.0;
+                let grid = PieceGrid::new(&triangles, rounding).unwrap();
+                let on_with = |p: DVec3, slack: f64, t: [DVec3; 3]| {
+                    let side = (t[1] - t[0])
+                        .length()
+                        .max((t[2] - t[1]).length())
+                        .max((t[0] - t[2]).length());
+                    on_triangle(p, t, rounding + slack * side)
+                };
+                for _ in 0..1500 {
+                    let t = triangles[rng.below(triangles.len() as u64) as usize];
+                    let (u, v) = match rng.below(3) {
+                        // At a corner (on the outline's extremes, past the grid's box
+                        // unless it is grown), or anywhere.
+                        0 => [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)][rng.below(3) as usize],
+                        _ => (rng.centered() + 0.5, rng.centered() + 0.5),
+                    };
+                    let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+                    let scale = [0.0, 1e-9, 1e-6, 1e-2][rng.below(4) as usize];
+                    let jitter = DVec3::new(rng.centered(), rng.centered(), rng.centered()) * scale;
+                    let p = t[0] + u * (t[1] - t[0]) + v * (t[2] - t[0]) + jitter;
+                    for slack in [0.0, CENTROID_SLACK] {
+                        let all = triangles.iter().any(|&t| on_with(p, slack, t));
+                        let near = grid.near(p).any(|i| on_with(p, slack, triangles[i as usize]));
+                        assert_eq!(near, all, "{n}: {p}");
+                        (on, off) = if all { (on + 1, off) } else { (on, off + 1) };
+                    }
+                }
+                assert!(grid.near(DVec3::splat(1e6)).all(|i| grid.everywhere.contains(&i)));
+            }
+        }
+        assert!(on > 1000 && off > 1000, "{on} {off}");
+    }
 }

@@ -265,3 +265,37 @@ pub fn barycentric(m: &delmesh::io::InputMesh, t: usize, p: glam::DVec3) -> ([f6
     let lc = (b - a).cross(p - a).dot(n) / nn;
     ([1.0 - lb - lc, lb, lc], (p - a).dot(n).abs() / nn.sqrt())
 }
+
+/// A prism 2 high over the counter-clockwise outline `cap`, tilted by the
+/// angles `about_y` and then `about_x` (in floating point: its caps are
+/// flat only up to rounding), as OBJ and as OFF: its sides quads, its caps
+/// one polygon each.
+pub fn tilted_prism_with_polygon_caps(cap: &[[f64; 2]], about_y: f64, about_x: f64) -> (String, String) {
+    let n = cap.len();
+    let ((sy, cy), (sx, cx)) = (about_y.sin_cos(), about_x.sin_cos());
+    let tilt = |[x, y, z]: [f64; 3]| {
+        let (x, z) = (x * cy + z * sy, -x * sy + z * cy);
+        [x, y * cx - z * sx, y * sx + z * cx]
+    };
+    let mut obj = String::new();
+    let mut off = format!("OFF\n{} {} 0\n", 2 * n, n + 2);
+    for h in [0.0, 2.0] {
+        for &[x, y] in cap {
+            let [x, y, z] = tilt([x, y, h]);
+            obj += &format!("v {x:?} {y:?} {z:?}\n");
+            off += &format!("{x:?} {y:?} {z:?}\n");
+        }
+    }
+    for j in 0..n {
+        let (a, b) = (j, (j + 1) % n);
+        obj += &format!("f {} {} {} {}\n", a + 1, b + 1, n + b + 1, n + a + 1);
+        off += &format!("4 {a} {b} {} {}\n", n + b, n + a);
+    }
+    let bottom: Vec<usize> = (0..n).rev().collect();
+    let top: Vec<usize> = (n..2 * n).collect();
+    for cap in [&bottom, &top] {
+        obj += &format!("f{}\n", cap.iter().map(|v| format!(" {}", v + 1)).collect::<String>());
+        off += &format!("{n}{}\n", cap.iter().map(|v| format!(" {v}")).collect::<String>());
+    }
+    (obj, off)
+}
