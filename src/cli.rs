@@ -776,6 +776,7 @@ fn error_kind(e: &anyhow::Error) -> &'static str {
     match e.downcast_ref::<delmesh::Error>() {
         Some(delmesh::Error::WorkLimit { .. }) => "work_limit",
         Some(delmesh::Error::Unsplittable { .. }) => "unsplittable",
+        Some(delmesh::Error::OutOfIds { .. }) => "out_of_ids",
         Some(delmesh::Error::Write { .. }) => "write",
         _ if e.downcast_ref::<CheckFailed>().is_some() => "check",
         _ => "other",

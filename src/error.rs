@@ -81,6 +81,15 @@ pub enum Error {
         /// likely cause if any.
         nearly_flat_edges: usize,
     },
+    /// The run needed more splits than the mesh's 32-bit ids can number
+    /// ([`crate::mesh::MAX_HALFEDGES`] half-edges in all, the input's and six
+    /// a split): only a mesh of hundreds of millions of faces, with
+    /// `--max-added` raised past its default, gets there.
+    #[error("stopped after {splits} splits: the refined mesh would have more than {} half-edges, more than 32-bit ids can number", crate::mesh::MAX_HALFEDGES)]
+    OutOfIds {
+        /// Splits done.
+        splits: usize,
+    },
     /// A setting given to the library is out of its range: a tolerance that
     /// is NaN, negative or infinite (the command line refuses the same
     /// values when it parses its flags).

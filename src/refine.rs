@@ -333,6 +333,7 @@ pub fn make_delaunay(surface: &mut Surface, options: &Options) -> Result<Stats> 
 /// pass, as [`make_delaunay`] does.
 pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: &[EdgeId]) -> Result<Stats> {
     let constants = sample_constants(surface);
+    let split_limit = options.max_added.min(surface.topo.split_room());
     let mut run = Run {
         s: surface,
         options: *options,
@@ -340,6 +341,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         stats: Stats::default(),
         stuck: FastMap::default(),
         over_limit: false,
+        split_limit,
     };
     run.stats.constants = Some(constants);
     // Room for about one split per edge (at least 16,384), as a freshly
@@ -384,6 +386,9 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
             }
             if run.over_limit {
                 let (splits, flips) = (run.stats.splits, run.stats.flips);
+                if splits >= run.split_limit && run.split_limit < options.max_added {
+                    return Err(Error::OutOfIds { splits });
+                }
                 return Err(Error::WorkLimit {
                     splits,
                     flips,
@@ -486,8 +491,12 @@ struct Run<'a> {
     /// with their [`Run::neighbourhood`] at the time (few: a map).
     stuck: FastMap<EdgeId, [VertexId; 8]>,
     /// Set when an edge needed a split or flip past the work limit
-    /// ([`Options::max_added`]), which was then not made.
+    /// ([`Options::max_added`]) or a split past the ids' room
+    /// ([`crate::mesh::Topology::split_room`]), which was then not made.
     over_limit: bool,
+    /// The most splits the run may make: [`Options::max_added`], or fewer
+    /// where the ids would run out first.
+    split_limit: usize,
 }
 
 impl Run<'_> {
@@ -604,7 +613,7 @@ impl Run<'_> {
         // edge is split instead, at a sample like any other.
         match self.choose_sample(e) {
             Some(choice) => {
-                if self.stats.splits >= self.options.max_added {
+                if self.stats.splits >= self.split_limit {
                     self.over_limit = true;
                     return;
                 }

@@ -613,6 +613,13 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_num
             }
         }
     }
+    // Past the ids' room repair could not number the faces (and would panic).
+    if let Err(e) = crate::mesh::refuse_beyond_ids(raw.positions.len(), triangles.len()) {
+        return Err(Error::Mesh {
+            path: path.to_owned(),
+            what: e.to_string(),
+        });
+    }
     let (mut fixed, topology) = repair::repair_with_topology(&raw.positions, &triangles, options);
     fixed.report.keyhole_polygons = keyhole_polygons;
     fixed.report.repeated_corners = repeated_corners;
@@ -828,6 +835,7 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
                 at(face),
                 at(first)
             ),
+            TopologyError::TooLarge { .. } => e.to_string(),
         };
         Error::Mesh { path: path.to_owned(), what }
     })

@@ -9,8 +9,10 @@
 
 mod topology;
 
+pub(crate) use topology::refuse_beyond_ids;
 pub use topology::{
     room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId, ADJACENCY_LIMIT,
+    MAX_HALFEDGES, MAX_TRIANGLES,
 };
 
 use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
@@ -284,6 +286,7 @@ impl Surface {
         if triangles.is_empty() {
             return Err(InputError::NoFaces);
         }
+        refuse_beyond_ids(positions.len(), triangles.len())?;
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(InputError::NonFinite { vertex: v as u32 });
         }

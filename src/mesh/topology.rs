@@ -106,6 +106,9 @@ pub enum TopologyError {
     /// Faces `first` and `face` use the same three vertices (a closed
     /// two-face "pillow": every edge would have one vertex opposite it twice).
     SameThreeVertices { first: usize, face: usize },
+    /// More triangles than [`MAX_TRIANGLES`] (or more vertices than
+    /// [`MAX_HALFEDGES`]): the ids, 32-bit, could not number them all.
+    TooLarge { triangles: usize, vertices: usize },
 }
 
 impl fmt::Display for TopologyError {
@@ -129,6 +132,10 @@ impl fmt::Display for TopologyError {
             TopologyError::SameThreeVertices { first, face } => {
                 write!(f, "triangles {first} and {face} have the same three vertices")
             }
+            TopologyError::TooLarge { triangles, vertices } => write!(
+                f,
+                "{triangles} triangles over {vertices} vertices: more than 32-bit ids can number (at most {MAX_TRIANGLES} triangles)"
+            ),
         }
     }
 }
@@ -140,6 +147,16 @@ impl std::error::Error for TopologyError {}
 /// change whose answer is still unknown then counts as making a duplicate
 /// edge and is refused, which is always safe and keeps each test bounded.
 pub const ADJACENCY_LIMIT: usize = 1024;
+
+/// The most half-edges a [`Topology`] can have: ids are `u32`, and
+/// `u32::MAX` is `NONE`. Half-edges run out first: a mesh has at least as
+/// many as it has edges, faces or (used) vertices, and a split adds six.
+pub const MAX_HALFEDGES: usize = u32::MAX as usize;
+
+/// The most triangles [`Topology::from_triangles`] builds a mesh from
+/// (715,827,882): even a soup of them, every edge on the boundary and six
+/// half-edges a triangle, fits in [`MAX_HALFEDGES`].
+pub const MAX_TRIANGLES: usize = MAX_HALFEDGES / 6;
 
 /// How many splits the arrays of a mesh built from `n_triangles` triangles
 /// have room for from the start: about one per edge, and at least 16,384,
@@ -198,6 +215,18 @@ pub(crate) struct Pairing {
     twin: Vec<u32>,
     /// The number of edges: pairs and lone corners.
     n_edges: usize,
+}
+
+/// [`TopologyError::TooLarge`] if `n_triangles` is past [`MAX_TRIANGLES`]
+/// or `n_vertices` past [`MAX_HALFEDGES`].
+pub(crate) fn refuse_beyond_ids(n_vertices: usize, n_triangles: usize) -> Result<(), TopologyError> {
+    if n_triangles > MAX_TRIANGLES || n_vertices > MAX_HALFEDGES {
+        return Err(TopologyError::TooLarge {
+            triangles: n_triangles,
+            vertices: n_vertices,
+        });
+    }
+    Ok(())
 }
 
 /// A corner (or half-edge) not numbered yet, while pairing.
@@ -416,6 +445,7 @@ impl Topology {
     /// again by scanning adjacency lists (`pair_corners_by_scanning`),
     /// which names the first fault in face order.
     pub fn from_triangles(n_vertices: usize, triangles: &[[u32; 3]]) -> Result<Topology, TopologyError> {
+        refuse_beyond_ids(n_vertices, triangles.len())?;
         // The number of faces at each vertex (its corners), counted while
         // the indices are checked.
         let mut degree = vec![0u32; n_vertices];
@@ -557,6 +587,11 @@ impl Topology {
     /// Number of half-edges (twice the number of edges).
     pub fn n_halfedges(&self) -> usize {
         self.he_origin.len()
+    }
+    /// How many more splits the ids can number (six half-edges each, see
+    /// [`MAX_HALFEDGES`]).
+    pub fn split_room(&self) -> usize {
+        (MAX_HALFEDGES - self.n_halfedges()) / 6
     }
     /// Number of edges.
     pub fn n_edges(&self) -> usize {
@@ -1504,6 +1539,43 @@ mod tests {
             t.are_adjacent_within_either(VertexId(1), VertexId(q(0)), 1024),
             Some(false)
         );
+    }
+
+    /// Meshes past the 32-bit ids are refused before anything is built, and
+    /// a mesh's room for splits never reaches `NONE`: the last split's last
+    /// half-edge is `u32::MAX - 1` at most.
+    #[test]
+    fn ids_never_run_past_their_room() {
+        // A soup at the limit: six half-edges a triangle, all numbered.
+        assert_eq!(6 * MAX_TRIANGLES, MAX_HALFEDGES - 3);
+        assert!(refuse_beyond_ids(3 * MAX_TRIANGLES, MAX_TRIANGLES).is_ok());
+        let past = refuse_beyond_ids(1000, MAX_TRIANGLES + 1).unwrap_err();
+        assert!(matches!(past, TopologyError::TooLarge { triangles, .. } if triangles == MAX_TRIANGLES + 1));
+        assert_eq!(
+            past.to_string(),
+            "715827883 triangles over 1000 vertices: more than 32-bit ids can number (at most 715827882 triangles)"
+        );
+        assert!(refuse_beyond_ids(MAX_HALFEDGES + 1, 10).is_err());
+        // from_triangles refuses before allocating anything per vertex.
+        assert!(matches!(
+            Topology::from_triangles(MAX_HALFEDGES + 1, &[]),
+            Err(TopologyError::TooLarge { .. })
+        ));
+        // The room left on a small mesh, and after splits that use it.
+        let mut t = Topology::from_triangles(6, &octahedron()).unwrap();
+        assert_eq!(t.n_halfedges(), 24);
+        assert_eq!(t.split_room(), (u32::MAX as usize - 24) / 6);
+        for _ in 0..10 {
+            let room = t.split_room();
+            t.split(EdgeId(0));
+            assert_eq!(t.split_room(), room - 1);
+        }
+        // At the largest closed mesh: hundreds of millions of splits, and
+        // the last id they would use is below NONE.
+        let closed = 3 * MAX_TRIANGLES;
+        let room = (MAX_HALFEDGES - closed) / 6;
+        assert!(room > 357_000_000);
+        assert!(closed + 6 * room - 1 < HalfEdgeId::NONE.idx());
     }
 
     /// High-degree vertices (their corner lists sorted and searched by
