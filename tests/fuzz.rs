@@ -936,7 +936,53 @@ fn pipeline_seeds() -> Vec<Vec<u8>> {
     for (k, m) in cut_seed_meshes().iter().enumerate() {
         v.push(obj_text(m, [0, 2, 3, 0, 1][k % 5]));
     }
+    v.push(large_polygon_cone());
     v
+}
+
+/// The pipeline's one seed with a polygon of `io::polygon`'s large sizes
+/// (256 corners or more), under the target's 16 KiB: an open cone over an
+/// oval of 260 corners, 3:1, tilted 0.3 rad about x and 0.2 about y, its
+/// corners written with 8 decimals (so off one plane by rounding). Its fan
+/// is far from Delaunay, so the reader's trial flips run out and the cap is
+/// cut as its constrained Delaunay triangulation, or, where mutations make
+/// triangles of that turn the wrong way, flipped as before.
+fn large_polygon_cone() -> Vec<u8> {
+    let n = 260;
+    let (sx, cx) = 0.3f64.sin_cos();
+    let (sy, cy) = 0.2f64.sin_cos();
+    let mut text = String::from("# a cone over a tilted 260-gon\n");
+    for k in 0..n {
+        let t = std::f64::consts::TAU * k as f64 / n as f64;
+        let (x, y, z) = (3.0 * t.cos(), t.sin(), 0.0);
+        let (y, z) = (cx * y - sx * z, sx * y + cx * z);
+        let (x, z) = (cy * x + sy * z, -sy * x + cy * z);
+        text.push_str(&format!("v {x:.8} {y:.8} {z:.8}\n"));
+    }
+    text.push_str("v 0.1 -0.2 -1.5\n");
+    text.push('f');
+    for k in 1..=n {
+        text.push_str(&format!(" {k}"));
+    }
+    text.push('\n');
+    for k in 1..=n {
+        text.push_str(&format!("f {} {k} {}\n", k % n + 1, n + 1));
+    }
+    text.into_bytes()
+}
+
+/// The large-polygon seed fits the pipeline target and goes through it
+/// whole: read, refined by its combination, checked.
+#[test]
+fn the_large_polygon_seed_goes_through_the_pipeline() {
+    let seed = large_polygon_cone();
+    assert!(seed.len() <= 16 << 10, "{} bytes", seed.len());
+    let raw = parse_obj(&seed).unwrap();
+    let input = io::finish(raw, Path::new("cone.obj"), &ReadOptions::default()).unwrap();
+    // The cap's 258 triangles and the cone's 260.
+    assert_eq!(input.triangles.len(), 258 + 260);
+    let sig = target_pipeline(&seed).unwrap();
+    assert!(sig.starts_with("obj ok") && !sig.contains("refused"), "{sig}");
 }
 
 /// An OBJ file of `m` with attributes: texture coordinates (affine in the
