@@ -631,6 +631,28 @@ fn every_format_in_and_out() {
 }
 
 /// Runs `delmesh -i input --repair --repaired R -o O` in `dir`; returns (R, O, stdout).
+/// The file `--repair` wrote, `repaired`, read again: without `--repair`
+/// it is refused in one line that says welding made the fault (`kind`, the
+/// fault's name) and that `--repair` reads it; with `--repair` it refines
+/// into an output that passes `check` against it.
+fn repaired_file_reads_with_repair_alone(dir: &Path, repaired: &Path, kind: &str) {
+    let again = dir.join("again.obj");
+    let out = refine(repaired, &again).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(" once the file's vertices at ")
+            && stderr.trim_end().ends_with(&format!(
+                "({kind}; a file cut apart there, as --repair writes one, is read with --repair)"
+            )),
+        "{stderr}"
+    );
+    let out = refine(repaired, &again).arg("--repair").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    check_passes(repaired, &again);
+}
+
 fn repair_and_refine(dir: &Path, input: &Path) -> (std::path::PathBuf, std::path::PathBuf, String) {
     let repaired = dir.join("repaired.obj");
     let output = dir.join("dm.obj");
@@ -671,6 +693,7 @@ fn repair_fixes_a_bow_tie_and_the_output_checks_against_the_repaired_input() {
     );
     assert!(stdout.contains("repair  split 1 non-manifold vertex"), "{stdout}");
     check_passes(&repaired, &output);
+    repaired_file_reads_with_repair_alone(dir.path(), &repaired, "non-manifold vertex");
 }
 
 #[test]
@@ -692,6 +715,7 @@ fn repair_cuts_a_non_manifold_edge_and_the_output_checks_against_the_repaired_in
     assert!(stdout.contains("repair  cut 1 non-manifold edge"), "{stdout}");
     assert!(stdout.contains("2 added vertices"), "{stdout}");
     check_passes(&repaired, &output);
+    repaired_file_reads_with_repair_alone(dir.path(), &repaired, "non-manifold edge");
 }
 
 #[test]
@@ -726,6 +750,7 @@ fn repair_cuts_a_moebius_band_open_and_the_output_checks_against_the_repaired_in
         "{stdout}"
     );
     check_passes(&repaired, &output);
+    repaired_file_reads_with_repair_alone(dir.path(), &repaired, "inconsistent orientation");
 }
 
 #[test]

@@ -1735,6 +1735,14 @@ fn input_invariants(m: &InputMesh, repaired: bool) -> Result<(), String> {
             return fail("two vertices at the same position");
         }
     }
+    // The vertices welds went into: increasing, in range, none without a weld.
+    if !m.welded_into.windows(2).all(|w| w[0] < w[1])
+        || m.welded_into.last().is_some_and(|&v| v as usize >= n)
+        || m.welded_into.len() > m.welded
+        || (repaired && !m.welded_into.is_empty())
+    {
+        return fail("the welded vertices' list");
+    }
     Ok(())
 }
 

@@ -83,6 +83,12 @@ pub struct InputMesh {
     /// Vertices merged into an earlier one at the same position (bit for
     /// bit, but -0 and 0 alike).
     pub welded: usize,
+    /// The vertices (indices into `positions`) that other vertices of the
+    /// file were welded into, in increasing order: where a file keeps
+    /// vertices apart at one position on purpose (a mesh `--repair` cut),
+    /// welding is what makes it non-manifold, and a refusal says so. Empty
+    /// when none was, and after `--repair`.
+    pub welded_into: Vec<u32>,
     /// Vertices no face uses (dropped).
     pub unreferenced: usize,
     /// What `--repair` fixed, if it ran.
@@ -374,6 +380,16 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         }
     }
     let unreferenced = raw.positions.len() - welded - positions.len();
+    let mut welded_into: Vec<u32> = if welded == 0 {
+        Vec::new()
+    } else {
+        (welded_to.iter().enumerate())
+            .filter(|&(i, &to)| i as u32 != to && used[to as usize])
+            .map(|(_, &to)| new_index[to as usize])
+            .collect()
+    };
+    welded_into.sort_unstable();
+    welded_into.dedup();
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
@@ -442,6 +458,7 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         numbering: raw.numbering,
         faces_in_file: n_faces,
         welded,
+        welded_into,
         unreferenced,
         repair: None,
         attributes,
@@ -683,6 +700,7 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_num
         numbering: raw.numbering,
         faces_in_file: n_faces,
         welded: fixed.report.welded_vertices,
+        welded_into: Vec::new(),
         unreferenced: fixed.report.unreferenced_vertices,
         repair: Some(fixed.report),
         attributes,
@@ -788,13 +806,36 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
             }
         };
         let v = |i: u32| input.vertex_name(i);
+        // Where welding the file's vertices at one position made the fault
+        // (a file that keeps them apart on purpose, as `--repair` writes a
+        // mesh it cut), the message says so. Not in an STL, whose corners
+        // are always welded.
+        let welded = |vertices: &[u32]| {
+            input.numbering != Numbering::Stl && vertices.iter().all(|v| input.welded_into.binary_search(v).is_ok())
+        };
+        let once_welded = |vertices: &[u32], kind: &str| {
+            if welded(vertices) {
+                (
+                    format!(
+                        " once the file's vertices at {} are welded",
+                        if vertices.len() == 1 { "its position" } else { "their positions" }
+                    ),
+                    format!(" ({kind}; a file cut apart there, as --repair writes one, is read with --repair)"),
+                )
+            } else {
+                (String::new(), format!(" ({kind}){REPAIR_HINT}"))
+            }
+        };
         let what = match e {
-            TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => format!(
-                "{}: edge between {} and {} has more than two faces, this one the third (non-manifold edge){REPAIR_HINT}",
-                at(face),
-                v(a),
-                v(b)
-            ),
+            TopologyError::EdgeWithMoreThanTwoFaces { face, a, b } => {
+                let (once, hint) = once_welded(&[a, b], "non-manifold edge");
+                format!(
+                    "{}: edge between {} and {} has more than two faces{once}, this one the third{hint}",
+                    at(face),
+                    v(a),
+                    v(b)
+                )
+            }
             TopologyError::InconsistentOrientation { face, a, b } => {
                 // The other face along a -> b; if it has the same corners,
                 // this is a repeated face, not an orientation problem.
@@ -812,18 +853,21 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
                         at(face),
                         at(first)
                     ),
-                    None => format!(
-                        "{}: face runs along the edge from {} to {} in the same direction as another face (inconsistent orientation){REPAIR_HINT}",
-                        at(face),
-                        v(a),
-                        v(b)
-                    ),
+                    None => {
+                        let (once, hint) = once_welded(&[a, b], "inconsistent orientation");
+                        format!(
+                            "{}: face runs along the edge from {} to {} in the same direction as another face{once}{hint}",
+                            at(face),
+                            v(a),
+                            v(b)
+                        )
+                    }
                 }
             }
-            TopologyError::NonManifoldVertex { vertex } => format!(
-                "{}: its faces form more than one fan (non-manifold vertex){REPAIR_HINT}",
-                v(vertex)
-            ),
+            TopologyError::NonManifoldVertex { vertex } => {
+                let (once, hint) = once_welded(&[vertex], "non-manifold vertex");
+                format!("{}: its faces form more than one fan{once}{hint}", v(vertex))
+            }
             TopologyError::IndexOutOfRange { face, index } => {
                 format!("{}: vertex index {} out of range", at(face), index as u64 + 1)
             }
