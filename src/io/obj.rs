@@ -405,8 +405,16 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool) -> Result<RawMes
     if !whole {
         return Ok(raw); // The start of a file: the rest may follow.
     }
-    // Out-of-range indices (forward references are allowed, so only now).
+    // Past what 32-bit offsets and indices hold (a file of tens of gigabytes):
+    // refused before `face_start`, whose offsets then wrapped, is read.
     let nv = raw.positions.len();
+    if nv > u32::MAX as usize {
+        return Err(FormatError::new("the file has more than 2^32 - 1 vertices"));
+    }
+    if raw.indices.len() > u32::MAX as usize {
+        return Err(FormatError::new("the faces have more than 2^32 - 1 indices in all"));
+    }
+    // Out-of-range indices (forward references are allowed, so only now).
     for f in 0..raw.face_origin.len() {
         let poly = &raw.indices[raw.face_start[f] as usize..raw.face_start[f + 1] as usize];
         if let Some(&bad) = poly.iter().find(|&&c| c as usize >= nv) {

@@ -193,7 +193,7 @@ pub struct FormatError {
 }
 
 impl FormatError {
-    fn new(what: impl Into<String>) -> Self {
+    pub(crate) fn new(what: impl Into<String>) -> Self {
         FormatError {
             line: None,
             what: what.into(),
