@@ -709,6 +709,11 @@ impl Pruner<'_> {
             Ok(Some(_)) if budget == 0 => return Attempt::Failed,
             Ok(Some(_)) => {}
         }
+        // Splits the ids have no room for (a mesh of hundreds of millions of
+        // faces, refined up to that room) are not tried.
+        if self.s.topo.split_room() < budget.saturating_sub(self.splits) {
+            return Attempt::Failed;
+        }
         // More bad edges than splits left: hopeless (see `Left`). Debug
         // builds (every test) go on and check that the attempt fails indeed.
         let left = self.left_after_settle();
