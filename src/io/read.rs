@@ -87,7 +87,8 @@ pub struct InputMesh {
     /// file were welded into, in increasing order: where a file keeps
     /// vertices apart at one position on purpose (a mesh `--repair` cut),
     /// welding is what makes it non-manifold, and a refusal says so. Empty
-    /// when none was, and after `--repair`.
+    /// when none was, after `--repair`, and in an STL (every vertex of
+    /// which is found by welding).
     pub welded_into: Vec<u32>,
     /// Vertices no face uses (dropped).
     pub unreferenced: usize,
@@ -380,16 +381,18 @@ pub fn finish(raw: RawMesh, path: &Path, options: &ReadOptions) -> Result<InputM
         }
     }
     let unreferenced = raw.positions.len() - welded - positions.len();
-    let mut welded_into: Vec<u32> = if welded == 0 {
+    // (Not in an STL, whose every vertex is found by welding: no message names it so.)
+    let welded_into: Vec<u32> = if welded == 0 || raw.numbering == Numbering::Stl {
         Vec::new()
     } else {
-        (welded_to.iter().enumerate())
-            .filter(|&(i, &to)| i as u32 != to && used[to as usize])
-            .map(|(_, &to)| new_index[to as usize])
-            .collect()
+        let mut into = vec![false; positions.len()];
+        for (i, &to) in welded_to.iter().enumerate() {
+            if i as u32 != to && used[to as usize] {
+                into[new_index[to as usize] as usize] = true;
+            }
+        }
+        (0..positions.len() as u32).filter(|&v| into[v as usize]).collect()
     };
-    welded_into.sort_unstable();
-    welded_into.dedup();
     // Fan-triangulate, refusing repeated vertices and zero-area triangles.
     let mut triangles = Vec::with_capacity(raw.indices.len().saturating_sub(2 * n_faces));
     let mut triangle_origin = Vec::with_capacity(triangles.capacity());
@@ -808,11 +811,9 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
         let v = |i: u32| input.vertex_name(i);
         // Where welding the file's vertices at one position made the fault
         // (a file that keeps them apart on purpose, as `--repair` writes a
-        // mesh it cut), the message says so. Not in an STL, whose corners
-        // are always welded.
-        let welded = |vertices: &[u32]| {
-            input.numbering != Numbering::Stl && vertices.iter().all(|v| input.welded_into.binary_search(v).is_ok())
-        };
+        // mesh it cut), the message says so (`welded_into` is empty for an
+        // STL, whose corners are always welded).
+        let welded = |vertices: &[u32]| vertices.iter().all(|v| input.welded_into.binary_search(v).is_ok());
         let once_welded = |vertices: &[u32], kind: &str| {
             if welded(vertices) {
                 (
