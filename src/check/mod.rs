@@ -1541,6 +1541,28 @@ mod tests {
         assert_eq!(hits, points + n / 4 * fractions.len());
     }
 
+    /// A straight strip two cells wide and 40,000 long fills a few of each 16 x 16 x 16 block's
+    /// places; its blocks share runs of buckets, and without the block's hash in the low bits
+    /// every bucket in use held the entries of dozens of blocks (the largest 624).
+    #[test]
+    fn a_long_thin_strip_spreads_over_the_buckets() {
+        let n = 40_000u32;
+        let positions = (0..=n).flat_map(|i| [DVec3::new(i as f64, 0.0, 0.0), DVec3::new(i as f64, 1.0, 0.0)]);
+        let triangles = (0..n).flat_map(|i| [[2 * i, 2 * i + 2, 2 * i + 1], [2 * i + 1, 2 * i + 2, 2 * i + 3]]);
+        let mesh = Mesh3 {
+            positions: positions.collect(),
+            triangles: triangles.collect(),
+        };
+        let naming = Naming::default();
+        let model = InputModel::new(&mesh, &naming).expect("a valid strip");
+        let edges = &model.prepared.edges;
+        let grid = EdgeGrid::new(&mesh, edges, &[]);
+        let fullest = grid.starts.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+        assert!(fullest <= CROWDED, "{fullest} entries in one bucket");
+        let points = [DVec3::new(12_345.5, 0.0, 0.0), DVec3::new(39_999.0, 0.5, 0.0)];
+        assert_eq!(assert_same_as_testing_every_edge(&mesh, edges, &grid, &points), 2);
+    }
+
     /// A fan far smaller than the grid's cell, which a vertex 10^13 away makes huge: its trees
     /// go deep, and the short spokes are not cut into ever more pieces on the way down (an
     /// earlier version halved every piece at every level, 2^25 pieces of a spoke, and hung).
