@@ -536,23 +536,66 @@ struct Outcome {
 impl Outcome {
     /// The seconds of this run, written in `seconds_write`.
     fn seconds(&self, seconds_write: f64) -> stats_json::RunSeconds {
-        stats_json::RunSeconds {
-            refine: self.seconds,
-            prune: self.seconds_prune,
-            write: seconds_write,
-        }
+        run_seconds(self.seconds, self.seconds_prune, seconds_write)
+    }
+
+    /// The surface, and the rest of the run without it ([`Finished`]).
+    fn finish(self) -> (Surface, Finished) {
+        let s = &self.surface;
+        let finished = Finished {
+            vertices: s.positions.len(),
+            faces: s.topo.n_faces(),
+            added: s.positions.len() - s.n_input_vertices,
+            stats: self.stats,
+            pruned: self.pruned,
+            seconds: self.seconds,
+            seconds_prune: self.seconds_prune,
+        };
+        (self.surface, finished)
+    }
+}
+
+/// The seconds of a run: `refine` refining (`prune` of them pruning), then
+/// `write` writing.
+fn run_seconds(refine: f64, prune: f64, write: f64) -> stats_json::RunSeconds {
+    stats_json::RunSeconds { refine, prune, write }
+}
+
+/// A run once its mesh is written and its maps staged: its figures without
+/// the surface, which is freed before `--check` reads the files back (the
+/// full dragon's run with `--check` peaked at 838 MB holding it beside the
+/// judge's own memory, and at 521 MB without it).
+struct Finished {
+    /// Vertices of the output.
+    vertices: usize,
+    /// Faces of the output.
+    faces: usize,
+    /// Vertices added to the input's.
+    added: usize,
+    stats: Stats,
+    /// With --prune: what pruning removed.
+    pruned: Option<PruneStats>,
+    /// Seconds refining, pruning included.
+    seconds: f64,
+    /// Seconds pruning (a part of `seconds`).
+    seconds_prune: f64,
+}
+
+impl Finished {
+    /// The seconds of this run, written in `seconds_write`.
+    fn seconds(&self, seconds_write: f64) -> stats_json::RunSeconds {
+        run_seconds(self.seconds, self.seconds_prune, seconds_write)
     }
 
     /// The record of this run, written to `output` in `seconds_write`.
     fn record(&self, options: Options, output: &Path, seconds_write: f64) -> stats_json::RunRecord {
-        let s = &self.surface;
         stats_json::RunRecord {
             options: Some(options),
             output: output.display().to_string(),
             result: Ok(stats_json::RunFigures {
-                vertices: s.positions.len(),
-                faces: s.topo.n_faces(),
-                added_vertices: s.positions.len() - s.n_input_vertices,
+                vertices: self.vertices,
+                faces: self.faces,
+                added_vertices: self.added,
                 pruned: self.pruned,
                 stats: Some(self.stats),
             }),
@@ -1267,24 +1310,9 @@ fn run_refined(
     let (mut written, mut staged) = write_output(output, input_path, &out.surface, transfer, &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
-    let t_check = Instant::now();
-    let mut checked_files = None;
-    if args.check {
-        let keep_files = args.vertex_map.is_some() || args.face_map.is_some();
-        staged = match check_output(input_path, input, staged, output, keep_files) {
-            Ok((staged, files)) => {
-                checked_files = files;
-                staged
-            }
-            Err(e) => {
-                report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
-                return Err(e);
-            }
-        };
-    }
-    let check_s = t_check.elapsed().as_secs_f64();
-    // The mesh is complete (and checked) under a temporary name: the side
-    // files are written before it is put in place, so that a side file
+    drop(vertex_lines);
+    // The mesh is complete under a temporary name: the side files are
+    // written before it is checked and put in place, so that a side file
     // that cannot be written leaves no output, and the input of a run in
     // place untouched. (A mesh written to a stream is there already.)
     let streamed = mesh_streamed(&staged, output);
@@ -1301,6 +1329,27 @@ fn run_refined(
         face_map = Some((staged_map, map.as_path()));
         written.notes.extend(note);
     }
+    let growth = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest);
+    // Everything else reads the files: the surface goes before the judge
+    // reads them back.
+    let (surface, out) = out.finish();
+    drop(surface);
+    let t_check = Instant::now();
+    let mut checked_files = None;
+    if args.check {
+        let keep_files = args.vertex_map.is_some() || args.face_map.is_some();
+        staged = match check_output(input_path, input, staged, output, keep_files) {
+            Ok((staged, files)) => {
+                checked_files = files;
+                staged
+            }
+            Err(e) => {
+                report.write(&[failure_record(options, output, &e, out.seconds(write_s))], true)?;
+                return Err(e);
+            }
+        };
+    }
+    let check_s = t_check.elapsed().as_secs_f64();
     let t_maps = Instant::now();
     let (vertex_map, face_map, maps_checked) = if args.check {
         match check_maps(
@@ -1332,33 +1381,43 @@ fn run_refined(
     // rewritten as it was.
     if !args.quiet {
         let seconds = [total, write_s, check_s];
-        say_refined(
-            report,
-            &out,
-            &options,
-            pruned_settings,
-            &written.notes,
+        let notes = SummaryNotes {
+            notes: &written.notes,
+            growth: growth.as_deref(),
             maps_checked,
-            seconds,
-        );
+        };
+        say_refined(report, &out, &options, pruned_settings, notes, seconds);
     }
     commit_all(staged, output, side, in_place)?;
     Ok(ExitCode::SUCCESS)
 }
 
+/// What a refined run adds to its summary beside its figures.
+struct SummaryNotes<'a> {
+    /// The writer's notes.
+    notes: &'a [String],
+    /// The note on growth ([`growth_note`]), if any.
+    growth: Option<&'a str>,
+    /// The end of the `check` line: which maps `--check` found right (see
+    /// [`check_maps`]).
+    maps_checked: &'a str,
+}
+
 /// Prints the summary's lines of a refined run `out` made with `options`
 /// (with `--smallest`, the best of its settings, `pruned_settings` of
 /// them pruned): settings, constants, the writer's notes, the output's
-/// counts, the work, pruning, notes on growth, the check, and `seconds`
-/// (total, writing, checking); `maps_checked` ends the `check` line (which
-/// maps `--check` found right, see [`check_maps`]).
+/// counts, the work, pruning, the note on growth, the check, and `seconds`
+/// (total, writing, checking).
 fn say_refined(
     report: &Report,
-    out: &Outcome,
+    out: &Finished,
     options: &Options,
     pruned_settings: usize,
-    notes: &[String],
-    maps_checked: &str,
+    SummaryNotes {
+        notes,
+        growth,
+        maps_checked,
+    }: SummaryNotes,
     [total, write_s, check_s]: [f64; 3],
 ) {
     let args = report.args;
@@ -1386,13 +1445,9 @@ fn say_refined(
     say!(
         "output  {}: {}, {}, {}",
         report.output.display(),
-        count(out.surface.positions.len(), "vertex", "vertices"),
-        count(out.surface.topo.n_faces(), "face", "faces"),
-        count(
-            out.surface.positions.len() - out.surface.n_input_vertices,
-            "added vertex",
-            "added vertices"
-        )
+        count(out.vertices, "vertex", "vertices"),
+        count(out.faces, "face", "faces"),
+        count(out.added, "added vertex", "added vertices")
     );
     say_repaired(args);
     say!(
@@ -1415,7 +1470,7 @@ fn say_refined(
             count(p.passes, "pass", "passes")
         );
     }
-    if let Some(note) = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest) {
+    if let Some(note) = growth {
         say!("note    {note}");
     }
     if args.check {

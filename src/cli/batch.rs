@@ -528,11 +528,6 @@ fn refine_read(
     seconds.write = seconds_write;
     let (written, mut staged) = written?;
     notes.extend(written.notes.iter().cloned());
-    let mut checked_files = None;
-    if args.check {
-        let keep_files = args.vertex_maps || args.face_maps;
-        (staged, checked_files) = check_output(input, mesh, staged, output, keep_files)?;
-    }
     // An output stands for a finished file (--skip-existing skips it): it
     // is put in place only with its maps (checked with it) and repaired
     // input.
@@ -548,6 +543,15 @@ fn refine_read(
         let (map, note) = stage_face_map(&face_path, &out.surface, origins, &written).with_context(not_written)?;
         notes.extend(note);
         face_map = Some((map, face_path.as_path()));
+    }
+    // The rest reads the files: the surface (and what was carried over to
+    // it) goes before the judge reads them back.
+    let (surface, out) = out.finish();
+    drop((surface, transfer, face_origins));
+    let mut checked_files = None;
+    if args.check {
+        let keep_files = args.vertex_maps || args.face_maps;
+        (staged, checked_files) = check_output(input, mesh, staged, output, keep_files)?;
     }
     let (vertex_map, face_map, maps_checked) = if args.check {
         check_maps(

@@ -455,15 +455,18 @@ fn run_combination(
     );
     seconds.write = t.elapsed().as_secs_f64();
     let (_, mut staged) = written?;
+    // The surface goes before the judge reads the file back.
+    let (surface, out) = out.finish();
+    drop(surface);
     if let Some(reference) = sweep.check {
         staged = reference.check(staged, file)?;
     }
     printout_intact(file, "not written")?;
     staged.commit()?;
     Ok(RowFigures {
-        faces: out.surface.topo.n_faces(),
-        vertices: out.surface.positions.len(),
-        added: out.surface.positions.len() - out.surface.n_input_vertices,
+        faces: out.faces,
+        vertices: out.vertices,
+        added: out.added,
         pruned: out.pruned,
         stats: out.stats,
     })
