@@ -1538,6 +1538,22 @@ fn write_output(
             io::stage_mesh_with_attributes(path, &surface.positions, &triangles, &attributes)?
         }
     };
+    // Distinct vertices at one position (the sheets of an edge `--repair`
+    // cut, split at one sample) are told apart in a file only by their
+    // index: a file that copies vertices at seams is read back welded, and
+    // would fail `check`. Refused, the staged file removed.
+    if !written.copies_of.is_empty() {
+        let shared = surface.added_vertices_at_shared_positions();
+        if shared > 0 {
+            anyhow::bail!(
+                "{}: {shared} added vertices share a position with another vertex (such as the sheets of an \
+                 edge cut apart by --repair, split at one point), which {} cannot keep apart where it copies vertices at \
+                 attribute seams; write OBJ, or use --drop-attributes",
+                path.display(),
+                io::output_format(path).name()
+            );
+        }
+    }
     written.notes.extend(libraries_moved);
     if io::output_format(path) == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());

@@ -3789,3 +3789,50 @@ fn the_rejected_name_of_a_checked_output_may_not_be_the_input() {
     let run = refine(&input, dir.path().join("m.obj")).output().unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
 }
+
+/// Session 64's attributes fuzz finding: `--repair` cuts a non-manifold edge
+/// into two sheets, each split at the same sample, so the output has two
+/// added vertices at one position. OBJ keeps them apart (faces share
+/// vertices by index) and passes `check`; a PLY or OFF that copies vertices
+/// at attribute seams is read back welded, which joined them and failed
+/// `check`. Such a file is refused with one line, nothing written; without
+/// the attributes (no seam copies) it is written and passes.
+#[test]
+fn added_vertices_at_one_position_are_not_written_with_seam_copies() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-shared-position-seam-copies.obj");
+    let repaired = dir.path().join("repaired.obj");
+    let settings = ["--repair", "--ds", "queue", "-s", "0", "--nomedian"];
+    for ext in ["ply", "off"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let run = refine(&input, &out).args(settings).output().unwrap();
+        let error = one_line_error(&run);
+        assert!(
+            error.contains("2 added vertices share a position with another vertex") && error.contains("write OBJ"),
+            "{error}"
+        );
+        assert!(!out.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "a file left behind");
+    }
+    for (ext, extra) in [
+        ("obj", None),
+        ("ply", Some("--drop-attributes")),
+        ("off", Some("--drop-attributes")),
+    ] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let run = refine(&input, &out)
+            .args(settings)
+            .args(extra)
+            .arg("--repaired")
+            .arg(&repaired)
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{ext}: {}", String::from_utf8_lossy(&run.stderr));
+        let check = delmesh().arg("check").arg(&repaired).arg(&out).output().unwrap();
+        assert!(
+            check.status.success(),
+            "{ext}: {}",
+            String::from_utf8_lossy(&check.stdout)
+        );
+    }
+}

@@ -656,6 +656,32 @@ impl Surface {
         self.face_region.reserve(2 * splits);
     }
 
+    /// How many added vertices have the position of another vertex, input or
+    /// added: the sheets of an edge that `--repair` cut apart (two input
+    /// edges on one segment), each split at the same sample. The mesh keeps
+    /// them apart by index; a file that copies vertices at attribute seams
+    /// (PLY, OFF) can only be read back by welding positions, which joins
+    /// them. One pass over the added vertices (a hash of their positions),
+    /// and one over the input's.
+    pub fn added_vertices_at_shared_positions(&self) -> usize {
+        use crate::hash::{position_key, FastMap};
+        // Per position of an added vertex: how many added vertices are
+        // there, and whether an input vertex is too.
+        let mut at: FastMap<[u64; 3], (usize, bool)> = FastMap::default();
+        for p in &self.positions[self.n_input_vertices..] {
+            at.entry(position_key(p.to_array())).or_default().0 += 1;
+        }
+        for p in &self.positions[..self.n_input_vertices] {
+            if let Some(place) = at.get_mut(&position_key(p.to_array())) {
+                place.1 = true;
+            }
+        }
+        at.values()
+            .filter(|&&(added, input)| added > 1 || input)
+            .map(|&(added, _)| added)
+            .sum()
+    }
+
     /// How many input edges join two faces that are coplanar to within
     /// [`NEARLY_FLAT`] radians ([`NEARLY_FLAT_SINGLE`] for single-precision
     /// coordinates) but not exactly (nor kept apart on purpose,
