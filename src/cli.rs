@@ -521,9 +521,11 @@ fn ds_name(w: Worklist) -> &'static str {
     }
 }
 
-/// One refinement of an already-read input.
-struct Outcome {
-    surface: Surface,
+/// One refinement (with `--prune`, pruned): its mesh (`S`: the
+/// [`Surface`], or once written only its [`SurfaceCounts`]), its work and
+/// its seconds.
+struct Run<S> {
+    surface: S,
     stats: Stats,
     /// With --prune: what pruning removed.
     pruned: Option<PruneStats>,
@@ -533,19 +535,48 @@ struct Outcome {
     seconds_prune: f64,
 }
 
-impl Outcome {
+/// A run with its refined surface.
+type Outcome = Run<Surface>;
+
+/// A run once its mesh is written and its maps staged: its figures without
+/// the surface, which is freed before `--check` reads the files back (the
+/// full dragon's run with `--check` peaked at 838 MB holding it beside the
+/// judge's own memory, and at 521 MB without it).
+type Finished = Run<SurfaceCounts>;
+
+/// The counts of a refined surface that the record and the printout give.
+#[derive(Clone, Copy)]
+struct SurfaceCounts {
+    /// Vertices of the output.
+    vertices: usize,
+    /// Faces of the output.
+    faces: usize,
+    /// Vertices added to the input's.
+    added: usize,
+}
+
+impl<S> Run<S> {
     /// The seconds of this run, written in `seconds_write`.
     fn seconds(&self, seconds_write: f64) -> stats_json::RunSeconds {
-        run_seconds(self.seconds, self.seconds_prune, seconds_write)
+        stats_json::RunSeconds {
+            refine: self.seconds,
+            prune: self.seconds_prune,
+            write: seconds_write,
+        }
     }
+}
 
+impl Outcome {
     /// The surface, and the rest of the run without it ([`Finished`]).
     fn finish(self) -> (Surface, Finished) {
         let s = &self.surface;
-        let finished = Finished {
+        let counts = SurfaceCounts {
             vertices: s.positions.len(),
             faces: s.topo.n_faces(),
             added: s.positions.len() - s.n_input_vertices,
+        };
+        let finished = Run {
+            surface: counts,
             stats: self.stats,
             pruned: self.pruned,
             seconds: self.seconds,
@@ -555,47 +586,16 @@ impl Outcome {
     }
 }
 
-/// The seconds of a run: `refine` refining (`prune` of them pruning), then
-/// `write` writing.
-fn run_seconds(refine: f64, prune: f64, write: f64) -> stats_json::RunSeconds {
-    stats_json::RunSeconds { refine, prune, write }
-}
-
-/// A run once its mesh is written and its maps staged: its figures without
-/// the surface, which is freed before `--check` reads the files back (the
-/// full dragon's run with `--check` peaked at 838 MB holding it beside the
-/// judge's own memory, and at 521 MB without it).
-struct Finished {
-    /// Vertices of the output.
-    vertices: usize,
-    /// Faces of the output.
-    faces: usize,
-    /// Vertices added to the input's.
-    added: usize,
-    stats: Stats,
-    /// With --prune: what pruning removed.
-    pruned: Option<PruneStats>,
-    /// Seconds refining, pruning included.
-    seconds: f64,
-    /// Seconds pruning (a part of `seconds`).
-    seconds_prune: f64,
-}
-
 impl Finished {
-    /// The seconds of this run, written in `seconds_write`.
-    fn seconds(&self, seconds_write: f64) -> stats_json::RunSeconds {
-        run_seconds(self.seconds, self.seconds_prune, seconds_write)
-    }
-
     /// The record of this run, written to `output` in `seconds_write`.
     fn record(&self, options: Options, output: &Path, seconds_write: f64) -> stats_json::RunRecord {
         stats_json::RunRecord {
             options: Some(options),
             output: output.display().to_string(),
             result: Ok(stats_json::RunFigures {
-                vertices: self.vertices,
-                faces: self.faces,
-                added_vertices: self.added,
+                vertices: self.surface.vertices,
+                faces: self.surface.faces,
+                added_vertices: self.surface.added,
                 pruned: self.pruned,
                 stats: Some(self.stats),
             }),
@@ -1445,9 +1445,9 @@ fn say_refined(
     say!(
         "output  {}: {}, {}, {}",
         report.output.display(),
-        count(out.vertices, "vertex", "vertices"),
-        count(out.faces, "face", "faces"),
-        count(out.added, "added vertex", "added vertices")
+        count(out.surface.vertices, "vertex", "vertices"),
+        count(out.surface.faces, "face", "faces"),
+        count(out.surface.added, "added vertex", "added vertices")
     );
     say_repaired(args);
     say!(

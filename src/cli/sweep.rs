@@ -464,9 +464,9 @@ fn run_combination(
     printout_intact(file, "not written")?;
     staged.commit()?;
     Ok(RowFigures {
-        faces: out.faces,
-        vertices: out.vertices,
-        added: out.added,
+        faces: out.surface.faces,
+        vertices: out.surface.vertices,
+        added: out.surface.added,
         pruned: out.pruned,
         stats: out.stats,
     })
