@@ -541,7 +541,7 @@ type Outcome = Run<Surface>;
 /// A run once its mesh is written and its maps staged: its figures without
 /// the surface, which is freed before `--check` reads the files back (the
 /// full dragon's run with `--check` peaked at 838 MB holding it beside the
-/// judge's own memory, and at 521 MB without it).
+/// judge's own memory, and at 521–559 MB without it).
 type Finished = Run<SurfaceCounts>;
 
 /// The counts of a refined surface that the record and the printout give.
