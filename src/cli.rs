@@ -1329,7 +1329,11 @@ fn run_refined(
         face_map = Some((staged_map, map.as_path()));
         written.notes.extend(note);
     }
-    let growth = growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest);
+    // (For the printout only: a pass over the edges when the mesh grew a
+    // lot.)
+    let growth = (!args.quiet)
+        .then(|| growth_note(&out.surface, options.shells, out.pruned.is_some(), args.smallest))
+        .flatten();
     // Everything else reads the files: the surface goes before the judge
     // reads them back.
     let (surface, out) = out.finish();
