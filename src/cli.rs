@@ -1550,10 +1550,12 @@ fn write_output(
         let shared = surface.added_vertices_at_shared_positions();
         if shared > 0 {
             anyhow::bail!(
-                "{}: {shared} added vertices share a position with another vertex (such as the sheets of an \
-                 edge cut apart by --repair, split at one point), which {} cannot keep apart where it copies vertices at \
-                 attribute seams; write OBJ, or use --drop-attributes",
+                "{}: {} {} a position with another vertex (such as the sheets of an edge cut apart by --repair, \
+                 split at one point), which {} cannot keep apart where it copies vertices at attribute seams; write \
+                 OBJ, or use --drop-attributes",
                 path.display(),
+                count(shared, "added vertex", "added vertices"),
+                if shared == 1 { "shares" } else { "share" },
                 io::output_format(path).name()
             );
         }
