@@ -722,7 +722,8 @@ fn file_name(path: &Path) -> String {
 /// Writes `--vertex-map` for `surface`, read from `input` and written as
 /// `written` says, under a temporary name ([`io::stage`]): a row per vertex
 /// of the output file, the copies a PLY or OFF output makes at attribute seams
-/// (last in the file) repeating the rows of the vertices they copy.
+/// (and an OBJ for colours; last in the file) repeating the rows of the
+/// vertices they copy.
 fn stage_vertex_map(
     path: &Path,
     surface: &Surface,
@@ -1529,51 +1530,69 @@ fn write_output(
 ) -> anyhow::Result<(io::Written, io::Staged)> {
     let triangles = surface.triangles();
     let mut libraries_moved = Vec::new();
-    let (mut written, staged) = match transfer {
+    let format = io::output_format(path);
+    let attributes = transfer.map(|t| {
+        let mut attributes = t.apply(surface);
+        if format == io::Format::Obj {
+            libraries_moved = rebase_material_libraries(&mut attributes.mtllib, input, path);
+        }
+        attributes
+    });
+    let (mut written, staged) = match &attributes {
         None => (
             io::Written::default(),
             io::stage_mesh_after(path, done, &surface.positions, &triangles)?,
         ),
-        Some(t) => {
-            let mut attributes = t.apply(surface);
-            if io::output_format(path) == io::Format::Obj {
-                libraries_moved = rebase_material_libraries(&mut attributes.mtllib, input, path);
-            }
-            io::stage_mesh_with_attributes(path, &surface.positions, &triangles, &attributes)?
-        }
+        Some(attributes) => io::stage_mesh_with_attributes(path, &surface.positions, &triangles, attributes)?,
     };
     // Distinct vertices at one position (the sheets of an edge `--repair`
     // cut, split at one sample) are told apart in a file only by their
-    // index: a file that copies vertices at seams is read back welded, and
-    // would fail `check`. Refused, the staged file removed.
+    // index: a file that copies vertices (at seams, or for colours) is read
+    // back welded, and would fail `check`. Refused, the staged file removed.
     if !written.copies_of.is_empty() {
         let shared = surface.added_vertices_at_shared_positions();
         if shared > 0 {
+            // (An OBJ copies a vertex only for its colours: where they
+            // differ at a vertex, OBJ is no way out either.)
+            let n = surface.positions.len();
+            let obj_copies = (attributes.as_ref().and_then(|a| a.colors.as_ref()))
+                .is_some_and(|c| delmesh::attributes::PerVertex::new(n, &triangles, &[c]).source.len() > n);
+            let (copied, instead) = match format {
+                io::Format::Obj => ("vertices with several colours", ""),
+                _ if obj_copies => ("vertices at attribute seams", ""),
+                _ => ("vertices at attribute seams", "write OBJ, or "),
+            };
             anyhow::bail!(
                 "{}: {} {} a position with another vertex (such as the sheets of an edge cut apart by --repair, \
-                 split at one point), which {} cannot keep apart where it copies vertices at attribute seams; write \
-                 OBJ, or use --drop-attributes",
+                 split at one point), which {} cannot keep apart where it copies {copied}; {instead}use \
+                 --drop-attributes",
                 path.display(),
                 count(shared, "added vertex", "added vertices"),
                 if shared == 1 { "shares" } else { "share" },
-                io::output_format(path).name()
+                format.name(),
             );
         }
     }
+    drop(attributes);
     written.notes.extend(libraries_moved);
-    if io::output_format(path) == io::Format::Stl {
+    if format == io::Format::Stl {
         written.notes.push(STL_NOTE.to_string());
     }
     if !written.copies_of.is_empty() {
         // (The `output` line counts the mesh's vertices; a reader of the
         // file counts its records.)
+        let (what, per) = if format == io::Format::Obj {
+            ("with several colours", "one colour")
+        } else {
+            ("at attribute seams", "one value per attribute")
+        };
         written.notes.push(format!(
-            "the file holds {} vertex records: {} copies of vertices at attribute seams follow the mesh's {}, as {} \
-             gives a vertex one value per attribute",
+            "the file holds {} vertex records: {} copies of vertices {what} follow the mesh's {}, as {} gives a \
+             vertex {per}",
             surface.positions.len() + written.copies_of.len(),
             written.copies_of.len(),
             surface.positions.len(),
-            io::output_format(path).name()
+            format.name()
         ));
     }
     if let Some(ext) = unknown_extension(path) {

@@ -3836,3 +3836,100 @@ fn added_vertices_at_one_position_are_not_written_with_seam_copies() {
         );
     }
 }
+
+/// Session 65: an OBJ copies a vertex whose corners have different colours
+/// (one colour per `v` line), and `check` reads those copies welded as it
+/// reads a PLY's seam copies. Two added vertices at one position (the
+/// sheets of a cut edge split at one sample) were then joined: the OBJ was
+/// written with exit 0 and failed `check`. It is refused as the PLY and OFF
+/// are, whose line does not send the user to OBJ here (it would copy too).
+#[test]
+fn colour_copies_in_an_obj_are_refused_with_shared_added_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-shared-position-colour-copies.obj");
+    let settings = ["--repair", "--ds", "queue", "-s", "0", "--nomedian"];
+    for ext in ["obj", "ply", "off"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let run = refine(&input, &out).args(settings).output().unwrap();
+        let error = one_line_error(&run);
+        assert!(
+            error.contains("2 added vertices share a position with another vertex")
+                && error.contains("use --drop-attributes")
+                && !error.contains("write OBJ"),
+            "{error}"
+        );
+        if ext == "obj" {
+            assert!(
+                error.contains("where it copies vertices with several colours"),
+                "{error}"
+            );
+        }
+        assert!(!out.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "a file left behind");
+    }
+    let (repaired, out) = (dir.path().join("repaired.obj"), dir.path().join("out.obj"));
+    let run = (refine(&input, &out).args(settings))
+        .args(["--drop-attributes", "--repaired"])
+        .arg(&repaired)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let check = delmesh().arg("check").arg(&repaired).arg(&out).output().unwrap();
+    assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
+}
+
+/// Session 65: the vertex map of an OBJ that copies vertices for their
+/// colours has a row for every `v` line, the copies too (it had rows for
+/// the mesh's vertices only, and `check --vertex-map` refused it), and the
+/// printout counts the file's records.
+#[test]
+fn the_vertex_map_of_an_obj_has_rows_for_its_colour_copies() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/bug-shared-position-colour-copies.obj");
+    let [repaired, out, vmap, fmap] =
+        ["repaired.obj", "out.obj", "out.vmap", "out.fmap"].map(|name| dir.path().join(name));
+    let run = (refine(&input, &out).arg("--repair"))
+        .arg("--repaired")
+        .arg(&repaired)
+        .arg("--vertex-map")
+        .arg(&vmap)
+        .arg("--face-map")
+        .arg(&fmap)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let printed = String::from_utf8_lossy(&run.stdout);
+    let v_lines = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("v "))
+        .count();
+    let rows = std::fs::read_to_string(&vmap).unwrap().lines().count() - 1;
+    assert_eq!(rows, v_lines, "{printed}");
+    let mesh_vertices = printed
+        .lines()
+        .find_map(|l| l.strip_prefix("output  "))
+        .and_then(|l| l.split(": ").nth(1))
+        .and_then(|l| l.split(' ').next())
+        .and_then(|n| n.parse::<usize>().ok())
+        .unwrap();
+    assert!(v_lines > mesh_vertices, "no colour copies: {printed}");
+    assert!(
+        printed.contains(&format!(
+            "the file holds {v_lines} vertex records: {} copies of vertices with several colours follow the mesh's \
+             {mesh_vertices}, as OBJ gives a vertex one colour",
+            v_lines - mesh_vertices
+        )),
+        "{printed}"
+    );
+    let check = (delmesh().arg("check").arg(&repaired).arg(&out))
+        .arg("--vertex-map")
+        .arg(&vmap)
+        .arg("--face-map")
+        .arg(&fmap)
+        .arg("--original")
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
+}

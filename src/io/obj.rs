@@ -972,20 +972,23 @@ pub fn write_obj_with_attributes(
     attributes: &Attributes,
 ) -> std::io::Result<()> {
     let order = faces_in_file_order(triangles.len(), attributes);
-    write_obj_in_order(w, positions, triangles, attributes, order.as_deref())
+    write_obj_in_order(w, positions, triangles, attributes, order.as_deref()).map(|_| ())
 }
 
 /// [`write_obj_with_attributes`], the faces in `order` (of
 /// [`faces_in_file_order`], computed once by a caller that needs it too).
+/// Returns the vertex each copy written for another colour repeats, in the
+/// file's order (the copies follow the mesh's own vertices); empty where
+/// every vertex has one colour.
 pub(crate) fn write_obj_in_order(
     w: &mut dyn Write,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     attributes: &Attributes,
     order: Option<&[u32]>,
-) -> std::io::Result<()> {
+) -> std::io::Result<Vec<u32>> {
     if attributes.is_empty() {
-        return write_obj(w, positions, triangles);
+        return write_obj(w, positions, triangles).map(|_| Vec::new());
     }
     super::formats::check_for_writing(positions, triangles, None)?;
     for lib in &attributes.mtllib {
@@ -1042,7 +1045,7 @@ pub(crate) fn write_obj_in_order(
         })?;
         run = end;
     }
-    Ok(())
+    Ok(split.map_or_else(Vec::new, |s| s.source[positions.len()..].to_vec()))
 }
 
 /// The order in which [`write_obj_with_attributes`] writes `n` triangles:

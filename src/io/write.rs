@@ -238,7 +238,10 @@ pub fn stage_mesh_with_attributes(
                 ));
             }
             let order = (!face_order.is_empty()).then_some(&face_order[..]);
-            stage(path, |w| obj::write_obj_in_order(w, p, triangles, attributes, order))?
+            stage(path, |w| {
+                copies_of = obj::write_obj_in_order(w, p, triangles, attributes, order)?;
+                Ok(())
+            })?
         }
         Format::Ply => {
             let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);
@@ -529,8 +532,8 @@ pub struct Written {
     pub notes: Vec<String>,
     /// The file's vertices after the mesh's own (which come first, in
     /// order): copies at attribute seams, as PLY and OFF write a vertex once
-    /// per value; each entry is the mesh vertex the copy repeats. Empty for
-    /// other formats and where no vertex has several values.
+    /// per value, and OBJ once per colour; each entry is the mesh vertex the
+    /// copy repeats. Empty for STL and where no vertex has several values.
     pub copies_of: Vec<u32>,
     /// The mesh triangle each face of the file is, in the file's order,
     /// where that is not the mesh's own order (an OBJ writes its faces
