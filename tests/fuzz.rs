@@ -2123,9 +2123,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 let tag = format!("{scale}{options:?} repair={repaired}");
                 // Where f64 cannot hold the input's detail, geometric
                 // oracles (the face map's, the damages') do not apply.
-                let imprecise = ["[extreme scale]", "[beyond f64", "[samples below", "[degenerate sample"]
-                    .iter()
-                    .any(|t| scale.contains(t));
+                let imprecise = imprecise(&scale);
                 let input_bits: Vec<[u64; 3]> =
                     input.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
                 // A repaired mesh whose non-manifold parts were cut apart has
@@ -2311,6 +2309,67 @@ fn maps_pass_the_judge(
         }
     }
     Ok(())
+}
+
+/// Whether a [`precision_tag`] says f64 cannot hold the input's detail,
+/// where the geometric oracles (the face map's, the damages') do not apply.
+fn imprecise(scale: &str) -> bool {
+    ["[extreme scale]", "[beyond f64", "[samples below", "[degenerate sample"]
+        .iter()
+        .any(|t| scale.contains(t))
+}
+
+/// The maps of `s`, refined from `input` (read from `input_file`) and
+/// written to `file` as `written` says, made as the command line makes them,
+/// pass the judge of the files (`check_map_files`): the vertex map (a row per
+/// vertex of the file, a copy's row that of the vertex it repeats), and the
+/// face map (rows in the file's face order) when `faces`: where f64 holds
+/// the input's detail, as in [`maps_pass_the_judge`] (the vertex map, which
+/// is exact, always).
+fn maps_of_the_file_pass(
+    input_file: &Path,
+    file: &Path,
+    input: &InputMesh,
+    s: &Surface,
+    origins: &delmesh::face_map::FaceOrigins,
+    written: &io::Written,
+    faces: bool,
+) -> Result<(), String> {
+    thread_local! {
+        static MAPS: tempfile::TempDir = tempfile::tempdir().expect("a temporary folder");
+    }
+    let [vertex_path, face_path] = ["v.csv", "f.csv"].map(|name| MAPS.with(|d| d.path().join(name)));
+    let mut sources = s.vertex_sources();
+    let copies: Vec<_> = written.copies_of.iter().map(|&v| sources[v as usize]).collect();
+    sources.extend(copies);
+    let file_index = |v: u32| input.vertex_number.get(v as usize).map_or(v, |n| n - 1);
+    let mut vertex_map = String::from("output_index,input_index_a,input_index_b,t\n");
+    for (i, (a, b, t)) in sources.into_iter().enumerate() {
+        vertex_map += &format!("{i},{},{},{t:?}\n", file_index(a), file_index(b));
+    }
+    std::fs::write(&vertex_path, vertex_map).map_err(|e| e.to_string())?;
+    let map = delmesh::face_map::in_file_order(origins.apply(s), &written.face_order);
+    let mut face_map = Vec::new();
+    delmesh::face_map::write_csv(&mut face_map, &map).map_err(|e| e.to_string())?;
+    std::fs::write(&face_path, face_map).map_err(|e| e.to_string())?;
+    let judged = delmesh::check::maps::check_map_files(
+        input_file,
+        file,
+        Some(&vertex_path),
+        faces.then_some(face_path.as_path()),
+        0.0,
+    );
+    match judged {
+        Ok((vertex, face)) => {
+            for (what, report) in [("vertex map", vertex), ("face map", face)] {
+                if let Some(report) = report.filter(|r| !r.passed()) {
+                    return Err(format!("{what} of the written file: {:?}", report.failures));
+                }
+            }
+            Ok(())
+        }
+        Err(e) => Err(format!("maps of the written file not judged: {e}")),
+    }
 }
 
 /// Whether `p` lies on triangle `t` within `tol`: near one of its sides
@@ -2504,10 +2563,14 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
     // One input in three read with `--repair`, which carries the attributes through what it
     // changes (since session 47): cut, reoriented and welded meshes with values go on.
     let repaired = fx_hash(bytes) % 3 == 0;
-    let options = if repaired {
-        repair_options()
-    } else {
-        ReadOptions::default()
+    // (Faces numbered as with `--face-map`, whose map is judged below.)
+    let options = ReadOptions {
+        face_numbers: true,
+        ..if repaired {
+            repair_options()
+        } else {
+            ReadOptions::default()
+        }
     };
     let read = match io::finish(raw, path, &options) {
         Ok(input) => input,
@@ -2563,6 +2626,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         s.validate()
             .map_err(|e| format!("{out_name}: built surface does not validate: {e}"))?;
         let transfer = Transfer::new(input.attributes.clone(), &input.triangles, &s);
+        let origins = delmesh::face_map::FaceOrigins::new(&input.triangles, &input.triangle_polygon, &s);
         let input_region = s.face_region.clone();
         let mut options = combination(h.wrapping_add(k as u64 * 7) % 18);
         options.max_added = ATTRIBUTES_MAX_ADDED;
@@ -2815,6 +2879,14 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
             }
             Err(e) => return Err(format!("{tag}: check of the files refused: {e}")),
         }
+        // The maps as the command line writes them for this file (a vertex
+        // map row per file vertex, the copies too; the face map in the
+        // file's face order) pass `check --vertex-map --face-map`: an OBJ's
+        // colour copies once had no rows (session 65).
+        let scale = precision_tag(&input, s.input_figures.min_angle, stats.constants.as_ref());
+        let imprecise = imprecise(&scale);
+        maps_of_the_file_pass(&input_file, &file, &input, &s, &origins, &written, !imprecise)
+            .map_err(|e| format!("{tag}: {e}"))?;
         if coincident {
             sig.push_str(" coincident");
         }
