@@ -1538,6 +1538,16 @@ fn write_output(
         }
         attributes
     });
+    // A stream cannot be taken back once written: there a file that would
+    // be refused (below) is found before, by writing it into nothing.
+    if let Some(a) = attributes.as_ref().filter(|_| io::is_stream(path)) {
+        if surface.added_vertices_at_shared_positions() > 0 {
+            let copies = io::written_with_attributes(format, &surface.positions, &triangles, a)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+                .copies_of;
+            refuse_shared_positions(path, surface, &triangles, Some(a), &copies)?;
+        }
+    }
     let (mut written, staged) = match &attributes {
         None => (
             io::Written::default(),
@@ -1545,34 +1555,7 @@ fn write_output(
         ),
         Some(attributes) => io::stage_mesh_with_attributes(path, &surface.positions, &triangles, attributes)?,
     };
-    // Distinct vertices at one position (the sheets of an edge `--repair`
-    // cut, split at one sample) are told apart in a file only by their
-    // index: a file that copies vertices (at seams, or for colours) is read
-    // back welded, and would fail `check`. Refused, the staged file removed.
-    if !written.copies_of.is_empty() {
-        let shared = surface.added_vertices_at_shared_positions();
-        if shared > 0 {
-            // (An OBJ copies a vertex only for its colours: where they
-            // differ at a vertex, OBJ is no way out either.)
-            let n = surface.positions.len();
-            let obj_copies = (attributes.as_ref().and_then(|a| a.colors.as_ref()))
-                .is_some_and(|c| delmesh::attributes::PerVertex::new(n, &triangles, &[c]).source.len() > n);
-            let (copied, instead) = match format {
-                io::Format::Obj => ("vertices with several colours", ""),
-                _ if obj_copies => ("vertices at attribute seams", ""),
-                _ => ("vertices at attribute seams", "write OBJ, or "),
-            };
-            anyhow::bail!(
-                "{}: {} {} a position with another vertex (such as the sheets of an edge cut apart by --repair, \
-                 split at one point), which {} cannot keep apart where it copies {copied}; {instead}use \
-                 --drop-attributes",
-                path.display(),
-                count(shared, "added vertex", "added vertices"),
-                if shared == 1 { "shares" } else { "share" },
-                format.name(),
-            );
-        }
-    }
+    refuse_shared_positions(path, surface, &triangles, attributes.as_ref(), &written.copies_of)?;
     drop(attributes);
     written.notes.extend(libraries_moved);
     if format == io::Format::Stl {
@@ -1602,6 +1585,46 @@ fn write_output(
         ));
     }
     Ok((written, staged))
+}
+
+/// Refuses the output `path` if the file copies vertices (`copies`, as
+/// [`io::Written::copies_of`]: at seams, or an OBJ's for colours) and added
+/// vertices of `surface` share a position (the sheets of an edge `--repair`
+/// cut, split at one sample): told apart in a file only by their index, they
+/// are read back welded with the copies, and would fail `check`. The line
+/// says whether OBJ is a way out (an OBJ copies a vertex only for its
+/// colours, so not where they differ at a vertex).
+fn refuse_shared_positions(
+    path: &Path,
+    surface: &Surface,
+    triangles: &[[u32; 3]],
+    attributes: Option<&delmesh::attributes::Attributes>,
+    copies: &[u32],
+) -> anyhow::Result<()> {
+    if copies.is_empty() {
+        return Ok(());
+    }
+    let shared = surface.added_vertices_at_shared_positions();
+    if shared == 0 {
+        return Ok(());
+    }
+    let n = surface.positions.len();
+    let obj_copies = (attributes.and_then(|a| a.colors.as_ref()))
+        .is_some_and(|c| delmesh::attributes::PerVertex::new(n, triangles, &[c]).source.len() > n);
+    let format = io::output_format(path);
+    let (copied, instead) = match format {
+        io::Format::Obj => ("vertices with several colours", ""),
+        _ if obj_copies => ("vertices at attribute seams", ""),
+        _ => ("vertices at attribute seams", "write OBJ, or "),
+    };
+    anyhow::bail!(
+        "{}: {} {} a position with another vertex (such as the sheets of an edge cut apart by --repair, split at \
+         one point), which {} cannot keep apart where it copies {copied}; {instead}use --drop-attributes",
+        path.display(),
+        count(shared, "added vertex", "added vertices"),
+        if shared == 1 { "shares" } else { "share" },
+        format.name(),
+    );
 }
 
 /// The extension of `path` (before any `.gz`) if it has one that names no

@@ -3867,6 +3867,15 @@ fn colour_copies_in_an_obj_are_refused_with_shared_added_vertices() {
         assert!(!out.exists());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "a file left behind");
     }
+    // On standard output, which cannot be taken back, nothing is written
+    // either: the refusal is found before.
+    let run = refine(&input, "-").args(settings).arg("-q").output().unwrap();
+    let error = one_line_error(&run);
+    assert!(
+        error.starts_with("delmesh: -: 2 added vertices share a position"),
+        "{error}"
+    );
+    assert!(run.stdout.is_empty(), "{} bytes written", run.stdout.len());
     let (repaired, out) = (dir.path().join("repaired.obj"), dir.path().join("out.obj"));
     let run = (refine(&input, &out).args(settings))
         .args(["--drop-attributes", "--repaired"])

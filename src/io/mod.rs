@@ -41,7 +41,7 @@ pub use read::{
 };
 pub use write::{
     drop_attributes_format_cannot_hold, output_format, stage_mesh_after, stage_mesh_with_attributes, write_mesh,
-    write_mesh_after, write_mesh_with_attributes, write_obj, write_obj_to, Written,
+    write_mesh_after, write_mesh_with_attributes, write_obj, write_obj_to, written_with_attributes, Written,
 };
 
 pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};

@@ -219,7 +219,35 @@ pub fn stage_mesh_with_attributes(
     triangles: &[[u32; 3]],
     attributes: &Attributes,
 ) -> Result<(Written, Staged)> {
-    let format = output_format(path);
+    let mut written = Written::default();
+    let staged = stage(path, |w| {
+        written = write_with_attributes_into(w, output_format(path), positions, triangles, attributes)?;
+        Ok(())
+    })?;
+    Ok((written, staged))
+}
+
+/// What [`write_mesh_with_attributes`] would write besides the mesh's own
+/// vertices in a file of `format`, found by writing it into nothing: for an
+/// output that cannot be taken back once written (a stream), before it is.
+pub fn written_with_attributes(
+    format: Format,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+) -> std::io::Result<Written> {
+    write_with_attributes_into(&mut std::io::sink(), format, positions, triangles, attributes)
+}
+
+/// Writes the mesh with its attributes into `w` as a file of `format` (see
+/// [`write_mesh_with_attributes`]).
+fn write_with_attributes_into(
+    w: &mut dyn Write,
+    format: Format,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    attributes: &Attributes,
+) -> std::io::Result<Written> {
     let p = bytemuck_positions(positions);
     let mut notes = Vec::new();
     if let Some((lost, them)) = attributes_format_cannot_hold(attributes, format) {
@@ -227,7 +255,7 @@ pub fn stage_mesh_with_attributes(
     }
     let mut copies_of = Vec::new();
     let mut face_order = Vec::new();
-    let staged = match format {
+    match format {
         Format::Obj => {
             face_order = obj::faces_in_file_order(triangles.len(), attributes).unwrap_or_default();
             if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
@@ -238,10 +266,7 @@ pub fn stage_mesh_with_attributes(
                 ));
             }
             let order = (!face_order.is_empty()).then_some(&face_order[..]);
-            stage(path, |w| {
-                copies_of = obj::write_obj_in_order(w, p, triangles, attributes, order)?;
-                Ok(())
-            })?
+            copies_of = obj::write_obj_in_order(w, p, triangles, attributes, order)?;
         }
         Format::Ply => {
             let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);
@@ -315,9 +340,7 @@ pub fn stage_mesh_with_attributes(
                     .collect(),
                 None => Vec::new(),
             };
-            stage(path, |w| {
-                formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &face_columns, &comments)
-            })?
+            formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &face_columns, &comments)?;
         }
         Format::Off => {
             let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |kind| {
@@ -325,7 +348,7 @@ pub fn stage_mesh_with_attributes(
             });
             let face_colors = off_face_colors(attributes);
             if channels.is_empty() && face_colors.is_none() {
-                stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?
+                formats::write_off(w, p, triangles)?;
             } else {
                 if attributes.texcoords.is_some() && !attributes.texture_files.is_empty() {
                     notes.push(format!(
@@ -419,21 +442,16 @@ pub fn stage_mesh_with_attributes(
                 }
                 let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
                 copies_of = split.source[positions.len()..].to_vec();
-                stage(path, |w| {
-                    formats::write_off_with(w, &written, &split.triangles, &extras)
-                })?
+                formats::write_off_with(w, &written, &split.triangles, &extras)?;
             }
         }
-        Format::Stl => stage_mesh_after(path, &obj::VertexLines::default(), positions, triangles)?,
-    };
-    Ok((
-        Written {
-            notes,
-            copies_of,
-            face_order,
-        },
-        staged,
-    ))
+        Format::Stl => formats::write_stl_binary(w, p, triangles)?,
+    }
+    Ok(Written {
+        notes,
+        copies_of,
+        face_order,
+    })
 }
 
 /// The channels of `attributes` of the kinds `hold` takes that a format
