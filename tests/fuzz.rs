@@ -2291,11 +2291,7 @@ fn maps_pass_the_judge(
         indices: triangles.iter().flatten().copied().collect(),
         ..RawMesh::default()
     };
-    let file_index = |v: u32| input.vertex_number.get(v as usize).map_or(v, |n| n - 1);
-    let mut vertex_map = String::from("output_index,input_index_a,input_index_b,t\n");
-    for (i, (a, b, t)) in s.vertex_sources().into_iter().enumerate() {
-        vertex_map += &format!("{i},{},{},{t:?}\n", file_index(a), file_index(b));
-    }
+    let vertex_map = vertex_map_text(input, s.vertex_sources());
     let report = check_vertex_map(raw, &output, vertex_map.as_bytes());
     if !report.passed() {
         return Err(format!("vertex map: {:?}", report.failures));
@@ -2309,6 +2305,17 @@ fn maps_pass_the_judge(
         }
     }
     Ok(())
+}
+
+/// The vertex map of output vertices from `sources` (a, b, t), as delmesh
+/// writes it: the input indices numbered as in `input`'s file.
+fn vertex_map_text(input: &InputMesh, sources: Vec<(u32, u32, f64)>) -> String {
+    let file_index = |v: u32| input.vertex_number.get(v as usize).map_or(v, |n| n - 1);
+    let mut text = String::from("output_index,input_index_a,input_index_b,t\n");
+    for (i, (a, b, t)) in sources.into_iter().enumerate() {
+        text += &format!("{i},{},{},{t:?}\n", file_index(a), file_index(b));
+    }
+    text
 }
 
 /// Whether a [`precision_tag`] says f64 cannot hold the input's detail,
@@ -2342,12 +2349,7 @@ fn maps_of_the_file_pass(
     let mut sources = s.vertex_sources();
     let copies: Vec<_> = written.copies_of.iter().map(|&v| sources[v as usize]).collect();
     sources.extend(copies);
-    let file_index = |v: u32| input.vertex_number.get(v as usize).map_or(v, |n| n - 1);
-    let mut vertex_map = String::from("output_index,input_index_a,input_index_b,t\n");
-    for (i, (a, b, t)) in sources.into_iter().enumerate() {
-        vertex_map += &format!("{i},{},{},{t:?}\n", file_index(a), file_index(b));
-    }
-    std::fs::write(&vertex_path, vertex_map).map_err(|e| e.to_string())?;
+    std::fs::write(&vertex_path, vertex_map_text(input, sources)).map_err(|e| e.to_string())?;
     let map = delmesh::face_map::in_file_order(origins.apply(s), &written.face_order);
     let mut face_map = Vec::new();
     delmesh::face_map::write_csv(&mut face_map, &map).map_err(|e| e.to_string())?;
