@@ -660,8 +660,8 @@ impl Surface {
     /// added: the sheets of an edge that `--repair` cut apart (two input
     /// edges on one segment), each split at the same sample. The mesh keeps
     /// them apart by index; a file that copies vertices at attribute seams
-    /// (PLY, OFF) can only be read back by welding positions, which joins
-    /// them. One pass over the added vertices (a hash of their positions),
+    /// (PLY, OFF) or for their colours (OBJ) can only be read back by
+    /// welding positions, which joins them. One pass over the added vertices (a hash of their positions),
     /// and one over the input's.
     pub fn added_vertices_at_shared_positions(&self) -> usize {
         use crate::hash::{position_key, FastMap};
