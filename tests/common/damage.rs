@@ -249,13 +249,19 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<M
             flip(&mut m, f, g, quad);
         }
         Damage::FlatFlipNonDelaunay => {
-            // In an exactly flat quad (a, d, b, c), the other diagonal's
-            // angles sum to 2π − (α + β), the angles at c and d: over π by
-            // as much as α + β is under it. (If the quad is not convex the
-            // flip folds a face instead: refused as well.)
+            // In an exactly flat convex quad (a, d, b, c), the other
+            // diagonal's angles sum to 2π − (α + β): over π by as much as
+            // α + β is under it. Not where the surface is folded flat onto
+            // itself (c and d on one side of ab: the quad's faces overlap),
+            // where the flipped pair can be Delaunay too and, inside the
+            // fold, keeps the faces within their region and its area within
+            // tolerance (the pipeline target's seed 2026120462): so the
+            // angles at a and b are measured, not inferred.
             let edges = directed_edges(&m);
             let (f, g, quad) = random_interior_edge(&m, &edges, rng, |_, _, [a, b, c, d]| {
-                orient3d(a, b, c, d) == 0.0 && angle(c, a, b) + angle(d, a, b) < PI - 1e-6
+                orient3d(a, b, c, d) == 0.0
+                    && angle(c, a, b) + angle(d, a, b) < PI - 1e-6
+                    && angle(a, c, d) + angle(b, d, c) > PI + 1e-6
             })?;
             flip(&mut m, f, g, quad);
         }
