@@ -188,18 +188,21 @@ struct Pruner<'a> {
     touched: Vec<EdgeId>,
     /// Whether each edge is in `touched`.
     in_touched: Vec<bool>,
-    /// Every touch of the attempt, repeats included: undoing forgets the
-    /// verdicts of all edges touched after the mark, also those first
-    /// touched before it.
-    changes: Vec<EdgeId>,
+    /// Every touch of the try, repeats included, with the verdict the edge
+    /// had just before it: undoing to a mark puts these back, latest first,
+    /// so that each edge touched since has the verdict it had at the mark
+    /// (its quad is the mark's again). A trial split undone thus leaves
+    /// what the `settle` before it found, for the next trial.
+    changes: Vec<(EdgeId, Option<bool>)>,
     stack: Vec<EdgeId>,
     /// Whether each edge is in `stack`.
     queued: Vec<bool>,
     /// What `settle` found of each edge of `touched` since it last changed:
     /// `Some(true)` non-Delaunay, `Some(false)` Delaunay, `None` not known
     /// (every change to an edge's quad goes through [`Pruner::touch`], which
-    /// forgets it; so does undoing). Saves testing unchanged edges again
-    /// each time `settle` runs in one attempt.
+    /// forgets it; undoing puts back what it was at the mark, see
+    /// `changes`). Saves testing unchanged edges again each time `settle`
+    /// runs in one try.
     verdict: Vec<Option<bool>>,
     stats: PruneStats,
     /// Flips of the current attempt.
@@ -336,7 +339,7 @@ impl Pruner<'_> {
     fn begin_attempts(&mut self) {
         self.journal.clear();
         self.inputs.clear();
-        self.forget_from(Mark::default());
+        self.rewind_touches(Mark::default());
         self.flips = 0;
         self.splits = 0;
         self.detached = 0;
@@ -382,7 +385,7 @@ impl Pruner<'_> {
         }
         self.journal.truncate(mark.journal);
         self.inputs.truncate(mark.inputs);
-        self.forget_from(mark);
+        self.rewind_touches(mark);
         self.splits = mark.splits;
         self.flips = mark.flips;
         let topo = &self.s.topo;
@@ -557,8 +560,7 @@ impl Pruner<'_> {
             self.in_touched.resize(n, false);
         }
         for e in edges {
-            self.verdict[e.idx()] = None;
-            self.changes.push(e);
+            self.changes.push((e, self.verdict[e.idx()].take()));
             if !self.in_touched[e.idx()] {
                 self.in_touched[e.idx()] = true;
                 self.touched.push(e);
@@ -566,13 +568,15 @@ impl Pruner<'_> {
         }
     }
 
-    /// Drops what was touched after `mark` (undone, or a new attempt from
-    /// the default mark), forgetting what `settle` found of those edges.
-    fn forget_from(&mut self, mark: Mark) {
-        for &e in &self.changes[mark.changes.min(self.changes.len())..] {
-            if let Some(v) = self.verdict.get_mut(e.idx()) {
-                *v = None;
-            }
+    /// Drops what was touched after `mark` (undone, or a new try from the
+    /// default mark), each edge touched since getting back the verdict it
+    /// had at the mark. (At the default mark, the start of a try, no edge
+    /// has one: every verdict comes from the try's `settle`, of an edge it
+    /// touched.)
+    fn rewind_touches(&mut self, mark: Mark) {
+        let from = mark.changes.min(self.changes.len());
+        for &(e, before) in self.changes[from..].iter().rev() {
+            self.verdict[e.idx()] = before;
         }
         for &e in &self.touched[mark.touched.min(self.touched.len())..] {
             if let Some(t) = self.in_touched.get_mut(e.idx()) {
