@@ -1,4 +1,4 @@
-//! Text output on both cores: [`write_lines`] formats blocks of lines on
+//! Text output on both cores: [`write_numbered_lines`] formats blocks of lines on
 //! worker threads while the calling thread writes the finished ones in
 //! order (the bytes are those of a sequential loop), and [`put_decimal`]
 //! writes an index's digits without `fmt`. Shared by the OBJ and OFF writers.
@@ -73,12 +73,29 @@ pub(crate) fn push_face(line: &mut Vec<u8>, lead: u8, t: &[u32; 3], base: u64) {
 /// that size straight through.
 pub(crate) const WRITE_PIECE: usize = 1 << 16;
 
-/// Lines per block of [`write_lines`]: about 1 MB of text.
+/// Lines per block of [`write_numbered_lines`]: about 1 MB of text.
 pub(crate) const BLOCK_LINES: usize = 1 << 14;
 
-/// Writes one line per item, appended to a buffer by `line`. Formatting
+/// Below this many lines [`write_numbered_lines`] formats on the calling thread
+/// alone: a worker costs about as much to start (tens of microseconds) as
+/// it would save.
+const PARALLEL_LINES: usize = 1 << 15;
+
+/// The fewest lines per block when a file is cut finer than [`BLOCK_LINES`].
+const MIN_BLOCK_LINES: usize = 1024;
+
+/// Lines per block for `n` lines on `threads` threads: [`BLOCK_LINES`], or
+/// fewer for a file of less than a few blocks a thread, so that a mesh of
+/// some thousands of vertices still has its lines formatted on every core.
+fn block_lines(n: usize, threads: usize) -> usize {
+    n.div_ceil(4 * threads).clamp(MIN_BLOCK_LINES, BLOCK_LINES)
+}
+
+/// Writes lines `0..n`, line `i` appended to a buffer by `line(i, ..)`. Formatting
 /// (shortest round-trip floats, mostly) costs more than writing, so on
-/// several cores the items are cut into blocks of [`BLOCK_LINES`], which
+/// several cores the lines are cut into blocks of [`BLOCK_LINES`] (fewer
+/// lines for a small file, [`block_lines`]; none under [`PARALLEL_LINES`]
+/// lines in all), which
 /// worker threads (started once) format in turn while the calling thread
 /// writes the finished ones in order, formatting too whenever the next one
 /// is not ready: the bytes are exactly those of a sequential loop. Workers
@@ -89,24 +106,24 @@ pub(crate) const BLOCK_LINES: usize = 1 << 14;
 ///   blocks   0 1 2 3 4 5 6 ...
 ///            ^written  ^next to format (< written + window)
 /// ```
-pub(crate) fn write_lines<T: Sync>(
-    w: &mut dyn Write,
-    items: &[T],
-    line: impl Fn(&T, &mut Vec<u8>) + Sync,
-) -> std::io::Result<()> {
-    write_numbered_lines(w, items.len(), |i, buffer| line(&items[i], buffer))
-}
-
-/// [`write_lines`] of the items `0..n`: line `i` appended by `line(i, ..)`.
 pub(crate) fn write_numbered_lines(
     w: &mut dyn Write,
     n: usize,
     line: impl Fn(usize, &mut Vec<u8>) + Sync,
 ) -> std::io::Result<()> {
     use std::sync::{Condvar, Mutex, PoisonError};
-    let n_blocks = n.div_ceil(BLOCK_LINES);
+    // (A small file needs no thread, nor asking how many there may be: that
+    // reads cgroup files.)
+    let (threads, block_lines) = if n < PARALLEL_LINES {
+        (1, n.max(1))
+    } else {
+        let threads = crate::parallel::threads();
+        (threads, block_lines(n, threads))
+    };
+    let n_blocks = n.div_ceil(block_lines);
+    let threads = threads.min(n_blocks);
     let fill = |block: usize, buffer: &mut Vec<u8>| {
-        let block = block * BLOCK_LINES..((block + 1) * BLOCK_LINES).min(n);
+        let block = block * block_lines..((block + 1) * block_lines).min(n);
         buffer.clear();
         // About 64 bytes a line (three shortest round-trip coordinates):
         // growing by doubling would copy the block once or twice more.
@@ -114,13 +131,6 @@ pub(crate) fn write_numbered_lines(
         for i in block {
             line(i, buffer);
         }
-    };
-    // (One block needs no thread, nor asking how many there may be: that
-    // reads cgroup files.)
-    let threads = if n_blocks <= 1 {
-        1
-    } else {
-        crate::parallel::threads().min(n_blocks)
     };
     if threads <= 1 {
         let mut buffer = Vec::new();
@@ -237,7 +247,7 @@ pub(crate) fn write_in_pieces(w: &mut dyn Write, bytes: &[u8]) -> std::io::Resul
     Ok(())
 }
 
-/// What `write` gives with [`write_lines`] on `threads` threads, and with
+/// What `write` gives with [`write_numbered_lines`] on `threads` threads, and with
 /// no thread allowed to start (the calling thread formats every block).
 #[cfg(test)]
 pub(crate) fn threaded_and_alone<T>(threads: usize, write: impl Fn() -> T) -> (T, T) {
@@ -254,6 +264,15 @@ pub(crate) fn threaded_and_alone<T>(threads: usize, write: impl Fn() -> T) -> (T
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One line per item of `items`, appended by `line`.
+    fn write_lines<T: Sync>(
+        w: &mut dyn Write,
+        items: &[T],
+        line: impl Fn(&T, &mut Vec<u8>) + Sync,
+    ) -> std::io::Result<()> {
+        write_numbered_lines(w, items.len(), |i, buffer| line(&items[i], buffer))
+    }
 
     /// A sink that takes `limit` bytes, then fails; optionally slowly, so
     /// that the formatting threads run a full window ahead of it.

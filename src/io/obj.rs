@@ -10,7 +10,7 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
-use super::lines::{push_decimal, push_face, write_lines, write_numbered_lines};
+use super::lines::{push_decimal, push_face, write_numbered_lines};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -942,8 +942,13 @@ pub fn write_obj_after(
 ) -> std::io::Result<()> {
     super::formats::check_for_writing(positions, triangles, None)?;
     super::lines::write_in_pieces(w, &done.text)?;
-    write_lines(w, &positions[done.count.min(positions.len())..], vertex_line)?;
-    write_lines(w, triangles, face_line)
+    // The other vertices' lines and the faces' in one run of lines, so that
+    // both kinds are formatted at once on several cores.
+    let rest = &positions[done.count.min(positions.len())..];
+    write_numbered_lines(w, rest.len() + triangles.len(), |i, line| match rest.get(i) {
+        Some(p) => vertex_line(p, line),
+        None => face_line(&triangles[i - rest.len()], line),
+    })
 }
 
 /// Appends the `f` line of `t` (indices written from 1).
