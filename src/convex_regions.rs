@@ -88,12 +88,29 @@ pub fn flip_convex_regions(surface: &mut Surface) -> ConvexRegions {
 
 /// [`flip_convex_regions`] with another least number of corners (tests).
 pub fn flip_convex_regions_of(s: &mut Surface, min_corners: usize) -> ConvexRegions {
+    let faces = large_regions(s, min_faces_of_corners(min_corners));
+    flip_convex_regions_in(s, &faces)
+}
+
+/// The fewest faces a region of `min_corners` corners has (a polygon of n
+/// corners is cut into n - 2 triangles).
+pub(crate) const fn min_faces_of_corners(min_corners: usize) -> usize {
+    if min_corners > 4 {
+        min_corners - 2
+    } else {
+        2
+    }
+}
+
+/// [`flip_convex_regions_of`] on the regions whose faces are `faces`
+/// ([`large_regions`]; flips keep every face in its region, so the list
+/// stays right through them).
+pub(crate) fn flip_convex_regions_in(s: &mut Surface, faces: &[Vec<FaceId>]) -> ConvexRegions {
     let mut done = ConvexRegions::default();
-    let faces = large_regions(s, min_corners.max(4) - 2);
     // Each vertex's number among its region's corners (u32::MAX: none), for
     // the region at hand.
     let mut local: Vec<u32> = Vec::new();
-    for list in &faces {
+    for list in faces {
         let r = s.face_region[list[0].idx()];
         let Some(polygon) = Polygon::of_region(s, r, list) else {
             continue;
