@@ -57,7 +57,7 @@ use glam::DVec3;
 /// them Delaunay in a few thousand flips at most.
 pub const MIN_VERTICES: usize = 256;
 
-/// A region is rebuilt only if Lawson's flips, tried on a copy, take more
+/// A region is rebuilt only if Lawson's flips, tried and undone, take more
 /// than this many flips a vertex (more than the rebuilding costs).
 pub const LAWSON_FLIPS_PER_VERTEX: usize = 8;
 
