@@ -90,7 +90,7 @@ impl FlatRegions {
 }
 
 /// Makes every large flat region of `surface` that is not Delaunay
-/// Delaunay: convex ones by flips ([`flip_convex_regions`]), then any other
+/// Delaunay: convex ones by flips ([`crate::convex_regions::flip_convex_regions`]), then any other
 /// by [`rebuild_flat_regions_of`]. Meant for a freshly built surface, before
 /// the first pass of Algorithm 2.
 pub fn make_flat_regions_delaunay(surface: &mut Surface) -> FlatRegions {
