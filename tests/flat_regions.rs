@@ -395,3 +395,80 @@ fn the_command_line_says_so_its_maps_pass_and_keep_order_leaves_it() {
     let note = "note    2 flat regions rebuilt to Delaunay directly (800 vertices";
     says_unless_keep_order(&positions, &triangles, note, "rebuilt to Delaunay");
 }
+
+/// The trial of Lawson's flips that decides which regions are rebuilt is
+/// made on the surface's own half-edges and undone, in the order a copy of
+/// the region would take them (src/flat_regions.rs). Debug builds, as
+/// `cargo test` runs them, check on every trial that the copy makes as many
+/// flips and that the surface comes back; here on jittered flat grids with
+/// random diagonals and on fans of ellipses, with budgets from none to
+/// plenty. (A wrong orientation of the copy's half-edges, tried, still
+/// counted the same flips on these: the check guards the counts, and the
+/// undoing, more than the order.) What any build sees:
+/// a region is rebuilt exactly when its flips pass the budget, so a larger
+/// budget never rebuilds more, none rebuilds every region with a flip to
+/// make, and a huge one none.
+#[test]
+fn lawson_trials_on_the_surface_count_as_on_a_copy() {
+    let mut rng = Rng::new(2026120566);
+    for size in 0..6 {
+        let n = 12 + 5 * size;
+        let positions: Vec<DVec3> = (0..n * n)
+            .map(|k| {
+                let (i, j) = ((k / n) as f64, (k % n) as f64);
+                DVec3::new(round(i + rng.range(-0.3, 0.3)), round(j + rng.range(-0.3, 0.3)), 0.0)
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for i in 0..n - 1 {
+            for j in 0..n - 1 {
+                let (a, b, c, d) = (i * n + j, i * n + j + 1, (i + 1) * n + j, (i + 1) * n + j + 1);
+                let [a, b, c, d] = [a, b, c, d].map(|v| v as u32);
+                if rng.below(2) == 0 {
+                    triangles.extend([[a, c, d], [a, d, b]]);
+                } else {
+                    triangles.extend([[a, c, b], [b, c, d]]);
+                }
+            }
+        }
+        let mut rebuilt = Vec::new();
+        for per_vertex in [0, 1, 2, 8, 1 << 20] {
+            rebuilt.push(rebuilt_regions(&positions, &triangles, per_vertex));
+        }
+        assert_eq!(rebuilt[0], 1, "grid of {n}: budget 0 rebuilds the one region");
+        assert_eq!(rebuilt[4], 0, "grid of {n}: a huge budget rebuilds nothing");
+        assert!(rebuilt.windows(2).all(|w| w[0] >= w[1]), "grid of {n}: {rebuilt:?}");
+    }
+    // Fans of a convex polygon from one corner: the flips cascade, and
+    // their number depends on the order they are taken in.
+    for (n, from) in [(60, 0), (90, 0), (90, 45), (200, 7)] {
+        let positions: Vec<DVec3> = (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                DVec3::new(round(3.0 * a.cos()), round(a.sin()), 0.0)
+            })
+            .collect();
+        let triangles: Vec<[u32; 3]> = (1..n - 1)
+            .map(|k| [from, (from + k) % n, (from + k + 1) % n].map(|v| v as u32))
+            .collect();
+        let rebuilt: Vec<usize> = [0, 1, 2, 8, 1 << 20]
+            .into_iter()
+            .map(|per_vertex| rebuilt_regions(&positions, &triangles, per_vertex))
+            .collect();
+        assert_eq!((rebuilt[0], rebuilt[4]), (1, 0), "fan of {n}: {rebuilt:?}");
+        assert!(rebuilt.windows(2).all(|w| w[0] >= w[1]), "fan of {n}: {rebuilt:?}");
+    }
+}
+
+/// How many regions [`rebuild_flat_regions_of`] rebuilds on the mesh, with
+/// `per_vertex` flips a vertex allowed; the result valid, and judged where
+/// rebuilt (a region left alone is left to Algorithm 2's flips).
+fn rebuilt_regions(positions: &[DVec3], triangles: &[[u32; 3]], per_vertex: usize) -> usize {
+    let mut s = Surface::new(positions.to_vec(), triangles).unwrap();
+    let done = rebuild_flat_regions_of(&mut s, 4, per_vertex);
+    s.validate().unwrap();
+    if done.rebuilt > 0 {
+        judge(positions, triangles, &s);
+    }
+    done.rebuilt
+}
