@@ -952,9 +952,8 @@ pub fn write_obj_after(
     })
 }
 
-/// Appends the `v` lines of `positions`. (A loop of its own, as the face
-/// lines' below: with both loops in one closure the compiler stopped
-/// inlining the digits' formatting into them, 8% more instructions.)
+/// Appends the `v` lines of `positions` (a loop of its own, as the face
+/// lines' below, that each block of [`write_obj_after`] calls on its part).
 #[inline(never)]
 fn vertex_lines(positions: &[[f64; 3]], buffer: &mut Vec<u8>) {
     for p in positions {
