@@ -689,6 +689,13 @@ fn too_many(el: &PlyElement, remaining: usize) -> FormatError {
 /// other elements and properties are skipped. For ASCII data, a record's origin is the line of its first
 /// value.
 pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    read_ply_with(bytes, true)
+}
+
+/// [`read_ply`], with the one-scan reading of plain ASCII records
+/// (`plain_records`, see [`read_plain_record`]) or without it: every record
+/// the general way, which the tests compare it with.
+fn read_ply_with(bytes: &[u8], plain_records: bool) -> Result<RawMesh, FormatError> {
     // A byte order mark (a text editor's) before `ply`, as the other readers allow.
     let bytes = strip_bom(bytes);
     if bytes.is_empty() {
@@ -751,7 +758,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
             }
             let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
             for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
-                read_ascii_element(&mut tokens, el, roles, *kind, &mut b)?;
+                read_ascii_element(&mut tokens, el, roles, *kind, &mut b, plain_records)?;
             }
             if let Some((_, line)) = tokens.next() {
                 trailing = Some(format!("line {line}: data"));
@@ -1040,6 +1047,7 @@ impl VertexValues {
     }
 }
 
+#[inline]
 fn finish_record(
     b: &mut Builder,
     kind: ElementKind,
@@ -1115,6 +1123,7 @@ fn read_ascii_element(
     roles: &[Role],
     kind: ElementKind,
     b: &mut Builder,
+    plain_records: bool,
 ) -> Result<(), FormatError> {
     if el.count == 0 || el.props.is_empty() {
         return Ok(());
@@ -1133,7 +1142,13 @@ fn read_ascii_element(
         ElementKind::Strips | ElementKind::Other => {}
     }
     let name = &el.name;
+    let plain = plain_records.then(|| PlainForm::of(el, roles, kind)).flatten();
     for i in 0..count {
+        if let Some(form) = plain {
+            if read_plain_record(t, form, el, roles, kind, i, b)? {
+                continue;
+            }
+        }
         let mut v = VertexValues::default();
         let mut origin = t.line;
         let start = (t.pos, t.line);
@@ -1158,11 +1173,7 @@ fn read_ascii_element(
                     };
                     let what = |why: String| format!("{name} {i} property {}: `{}` {why}", p.name, show(tok));
                     match (*role, value) {
-                        (Role::Coord(axis), Ok(x)) => v.p[axis] = x,
-                        (Role::Color(c), Ok(x)) => v.set_color(c, x, ty),
-                        (Role::TexCoord(k), Ok(x)) => v.texcoord[k] = x,
-                        (Role::Normal(k), Ok(x)) => v.normal[k] = x,
-                        (Role::TexNumber, Ok(x)) => v.texnumber = Some(x as i64),
+                        (role, Ok(x)) => apply_value(role, x, ty, line, &mut v, b),
                         (Role::Property(j), value) => b.channels.properties[j].push(value.map_err(what), line),
                         (Role::FaceProperty(j), value) => b.channels.face_properties[j].push(value.map_err(what), line),
                         (Role::Coord(_), Err(why)) => return Err(FormatError::at(line, what(why))),
@@ -1289,6 +1300,226 @@ fn read_ascii_element(
         finish_record(b, kind, &v, i, origin)?;
     }
     Ok(())
+}
+
+/// Where a value `x` read for a property of type `ty` and role `role` goes
+/// (on `line`): into the record's values `v`, or a carried property's
+/// column. The one place both ways of reading ASCII records put values.
+#[inline]
+fn apply_value(role: Role, x: f64, ty: Scalar, line: u64, v: &mut VertexValues, b: &mut Builder) {
+    match role {
+        Role::Coord(axis) => v.p[axis] = x,
+        Role::Color(c) => v.set_color(c, x, ty),
+        Role::TexCoord(k) => v.texcoord[k] = x,
+        Role::Normal(k) => v.normal[k] = x,
+        Role::TexNumber => v.texnumber = Some(x as i64),
+        Role::Property(j) => b.channels.properties[j].push(Ok(x), line),
+        Role::FaceProperty(j) => b.channels.face_properties[j].push(Ok(x), line),
+        Role::Skip | Role::Indices | Role::StripIndices | Role::WedgeTexCoords => {}
+    }
+}
+
+/// The forms of element that nearly every ASCII PLY file is made of, whose
+/// records [`read_plain_record`] reads in one scan each.
+#[derive(Clone, Copy)]
+enum PlainForm {
+    /// Vertices of scalar properties only (at most [`PLAIN_VALUES`]).
+    Vertex,
+    /// Faces whose one property is their list of vertex indices, of at
+    /// most `count_max` entries (its length type's greatest value), each at
+    /// most `index_max` (its item type's greatest value, and 2^32 − 1).
+    Face { count_max: i64, index_max: i64 },
+}
+
+/// The most properties a plain vertex record has (values kept on the stack
+/// until the record is known to be plain).
+const PLAIN_VALUES: usize = 16;
+
+impl PlainForm {
+    /// The plain form of element `el` (of `kind`, its properties' `roles`),
+    /// if it has one.
+    fn of(el: &PlyElement, roles: &[Role], kind: ElementKind) -> Option<PlainForm> {
+        match (kind, &el.props[..], roles) {
+            (ElementKind::Vertex, props, _)
+                if props.len() <= PLAIN_VALUES && props.iter().all(|p| matches!(p.ty, PropType::Scalar(_))) =>
+            {
+                Some(PlainForm::Vertex)
+            }
+            (ElementKind::Face, [p], [Role::Indices]) => match p.ty {
+                // (Both are non-negative here, and every type's least value
+                // at most 0: `int_misfit` refuses exactly those above these.)
+                PropType::List { count, item } => Some(PlainForm::Face {
+                    count_max: count.int_range().map_or(i64::MAX, |r| r.1),
+                    index_max: item.int_range().map_or(i64::MAX, |r| r.1).min(u32::MAX.into()),
+                }),
+                PropType::Scalar(_) => None,
+            },
+            _ => None,
+        }
+    }
+}
+
+/// Reads record `i` of element `el` at the cursor in one scan if it is in
+/// its plain form, and says `true`; otherwise changes nothing and says
+/// `false`, and the general way reads it (refusing it, if it must, with its
+/// own message). Plain: on one line, followed by nothing but blanks; every
+/// scalar a short decimal (see [`crate::io::number::short_decimal_prefix`])
+/// that fits its declared type, or skipped; a face's length and indices
+/// plain digits (at most 10), at least 3 indices, each below 2^32 and
+/// fitting its type. The values, the calls on the builder and where the
+/// cursor is left are those of the general way (the same number parser,
+/// the same token ends).
+#[inline]
+fn read_plain_record(
+    t: &mut Tokens,
+    form: PlainForm,
+    el: &PlyElement,
+    roles: &[Role],
+    kind: ElementKind,
+    i: usize,
+    b: &mut Builder,
+) -> Result<bool, FormatError> {
+    let d = t.data;
+    // To the first token, across line ends, as `Tokens::next`.
+    let (mut p, mut origin) = (t.pos, t.line);
+    while p < d.len() {
+        match d[p] {
+            b'\n' => origin += 1,
+            b' ' | b'\t' | b'\r' | 0x0b | 0x0c => {}
+            _ => break,
+        }
+        p += 1;
+    }
+    // To the next token on the same line (`None` at a line end: the record
+    // goes on past its line, which the general way sorts out).
+    let next_on_line = |mut p: usize| {
+        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
+            p += 1;
+        }
+        (p < d.len() && d[p] != b'\n').then_some(p)
+    };
+    match form {
+        PlainForm::Vertex => {
+            let mut values = [0.0f64; PLAIN_VALUES];
+            for (k, p_ty) in el.props.iter().enumerate() {
+                if k > 0 {
+                    let Some(q) = next_on_line(p) else { return Ok(false) };
+                    p = q;
+                }
+                if p == d.len() {
+                    return Ok(false);
+                }
+                let PropType::Scalar(ty) = p_ty.ty else {
+                    return Ok(false);
+                };
+                if roles[k] == Role::Skip {
+                    while p < d.len() && !is_space(d[p]) {
+                        p += 1;
+                    }
+                    continue;
+                }
+                let Some((x, len)) = crate::io::number::short_decimal_prefix(&d[p..]) else {
+                    return Ok(false);
+                };
+                // (A short decimal always fits a float type.)
+                if d.get(p + len).is_some_and(|&c| !is_space(c)) || (!ty.is_float() && ty.misfit(x).is_some()) {
+                    return Ok(false);
+                }
+                values[k] = x;
+                p += len;
+            }
+            if !line_is_blank(d, p) {
+                return Ok(false);
+            }
+            let mut v = VertexValues::default();
+            for (k, (p_ty, &role)) in el.props.iter().zip(roles).enumerate() {
+                if let (PropType::Scalar(ty), false) = (p_ty.ty, role == Role::Skip) {
+                    apply_value(role, values[k], ty, origin, &mut v, b);
+                }
+            }
+            t.pos = p;
+            t.line = origin;
+            finish_record(b, kind, &v, i, origin)?;
+        }
+        PlainForm::Face { count_max, index_max } => {
+            let Some((n, len)) = plain_digits(&d[p..]) else {
+                return Ok(false);
+            };
+            p += len;
+            // (The general way's order of checks: any of these refuses.)
+            if n > count_max || n < 3 || n as u64 > ((d.len() - p) as u64).div_ceil(2) {
+                return Ok(false);
+            }
+            let start = b.m.indices.len();
+            let undo = |b: &mut Builder| {
+                b.m.indices.truncate(start);
+                Ok(false)
+            };
+            for _ in 0..n {
+                let Some(q) = next_on_line(p) else { return undo(b) };
+                let Some((index, len)) = plain_digits(&d[q..]) else {
+                    return undo(b);
+                };
+                if index > index_max {
+                    return undo(b);
+                }
+                b.index(index as u32);
+                p = q + len;
+            }
+            if !line_is_blank(d, p) {
+                return undo(b);
+            }
+            b.start_face();
+            t.pos = p;
+            t.line = origin;
+            finish_record(b, kind, &NO_VALUES, i, origin)?;
+        }
+    }
+    Ok(true)
+}
+
+/// The values of a record that has none but its face's indices.
+static NO_VALUES: VertexValues = VertexValues {
+    p: [0.0; 3],
+    rgb: [0; 3],
+    color: [0.0; 4],
+    texcoord: [0.0; 2],
+    normal: [0.0; 3],
+    wedge: Vec::new(),
+    wedge_defect: None,
+    texnumber: None,
+};
+
+/// A token of plain digits at the start of `bytes`, at most 10 of them (any
+/// value below 2^32), followed by a blank, a line end or the end: its value
+/// and length, the value [`parse_int`] gives it. (More digits, a sign or
+/// anything else: `None`, for the general way.)
+#[inline(always)]
+fn plain_digits(bytes: &[u8]) -> Option<(i64, usize)> {
+    let mut v: i64 = 0;
+    let mut len = 0;
+    while let Some(&c) = bytes.get(len) {
+        let digit = c.wrapping_sub(b'0');
+        if digit > 9 {
+            break;
+        }
+        if len == 10 {
+            return None;
+        }
+        v = v * 10 + i64::from(digit);
+        len += 1;
+    }
+    (len > 0 && bytes.get(len).is_none_or(|&c| is_space(c))).then_some((v, len))
+}
+
+/// Whether nothing but blanks follows position `p` on its line (as
+/// `Tokens::line_is_done`).
+#[inline]
+fn line_is_blank(d: &[u8], mut p: usize) -> bool {
+    while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
+        p += 1;
+    }
+    p == d.len() || d[p] == b'\n'
 }
 
 /// The error for record `i` of element `name`, read from `start` (a
@@ -1627,4 +1858,171 @@ pub fn write_ply_ascii(
         line.push(b'\n');
     })?;
     w.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A random ASCII PLY text near the plain forms: vertex elements of
+    /// float, integer and colour properties (sometimes a list, which is not
+    /// plain), face elements of one index list (sometimes with another
+    /// property), and records that are mostly plain, some with a token or a
+    /// blank swapped for an odd piece, values missing or left over, records
+    /// broken over lines, blank lines between them, CRLF line ends.
+    fn near_plain_ply(rng: &mut crate::test_rng::Rng) -> String {
+        let pieces: &[&str] = &[
+            " ",
+            "\t",
+            "\r",
+            "\x0c",
+            "\n",
+            "\n\n",
+            "",
+            "1",
+            "-2.5",
+            "+0.125",
+            "7.",
+            ".5",
+            "-.5",
+            "0",
+            "-0",
+            "00000000003",
+            "0000000003",
+            "1e3",
+            "nan",
+            "inf",
+            "x",
+            "-1",
+            "3",
+            "256",
+            "255",
+            "65536",
+            "2147483648",
+            "4294967295",
+            "4294967296",
+            "12345678901234567890",
+            "9007199254740993",
+            "0.1234567890123456789012",
+            "3.0",
+            "1.5",
+        ];
+        let pick = |rng: &mut crate::test_rng::Rng, from: &[&'static str]| from[rng.below(from.len() as u64) as usize];
+        let vertex_props: Vec<(&str, &str)> = match rng.below(5) {
+            0 => vec![("float", "x"), ("float", "y"), ("float", "z")],
+            1 => vec![
+                ("double", "x"),
+                ("double", "y"),
+                ("double", "z"),
+                ("float", "confidence"),
+            ],
+            2 => vec![
+                ("float", "x"),
+                ("float", "y"),
+                ("float", "z"),
+                ("uchar", "red"),
+                ("uchar", "green"),
+                ("uchar", "blue"),
+            ],
+            3 => vec![
+                ("int", "x"),
+                ("short", "y"),
+                ("float", "z"),
+                ("float", "nx"),
+                ("float", "ny"),
+                ("float", "nz"),
+            ],
+            _ => vec![
+                ("float", "x"),
+                ("float", "y"),
+                ("float", "z"),
+                ("list uchar float", "w"),
+            ],
+        };
+        let face_props: Vec<(&str, &str)> = match rng.below(4) {
+            0 | 1 => vec![("list uchar int", "vertex_indices")],
+            2 => vec![("list int uint", "vertex_index")],
+            _ => vec![("list uchar int", "vertex_indices"), ("uchar", "flags")],
+        };
+        let (n_vertices, n_faces) = (1 + rng.below(6), rng.below(6));
+        let mut text = format!("ply\nformat ascii 1.0\nelement vertex {n_vertices}\n");
+        for (ty, name) in &vertex_props {
+            text += &format!("property {ty} {name}\n");
+        }
+        text += &format!("element face {n_faces}\n");
+        for (ty, name) in &face_props {
+            text += &format!("property {ty} {name}\n");
+        }
+        text += "end_header\n";
+        let line_end = pick(rng, &["\n", "\n", "\r\n", " \n", "\t\n"]);
+        let record = |rng: &mut crate::test_rng::Rng, mut words: Vec<String>, text: &mut String| {
+            if rng.below(12) == 0 {
+                let k = rng.below(words.len() as u64) as usize;
+                words[k] = pick(rng, pieces).into();
+            }
+            if rng.below(24) == 0 {
+                words.push(pick(rng, pieces).into());
+            }
+            if rng.below(24) == 0 {
+                words.pop();
+            }
+            for (k, w) in words.iter().enumerate() {
+                if k > 0 {
+                    let blanks = if rng.below(40) == 0 {
+                        "\n"
+                    } else {
+                        pick(rng, &[" ", " ", " ", "\t", "  ", "\x0b"])
+                    };
+                    text.push_str(blanks);
+                }
+                text.push_str(w);
+            }
+            text.push_str(if rng.below(30) == 0 {
+                pick(rng, &["\n\n", "", "\r\n"])
+            } else {
+                line_end
+            });
+        };
+        for _ in 0..n_vertices {
+            let words = vertex_props
+                .iter()
+                .map(|(ty, _)| match *ty {
+                    "uchar" => rng.below(256).to_string(),
+                    "int" | "short" => (rng.below(200) as i64 - 100).to_string(),
+                    "list uchar float" => "2 0.5 1".into(),
+                    _ => pick(rng, &["0.25", "-1.5", "3", "1e-3", "12.0625"]).into(),
+                })
+                .collect();
+            record(rng, words, &mut text);
+        }
+        for _ in 0..n_faces {
+            let n = 3 + rng.below(3);
+            let mut words = vec![n.to_string()];
+            words.extend((0..n).map(|_| rng.below(n_vertices).to_string()));
+            if face_props.len() > 1 {
+                words.push("1".into());
+            }
+            record(rng, words, &mut text);
+        }
+        text
+    }
+
+    #[test]
+    fn plain_records_read_in_one_scan_as_the_general_way_reads_them() {
+        let mut rng = crate::test_rng::Rng(0x91a1_2ec0);
+        let (mut plain, mut refused) = (0, 0);
+        for _ in 0..6000 {
+            let text = near_plain_ply(&mut rng);
+            let fast = read_ply_with(text.as_bytes(), true);
+            let general = read_ply_with(text.as_bytes(), false);
+            // Debug, not ==: NaN and the sign of zero count too.
+            assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{text:?}");
+            match fast {
+                Ok(_) => plain += 1,
+                Err(_) => refused += 1,
+            }
+        }
+        // Both outcomes are exercised, not only one.
+        assert!(plain > 1000 && refused > 1000, "{plain} read, {refused} refused");
+    }
 }
