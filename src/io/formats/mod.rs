@@ -868,6 +868,39 @@ impl<'a> Tokens<'a> {
     }
 }
 
+/// A token of plain digits at the start of `bytes`, at most 10 of them (any
+/// value below 2^32), followed by a blank, a line end or the end: its value
+/// and length, the value [`parse_int`] gives it: an index or count of a
+/// plain record or line (ASCII PLY, OFF). More digits, a sign or anything
+/// else: `None`, for the reader's general way.
+#[inline(always)]
+fn plain_digits(bytes: &[u8]) -> Option<(i64, usize)> {
+    let mut v: i64 = 0;
+    let mut len = 0;
+    while let Some(&c) = bytes.get(len) {
+        let digit = c.wrapping_sub(b'0');
+        if digit > 9 {
+            break;
+        }
+        if len == 10 {
+            return None;
+        }
+        v = v * 10 + i64::from(digit);
+        len += 1;
+    }
+    (len > 0 && bytes.get(len).is_none_or(|&c| is_space(c))).then_some((v, len))
+}
+
+/// Whether nothing but blanks follows position `p` of `d` on its line (as
+/// `Tokens::line_is_done`): the end of a plain record or line.
+#[inline]
+fn line_is_blank(d: &[u8], mut p: usize) -> bool {
+    while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
+        p += 1;
+    }
+    p == d.len() || d[p] == b'\n'
+}
+
 /// A line reader for OFF (and sniffing): strips `#` comments and skips blank lines.
 struct Lines<'a> {
     data: &'a [u8],
@@ -879,6 +912,18 @@ struct Lines<'a> {
 impl<'a> Lines<'a> {
     fn new(data: &'a [u8]) -> Self {
         Lines { data, pos: 0, line: 0 }
+    }
+
+    /// Moves the cursor past the end of the line that position `p` is on
+    /// (counting it), as [`Lines::next_meaningful`] does past a line.
+    #[inline]
+    fn skip_line_at(&mut self, p: usize) {
+        let end = p + self.data[p..]
+            .iter()
+            .position(|&c| c == b'\n')
+            .unwrap_or(self.data.len() - p);
+        self.pos = (end + 1).min(self.data.len());
+        self.line += 1;
     }
 
     /// The next line with something other than whitespace and comments, and its number.

@@ -124,9 +124,14 @@ impl OffAttributes {
         self.defects[slot].get_or_insert_with(|| format!("line {line}: {}", what()));
     }
 
+    /// Whether vertices have nothing to read after their coordinates.
+    fn vertex_channels_none(&self) -> bool {
+        self.normals.is_none() && self.colors.is_none() && self.texcoords.is_none()
+    }
+
     /// Reads what follows vertex `i`'s coordinates on its line.
     fn vertex<'a>(&mut self, rest: impl Iterator<Item = &'a [u8]>, i: usize, line: u64) {
-        if self.normals.is_none() && self.colors.is_none() && self.texcoords.is_none() {
+        if self.vertex_channels_none() {
             return;
         }
         // At most a normal, an RGBA colour and texture coordinates.
@@ -328,6 +333,13 @@ pub(super) fn glued_vertex_count(head: &[u8]) -> Option<&[u8]> {
 /// [colour]`, the colours read as the face properties `red green blue [alpha]`. An attribute with a
 /// defect is dropped with a note. `#` starts a comment. Binary OFF and 4OFF/nOFF are refused.
 pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
+    read_off_with(bytes, true)
+}
+
+/// [`read_off`], with the one-scan reading of plain vertex and face lines
+/// (`plain_lines`, see [`plain_vertex_line`] and [`plain_face_line`]) or
+/// without it: every line the general way, which the tests compare it with.
+fn read_off_with(bytes: &[u8], plain_lines: bool) -> Result<RawMesh, FormatError> {
     let text = strip_bom(bytes);
     if let Some(line) = lone_cr_line(text) {
         return Err(FormatError::at(line, LONE_CR));
@@ -418,7 +430,16 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         nf.saturating_mul(3).min(remaining as usize / 2),
     );
 
+    // Plain vertex lines only where nothing but the position follows it
+    // (a NOFF, COFF or STOFF vertex has more to read).
+    let plain_vertices = plain_lines && attributes.vertex_channels_none();
     for i in 0..nv {
+        if plain_vertices {
+            if let Some((line, p)) = plain_vertex_line(&mut lines) {
+                b.vertex(p, line, || format!("vertex {i}"))?;
+                continue;
+            }
+        }
         let Some((line, text)) = lines.next_meaningful() else {
             return Err(FormatError::at(
                 lines.line,
@@ -444,6 +465,14 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
     }
 
     for f in 0..nf {
+        if plain_lines {
+            if let Some(line) = plain_face_line(&mut lines, &mut b.m.indices) {
+                b.start_face();
+                b.end_face(line)?;
+                attributes.face(std::iter::empty(), f, line);
+                continue;
+            }
+        }
         let Some((line, text)) = lines.next_meaningful() else {
             return Err(FormatError::at(
                 lines.line,
@@ -493,6 +522,78 @@ pub fn read_off(bytes: &[u8]) -> Result<RawMesh, FormatError> {
         ));
     }
     Ok(m)
+}
+
+/// The line at the cursor of `lines` if it is a plain vertex line (it
+/// starts with three short decimals, see
+/// [`crate::io::number::short_decimal_prefix`], separated by blanks): its
+/// number and the position, the cursor moved past it, as
+/// [`Lines::next_meaningful`] would. `None`, the cursor unmoved, for any
+/// other line (a comment, a blank line, fewer numbers, another form of
+/// number): the general way reads it. Only for vertices that have nothing
+/// more to read.
+#[inline]
+fn plain_vertex_line(lines: &mut Lines) -> Option<(u64, [f64; 3])> {
+    let d = lines.data;
+    let mut p = lines.pos;
+    let mut xyz = [0.0; 3];
+    for c in &mut xyz {
+        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
+            p += 1;
+        }
+        let (x, len) = crate::io::number::short_decimal_prefix(&d[p..])?;
+        if d.get(p + len).is_some_and(|&c| !is_space(c)) {
+            return None;
+        }
+        *c = x;
+        p += len;
+    }
+    // The rest of the line is ignored, as the general way ignores it where
+    // vertices have nothing more to read (a comment, extra numbers).
+    lines.skip_line_at(p);
+    Some((lines.line, xyz))
+}
+
+/// The line at the cursor of `lines` if it is a plain face line (a count
+/// of at least 3 and as many indices, plain digits below 2^32, see
+/// [`plain_digits`], separated and surrounded by blanks only): its indices
+/// appended to `indices`, the cursor moved past it, and its number. `None`,
+/// with `indices` and the cursor unchanged, for any other line.
+#[inline]
+fn plain_face_line(lines: &mut Lines, indices: &mut Vec<u32>) -> Option<u64> {
+    let d = lines.data;
+    let skip_blanks = |mut p: usize| {
+        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
+            p += 1;
+        }
+        p
+    };
+    let mut p = skip_blanks(lines.pos);
+    let (n, len) = plain_digits(&d[p..])?;
+    if n < 3 {
+        return None;
+    }
+    p += len;
+    let start = indices.len();
+    for _ in 0..n {
+        p = skip_blanks(p);
+        match plain_digits(&d[p..]) {
+            Some((index, len)) if index <= i64::from(u32::MAX) => {
+                indices.push(index as u32);
+                p += len;
+            }
+            _ => {
+                indices.truncate(start);
+                return None;
+            }
+        }
+    }
+    if !line_is_blank(d, p) {
+        indices.truncate(start);
+        return None;
+    }
+    lines.skip_line_at(p);
+    Some(lines.line)
 }
 
 // ---------------------------------------------------------------------------
@@ -662,5 +763,115 @@ fn push_color(line: &mut Vec<u8>, num: &mut zmij::Buffer, c: &OffColors, i: usiz
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_lines_read_in_one_scan_as_the_general_way_reads_them() {
+        // Files near the plain forms: OFF, NOFF and COFF headers, lines of
+        // plain numbers, some with a word or a blank swapped for an odd
+        // piece (signs, exponents, Windows' specials, comments, counts below
+        // 3, indices beyond 2^32, 11 digits), numbers missing or left over
+        // (face colours), blank and comment lines, CRLF line ends.
+        let pieces: &[&str] = &[
+            " ",
+            "\t",
+            "\r",
+            "\x0c",
+            "\n",
+            "",
+            "#",
+            "# c",
+            "1",
+            "-2.5",
+            "+0.125",
+            "7.",
+            ".5",
+            "-.5",
+            "0",
+            "-0",
+            "2",
+            "-1",
+            "1e3",
+            "1.#INF",
+            "x",
+            "4294967295",
+            "4294967296",
+            "00000000003",
+            "0000000003",
+            "3.0",
+            "12345678901234567890",
+            "9007199254740993",
+        ];
+        let pick = |rng: &mut crate::test_rng::Rng, from: &[&'static str]| from[rng.below(from.len() as u64) as usize];
+        let mut rng = crate::test_rng::Rng(0x0ff_5ca9);
+        let (mut read, mut refused) = (0, 0);
+        for _ in 0..6000 {
+            let (nv, nf) = (1 + rng.below(6), rng.below(6));
+            let keyword = pick(&mut rng, &["OFF", "OFF", "OFF", "NOFF", "COFF", ""]);
+            let extra = match keyword {
+                "NOFF" => 3,
+                "COFF" => 3,
+                _ => 0,
+            };
+            let line_end = pick(&mut rng, &["\n", "\n", "\r\n", " \n", "\t\n"]);
+            let mut text = format!("{keyword}{line_end}{nv} {nf} 0{line_end}");
+            let line = |rng: &mut crate::test_rng::Rng, mut words: Vec<String>, text: &mut String| {
+                if rng.below(10) == 0 {
+                    let k = rng.below(words.len() as u64) as usize;
+                    words[k] = pick(rng, pieces).into();
+                }
+                if rng.below(20) == 0 {
+                    words.push(pick(rng, pieces).into());
+                }
+                if rng.below(20) == 0 {
+                    words.pop();
+                }
+                if rng.below(20) == 0 {
+                    text.push_str(pick(rng, &["\n", "# comment\n", "  \n"]));
+                }
+                for (k, w) in words.iter().enumerate() {
+                    if k > 0 || rng.below(10) == 0 {
+                        text.push_str(pick(rng, &[" ", " ", " ", "\t", "  ", "\x0b"]));
+                    }
+                    text.push_str(w);
+                }
+                text.push_str(if rng.below(30) == 0 {
+                    pick(rng, &["\n\n", "", "\r\n"])
+                } else {
+                    line_end
+                });
+            };
+            for _ in 0..nv {
+                let n = 3 + extra;
+                let words = (0..n)
+                    .map(|_| pick(&mut rng, &["0.25", "-1.5", "3", "12.0625", "0"]).to_string())
+                    .collect();
+                line(&mut rng, words, &mut text);
+            }
+            for _ in 0..nf {
+                let n = 3 + rng.below(3);
+                let mut words = vec![n.to_string()];
+                words.extend((0..n).map(|_| rng.below(nv).to_string()));
+                if rng.below(6) == 0 {
+                    words.extend(["255", "0", "0"].map(String::from));
+                }
+                line(&mut rng, words, &mut text);
+            }
+            let fast = read_off_with(text.as_bytes(), true);
+            let general = read_off_with(text.as_bytes(), false);
+            // Debug, not ==: NaN and the sign of zero count too.
+            assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{text:?}");
+            match fast {
+                Ok(_) => read += 1,
+                Err(_) => refused += 1,
+            }
+        }
+        // Both outcomes are exercised, not only one.
+        assert!(read > 1000 && refused > 1000, "{read} read, {refused} refused");
     }
 }

@@ -1490,38 +1490,6 @@ static NO_VALUES: VertexValues = VertexValues {
     texnumber: None,
 };
 
-/// A token of plain digits at the start of `bytes`, at most 10 of them (any
-/// value below 2^32), followed by a blank, a line end or the end: its value
-/// and length, the value [`parse_int`] gives it. (More digits, a sign or
-/// anything else: `None`, for the general way.)
-#[inline(always)]
-fn plain_digits(bytes: &[u8]) -> Option<(i64, usize)> {
-    let mut v: i64 = 0;
-    let mut len = 0;
-    while let Some(&c) = bytes.get(len) {
-        let digit = c.wrapping_sub(b'0');
-        if digit > 9 {
-            break;
-        }
-        if len == 10 {
-            return None;
-        }
-        v = v * 10 + i64::from(digit);
-        len += 1;
-    }
-    (len > 0 && bytes.get(len).is_none_or(|&c| is_space(c))).then_some((v, len))
-}
-
-/// Whether nothing but blanks follows position `p` on its line (as
-/// `Tokens::line_is_done`).
-#[inline]
-fn line_is_blank(d: &[u8], mut p: usize) -> bool {
-    while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
-        p += 1;
-    }
-    p == d.len() || d[p] == b'\n'
-}
-
 /// The error for record `i` of element `name`, read from `start` (a
 /// position and its line) to `end`, which ran past its first line `origin`
 /// and left values on its last: the first line is short of values (rather
