@@ -901,6 +901,112 @@ fn line_is_blank(d: &[u8], mut p: usize) -> bool {
     p == d.len() || d[p] == b'\n'
 }
 
+/// What the text readers' tests put among plain values, lines and
+/// records: blanks, line ends, numbers in the forms the one-scan paths must
+/// read as the general way does or leave to it (signs, points, exponents,
+/// Windows' specials, padded, long, past 2^31, 2^32 and 2^53), comments
+/// and words.
+#[cfg(test)]
+pub(crate) const ODD_TEXT_PIECES: &[&str] = &[
+    " ",
+    "\t",
+    "\r",
+    "\x0c",
+    "\n",
+    "",
+    "#",
+    "# c",
+    "1",
+    "-2.5",
+    "+0.125",
+    "7.",
+    ".5",
+    "-.5",
+    "0",
+    "-0",
+    "-1",
+    "2",
+    "3",
+    "3.0",
+    "1.5",
+    "1e3",
+    "1.#INF",
+    "nan",
+    "inf",
+    "x",
+    "255",
+    "256",
+    "65536",
+    "2147483648",
+    "4294967295",
+    "4294967296",
+    "00000000003",
+    "0000000003",
+    "123456789012345678",
+    "1234567890123456789",
+    "12345678901234567890",
+    "9007199254740993",
+    "0.1234567890123456789012",
+];
+
+/// Appends `words` to `text` as a line made a little odd, for the
+/// readers' tests: one time in `one_in` a word swapped for one of
+/// [`ODD_TEXT_PIECES`], one time in `2 * one_in` one added, and as often
+/// the last dropped; the words separated by random blanks (with `breaks`,
+/// a line end one time in 40, so that a record runs over two lines; with
+/// `lead`, a blank before the first one time in 10); then `line_end`, or
+/// one time in 30 a blank line, nothing or CRLF.
+#[cfg(test)]
+pub(crate) fn push_odd_line(
+    rng: &mut crate::test_rng::Rng,
+    mut words: Vec<String>,
+    text: &mut String,
+    line_end: &str,
+    (one_in, lead, breaks): (u64, bool, bool),
+) {
+    let pick = |rng: &mut crate::test_rng::Rng, from: &[&'static str]| from[rng.below(from.len() as u64) as usize];
+    if rng.below(one_in) == 0 {
+        let k = rng.below(words.len() as u64) as usize;
+        words[k] = pick(rng, ODD_TEXT_PIECES).into();
+    }
+    if rng.below(2 * one_in) == 0 {
+        words.push(pick(rng, ODD_TEXT_PIECES).into());
+    }
+    if rng.below(2 * one_in) == 0 {
+        words.pop();
+    }
+    for (k, w) in words.iter().enumerate() {
+        if k > 0 || (lead && rng.below(10) == 0) {
+            let line_break = breaks && k > 0 && rng.below(40) == 0;
+            text.push_str(if line_break {
+                "\n"
+            } else {
+                pick(rng, &[" ", " ", " ", "\t", "  ", "\x0b"])
+            });
+        }
+        text.push_str(w);
+    }
+    text.push_str(if rng.below(30) == 0 {
+        pick(rng, &["\n\n", "", "\r\n"])
+    } else {
+        line_end
+    });
+}
+
+/// Reads `text` both ways, `read(text, true)` (with a reader's one-scan
+/// path) and `read(text, false)` (the general way alone), asserts the same
+/// outcome (compared as `Debug`, so that NaN and the sign of zero count),
+/// and says whether the file was read (not refused).
+#[cfg(test)]
+pub(crate) fn read_alike<T: std::fmt::Debug, E: std::fmt::Debug>(
+    text: &str,
+    read: impl Fn(&[u8], bool) -> Result<T, E>,
+) -> bool {
+    let (fast, general) = (read(text.as_bytes(), true), read(text.as_bytes(), false));
+    assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{text:?}");
+    fast.is_ok()
+}
+
 /// A line reader for OFF (and sniffing): strips `#` comments and skips blank lines.
 struct Lines<'a> {
     data: &'a [u8],

@@ -777,36 +777,6 @@ mod tests {
         // piece (signs, exponents, Windows' specials, comments, counts below
         // 3, indices beyond 2^32, 11 digits), numbers missing or left over
         // (face colours), blank and comment lines, CRLF line ends.
-        let pieces: &[&str] = &[
-            " ",
-            "\t",
-            "\r",
-            "\x0c",
-            "\n",
-            "",
-            "#",
-            "# c",
-            "1",
-            "-2.5",
-            "+0.125",
-            "7.",
-            ".5",
-            "-.5",
-            "0",
-            "-0",
-            "2",
-            "-1",
-            "1e3",
-            "1.#INF",
-            "x",
-            "4294967295",
-            "4294967296",
-            "00000000003",
-            "0000000003",
-            "3.0",
-            "12345678901234567890",
-            "9007199254740993",
-        ];
         let pick = |rng: &mut crate::test_rng::Rng, from: &[&'static str]| from[rng.below(from.len() as u64) as usize];
         let mut rng = crate::test_rng::Rng(0x0ff_5ca9);
         let (mut read, mut refused) = (0, 0);
@@ -820,31 +790,11 @@ mod tests {
             };
             let line_end = pick(&mut rng, &["\n", "\n", "\r\n", " \n", "\t\n"]);
             let mut text = format!("{keyword}{line_end}{nv} {nf} 0{line_end}");
-            let line = |rng: &mut crate::test_rng::Rng, mut words: Vec<String>, text: &mut String| {
-                if rng.below(10) == 0 {
-                    let k = rng.below(words.len() as u64) as usize;
-                    words[k] = pick(rng, pieces).into();
-                }
-                if rng.below(20) == 0 {
-                    words.push(pick(rng, pieces).into());
-                }
-                if rng.below(20) == 0 {
-                    words.pop();
-                }
+            let line = |rng: &mut crate::test_rng::Rng, words: Vec<String>, text: &mut String| {
                 if rng.below(20) == 0 {
                     text.push_str(pick(rng, &["\n", "# comment\n", "  \n"]));
                 }
-                for (k, w) in words.iter().enumerate() {
-                    if k > 0 || rng.below(10) == 0 {
-                        text.push_str(pick(rng, &[" ", " ", " ", "\t", "  ", "\x0b"]));
-                    }
-                    text.push_str(w);
-                }
-                text.push_str(if rng.below(30) == 0 {
-                    pick(rng, &["\n\n", "", "\r\n"])
-                } else {
-                    line_end
-                });
+                push_odd_line(rng, words, text, line_end, (10, true, false));
             };
             for _ in 0..nv {
                 let n = 3 + extra;
@@ -854,7 +804,8 @@ mod tests {
                 line(&mut rng, words, &mut text);
             }
             for _ in 0..nf {
-                let n = 3 + rng.below(3);
+                // (Sometimes a face of 2: refused, whichever way it is read.)
+                let n = if rng.below(8) == 0 { 2 } else { 3 + rng.below(3) };
                 let mut words = vec![n.to_string()];
                 words.extend((0..n).map(|_| rng.below(nv).to_string()));
                 if rng.below(6) == 0 {
@@ -862,13 +813,10 @@ mod tests {
                 }
                 line(&mut rng, words, &mut text);
             }
-            let fast = read_off_with(text.as_bytes(), true);
-            let general = read_off_with(text.as_bytes(), false);
-            // Debug, not ==: NaN and the sign of zero count too.
-            assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{text:?}");
-            match fast {
-                Ok(_) => read += 1,
-                Err(_) => refused += 1,
+            if read_alike(&text, read_off_with) {
+                read += 1;
+            } else {
+                refused += 1;
             }
         }
         // Both outcomes are exercised, not only one.

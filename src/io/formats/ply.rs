@@ -1839,42 +1839,6 @@ mod tests {
     /// blank swapped for an odd piece, values missing or left over, records
     /// broken over lines, blank lines between them, CRLF line ends.
     fn near_plain_ply(rng: &mut crate::test_rng::Rng) -> String {
-        let pieces: &[&str] = &[
-            " ",
-            "\t",
-            "\r",
-            "\x0c",
-            "\n",
-            "\n\n",
-            "",
-            "1",
-            "-2.5",
-            "+0.125",
-            "7.",
-            ".5",
-            "-.5",
-            "0",
-            "-0",
-            "00000000003",
-            "0000000003",
-            "1e3",
-            "nan",
-            "inf",
-            "x",
-            "-1",
-            "3",
-            "256",
-            "255",
-            "65536",
-            "2147483648",
-            "4294967295",
-            "4294967296",
-            "12345678901234567890",
-            "9007199254740993",
-            "0.1234567890123456789012",
-            "3.0",
-            "1.5",
-        ];
         let pick = |rng: &mut crate::test_rng::Rng, from: &[&'static str]| from[rng.below(from.len() as u64) as usize];
         let vertex_props: Vec<(&str, &str)> = match rng.below(5) {
             0 => vec![("float", "x"), ("float", "y"), ("float", "z")],
@@ -1923,33 +1887,8 @@ mod tests {
         }
         text += "end_header\n";
         let line_end = pick(rng, &["\n", "\n", "\r\n", " \n", "\t\n"]);
-        let record = |rng: &mut crate::test_rng::Rng, mut words: Vec<String>, text: &mut String| {
-            if rng.below(12) == 0 {
-                let k = rng.below(words.len() as u64) as usize;
-                words[k] = pick(rng, pieces).into();
-            }
-            if rng.below(24) == 0 {
-                words.push(pick(rng, pieces).into());
-            }
-            if rng.below(24) == 0 {
-                words.pop();
-            }
-            for (k, w) in words.iter().enumerate() {
-                if k > 0 {
-                    let blanks = if rng.below(40) == 0 {
-                        "\n"
-                    } else {
-                        pick(rng, &[" ", " ", " ", "\t", "  ", "\x0b"])
-                    };
-                    text.push_str(blanks);
-                }
-                text.push_str(w);
-            }
-            text.push_str(if rng.below(30) == 0 {
-                pick(rng, &["\n\n", "", "\r\n"])
-            } else {
-                line_end
-            });
+        let record = |rng: &mut crate::test_rng::Rng, words: Vec<String>, text: &mut String| {
+            push_odd_line(rng, words, text, line_end, (12, false, true));
         };
         for _ in 0..n_vertices {
             let words = vertex_props
@@ -1964,7 +1903,8 @@ mod tests {
             record(rng, words, &mut text);
         }
         for _ in 0..n_faces {
-            let n = 3 + rng.below(3);
+            // (Sometimes a face of 2: refused, whichever way it is read.)
+            let n = if rng.below(8) == 0 { 2 } else { 3 + rng.below(3) };
             let mut words = vec![n.to_string()];
             words.extend((0..n).map(|_| rng.below(n_vertices).to_string()));
             if face_props.len() > 1 {
@@ -1980,14 +1920,10 @@ mod tests {
         let mut rng = crate::test_rng::Rng(0x91a1_2ec0);
         let (mut plain, mut refused) = (0, 0);
         for _ in 0..6000 {
-            let text = near_plain_ply(&mut rng);
-            let fast = read_ply_with(text.as_bytes(), true);
-            let general = read_ply_with(text.as_bytes(), false);
-            // Debug, not ==: NaN and the sign of zero count too.
-            assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{text:?}");
-            match fast {
-                Ok(_) => plain += 1,
-                Err(_) => refused += 1,
+            if read_alike(&near_plain_ply(&mut rng), read_ply_with) {
+                plain += 1;
+            } else {
+                refused += 1;
             }
         }
         // Both outcomes are exercised, not only one.
