@@ -891,13 +891,21 @@ fn plain_digits(bytes: &[u8]) -> Option<(i64, usize)> {
     (len > 0 && bytes.get(len).is_none_or(|&c| is_space(c))).then_some((v, len))
 }
 
-/// Whether nothing but blanks follows position `p` of `d` on its line (as
-/// `Tokens::line_is_done`): the end of a plain record or line.
+/// The first position from `p` on that is not a blank of a line (a line
+/// end, a token or the end of `d`): the plain paths' step between tokens.
 #[inline]
-fn line_is_blank(d: &[u8], mut p: usize) -> bool {
+fn skip_blanks(d: &[u8], mut p: usize) -> usize {
     while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
         p += 1;
     }
+    p
+}
+
+/// Whether nothing but blanks follows position `p` of `d` on its line (as
+/// `Tokens::line_is_done`): the end of a plain record or line.
+#[inline]
+fn line_is_blank(d: &[u8], p: usize) -> bool {
+    let p = skip_blanks(d, p);
     p == d.len() || d[p] == b'\n'
 }
 

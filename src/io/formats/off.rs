@@ -538,9 +538,7 @@ fn plain_vertex_line(lines: &mut Lines) -> Option<(u64, [f64; 3])> {
     let mut p = lines.pos;
     let mut xyz = [0.0; 3];
     for c in &mut xyz {
-        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
-            p += 1;
-        }
+        p = skip_blanks(d, p);
         let (x, len) = crate::io::number::short_decimal_prefix(&d[p..])?;
         if d.get(p + len).is_some_and(|&c| !is_space(c)) {
             return None;
@@ -562,13 +560,7 @@ fn plain_vertex_line(lines: &mut Lines) -> Option<(u64, [f64; 3])> {
 #[inline]
 fn plain_face_line(lines: &mut Lines, indices: &mut Vec<u32>) -> Option<u64> {
     let d = lines.data;
-    let skip_blanks = |mut p: usize| {
-        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
-            p += 1;
-        }
-        p
-    };
-    let mut p = skip_blanks(lines.pos);
+    let mut p = skip_blanks(d, lines.pos);
     let (n, len) = plain_digits(&d[p..])?;
     if n < 3 {
         return None;
@@ -576,7 +568,7 @@ fn plain_face_line(lines: &mut Lines, indices: &mut Vec<u32>) -> Option<u64> {
     p += len;
     let start = indices.len();
     for _ in 0..n {
-        p = skip_blanks(p);
+        p = skip_blanks(d, p);
         match plain_digits(&d[p..]) {
             Some((index, len)) if index <= i64::from(u32::MAX) => {
                 indices.push(index as u32);

@@ -1392,10 +1392,8 @@ fn read_plain_record(
     }
     // To the next token on the same line (`None` at a line end: the record
     // goes on past its line, which the general way sorts out).
-    let next_on_line = |mut p: usize| {
-        while p < d.len() && matches!(d[p], b' ' | b'\t' | b'\r' | 0x0b | 0x0c) {
-            p += 1;
-        }
+    let next_on_line = |p: usize| {
+        let p = skip_blanks(d, p);
         (p < d.len() && d[p] != b'\n').then_some(p)
     };
     match form {
