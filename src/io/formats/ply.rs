@@ -4,6 +4,7 @@
 use super::*;
 use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
 use crate::io::number::unreadable_integer;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A PLY scalar type: the attributes' [`ValueType`], which a carried
 /// property keeps.
@@ -689,13 +690,15 @@ fn too_many(el: &PlyElement, remaining: usize) -> FormatError {
 /// other elements and properties are skipped. For ASCII data, a record's origin is the line of its first
 /// value.
 pub fn read_ply(bytes: &[u8]) -> Result<RawMesh, FormatError> {
-    read_ply_with(bytes, true)
+    read_ply_with(bytes, true, PARALLEL_FACES_BYTES)
 }
 
 /// [`read_ply`], with the one-scan reading of plain ASCII records
 /// (`plain_records`, see [`read_plain_record`]) or without it: every record
-/// the general way, which the tests compare it with.
-fn read_ply_with(bytes: &[u8], plain_records: bool) -> Result<RawMesh, FormatError> {
+/// the general way, which the tests compare it with. With plain records,
+/// ASCII data of `faces_from` bytes or more has its faces read ahead on
+/// another thread where threads are allowed ([`FacesAhead`]).
+fn read_ply_with(bytes: &[u8], plain_records: bool, faces_from: usize) -> Result<RawMesh, FormatError> {
     // A byte order mark (a text editor's) before `ply`, as the other readers allow.
     let bytes = strip_bom(bytes);
     if bytes.is_empty() {
@@ -757,12 +760,36 @@ fn read_ply_with(bytes: &[u8], plain_records: bool) -> Result<RawMesh, FormatErr
                 return Err(FormatError::at(header.data_line - 1 + line, LONE_CR));
             }
             let mut tokens = Tokens::new(bytes, header.data_start, header.data_line);
-            for (el, (kind, roles)) in header.elements.iter().zip(&plans) {
-                read_ascii_element(&mut tokens, el, roles, *kind, &mut b, plain_records)?;
-            }
-            if let Some((_, line)) = tokens.next() {
-                trailing = Some(format!("line {line}: data"));
-            }
+            // A big file's faces, if they come last and in plain records (as
+            // in nearly every big file), are read on another thread while
+            // this one reads the vertices; taken only if they start where
+            // the vertices turn out to end.
+            let ahead =
+                (plain_records && bytes.len() - header.data_start >= faces_from && crate::parallel::threads() > 1)
+                    .then(|| FacesAhead::plan(&header, &plans))
+                    .flatten();
+            let stop = AtomicBool::new(false);
+            std::thread::scope(|scope| {
+                let mut ahead = ahead.and_then(|(e, form, skip)| {
+                    let (el, (kind, roles)) = (&header.elements[e], &plans[e]);
+                    let (data, at, stop) = (bytes, (header.data_start, header.data_line), &stop);
+                    let read = move || FacesAhead::read(data, at, skip, el, roles, *kind, form, stop);
+                    Some((e, crate::parallel::try_spawn(scope, read)?))
+                });
+                for (e, (el, (kind, roles))) in header.elements.iter().zip(&plans).enumerate() {
+                    let read_ahead = ahead.take_if(|(at, _)| *at == e).map(|(_, thread)| thread);
+                    let result = read_ascii_element(&mut tokens, el, roles, *kind, &mut b, plain_records, read_ahead);
+                    if result.is_err() {
+                        // (The thread's work is of no use now.)
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    result?;
+                }
+                if let Some((_, line)) = tokens.next() {
+                    trailing = Some(format!("line {line}: data"));
+                }
+                Ok::<_, FormatError>(())
+            })?;
         }
         PlyEncoding::Binary { big } => {
             let mut reader = BinReader {
@@ -1117,6 +1144,9 @@ fn push_strips(
     Ok(())
 }
 
+/// Reads the records of element `el` at the cursor `t` into `b`; those
+/// that another thread has read ahead (`read_ahead`, [`FacesAhead`]) are
+/// taken from it if they start where `t` is.
 fn read_ascii_element(
     t: &mut Tokens,
     el: &PlyElement,
@@ -1124,6 +1154,7 @@ fn read_ascii_element(
     kind: ElementKind,
     b: &mut Builder,
     plain_records: bool,
+    read_ahead: Option<std::thread::ScopedJoinHandle<Option<FacesAhead>>>,
 ) -> Result<(), FormatError> {
     if el.count == 0 || el.props.is_empty() {
         return Ok(());
@@ -1135,15 +1166,20 @@ fn read_ascii_element(
         return Err(too_many(el, remaining));
     }
     let count = el.count as usize;
+    let first = match read_ahead.and_then(|thread| thread.join().ok().flatten()) {
+        Some(ahead) => ahead.take(t, b),
+        None => 0,
+    };
     // Reserve for the shortest real records: "0 0 0\n" and "3 0 1 2\n".
     match kind {
+        _ if first > 0 => {}
         ElementKind::Vertex => b.reserve_vertices(count.min(remaining / 6 + 1)),
         ElementKind::Face => b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2)),
         ElementKind::Strips | ElementKind::Other => {}
     }
     let name = &el.name;
     let plain = plain_records.then(|| PlainForm::of(el, roles, kind)).flatten();
-    for i in 0..count {
+    for i in first..count {
         if let Some(form) = plain {
             if read_plain_record(t, form, el, roles, kind, i, b)? {
                 continue;
@@ -1487,6 +1523,151 @@ static NO_VALUES: VertexValues = VertexValues {
     wedge_defect: None,
     texnumber: None,
 };
+
+/// The size of ASCII PLY data from which [`read_ply`] reads the faces on
+/// another thread ([`FacesAhead`]). Below it the thread's start and its
+/// scan for the faces' first line would cost about what it saves.
+const PARALLEL_FACES_BYTES: usize = 4 << 20;
+
+/// The faces of an ASCII PLY file read on another thread while the reader's
+/// own reads the vertices before them: the plain records ([`PlainForm`])
+/// from the start of the line that follows one line per earlier record,
+/// where the faces start if every earlier record takes one line. The reader
+/// takes them only if its own cursor, after the earlier records, reaches
+/// the same first token ([`FacesAhead::take`]); the records are then those
+/// it would have read itself, the same calls on the same builder vectors
+/// (they depend only on the text from that token and its line number), and
+/// it reads the rest from where the thread stopped.
+///
+/// ```text
+///   end_header
+///   0.1 0.2 0.3        \
+///   ...                 } N records of the earlier elements, one a line
+///   0.4 0.5 0.6        /
+///   3 0 1 2            <- the thread starts here (line data_line + N)
+///   ...
+/// ```
+struct FacesAhead {
+    /// The first token's position.
+    start: usize,
+    /// The records read (all of them, or up to the first that is not plain).
+    records: usize,
+    /// The cursor after them.
+    end: (usize, u64),
+    /// What they push on the builder's face vectors.
+    indices: Vec<u32>,
+    face_start: Vec<u32>,
+    face_origin: Vec<u32>,
+}
+
+impl FacesAhead {
+    /// Which element to read ahead, its plain form, and the number of
+    /// records before it: the last element with records, if it is the one
+    /// face element, of plain form, and some records come before it.
+    fn plan(header: &PlyHeader, plans: &[(ElementKind, Vec<Role>)]) -> Option<(usize, PlainForm, u64)> {
+        let has_records = |el: &PlyElement| el.count > 0 && !el.props.is_empty();
+        let e = header.elements.iter().rposition(has_records)?;
+        let (kind, roles) = &plans[e];
+        let faces = plans
+            .iter()
+            .filter(|(k, _)| matches!(k, ElementKind::Face | ElementKind::Strips));
+        if *kind != ElementKind::Face || faces.count() != 1 {
+            return None;
+        }
+        let form = PlainForm::of(&header.elements[e], roles, *kind)?;
+        let before = header.elements[..e]
+            .iter()
+            .filter(|el| has_records(el))
+            .try_fold(0u64, |n, el| n.checked_add(el.count))?;
+        (before > 0).then_some((e, form, before))
+    }
+
+    /// Reads element `el` ahead from the start of the line `skip` lines
+    /// after `at` (a position and its line), as far as its records are
+    /// plain; `None` if there is no such line, the first record is not
+    /// plain, or `stop` is set.
+    #[allow(clippy::too_many_arguments)]
+    fn read(
+        data: &[u8],
+        at: (usize, u64),
+        skip: u64,
+        el: &PlyElement,
+        roles: &[Role],
+        kind: ElementKind,
+        form: PlainForm,
+        stop: &AtomicBool,
+    ) -> Option<FacesAhead> {
+        let from = nth_line_end(data, at.0, skip)? + 1;
+        let mut t = Tokens::new(data, from, at.1 + skip);
+        let start = from
+            + data[from..]
+                .iter()
+                .position(|&c| !is_space(c))
+                .unwrap_or(data.len() - from);
+        let mut b = Builder::new(OriginKind::Line, Numbering::FromZero);
+        // As the reader reserves (from its cursor, a few blanks earlier).
+        let (count, remaining) = (el.count as usize, t.remaining());
+        b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2));
+        let mut records = 0;
+        while records < count {
+            if records % 4096 == 0 && stop.load(Ordering::Relaxed) {
+                return None;
+            }
+            match read_plain_record(&mut t, form, el, roles, kind, records, &mut b) {
+                Ok(true) => records += 1,
+                Ok(false) => break,
+                // (Only the faces' 2^32 indices in all: the reader says so.)
+                Err(_) => return None,
+            }
+        }
+        (records > 0).then_some(FacesAhead {
+            start,
+            records,
+            end: (t.pos, t.line),
+            indices: b.m.indices,
+            face_start: b.m.face_start,
+            face_origin: b.m.face_origin,
+        })
+    }
+
+    /// Puts the records read ahead on `b` and moves `t` past them if they
+    /// start at the first token from `t` (and `b` has no faces yet);
+    /// returns how many (0: none taken).
+    fn take(self, t: &mut Tokens, b: &mut Builder) -> usize {
+        let d = t.data;
+        let first = t.pos + d[t.pos..].iter().position(|&c| !is_space(c)).unwrap_or(d.len() - t.pos);
+        let m = &mut b.m;
+        if first != self.start || !m.indices.is_empty() || !m.face_start.is_empty() || b.channels.wedge.is_some() {
+            return 0;
+        }
+        (m.indices, m.face_start, m.face_origin) = (self.indices, self.face_start, self.face_origin);
+        (t.pos, t.line) = self.end;
+        self.records
+    }
+}
+
+/// The position of the `n`th line feed (n ≥ 1) from `from` in `data`.
+fn nth_line_end(data: &[u8], from: usize, n: u64) -> Option<usize> {
+    let mut left = n;
+    let mut at = from;
+    // Whole blocks counted at once (the count vectorizes), then the one
+    // that holds it searched.
+    for block in data[from..].chunks(4096) {
+        let here = block.iter().filter(|&&c| c == b'\n').count() as u64;
+        if here >= left {
+            let k = block
+                .iter()
+                .enumerate()
+                .filter(|&(_, &c)| c == b'\n')
+                .nth(left as usize - 1)?
+                .0;
+            return Some(at + k);
+        }
+        left -= here;
+        at += block.len();
+    }
+    None
+}
 
 /// The error for record `i` of element `name`, read from `start` (a
 /// position and its line) to `end`, which ran past its first line `origin`
@@ -1918,7 +2099,9 @@ mod tests {
         let mut rng = crate::test_rng::Rng(0x91a1_2ec0);
         let (mut plain, mut refused) = (0, 0);
         for _ in 0..6000 {
-            if read_alike(&near_plain_ply(&mut rng), read_ply_with) {
+            if read_alike(&near_plain_ply(&mut rng), |text, plain| {
+                read_ply_with(text, plain, usize::MAX)
+            }) {
                 plain += 1;
             } else {
                 refused += 1;
@@ -1926,5 +2109,51 @@ mod tests {
         }
         // Both outcomes are exercised, not only one.
         assert!(plain > 1000 && refused > 1000, "{plain} read, {refused} refused");
+    }
+
+    #[test]
+    fn faces_read_ahead_are_those_the_reader_reads() {
+        let mut rng = crate::test_rng::Rng(0x5eed_face);
+        let (mut taken, mut partly) = (0, 0);
+        for _ in 0..3000 {
+            let text = near_plain_ply(&mut rng);
+            // Whether the thread's records are taken, and all of them.
+            let bytes = text.as_bytes();
+            if let Ok(header) = parse_ply_header(bytes) {
+                let plans: Option<Vec<_>> = header.elements.iter().map(|el| element_roles(el).ok()).collect();
+                let plan = plans
+                    .as_ref()
+                    .and_then(|plans| FacesAhead::plan(&header, plans).map(|p| (p, plans)));
+                if let Some(((e, form, skip), plans)) = plan {
+                    let (el, (kind, roles)) = (&header.elements[e], &plans[e]);
+                    let at = (header.data_start, header.data_line);
+                    if let Some(ahead) =
+                        FacesAhead::read(bytes, at, skip, el, roles, *kind, form, &AtomicBool::new(false))
+                    {
+                        let mut t = Tokens::new(bytes, at.0, at.1);
+                        for el in &header.elements[..e] {
+                            for _ in 0..el.count * el.props.len() as u64 {
+                                t.next();
+                            }
+                        }
+                        let records = ahead.records;
+                        if ahead.take(&mut t, &mut Builder::new(OriginKind::Line, Numbering::FromZero)) > 0 {
+                            taken += 1;
+                            partly += usize::from(records < el.count as usize);
+                        }
+                    }
+                }
+            }
+            let (threaded, alone) =
+                crate::io::lines::threaded_and_alone(2, || format!("{:?}", read_ply_with(bytes, true, 0)));
+            let general = format!("{:?}", read_ply_with(bytes, false, usize::MAX));
+            assert_eq!(threaded, general, "{text:?}");
+            assert_eq!(alone, general, "{text:?}");
+        }
+        // Taken in many files, all records or only the first ones; not in all.
+        assert!(
+            (300..2500).contains(&taken) && partly > 50,
+            "{taken} taken, {partly} partly"
+        );
     }
 }
