@@ -189,6 +189,21 @@ pub fn join<A: Send, B: Send>(worth_it: bool, a: impl FnOnce() -> A + Send, b: i
     })
 }
 
+/// What `run` gives on `threads` threads, and with no thread allowed to
+/// start (the calling thread does all the work): for tests of work split
+/// between threads.
+#[cfg(test)]
+pub(crate) fn threaded_and_alone<T>(threads: usize, run: impl Fn() -> T) -> (T, T) {
+    let _settings = settings_lock_for_tests();
+    set_threads(threads);
+    let threaded = run();
+    refuse_threads(true);
+    let alone = run();
+    refuse_threads(false);
+    set_threads(0);
+    (threaded, alone)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -264,20 +264,6 @@ pub(crate) fn write_in_pieces(w: &mut dyn Write, bytes: &[u8]) -> std::io::Resul
     Ok(())
 }
 
-/// What `write` gives with [`write_numbered_lines`] on `threads` threads, and with
-/// no thread allowed to start (the calling thread formats every block).
-#[cfg(test)]
-pub(crate) fn threaded_and_alone<T>(threads: usize, write: impl Fn() -> T) -> (T, T) {
-    let _settings = crate::parallel::settings_lock_for_tests();
-    crate::parallel::set_threads(threads);
-    let threaded = write();
-    crate::parallel::refuse_threads(true);
-    let alone = write();
-    crate::parallel::refuse_threads(false);
-    crate::parallel::set_threads(0);
-    (threaded, alone)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -394,7 +380,7 @@ mod tests {
             formats::write_ply_ascii(&mut ply, &positions, &triangles, Some(&bytes)).unwrap();
             (off, ply)
         };
-        let (threaded, alone) = threaded_and_alone(3, write);
+        let (threaded, alone) = crate::parallel::threaded_and_alone(3, write);
         assert!(threaded == alone);
         let off = formats::read_off(&threaded.0).unwrap();
         assert_eq!(off.positions, positions);

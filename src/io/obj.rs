@@ -1523,7 +1523,7 @@ mod tests {
             let text = lines.join(["\n", "\r\n"][rng.below(2) as usize]) + end;
             let at = tail_start(&text, 0);
             tails_taken += usize::from(at.and_then(|at| plain_tail(&text, at)).is_some());
-            let (threaded, alone) = crate::io::lines::threaded_and_alone(2, || {
+            let (threaded, alone) = crate::parallel::threaded_and_alone(2, || {
                 format!("{:?}", parse_obj_with(text.as_bytes(), true, true, 0))
             });
             let whole = format!("{:?}", parse_obj_with(text.as_bytes(), true, true, usize::MAX));
@@ -1546,7 +1546,7 @@ mod tests {
             write_obj(&mut out, &positions, &triangles).unwrap();
             out
         };
-        let (threaded, alone) = crate::io::lines::threaded_and_alone(4, write);
+        let (threaded, alone) = crate::parallel::threaded_and_alone(4, write);
         assert!(threaded == alone);
         assert_eq!(threaded.iter().filter(|&&b| b == b'\n').count(), 2 * n - 2);
     }

@@ -11,6 +11,8 @@
 //! This module knows nothing of positions: geometry lives elsewhere.
 
 use std::fmt;
+use std::ops::Range;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 macro_rules! id_type {
     ($(#[$doc:meta])* $name:ident) => {
@@ -246,39 +248,68 @@ const NO_TWIN: u32 = u32::MAX - 1;
 /// corner's twin up among the corners leaving its destination
 /// ([`pair_corners_by_scanning`]) reads two lists at random places per
 /// edge: on a large mesh, twice the time.
+///
+/// On a large mesh each thread sorts and pairs the edges whose smaller
+/// vertex is in its own range of vertices ([`pair_edges_from`]): the
+/// corners each one pairs are its own, so the pairs do not depend on the
+/// number of threads.
 pub(crate) fn pair_corners_by_sorting(n_vertices: usize, triangles: &[[u32; 3]]) -> Option<Pairing> {
     let n_corners = 3 * triangles.len();
     if n_corners >= 1 << 31 {
         return None;
     }
+    // (Relaxed atomics: plain loads and stores, written by one thread each.)
+    let twin: Vec<AtomicU32> = (0..n_corners).map(|_| AtomicU32::new(UNSET)).collect();
+    let edges = crate::parallel::map_ranges(n_vertices, |vertices| pair_edges_from(vertices, triangles, &twin));
+    let n_edges = edges.into_iter().sum::<Option<usize>>()?;
+    // (In place: the same allocation.)
+    let twin = twin.into_iter().map(AtomicU32::into_inner).collect();
+    Some(Pairing { twin, n_edges })
+}
+
+/// [`pair_corners_by_sorting`] for the edges whose smaller vertex is in
+/// `vertices`: writes their corners' twins, and returns how many edges
+/// they make (`None` if one is not a plain pair).
+fn pair_edges_from(vertices: Range<usize>, triangles: &[[u32; 3]], twin: &[AtomicU32]) -> Option<usize> {
     let corners = || {
         triangles
             .iter()
             .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
             .enumerate()
     };
-    let mut start = vec![0u32; n_vertices + 1];
+    // The local number of the vertex at which a corner (u, v) is listed,
+    // if it is in the range (one comparison).
+    let (first, n) = (vertices.start, vertices.len());
+    let local = |u: u32, v: u32| {
+        let k = (u.min(v) as usize).wrapping_sub(first);
+        (k < n).then_some(k)
+    };
+    let mut start = vec![0u32; n + 1];
     for (_, (u, v)) in corners() {
-        start[u.min(v) as usize + 1] += 1;
+        if let Some(k) = local(u, v) {
+            start[k + 1] += 1;
+        }
     }
-    for v in 0..n_vertices {
-        start[v + 1] += start[v];
+    for k in 0..n {
+        start[k + 1] += start[k];
     }
     // Each list entry: the edge's larger vertex, and the corner's number
     // times two plus one if it runs from the larger vertex.
-    let mut list = vec![(0u32, 0u32); n_corners];
+    let mut list = vec![(0u32, 0u32); start[n] as usize];
     {
         let mut fill = start.clone();
         for (c, (u, v)) in corners() {
-            let at = &mut fill[u.min(v) as usize];
-            list[*at as usize] = (u.max(v), (c as u32) << 1 | (u > v) as u32);
-            *at += 1;
+            if let Some(k) = local(u, v) {
+                let at = &mut fill[k];
+                list[*at as usize] = (u.max(v), (c as u32) << 1 | (u > v) as u32);
+                *at += 1;
+            }
         }
     }
-    let mut twin = vec![UNSET; n_corners];
+    let set = |c: u32, d: u32| twin[c as usize].store(d, Ordering::Relaxed);
     let mut n_edges = 0;
-    for v in 0..n_vertices {
-        let edges = &mut list[start[v] as usize..start[v + 1] as usize];
+    for k in 0..n {
+        let edges = &mut list[start[k] as usize..start[k + 1] as usize];
         if edges.len() > LONG_LIST {
             // A vertex with many faces: pairs found by sorting, not by
             // scanning the list once per entry. Stable, so that each
@@ -316,14 +347,14 @@ pub(crate) fn pair_corners_by_sorting(n_vertices: usize, triangles: &[[u32; 3]])
             }
             match other {
                 Some(d) => {
-                    twin[(c >> 1) as usize] = d;
-                    twin[d as usize] = c >> 1;
+                    set(c >> 1, d);
+                    set(d, c >> 1);
                 }
-                None => twin[(c >> 1) as usize] = NO_TWIN,
+                None => set(c >> 1, NO_TWIN),
             }
         }
     }
-    Some(Pairing { twin, n_edges })
+    Some(n_edges)
 }
 
 /// [`pair_corners_by_sorting`]'s pairing done one corner at a time, in face
@@ -1472,6 +1503,45 @@ mod tests {
             }
         }
         assert!(paired > 100 && refused > 100, "{paired} paired, {refused} refused");
+    }
+
+    /// On a mesh large enough for threads, the pairing is the same on two
+    /// threads, on one, and by scanning: a grid of 40,000 vertices as it
+    /// is, with a face turned over or repeated in either thread's range of
+    /// vertices, and with holes.
+    #[test]
+    fn pairing_does_not_depend_on_threads() {
+        let side = 200u32;
+        let mut grid = Vec::new();
+        for y in 0..side - 1 {
+            for x in 0..side - 1 {
+                let v = y * side + x;
+                grid.push([v, v + 1, v + side + 1]);
+                grid.push([v, v + side + 1, v + side]);
+            }
+        }
+        let n = (side * side) as usize;
+        assert!(n > crate::parallel::MIN_PARALLEL_ITEMS);
+        let mut cases = vec![grid.clone()];
+        for f in [10, grid.len() / 2 + 7, grid.len() - 3] {
+            let mut turned = grid.clone();
+            turned[f].swap(0, 1);
+            let mut repeated = grid.clone();
+            repeated.push(grid[f]);
+            let mut holed = grid.clone();
+            holed.remove(f);
+            cases.extend([turned, repeated, holed]);
+        }
+        let show = |p: Option<Pairing>| p.map(|p| (p.twin, p.n_edges));
+        for faces in &cases {
+            let (threaded, alone) = crate::parallel::threaded_and_alone(2, || show(pair_corners_by_sorting(n, faces)));
+            assert!(threaded == alone);
+            match (threaded, pair_corners_by_scanning(n, faces)) {
+                (Some(a), Ok(b)) => assert!(a == (b.twin, b.n_edges)),
+                (None, Err(_)) => {}
+                (a, b) => panic!("sorting {:?}, scanning {:?}", a.is_some(), b.is_ok()),
+            }
+        }
     }
 
     /// A vertex whose faces form two fans is refused, whether the fans are

@@ -2170,7 +2170,7 @@ mod tests {
                 }
             }
             let (threaded, alone) =
-                crate::io::lines::threaded_and_alone(2, || format!("{:?}", read_ply_with(bytes, true, 0)));
+                crate::parallel::threaded_and_alone(2, || format!("{:?}", read_ply_with(bytes, true, 0)));
             let general = format!("{:?}", read_ply_with(bytes, false, usize::MAX));
             assert_eq!(threaded, general, "{text:?}");
             assert_eq!(alone, general, "{text:?}");
