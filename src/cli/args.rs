@@ -72,7 +72,7 @@ pub(super) struct RunArgs {
 
     /// How many threads to use (default: one per core): with -all and
     /// --smallest, how many runs at once; otherwise for the passes over all
-    /// edges, for reading a big OBJ and for formatting the output. Results
+    /// edges, for reading a big OBJ or ASCII PLY and for formatting the output. Results
     /// never depend on it.
     #[arg(short = 'j', long = "jobs", value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u16).range(1..))]
     pub(super) jobs: Option<u16>,
