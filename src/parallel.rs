@@ -1,6 +1,7 @@
-//! Read-only passes over large meshes, split between threads: each thread
-//! takes one contiguous range of the items and the results are put back in
-//! order, so they never depend on the number of threads. The one thread
+//! Passes over large meshes, split between threads: each thread takes one
+//! contiguous range of the items (and writes, if anything, only what its
+//! range owns) and the results are put back in order, so they never depend
+//! on the number of threads. The one thread
 //! setting here also governs the OBJ writer's formatting threads.
 
 use std::ops::Range;

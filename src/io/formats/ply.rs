@@ -1166,7 +1166,9 @@ fn read_ascii_element(
         return Err(too_many(el, remaining));
     }
     let count = el.count as usize;
-    let first = match read_ahead.and_then(|thread| thread.join().ok().flatten()) {
+    // (A panic there is a bug, raised here as the OBJ reader's tail does.)
+    let joined = read_ahead.map(|thread| thread.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+    let first = match joined.flatten() {
         Some(ahead) => ahead.take(t, b),
         None => 0,
     };
