@@ -1172,11 +1172,11 @@ fn read_ascii_element(
         Some(ahead) => ahead.take(t, b),
         None => 0,
     };
-    // Reserve for the shortest real records: "0 0 0\n" and "3 0 1 2\n".
+    // Reserve for the shortest real records ("0 0 0\n"; faces below).
     match kind {
         _ if first > 0 => {}
         ElementKind::Vertex => b.reserve_vertices(count.min(remaining / 6 + 1)),
-        ElementKind::Face => b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2)),
+        ElementKind::Face => reserve_face_records(b, count, remaining),
         ElementKind::Strips | ElementKind::Other => {}
     }
     let name = &el.name;
@@ -1601,15 +1601,11 @@ impl FacesAhead {
     ) -> Option<FacesAhead> {
         let from = nth_line_end(data, at.0, skip)? + 1;
         let mut t = Tokens::new(data, from, at.1 + skip);
-        let start = from
-            + data[from..]
-                .iter()
-                .position(|&c| !is_space(c))
-                .unwrap_or(data.len() - from);
+        let start = first_token(data, from);
         let mut b = Builder::new(OriginKind::Line, Numbering::FromZero);
         // As the reader reserves (from its cursor, a few blanks earlier).
-        let (count, remaining) = (el.count as usize, t.remaining());
-        b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2));
+        let count = el.count as usize;
+        reserve_face_records(&mut b, count, t.remaining());
         let mut records = 0;
         while records < count {
             if records % 4096 == 0 && stop.load(Ordering::Relaxed) {
@@ -1636,16 +1632,31 @@ impl FacesAhead {
     /// start at the first token from `t` (and `b` has no faces yet);
     /// returns how many (0: none taken).
     fn take(self, t: &mut Tokens, b: &mut Builder) -> usize {
-        let d = t.data;
-        let first = t.pos + d[t.pos..].iter().position(|&c| !is_space(c)).unwrap_or(d.len() - t.pos);
         let m = &mut b.m;
-        if first != self.start || !m.indices.is_empty() || !m.face_start.is_empty() || b.channels.wedge.is_some() {
+        if first_token(t.data, t.pos) != self.start
+            || !m.indices.is_empty()
+            || !m.face_start.is_empty()
+            || b.channels.wedge.is_some()
+        {
             return 0;
         }
         (m.indices, m.face_start, m.face_origin) = (self.indices, self.face_start, self.face_origin);
         (t.pos, t.line) = self.end;
         self.records
     }
+}
+
+/// Room on `b` for `count` face records in `remaining` bytes of data, at
+/// most as many as fit if they are as short as real ones can be
+/// (`3 0 1 2\n`): the reader's, and [`FacesAhead::read`]'s alike.
+fn reserve_face_records(b: &mut Builder, count: usize, remaining: usize) {
+    b.reserve_faces(count.min(remaining / 8 + 1), count.saturating_mul(3).min(remaining / 2));
+}
+
+/// Where the first token at or after position `p` of `d` starts, across
+/// line ends, as [`Tokens::next`] finds it (`d.len()` if none).
+fn first_token(d: &[u8], p: usize) -> usize {
+    p + d[p..].iter().position(|&c| !is_space(c)).unwrap_or(d.len() - p)
 }
 
 /// The position of the `n`th line feed (n ≥ 1) from `from` in `data`.
