@@ -50,7 +50,9 @@ use crate::convex_regions::{
 };
 use crate::geometry::{is_non_delaunay, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
-use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, Topology, VertexId, NO_INPUT_EDGE};
+#[cfg(debug_assertions)]
+use crate::mesh::Topology;
+use crate::mesh::{EdgeId, FaceId, HalfEdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use glam::DVec3;
 
 /// Regions with fewer vertices are left to Algorithm 2's flips, which make
@@ -141,20 +143,17 @@ fn rebuild_flat_regions_in(
     let mut edge_local: Vec<u32> = Vec::new();
     for faces in regions {
         local.resize(s.topo.n_vertices(), u32::MAX);
-        let Some(mut patch) = Patch::of_region(s, faces, &mut local) else {
+        edge_local.resize(s.topo.n_edges(), u32::MAX);
+        let Some(mut patch) = Patch::of_region(s, faces, &mut local, &mut edge_local) else {
             continue;
         };
         // The cheap tests first; what only the rebuilding needs after.
-        let slow = patch.vertices.len() >= min_vertices && {
-            edge_local.resize(s.topo.n_edges(), u32::MAX);
-            patch.lawson_is_slow(s, faces, &mut edge_local, lawson_flips_per_vertex)
-        };
+        let slow = patch.vertices.len() >= min_vertices
+            && patch.lawson_is_slow(s, faces, &edge_local, lawson_flips_per_vertex);
         if slow {
             patch.number_outline(s, &local);
         }
-        for v in &patch.vertices {
-            local[v.idx()] = u32::MAX;
-        }
+        patch.unnumber(&mut local, &mut edge_local);
         if !slow {
             continue;
         }
@@ -181,40 +180,39 @@ fn rebuild_flat_regions_in(
     done
 }
 
-/// Lawson's flips on the flat patch of `region` whose edges are `edges`
-/// (each with whether the copy's first half-edge runs against the
-/// surface's; `local` numbers them so), stopping after `budget + 1`; the
-/// number made. Every flip is undone before returning.
+/// An edge of a [`Patch`], as a copy of the patch alone would have it.
+#[derive(Clone, Copy)]
+struct PatchEdge {
+    edge: EdgeId,
+    /// Whether the copy's first half-edge of it runs against the surface's.
+    reversed: bool,
+    /// Whether both its faces are in the region (else it is on the
+    /// outline, the copy's boundary). Flips inside the region keep it so:
+    /// a flip's two faces stay in the region, and so do the faces on
+    /// either side of the quad's sides.
+    interior: bool,
+}
+
+/// Lawson's flips on the flat patch whose edges are `edges` (in the
+/// copy's numbering, which `local` gives), stopping after `budget + 1`;
+/// the number made. Every flip is undone before returning.
 ///
 /// In a flat patch an edge that is not Delaunay has a convex quad, so the
 /// flips need no validity test (the copy this stands for was only counted,
-/// never kept). An edge of the patch is interior if both its faces are in
-/// the region: the outline's edges are the copy's boundary.
-fn lawson_flips(s: &mut Surface, region: u32, edges: &[(EdgeId, bool)], local: &[u32], budget: usize) -> usize {
-    let Surface {
-        topo,
-        positions,
-        face_region,
-        ..
-    } = s;
-    let in_patch = |t: &Topology, h: HalfEdgeId| {
-        let f = t.face(h);
-        !f.is_none() && face_region[f.idx()] == region
-    };
+/// never kept). Only interior edges are flipped: the outline's edges are
+/// the copy's boundary.
+fn lawson_flips(s: &mut Surface, edges: &[PatchEdge], local: &[u32], budget: usize) -> usize {
+    let Surface { topo, positions, .. } = s;
     // Edge k's half-edge that runs as the copy's first one does.
     let oriented = |k: usize| {
-        let (e, reversed) = edges[k];
+        let PatchEdge { edge, reversed, .. } = edges[k];
         if reversed {
-            e.halfedge().twin()
+            edge.halfedge().twin()
         } else {
-            e.halfedge()
+            edge.halfedge()
         }
     };
-    let interior = |t: &Topology, k: usize| {
-        let h = oriented(k);
-        in_patch(t, h) && in_patch(t, h.twin())
-    };
-    let mut stack: Vec<usize> = (0..edges.len()).filter(|&k| interior(topo, k)).collect();
+    let mut stack: Vec<usize> = (0..edges.len()).filter(|&k| edges[k].interior).collect();
     let mut queued = vec![false; edges.len()];
     for &k in &stack {
         queued[k] = true;
@@ -225,14 +223,15 @@ fn lawson_flips(s: &mut Surface, region: u32, edges: &[(EdgeId, bool)], local: &
         queued[k] = false;
         let h = oriented(k);
         let (c, d) = (topo.apex(h), topo.apex(h.twin()));
-        let bad = interior(topo, k) && c != d && {
+        // (Only interior edges are queued.)
+        let bad = c != d && {
             let [a, b, c, d] = [topo.origin(h), topo.dest(h), c, d].map(|v| positions[v.idx()]);
             is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE)
         };
         if !bad {
             continue;
         }
-        let e = edges[k].0;
+        let e = edges[k].edge;
         journal.push(topo.flip_record(e));
         topo.flip(e);
         flips += 1;
@@ -244,7 +243,7 @@ fn lawson_flips(s: &mut Surface, region: u32, edges: &[(EdgeId, bool)], local: &
         let (h1, t1) = (topo.next(h), topo.next(h.twin()));
         for g in [topo.next(h1), h1, topo.next(t1), t1] {
             let j = local[g.edge().idx()] as usize;
-            if interior(topo, j) && !std::mem::replace(&mut queued[j], true) {
+            if edges[j].interior && !std::mem::replace(&mut queued[j], true) {
                 stack.push(j);
             }
         }
@@ -261,6 +260,10 @@ struct Patch {
     outline: Vec<HalfEdgeId>,
     /// Its inner edges, both sides in it.
     inner: Vec<EdgeId>,
+    /// All its edges, numbered as a copy of the patch alone would number
+    /// them ([`crate::mesh::Topology::from_triangles`] of its faces: by their first
+    /// corner, face by face), for [`Patch::lawson_is_slow`].
+    edges: Vec<PatchEdge>,
     /// The outline's half-edges as pairs of numbers in `vertices` (empty
     /// until [`Patch::number_outline`]).
     outline_local: Vec<[usize; 2]>,
@@ -276,8 +279,10 @@ impl Patch {
     /// The region whose faces are `faces` as a patch to rebuild, if it has
     /// an inner edge that is not Delaunay, no vertex twice on its outline
     /// and no face beyond its outline folded flat onto it. `local` (all
-    /// `u32::MAX`, one per vertex) is left numbering the patch's vertices.
-    fn of_region(s: &Surface, faces: &[FaceId], local: &mut [u32]) -> Option<Patch> {
+    /// `u32::MAX`, one per vertex) is left numbering the patch's vertices,
+    /// and `edge_local` (all `u32::MAX`, one per edge) its edges, until
+    /// [`Patch::unnumber`] (`None`: both left as they were).
+    fn of_region(s: &Surface, faces: &[FaceId], local: &mut [u32], edge_local: &mut [u32]) -> Option<Patch> {
         let topo = &s.topo;
         let region = s.face_region[faces[0].idx()];
         let in_region = |h: HalfEdgeId| {
@@ -290,36 +295,63 @@ impl Patch {
         {
             return None;
         }
-        let mut vertices = Vec::new();
-        let (mut outline, mut inner) = (Vec::new(), Vec::new());
+        // (A flat patch of n faces has about n/2 vertices and 3n/2 edges.)
+        let n = faces.len();
+        let mut vertices = Vec::with_capacity(n / 2 + 3);
+        let (mut outline, mut inner, mut edges) = (
+            Vec::new(),
+            Vec::with_capacity(3 * n / 2),
+            Vec::with_capacity(3 * n / 2 + 2),
+        );
         for h in half_edges() {
             let v = topo.origin(h);
             if local[v.idx()] == u32::MAX {
                 local[v.idx()] = vertices.len() as u32;
                 vertices.push(v);
             }
-            if !in_region(h.twin()) {
+            let interior = in_region(h.twin());
+            if !interior {
                 outline.push(h);
             } else if h < h.twin() {
                 inner.push(h.edge());
             }
-        }
-        let mut origins: Vec<VertexId> = outline.iter().map(|&h| topo.origin(h)).collect();
-        origins.sort_unstable();
-        if origins.windows(2).any(|w| w[0] == w[1]) || outline.iter().any(|&h| folded_across(s, h)) {
-            for v in &vertices {
-                local[v.idx()] = u32::MAX;
+            let edge = h.edge();
+            if edge_local[edge.idx()] == u32::MAX {
+                edge_local[edge.idx()] = edges.len() as u32;
+                edges.push(PatchEdge {
+                    edge,
+                    reversed: edge.halfedge() != h,
+                    interior,
+                });
             }
-            return None;
         }
-        Some(Patch {
+        let patch = Patch {
             vertices,
             outline,
             inner,
+            edges,
             outline_local: Vec::new(),
             joined_outside: Vec::new(),
             region,
-        })
+        };
+        let mut origins: Vec<VertexId> = patch.outline.iter().map(|&h| topo.origin(h)).collect();
+        origins.sort_unstable();
+        if origins.windows(2).any(|w| w[0] == w[1]) || patch.outline.iter().any(|&h| folded_across(s, h)) {
+            patch.unnumber(local, edge_local);
+            return None;
+        }
+        Some(patch)
+    }
+
+    /// Sets the numbers [`Patch::of_region`] gave the patch's vertices in
+    /// `local` and its edges in `edge_local` back to `u32::MAX`.
+    fn unnumber(&self, local: &mut [u32], edge_local: &mut [u32]) {
+        for v in &self.vertices {
+            local[v.idx()] = u32::MAX;
+        }
+        for e in &self.edges {
+            edge_local[e.edge.idx()] = u32::MAX;
+        }
     }
 
     /// Fills in what only the rebuilding needs: the outline and the pairs
@@ -355,30 +387,20 @@ impl Patch {
     ///
     /// They are tried on the surface's own half-edges and undone after
     /// (`s` is left as it was), in the order they would take on a copy of
-    /// the patch alone ([`Topology::from_triangles`] of its faces, numbered
+    /// the patch alone ([`crate::mesh::Topology::from_triangles`] of its faces, numbered
     /// in `vertices`, which numbers the edges by their first corner, face by
     /// face, and runs each edge's first half-edge as that corner). Copying
     /// cost more than the flips: on the fandisk's region of 3,020 faces, 180
-    /// of the trial's 250 microseconds. `faces`: the patch's faces;
-    /// `edge_local` (all `u32::MAX`, one per edge of `s`) is left so.
-    fn lawson_is_slow(&self, s: &mut Surface, faces: &[FaceId], edge_local: &mut [u32], per_vertex: usize) -> bool {
-        // The patch's edges in the copy's numbering, each with whether the
-        // copy's first half-edge runs against the surface's.
-        let mut edges: Vec<(EdgeId, bool)> = Vec::new();
-        for h in s.topo.half_edges_of(faces) {
-            let e = h.edge();
-            if edge_local[e.idx()] == u32::MAX {
-                edge_local[e.idx()] = edges.len() as u32;
-                edges.push((e, e.halfedge() != h));
-            }
-        }
+    /// of the trial's 250 microseconds. `faces`: the patch's faces (for
+    /// that copy, in debug builds); `edge_local`: the numbers
+    /// [`Patch::of_region`] gave the patch's edges.
+    fn lawson_is_slow(&self, s: &mut Surface, faces: &[FaceId], edge_local: &[u32], per_vertex: usize) -> bool {
+        #[cfg(not(debug_assertions))]
+        let _ = faces;
         let budget = per_vertex * self.vertices.len();
         #[cfg(debug_assertions)]
         let before = s.topo.clone();
-        let flips = lawson_flips(s, self.region, &edges, edge_local, budget);
-        for &(e, _) in &edges {
-            edge_local[e.idx()] = u32::MAX;
-        }
+        let flips = lawson_flips(s, &self.edges, edge_local, budget);
         // Debug builds (every test): the surface is as it was, and a copy
         // of the patch takes the same flips.
         #[cfg(debug_assertions)]
