@@ -1259,12 +1259,13 @@ fn run_refined(
         })
     } else {
         // The input's vertex lines do not change: on a spare core, format
-        // them while this thread refines (OBJ output without attributes),
-        // unless the mesh is too small to repay starting the thread.
-        // (The size first: asking for the cores reads cgroup files.)
+        // them while this thread refines (OBJ or OFF output without
+        // attributes), unless the mesh is too small to repay starting the
+        // thread. (The size first: asking for the cores reads cgroup files.)
+        let format = io::output_format(output);
         let ahead = input.positions.len() >= FORMAT_AHEAD_MIN_VERTICES
             && transfer.is_none()
-            && io::output_format(output) == io::Format::Obj
+            && matches!(format, io::Format::Obj | io::Format::Off)
             && args.jobs.is_none_or(|j| j > 1)
             && delmesh::parallel::cores() > 1;
         std::thread::scope(|scope| {
@@ -1273,7 +1274,10 @@ fn run_refined(
             let lines = ahead
                 .then(|| {
                     let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
-                    delmesh::parallel::try_spawn(scope, move || io::obj::VertexLines::new(positions))
+                    delmesh::parallel::try_spawn(scope, move || match format {
+                        io::Format::Off => io::obj::VertexLines::new_off(positions),
+                        _ => io::obj::VertexLines::new(positions),
+                    })
                 })
                 .flatten();
             let out = refine_once(surface, first_pass, input_path, &options, args.settings.prune());
@@ -1519,8 +1523,8 @@ const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need 
 /// Writes a refined (or not) surface, with the input's attributes carried
 /// by `transfer` if there are any; returns notes on attributes not written
 /// (and on STL's rounding) and the vertex copies a PLY or OFF output made.
-/// `done`: the OBJ lines of the input's vertices if formatted already (else
-/// empty).
+/// `done`: the OBJ or OFF lines of the input's vertices if formatted
+/// already (else empty).
 fn write_output(
     path: &Path,
     input: &Path,

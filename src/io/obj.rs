@@ -1025,25 +1025,50 @@ pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
     write_obj_after(w, &VertexLines::default(), positions, triangles)
 }
 
-/// The `v` lines of the first vertices of a mesh, formatted ahead of time:
-/// the CLI formats the input's vertices (which refining never moves) on a
-/// spare core while the main thread refines.
+/// The vertex lines of the first vertices of a mesh, formatted ahead of
+/// time: the CLI formats the input's vertices (which refining never moves)
+/// on a spare core while the main thread refines. OBJ's lines (`v x y z`,
+/// [`VertexLines::new`]) or OFF's (`x y z`, [`VertexLines::new_off`]); a
+/// writer given the other kind's formats every line itself.
 #[derive(Clone, Debug, Default)]
 pub struct VertexLines {
     count: usize,
     text: Vec<u8>,
+    /// OFF's lines (no `v`), not OBJ's.
+    off: bool,
 }
 
 impl VertexLines {
     /// The `v` lines of `positions`, exactly as [`write_obj`] writes them.
     pub fn new(positions: &[[f64; 3]]) -> VertexLines {
+        Self::formatted(positions, false)
+    }
+
+    /// The vertex lines of `positions`, exactly as
+    /// [`super::formats::write_off`] writes them.
+    pub fn new_off(positions: &[[f64; 3]]) -> VertexLines {
+        Self::formatted(positions, true)
+    }
+
+    fn formatted(positions: &[[f64; 3]], off: bool) -> VertexLines {
         let mut text = Vec::with_capacity(64 * positions.len());
+        let line = if off { off_vertex_line } else { vertex_line };
         for p in positions {
-            vertex_line(p, &mut text);
+            line(p, &mut text);
         }
         VertexLines {
             count: positions.len(),
             text,
+            off,
+        }
+    }
+
+    /// The lines formatted, and how many, if they are OFF's (`off`) or
+    /// OBJ's: else none (the writer formats them all).
+    pub(crate) fn text_for(&self, off: bool) -> (usize, &[u8]) {
+        match self.off == off {
+            true => (self.count, &self.text),
+            false => (0, &[]),
         }
     }
 }
@@ -1051,10 +1076,20 @@ impl VertexLines {
 /// Appends the `v` line of `p`.
 #[inline]
 fn vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
-    let mut fmt = zmij::Buffer::new();
     line.push(b'v');
-    for &c in p {
-        line.push(b' ');
+    line.push(b' ');
+    off_vertex_line(p, line);
+}
+
+/// Appends the OFF vertex line of `p` (OBJ's without `v `): the three
+/// coordinates in shortest round-trip form.
+#[inline]
+pub(crate) fn off_vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
+    let mut fmt = zmij::Buffer::new();
+    for (k, &c) in p.iter().enumerate() {
+        if k > 0 {
+            line.push(b' ');
+        }
         line.extend_from_slice(fmt.format_finite(c).as_bytes());
     }
     line.push(b'\n');
@@ -1069,10 +1104,11 @@ pub fn write_obj_after(
     triangles: &[[u32; 3]],
 ) -> std::io::Result<()> {
     super::formats::check_for_writing(positions, triangles, None)?;
-    super::lines::write_in_pieces(w, &done.text)?;
+    let (count, text) = done.text_for(false);
+    super::lines::write_in_pieces(w, text)?;
     // The other vertices' lines and the faces' in one run of lines, so that
     // both kinds are formatted at once on several cores.
-    let rest = &positions[done.count.min(positions.len())..];
+    let rest = &positions[count.min(positions.len())..];
     let nv = rest.len();
     write_line_ranges(w, nv + triangles.len(), |lines, buffer| {
         vertex_lines(&rest[lines.start.min(nv)..lines.end.min(nv)], buffer);

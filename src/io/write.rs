@@ -154,8 +154,9 @@ pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> R
     write_mesh_after(path, &obj::VertexLines::default(), positions, triangles)
 }
 
-/// [`write_mesh`], with the OBJ lines of the first vertices formatted
-/// already (used only if `path` names an OBJ file).
+/// [`write_mesh`], with the vertex lines of the first vertices formatted
+/// already (used only if `path` names an OBJ file and `done` holds OBJ's
+/// lines, or an OFF file and OFF's).
 pub fn write_mesh_after(
     path: &Path,
     done: &obj::VertexLines,
@@ -176,7 +177,7 @@ pub fn stage_mesh_after(
     let format = output_format(path);
     stage(path, |w| match format {
         Format::Obj => obj::write_obj_after(w, done, positions, triangles),
-        Format::Off => formats::write_off(w, positions, triangles),
+        Format::Off => formats::write_off_after(w, done, positions, triangles),
         Format::Ply => formats::write_ply_binary(w, positions, triangles, None),
         Format::Stl => formats::write_stl_binary(w, positions, triangles),
     })

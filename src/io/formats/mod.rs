@@ -62,7 +62,7 @@ mod ply;
 mod stl;
 
 pub use foreign::foreign_reason;
-pub use off::{color_byte, read_off, write_off, write_off_with, ColorText, OffColors, OffExtras};
+pub use off::{color_byte, read_off, write_off, write_off_after, write_off_with, ColorText, OffColors, OffExtras};
 use off::{glued_vertex_count, off_keyword};
 use ply::VertexChannels;
 pub use ply::{read_ply, write_ply_ascii, write_ply_binary, write_ply_binary_columns, PlyColumn};

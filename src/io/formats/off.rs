@@ -2,8 +2,9 @@
 //! normals and texture coordinates).
 
 use super::*;
-use crate::io::lines::{push_decimal, push_face, write_numbered_lines};
+use crate::io::lines::{push_decimal, push_face, write_line_ranges, write_numbered_lines};
 use crate::io::number::unreadable_integer;
+use crate::io::obj::{off_vertex_line, VertexLines};
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -595,7 +596,49 @@ fn plain_face_line(lines: &mut Lines, indices: &mut Vec<u32>) -> Option<u64> {
 /// Writes an OFF file; coordinates in shortest round-trip form, so that [`read_off`] gives them back bit
 /// for bit. Non-finite coordinates and out-of-range indices are refused (`InvalidInput`).
 pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> io::Result<()> {
-    write_off_with(w, positions, triangles, &OffExtras::default())
+    write_off_after(w, &VertexLines::default(), positions, triangles)
+}
+
+/// [`write_off`], with the lines of the first vertices given already
+/// formatted (`done`, made by [`VertexLines::new_off`] from those
+/// positions; OBJ's lines are not used). The other vertices' lines and the
+/// faces' are formatted in one run of lines, so both kinds at once on
+/// several cores.
+pub fn write_off_after(
+    w: &mut dyn Write,
+    done: &VertexLines,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+) -> io::Result<()> {
+    check_for_writing(positions, triangles, None)?;
+    let (count, text) = done.text_for(true);
+    write!(w, "OFF\n{} {} 0\n", positions.len(), triangles.len())?;
+    crate::io::lines::write_in_pieces(w, text)?;
+    let rest = &positions[count.min(positions.len())..];
+    let nv = rest.len();
+    write_line_ranges(w, nv + triangles.len(), |lines, buffer| {
+        off_vertex_lines(&rest[lines.start.min(nv)..lines.end.min(nv)], buffer);
+        off_face_lines(&triangles[lines.start.max(nv) - nv..lines.end.max(nv) - nv], buffer);
+    })?;
+    w.flush()
+}
+
+/// Appends the vertex lines of `positions` (a loop of its own, as the face
+/// lines' below, that each block of [`write_off_after`] calls on its part).
+#[inline(never)]
+fn off_vertex_lines(positions: &[[f64; 3]], buffer: &mut Vec<u8>) {
+    for p in positions {
+        off_vertex_line(p, buffer);
+    }
+}
+
+/// Appends the face lines (`3 i j k`, indices from 0) of `triangles`.
+#[inline(never)]
+fn off_face_lines(triangles: &[[u32; 3]], buffer: &mut Vec<u8>) {
+    for t in triangles {
+        push_face(buffer, b'3', t, 0);
+        buffer.push(b'\n');
+    }
 }
 
 /// How [`write_off_with`] writes colour components.
@@ -659,6 +702,9 @@ pub fn write_off_with(
     triangles: &[[u32; 3]],
     extras: &OffExtras,
 ) -> io::Result<()> {
+    if *extras == OffExtras::default() {
+        return write_off(w, positions, triangles);
+    }
     check_for_writing(positions, triangles, None)?;
     let (n, nf) = (positions.len(), triangles.len());
     fn colors(c: &Option<OffColors>) -> Option<(&[f64], usize)> {
@@ -813,5 +859,46 @@ mod tests {
         }
         // Both outcomes are exercised, not only one.
         assert!(read > 1000 && refused > 1000, "{read} read, {refused} refused");
+    }
+
+    #[test]
+    fn lines_formatted_ahead_give_the_same_file() {
+        // The CLI formats the input's vertex lines while refining; the
+        // refined mesh has more vertices after them. Enough lines for the
+        // writer's threads (2^15 and more); OBJ's lines are not taken.
+        let n = 40_000u32;
+        let positions: Vec<[f64; 3]> = (0..n)
+            .map(|i| [i as f64 / 3.0, -0.1 * i as f64, 1e-300 * i as f64])
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..n - 2).map(|i| [i, i + 1, i + 2]).collect();
+        let mut whole = Vec::new();
+        write_off(&mut whole, &positions, &triangles).unwrap();
+        let back = read_off(&whole).unwrap();
+        assert!(back.positions == positions);
+        let corners: Vec<u32> = triangles.iter().flatten().copied().collect();
+        assert_eq!(back.indices, corners);
+        // Line by line: the header, `x y z` in shortest round-trip form,
+        // `3 i j k`.
+        let mut num = zmij::Buffer::new();
+        let mut expected = format!("OFF\n{n} {} 0\n", n - 2);
+        for p in &positions {
+            let xyz: Vec<String> = p.iter().map(|&c| num.format_finite(c).to_string()).collect();
+            expected += &xyz.join(" ");
+            expected.push('\n');
+        }
+        for t in &triangles {
+            expected += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+        }
+        assert!(whole == expected.as_bytes());
+        for ahead in [0, 1, 20, 33_000, n as usize] {
+            for done in [
+                VertexLines::new_off(&positions[..ahead]),
+                VertexLines::new(&positions[..ahead]),
+            ] {
+                let mut after = Vec::new();
+                write_off_after(&mut after, &done, &positions, &triangles).unwrap();
+                assert!(after == whole, "{ahead} lines formatted ahead");
+            }
+        }
     }
 }
