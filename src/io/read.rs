@@ -650,7 +650,8 @@ fn finish_repaired(raw: &RawMesh, path: &Path, options: &RepairOptions, face_num
             format!(
                 ": the weld (--weld-tolerance {}) joined {} vertices and left every face with a repeated vertex or no \
                  area; a smaller distance keeps them",
-                options.weld_tolerance, r.welded_vertices
+                super::number::number_text(options.weld_tolerance),
+                r.welded_vertices
             )
         } else {
             String::new()
