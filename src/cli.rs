@@ -1542,14 +1542,18 @@ fn write_output(
         }
         attributes
     });
+    // The added vertices at shared positions, counted once if asked (a
+    // pass over the added vertices).
+    let shared = std::cell::OnceCell::new();
+    let shared = || *shared.get_or_init(|| surface.added_vertices_at_shared_positions());
     // A stream cannot be taken back once written: there a file that would
     // be refused (below) is found before, by writing it into nothing.
     if let Some(a) = attributes.as_ref().filter(|_| io::is_stream(path)) {
-        if surface.added_vertices_at_shared_positions() > 0 {
+        if shared() > 0 {
             let copies = io::written_with_attributes(format, &surface.positions, &triangles, a)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
                 .copies_of;
-            refuse_shared_positions(path, surface, &triangles, Some(a), &copies)?;
+            refuse_shared_positions(path, surface.positions.len(), shared, &triangles, Some(a), &copies)?;
         }
     }
     let (mut written, staged) = match &attributes {
@@ -1559,7 +1563,14 @@ fn write_output(
         ),
         Some(attributes) => io::stage_mesh_with_attributes(path, &surface.positions, &triangles, attributes)?,
     };
-    refuse_shared_positions(path, surface, &triangles, attributes.as_ref(), &written.copies_of)?;
+    refuse_shared_positions(
+        path,
+        surface.positions.len(),
+        shared,
+        &triangles,
+        attributes.as_ref(),
+        &written.copies_of,
+    )?;
     drop(attributes);
     written.notes.extend(libraries_moved);
     if format == io::Format::Stl {
@@ -1593,14 +1604,16 @@ fn write_output(
 
 /// Refuses the output `path` if the file copies vertices (`copies`, as
 /// [`io::Written::copies_of`]: at seams, or an OBJ's for colours) and added
-/// vertices of `surface` share a position (the sheets of an edge `--repair`
-/// cut, split at one sample): told apart in a file only by their index, they
-/// are read back welded with the copies, and would fail `check`. The line
-/// says whether OBJ is a way out (an OBJ copies a vertex only for its
-/// colours, so not where they differ at a vertex).
+/// vertices of the `n`-vertex surface share a position (`shared()` of them,
+/// [`Surface::added_vertices_at_shared_positions`]: the sheets of an edge
+/// `--repair` cut, split at one sample): told apart in a file only by their
+/// index, they are read back welded with the copies, and would fail
+/// `check`. The line says whether OBJ is a way out (an OBJ copies a vertex
+/// only for its colours, so not where they differ at a vertex).
 fn refuse_shared_positions(
     path: &Path,
-    surface: &Surface,
+    n: usize,
+    shared: impl Fn() -> usize,
     triangles: &[[u32; 3]],
     attributes: Option<&delmesh::attributes::Attributes>,
     copies: &[u32],
@@ -1608,11 +1621,10 @@ fn refuse_shared_positions(
     if copies.is_empty() {
         return Ok(());
     }
-    let shared = surface.added_vertices_at_shared_positions();
+    let shared = shared();
     if shared == 0 {
         return Ok(());
     }
-    let n = surface.positions.len();
     let obj_copies = (attributes.and_then(|a| a.colors.as_ref()))
         .is_some_and(|c| delmesh::attributes::PerVertex::new(n, triangles, &[c]).source.len() > n);
     let format = io::output_format(path);
