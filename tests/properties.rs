@@ -849,10 +849,11 @@ fn run_family_with(family: &str, cases: Vec<Case>, mut tally: Tally) -> Tally {
     if std::env::var_os("PROPERTIES_VERBOSE").is_some() {
         let faces: Vec<usize> = cases.iter().map(|c| c.mesh.triangles.len()).collect();
         eprintln!(
-            "{family}: {} meshes (faces {faces:?}) x 18 = {} runs, {} WorkLimit\n{}",
+            "{family}: {} meshes (faces {faces:?}) x 18 = {} runs, {} WorkLimit, {} Unsplittable\n{}",
             cases.len(),
             tally.runs,
             tally.work_limits,
+            tally.refusals,
             tally.lines.join("\n")
         );
     }
