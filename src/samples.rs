@@ -57,6 +57,10 @@ pub struct EdgeSamples {
     len: f64,
     rho_v: f64,
     step: f64,
+    /// 1/step (0 with one sample): the searches' starting guesses multiply
+    /// by it, where a division would wait for the one before (they run in
+    /// a chain, a dozen a split).
+    inv_step: f64,
     count: u64,
 }
 
@@ -70,6 +74,7 @@ impl EdgeSamples {
                 len,
                 rho_v: len / 2.0,
                 step: 0.0,
+                inv_step: 0.0,
                 count: 1,
             };
         }
@@ -78,6 +83,7 @@ impl EdgeSamples {
             len,
             rho_v: c.rho_v,
             step: inner / n,
+            inv_step: n / inner,
             count: n as u64 + 1,
         }
     }
@@ -111,13 +117,11 @@ impl EdgeSamples {
         (self.rho_v + k as i64 as f64 * self.step) / self.len
     }
 
-    /// The index whose parameter is about `t` (a starting guess for searches).
-    fn guess(&self, t: f64) -> f64 {
-        if self.step > 0.0 {
-            (t * self.len - self.rho_v) / self.step
-        } else {
-            0.0
-        }
+    /// The index of the sample at about distance `d` from the first end (a
+    /// starting guess for searches, whose results do not depend on it).
+    #[inline]
+    fn guess_at(&self, d: f64) -> f64 {
+        (d - self.rho_v) * self.inv_step
     }
 }
 
@@ -316,9 +320,11 @@ impl<'a> Window<'a> {
         };
         let pos = |k: u64| point_on_edge(q.edge_ends[0], q.edge_ends[1], s.t(k));
         // First sample past the low end (in t and in rounded position) ...
-        let first = first_true(s.count, s.guess(t_lo), |k| s.t(k) > t_lo && pos(k) != p_lo);
+        let first = first_true(s.count, s.guess_at(t_lo * s.len), |k| s.t(k) > t_lo && pos(k) != p_lo);
         // ... and first sample at or past the high end.
-        let end = first_true(s.count, s.guess(t_hi), |k| !(s.t(k) < t_hi && pos(k) != p_hi));
+        let end = first_true(s.count, s.guess_at(t_hi * s.len), |k| {
+            !(s.t(k) < t_hi && pos(k) != p_hi)
+        });
         (first < end).then_some(Window {
             samples: q.samples,
             t_a: q.t_a,
@@ -355,15 +361,18 @@ impl<'a> Window<'a> {
         }
     }
 
-    /// Local index about at distance `x` from `a`.
+    /// Local index about at distance `x` from `a` (a starting guess for a
+    /// search).
+    #[inline]
     fn guess(&self, x: f64) -> f64 {
         let s = self.samples;
-        let t = if self.forward {
-            self.t_a + x / s.len
-        } else {
-            self.t_a - x / s.len
-        };
-        let k = s.guess(t);
+        let from_a = if self.forward { x } else { -x };
+        self.local(s.guess_at(self.t_a * s.len + from_a))
+    }
+
+    /// The local index of (real) sample index `k`.
+    #[inline]
+    fn local(&self, k: f64) -> f64 {
         if self.forward {
             k - self.first as f64
         } else {
@@ -372,10 +381,24 @@ impl<'a> Window<'a> {
     }
 
     /// The local index of the sample nearest parameter `t` (clamped to the
-    /// window).
+    /// window). Its guess is the neighbourhood that [`Pieces::choose`]
+    /// searches (`--shells`), so it is computed as it always was, with
+    /// divisions: the same guess, the same choices.
     fn nearest_local(&self, t: f64) -> u64 {
+        let s = self.samples;
         let x = if self.forward { t - self.t_a } else { self.t_a - t };
-        let g = self.guess(x * self.samples.len).round();
+        let x = x * s.len;
+        let t = if self.forward {
+            self.t_a + x / s.len
+        } else {
+            self.t_a - x / s.len
+        };
+        let k = if s.step > 0.0 {
+            (t * s.len - s.rho_v) / s.step
+        } else {
+            0.0
+        };
+        let g = self.local(k).round();
         if g.is_nan() || g <= 0.0 {
             0
         } else {
