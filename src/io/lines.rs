@@ -18,7 +18,10 @@ const DIGIT_PAIRS: [u8; 200] = {
 };
 
 /// Writes the decimal digits of `v` into `buf` from `at`; returns how many.
-#[inline]
+/// Always inlined: the face writers' loops call it three times a line, and
+/// the compiler stopped inlining it there once the loop was shared by OBJ
+/// and OFF (2% more instructions for the armadillo's whole run).
+#[inline(always)]
 pub(crate) fn put_decimal(buf: &mut [u8], at: usize, mut v: u64) -> usize {
     let len = v.checked_ilog10().unwrap_or(0) as usize + 1;
     let mut i = at + len;
@@ -119,6 +122,38 @@ pub(crate) fn write_numbered_lines(
             line(i, buffer);
         }
     })
+}
+
+/// The lines of `vertices`, then those of `triangles`, in one run of lines
+/// ([`write_line_ranges`]), so that both kinds are formatted at once on
+/// several cores: `vertex_line` and `face_line` append one line each (OBJ's
+/// or OFF's). Each kind's part of a block is a loop of its own
+/// ([`each_line`]).
+pub(crate) fn write_vertex_and_face_lines(
+    w: &mut dyn Write,
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    vertex_line: impl Fn(&[f64; 3], &mut Vec<u8>) + Sync + Copy,
+    face_line: impl Fn(&[u32; 3], &mut Vec<u8>) + Sync + Copy,
+) -> std::io::Result<()> {
+    let nv = vertices.len();
+    write_line_ranges(w, nv + triangles.len(), |lines, buffer| {
+        each_line(&vertices[lines.start.min(nv)..lines.end.min(nv)], buffer, vertex_line);
+        each_line(
+            &triangles[lines.start.max(nv) - nv..lines.end.max(nv) - nv],
+            buffer,
+            face_line,
+        );
+    })
+}
+
+/// Appends `line(item, ..)` for each of `items`: one kind of line's loop,
+/// kept out of line so that the line's formatting is inlined into it.
+#[inline(never)]
+fn each_line<T>(items: &[T], buffer: &mut Vec<u8>, line: impl Fn(&T, &mut Vec<u8>)) {
+    for item in items {
+        line(item, buffer);
+    }
 }
 
 /// [`write_numbered_lines`], the lines of each block appended by one call

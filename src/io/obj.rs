@@ -10,7 +10,7 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
-use super::lines::{push_decimal, push_face, write_line_ranges, write_numbered_lines};
+use super::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -1109,28 +1109,7 @@ pub fn write_obj_after(
     // The other vertices' lines and the faces' in one run of lines, so that
     // both kinds are formatted at once on several cores.
     let rest = &positions[count.min(positions.len())..];
-    let nv = rest.len();
-    write_line_ranges(w, nv + triangles.len(), |lines, buffer| {
-        vertex_lines(&rest[lines.start.min(nv)..lines.end.min(nv)], buffer);
-        face_lines(&triangles[lines.start.max(nv) - nv..lines.end.max(nv) - nv], buffer);
-    })
-}
-
-/// Appends the `v` lines of `positions` (a loop of its own, as the face
-/// lines' below, that each block of [`write_obj_after`] calls on its part).
-#[inline(never)]
-fn vertex_lines(positions: &[[f64; 3]], buffer: &mut Vec<u8>) {
-    for p in positions {
-        vertex_line(p, buffer);
-    }
-}
-
-/// Appends the `f` lines of `triangles`.
-#[inline(never)]
-fn face_lines(triangles: &[[u32; 3]], buffer: &mut Vec<u8>) {
-    for t in triangles {
-        face_line(t, buffer);
-    }
+    write_vertex_and_face_lines(w, rest, triangles, vertex_line, face_line)
 }
 
 /// Appends the `f` line of `t` (indices written from 1).

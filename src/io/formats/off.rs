@@ -2,7 +2,7 @@
 //! normals and texture coordinates).
 
 use super::*;
-use crate::io::lines::{push_decimal, push_face, write_line_ranges, write_numbered_lines};
+use crate::io::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines};
 use crate::io::number::unreadable_integer;
 use crate::io::obj::{off_vertex_line, VertexLines};
 
@@ -615,30 +615,15 @@ pub fn write_off_after(
     write!(w, "OFF\n{} {} 0\n", positions.len(), triangles.len())?;
     crate::io::lines::write_in_pieces(w, text)?;
     let rest = &positions[count.min(positions.len())..];
-    let nv = rest.len();
-    write_line_ranges(w, nv + triangles.len(), |lines, buffer| {
-        off_vertex_lines(&rest[lines.start.min(nv)..lines.end.min(nv)], buffer);
-        off_face_lines(&triangles[lines.start.max(nv) - nv..lines.end.max(nv) - nv], buffer);
-    })?;
+    write_vertex_and_face_lines(w, rest, triangles, off_vertex_line, off_face_line)?;
     w.flush()
 }
 
-/// Appends the vertex lines of `positions` (a loop of its own, as the face
-/// lines' below, that each block of [`write_off_after`] calls on its part).
-#[inline(never)]
-fn off_vertex_lines(positions: &[[f64; 3]], buffer: &mut Vec<u8>) {
-    for p in positions {
-        off_vertex_line(p, buffer);
-    }
-}
-
-/// Appends the face lines (`3 i j k`, indices from 0) of `triangles`.
-#[inline(never)]
-fn off_face_lines(triangles: &[[u32; 3]], buffer: &mut Vec<u8>) {
-    for t in triangles {
-        push_face(buffer, b'3', t, 0);
-        buffer.push(b'\n');
-    }
+/// Appends the face line of `t` (`3 i j k`, indices from 0).
+#[inline]
+fn off_face_line(t: &[u32; 3], line: &mut Vec<u8>) {
+    push_face(line, b'3', t, 0);
+    line.push(b'\n');
 }
 
 /// How [`write_off_with`] writes colour components.
