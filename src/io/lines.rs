@@ -124,6 +124,24 @@ pub(crate) fn write_numbered_lines(
     })
 }
 
+/// Appends "x y z" in shortest round-trip form (the coordinates are finite).
+#[inline]
+pub(crate) fn push_xyz(line: &mut Vec<u8>, num: &mut zmij::Buffer, p: &[f64; 3]) {
+    for (k, &c) in p.iter().enumerate() {
+        if k > 0 {
+            line.push(b' ');
+        }
+        line.extend_from_slice(num.format_finite(c).as_bytes());
+    }
+}
+
+/// Appends the line `x y z` of `p`: an OFF vertex line, OBJ's after `v `.
+#[inline]
+pub(crate) fn xyz_line(p: &[f64; 3], line: &mut Vec<u8>) {
+    push_xyz(line, &mut zmij::Buffer::new(), p);
+    line.push(b'\n');
+}
+
 /// The lines of `vertices`, then those of `triangles`, in one run of lines
 /// ([`write_line_ranges`]), so that both kinds are formatted at once on
 /// several cores: `vertex_line` and `face_line` append one line each (OBJ's

@@ -10,7 +10,7 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
-use super::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines};
+use super::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, xyz_line};
 use super::number::{number_text, parse_f64};
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
@@ -1052,7 +1052,7 @@ impl VertexLines {
 
     fn formatted(positions: &[[f64; 3]], off: bool) -> VertexLines {
         let mut text = Vec::with_capacity(64 * positions.len());
-        let line = if off { off_vertex_line } else { vertex_line };
+        let line = if off { xyz_line } else { vertex_line };
         for p in positions {
             line(p, &mut text);
         }
@@ -1078,21 +1078,7 @@ impl VertexLines {
 fn vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
     line.push(b'v');
     line.push(b' ');
-    off_vertex_line(p, line);
-}
-
-/// Appends the OFF vertex line of `p` (OBJ's without `v `): the three
-/// coordinates in shortest round-trip form.
-#[inline]
-pub(crate) fn off_vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
-    let mut fmt = zmij::Buffer::new();
-    for (k, &c) in p.iter().enumerate() {
-        if k > 0 {
-            line.push(b' ');
-        }
-        line.extend_from_slice(fmt.format_finite(c).as_bytes());
-    }
-    line.push(b'\n');
+    xyz_line(p, line);
 }
 
 /// [`write_obj`], with the lines of the first vertices given already

@@ -41,6 +41,7 @@ use std::io::{self, BufWriter, Read, Write};
 
 use crate::attributes::{Attributes, Channel, FaceProperty, Kind, ValueType, VertexProperty, MAX_VERTEX_PROPERTIES};
 use crate::hash::FastMap;
+use crate::io::lines::push_xyz;
 
 /// Reads `N` bytes (`s.len()` must be `N`, which the callers guarantee) in the given byte order
 /// (binary PLY and STL).
@@ -1083,16 +1084,6 @@ fn checked_index(i: i64, f: usize, line: Option<u64>, vertices: usize) -> Result
 // ---------------------------------------------------------------------------
 // What the writers share
 // ---------------------------------------------------------------------------
-
-/// Appends "x y z" in shortest round-trip form (the coordinates are finite).
-fn push_xyz(line: &mut Vec<u8>, num: &mut zmij::Buffer, p: &[f64; 3]) {
-    for (k, &c) in p.iter().enumerate() {
-        if k > 0 {
-            line.push(b' ');
-        }
-        line.extend_from_slice(num.format_finite(c).as_bytes());
-    }
-}
 
 /// The error of a writer asked to write what no reader would take back.
 fn invalid(what: String) -> io::Error {

@@ -2,9 +2,9 @@
 //! normals and texture coordinates).
 
 use super::*;
-use crate::io::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines};
+use crate::io::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, xyz_line};
 use crate::io::number::unreadable_integer;
-use crate::io::obj::{off_vertex_line, VertexLines};
+use crate::io::obj::VertexLines;
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -615,7 +615,7 @@ pub fn write_off_after(
     write!(w, "OFF\n{} {} 0\n", positions.len(), triangles.len())?;
     crate::io::lines::write_in_pieces(w, text)?;
     let rest = &positions[count.min(positions.len())..];
-    write_vertex_and_face_lines(w, rest, triangles, off_vertex_line, off_face_line)?;
+    write_vertex_and_face_lines(w, rest, triangles, xyz_line, off_face_line)?;
     w.flush()
 }
 
