@@ -1244,7 +1244,7 @@ fn run_refined(
     let mut options = args.settings.options(surface.n_input_vertices);
     options.progress = progress::refine_hook();
     progress::phase(Phase::Refine);
-    let mut vertex_lines = io::obj::VertexLines::default();
+    let mut vertex_lines = io::VertexLines::default();
     let mut pruned_settings = 0;
     // (A failed run's record has the seconds it refined.)
     let refine_start = Instant::now();
@@ -1274,10 +1274,7 @@ fn run_refined(
             let lines = ahead
                 .then(|| {
                     let positions: &[[f64; 3]] = bytemuck::cast_slice(&input.positions);
-                    delmesh::parallel::try_spawn(scope, move || match format {
-                        io::Format::Off => io::obj::VertexLines::new_off(positions),
-                        _ => io::obj::VertexLines::new(positions),
-                    })
+                    delmesh::parallel::try_spawn(scope, move || io::VertexLines::new(positions, format))
                 })
                 .flatten();
             let out = refine_once(surface, first_pass, input_path, &options, args.settings.prune());
@@ -1530,7 +1527,7 @@ fn write_output(
     input: &Path,
     surface: &Surface,
     transfer: Option<&Transfer>,
-    done: &io::obj::VertexLines,
+    done: &io::VertexLines,
 ) -> anyhow::Result<(io::Written, io::Staged)> {
     let triangles = surface.triangles();
     let mut libraries_moved = Vec::new();

@@ -5,6 +5,8 @@
 
 use std::io::Write;
 
+use super::Format;
+
 /// "00", "01", .., "99": two digits per division.
 const DIGIT_PAIRS: [u8; 200] = {
     let mut pairs = [0u8; 200];
@@ -140,6 +142,59 @@ pub(crate) fn push_xyz(line: &mut Vec<u8>, num: &mut zmij::Buffer, p: &[f64; 3])
 pub(crate) fn xyz_line(p: &[f64; 3], line: &mut Vec<u8>) {
     push_xyz(line, &mut zmij::Buffer::new(), p);
     line.push(b'\n');
+}
+
+/// Appends the OBJ line `v x y z` of `p`.
+#[inline]
+pub(crate) fn obj_vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
+    line.push(b'v');
+    line.push(b' ');
+    xyz_line(p, line);
+}
+
+/// The vertex lines of the first vertices of a mesh, formatted ahead of
+/// time for an OBJ (`v x y z`) or OFF (`x y z`) file: the CLI formats the
+/// input's vertices (which refining never moves) on a spare core while the
+/// main thread refines. A writer of another format than the lines' formats
+/// every line itself.
+#[derive(Clone, Debug, Default)]
+pub struct VertexLines {
+    count: usize,
+    text: Vec<u8>,
+    /// [`Format::Obj`] or [`Format::Off`]; none for the default (no
+    /// lines) or a binary format.
+    format: Option<Format>,
+}
+
+impl VertexLines {
+    /// The vertex lines of `positions`, exactly as the writer of `format`
+    /// writes them ([`super::obj::write_obj`], [`super::formats::write_off`]);
+    /// none for a binary format (PLY, STL), which has no lines.
+    pub fn new(positions: &[[f64; 3]], format: Format) -> VertexLines {
+        let line = match format {
+            Format::Obj => obj_vertex_line,
+            Format::Off => xyz_line,
+            Format::Ply | Format::Stl => return VertexLines::default(),
+        };
+        let mut text = Vec::with_capacity(64 * positions.len());
+        for p in positions {
+            line(p, &mut text);
+        }
+        VertexLines {
+            count: positions.len(),
+            text,
+            format: Some(format),
+        }
+    }
+
+    /// The lines formatted, and how many, if they are `format`'s: else none
+    /// (the writer formats them all).
+    pub(crate) fn text_for(&self, format: Format) -> (usize, &[u8]) {
+        match self.format == Some(format) {
+            true => (self.count, &self.text),
+            false => (0, &[]),
+        }
+    }
 }
 
 /// The lines of `vertices`, then those of `triangles`, in one run of lines

@@ -45,3 +45,4 @@ pub use write::{
 };
 
 pub use formats::{Format, FormatError, Numbering, OriginKind, PlyColumn, RawMesh};
+pub use lines::VertexLines;

@@ -10,8 +10,11 @@
 use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
-use super::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, xyz_line};
+use super::lines::{
+    obj_vertex_line, push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, VertexLines,
+};
 use super::number::{number_text, parse_f64};
+use super::Format;
 use crate::attributes::{Attributes, Channel, Group, Kind, PerVertex, NO_VALUE};
 use crate::hash::FastMap;
 
@@ -1025,62 +1028,6 @@ pub fn write_obj(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
     write_obj_after(w, &VertexLines::default(), positions, triangles)
 }
 
-/// The vertex lines of the first vertices of a mesh, formatted ahead of
-/// time: the CLI formats the input's vertices (which refining never moves)
-/// on a spare core while the main thread refines. OBJ's lines (`v x y z`,
-/// [`VertexLines::new`]) or OFF's (`x y z`, [`VertexLines::new_off`]); a
-/// writer given the other kind's formats every line itself.
-#[derive(Clone, Debug, Default)]
-pub struct VertexLines {
-    count: usize,
-    text: Vec<u8>,
-    /// OFF's lines (no `v`), not OBJ's.
-    off: bool,
-}
-
-impl VertexLines {
-    /// The `v` lines of `positions`, exactly as [`write_obj`] writes them.
-    pub fn new(positions: &[[f64; 3]]) -> VertexLines {
-        Self::formatted(positions, false)
-    }
-
-    /// The vertex lines of `positions`, exactly as
-    /// [`super::formats::write_off`] writes them.
-    pub fn new_off(positions: &[[f64; 3]]) -> VertexLines {
-        Self::formatted(positions, true)
-    }
-
-    fn formatted(positions: &[[f64; 3]], off: bool) -> VertexLines {
-        let mut text = Vec::with_capacity(64 * positions.len());
-        let line = if off { xyz_line } else { vertex_line };
-        for p in positions {
-            line(p, &mut text);
-        }
-        VertexLines {
-            count: positions.len(),
-            text,
-            off,
-        }
-    }
-
-    /// The lines formatted, and how many, if they are OFF's (`off`) or
-    /// OBJ's: else none (the writer formats them all).
-    pub(crate) fn text_for(&self, off: bool) -> (usize, &[u8]) {
-        match self.off == off {
-            true => (self.count, &self.text),
-            false => (0, &[]),
-        }
-    }
-}
-
-/// Appends the `v` line of `p`.
-#[inline]
-fn vertex_line(p: &[f64; 3], line: &mut Vec<u8>) {
-    line.push(b'v');
-    line.push(b' ');
-    xyz_line(p, line);
-}
-
 /// [`write_obj`], with the lines of the first vertices given already
 /// formatted (`done`, which must have been made from those positions).
 pub fn write_obj_after(
@@ -1090,12 +1037,12 @@ pub fn write_obj_after(
     triangles: &[[u32; 3]],
 ) -> std::io::Result<()> {
     super::formats::check_for_writing(positions, triangles, None)?;
-    let (count, text) = done.text_for(false);
+    let (count, text) = done.text_for(Format::Obj);
     super::lines::write_in_pieces(w, text)?;
     // The other vertices' lines and the faces' in one run of lines, so that
     // both kinds are formatted at once on several cores.
     let rest = &positions[count.min(positions.len())..];
-    write_vertex_and_face_lines(w, rest, triangles, vertex_line, face_line)
+    write_vertex_and_face_lines(w, rest, triangles, obj_vertex_line, face_line)
 }
 
 /// Appends the `f` line of `t` (indices written from 1).
@@ -1566,7 +1513,7 @@ mod tests {
             let mut after = Vec::new();
             write_obj_after(
                 &mut after,
-                &VertexLines::new(&positions[..ahead]),
+                &VertexLines::new(&positions[..ahead], Format::Obj),
                 &positions,
                 &triangles,
             )

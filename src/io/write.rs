@@ -151,25 +151,19 @@ pub fn drop_attributes_format_cannot_hold(input: &mut InputMesh, format: Format,
 /// Writes a triangle mesh atomically, in the format of `path`'s extension
 /// (OBJ, OFF, PLY binary, STL binary; OBJ when the extension says nothing).
 pub fn write_mesh(path: &Path, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
-    write_mesh_after(path, &obj::VertexLines::default(), positions, triangles)
+    write_mesh_after(path, &VertexLines::default(), positions, triangles)
 }
 
 /// [`write_mesh`], with the vertex lines of the first vertices formatted
-/// already (used only if `path` names an OBJ file and `done` holds OBJ's
-/// lines, or an OFF file and OFF's).
-pub fn write_mesh_after(
-    path: &Path,
-    done: &obj::VertexLines,
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-) -> Result<()> {
+/// already (used only if `done` holds the lines of `path`'s format).
+pub fn write_mesh_after(path: &Path, done: &VertexLines, positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<()> {
     stage_mesh_after(path, done, positions, triangles)?.commit()
 }
 
 /// [`write_mesh_after`], staged ([`stage`]): not yet renamed into place.
 pub fn stage_mesh_after(
     path: &Path,
-    done: &obj::VertexLines,
+    done: &VertexLines,
     positions: &[DVec3],
     triangles: &[[u32; 3]],
 ) -> Result<Staged> {

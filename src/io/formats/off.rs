@@ -2,9 +2,10 @@
 //! normals and texture coordinates).
 
 use super::*;
-use crate::io::lines::{push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, xyz_line};
+use crate::io::lines::{
+    push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, xyz_line, VertexLines,
+};
 use crate::io::number::unreadable_integer;
-use crate::io::obj::VertexLines;
 
 /// What the prefixes of an OFF keyword say (`[ST][C][N][4][n]OFF`): the
 /// vertex lines give texture coordinates (`ST`), a colour (`C`) and a
@@ -600,8 +601,8 @@ pub fn write_off(w: &mut dyn Write, positions: &[[f64; 3]], triangles: &[[u32; 3
 }
 
 /// [`write_off`], with the lines of the first vertices given already
-/// formatted (`done`, made by [`VertexLines::new_off`] from those
-/// positions; OBJ's lines are not used). The other vertices' lines and the
+/// formatted (`done`, made by [`VertexLines::new`] from those positions for
+/// [`Format::Off`]; OBJ's lines are not used). The other vertices' lines and the
 /// faces' are formatted in one run of lines, so both kinds at once on
 /// several cores.
 pub fn write_off_after(
@@ -611,7 +612,7 @@ pub fn write_off_after(
     triangles: &[[u32; 3]],
 ) -> io::Result<()> {
     check_for_writing(positions, triangles, None)?;
-    let (count, text) = done.text_for(true);
+    let (count, text) = done.text_for(Format::Off);
     write!(w, "OFF\n{} {} 0\n", positions.len(), triangles.len())?;
     crate::io::lines::write_in_pieces(w, text)?;
     let rest = &positions[count.min(positions.len())..];
@@ -877,8 +878,8 @@ mod tests {
         assert!(whole == expected.as_bytes());
         for ahead in [0, 1, 20, 33_000, n as usize] {
             for done in [
-                VertexLines::new_off(&positions[..ahead]),
-                VertexLines::new(&positions[..ahead]),
+                VertexLines::new(&positions[..ahead], Format::Off),
+                VertexLines::new(&positions[..ahead], Format::Obj),
             ] {
                 let mut after = Vec::new();
                 write_off_after(&mut after, &done, &positions, &triangles).unwrap();
