@@ -1,7 +1,9 @@
 //! Text output on both cores: [`write_numbered_lines`] formats blocks of lines on
 //! worker threads while the calling thread writes the finished ones in
 //! order (the bytes are those of a sequential loop), and [`put_decimal`]
-//! writes an index's digits without `fmt`. Shared by the OBJ and OFF writers.
+//! writes an index's digits without `fmt`; the vertex and face lines, and
+//! the input's vertex lines formatted ahead while refining
+//! ([`VertexLines`]). Shared by the OBJ and OFF writers.
 
 use std::io::Write;
 
