@@ -29,6 +29,56 @@ pub const ALGORITHM_TOLERANCE: f64 = 1e-10;
 pub const SEED_TOLERANCE: f64 = 5e-10;
 const _: () = assert!(ALGORITHM_TOLERANCE <= SEED_TOLERANCE && SEED_TOLERANCE < ACCEPT_TOLERANCE);
 
+/// sin(atan2(`y`, `x`)) = y / √(x² + y²) for `y` ≥ 0, correctly rounded
+/// (but in cases within about 2⁻¹⁰⁰ of halfway between two doubles), and so
+/// the same on every platform: `sin` and `atan2` are not correctly rounded,
+/// and their last bit differs between C libraries (glibc's `sin(atan2(y,
+/// x))` is one unit in the last place off in about a quarter of cases, and
+/// musl's differently). The sample constants derive from it, so every build
+/// places the same samples.
+///
+/// Both are scaled by a power of two (exactly), then x² + y², its square
+/// root and the quotient are carried in double-double arithmetic (a pair
+/// `hi + lo` of doubles; products' rounding errors from `mul_add`, which is
+/// exact by definition on every platform).
+pub fn sine_of_direction(y: f64, x: f64) -> f64 {
+    let m = y.max(x.abs());
+    if m == 0.0 || !m.is_finite() {
+        // No direction (0, 0), or infinite or NaN parts: as the libm would.
+        return y.atan2(x).sin();
+    }
+    // The largest part scaled into [1, 2), by powers of two (exact; a part
+    // far smaller may lose bits to underflow, below what affects the
+    // result). Subnormal parts are first scaled up.
+    let (mut y, mut x, mut m) = (y, x, m);
+    if m < f64::MIN_POSITIVE {
+        let up = f64::from_bits((1023 + 600) << 52); // 2^600
+        (y, x, m) = (y * up, x * up, m * up);
+    }
+    let e = ((m.to_bits() >> 52) & 0x7ff) as i64 - 1023; // m in [2^e, 2^(e+1))
+    let half = |k: i64| f64::from_bits(((1023 - k) as u64) << 52); // 2^-k, |k| ≤ 600
+    let (a, b) = (e / 2, e - e / 2);
+    let (y, x) = (y * half(a) * half(b), x * half(a) * half(b));
+    // q = x² + y², as qh + ql.
+    let two_sum = |a: f64, b: f64| {
+        let s = a + b;
+        let bb = s - a;
+        (s, (a - (s - bb)) + (b - bb))
+    };
+    let (xx, yy) = (x * x, y * y);
+    let (xe, ye) = (x.mul_add(x, -xx), y.mul_add(y, -yy));
+    let (sh, sl) = two_sum(xx, yy);
+    let (qh, ql) = two_sum(sh, sl + xe + ye);
+    // r = √q, as rh + rl: one Newton step from the double square root.
+    let r = qh.sqrt();
+    let (rr, rre) = (r * r, r.mul_add(r, -(r * r)));
+    let (rh, rl) = two_sum(r, ((qh - rr) - rre + ql) / (2.0 * r));
+    // y / r: the quotient and its remainder (y − th·rh is exact by fma).
+    let th = y / rh;
+    let rest = (-th).mul_add(rh, y) - th * rl;
+    th + rest / rh
+}
+
 /// The angle at `c` in triangle (a, b, c), i.e. between `a - c` and `b - c`,
 /// in [0, π]. Accurate for needle triangles too (atan2 of cross and dot).
 pub fn corner_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
@@ -68,6 +118,42 @@ fn excess_from_vectors([u1, v1, u2, v2]: [DVec3; 4]) -> (f64, f64) {
 pub fn delaunay_excess(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     let (y, x) = excess_sin_cos(a, b, c, d);
     y.atan2(x)
+}
+
+/// A key that orders directions `(x, y)` as `atan2(y, x)` does, compared
+/// with [`direction_cmp`]: the half-plane (y < 0, or −0, first), then −x/y,
+/// which grows with the angle in each half. No `atan2`, whose last bit
+/// differs between C libraries, so every platform decides alike; one
+/// division, correctly rounded, so two directions tie only where their
+/// angles agree to about 1e-16 of the angle itself near 0 and π (where
+/// nearly folded faces meet) as elsewhere. Zero vectors key as atan2's
+/// signed zeros make them (0, π, −0 or −π).
+/// `--repair` sorts the faces around an edge by it, and polygons compare
+/// Delaunay excesses by it ([`excess_order`]).
+pub fn direction_key(y: f64, x: f64) -> (bool, f64) {
+    if x == 0.0 && y == 0.0 {
+        // As atan2's signed zeros: (±0, +0) at ±0, (±0, −0) at ±π.
+        let end = if x.is_sign_negative() != y.is_sign_negative() {
+            f64::INFINITY
+        } else {
+            f64::NEG_INFINITY
+        };
+        return (!y.is_sign_negative(), end);
+    }
+    // + 0.0: −0 and 0 (x = ±0, angle ±π/2) alike.
+    (!y.is_sign_negative(), -x / y + 0.0)
+}
+
+/// The order of two [`direction_key`]s.
+pub fn direction_cmp(a: (bool, f64), b: (bool, f64)) -> std::cmp::Ordering {
+    a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
+}
+
+/// A key that orders edges by α + β − π as [`delaunay_excess`] does
+/// ([`direction_key`], compared by [`direction_cmp`]), without `atan2`.
+pub fn excess_order(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (bool, f64) {
+    let (y, x) = excess_sin_cos(a, b, c, d);
+    direction_key(y, x)
 }
 
 /// Whether `(y, x)` from [`excess_sin_cos`] means α + β − π > `tolerance`
@@ -869,6 +955,120 @@ pub mod exact {
 mod tests {
     use super::*;
     use crate::test_rng::Rng;
+
+    /// (y, x, correctly rounded y/√(x² + y²)): the smallest corners of the
+    /// shared meshes and `data/`, then extreme scales.
+    const SINES: [(f64, f64, f64); 19] = [
+        (8.883849183338587e-05, 0.30704595268293, 0.0002893328745701901), // anchor.obj
+        (0.35835467338507315, 4.562287190999999, 0.07830596477079604),    // armadillo.obj
+        (0.04550338966089142, 0.1941366177380001, 0.22820377754662696),   // bunny.obj (glibc sin∘atan2 one off)
+        (0.0006507902559625789, 0.0011267989048100002, 0.5001340621546846), // elephant.obj
+        (5.6372690196583414e-05, 0.00018725999999999983, 0.28826109994582044), // fandisk.obj
+        (0.0003461668878494586, 0.001296427114679, 0.25797781166163486),  // knot.obj (glibc sin∘atan2 one off)
+        (4.088097239321824e-05, 112.8364585101, 3.623028667596502e-07),   // mpi_triang.obj
+        (0.07676785796680943, 0.41060488962400005, 0.1837784356502932),   // nefertiti.obj (glibc sin∘atan2 one off)
+        (0.0006755493518115572, 0.0496147245347, 0.013614642544939024),   // rotor.obj (glibc sin∘atan2 one off)
+        (0.3, 2.0, 0.14834045293024462),                                  // cube.obj (glibc sin∘atan2 one off)
+        (0.059593229481208695, 4.0, 0.01489665423460109), // oval_cylinder_smooth_normals.obj (glibc sin∘atan2 one off)
+        (0.005157102890488694, 1.4264575344441892, 0.0036152980815795446), // terrain-utm.obj (glibc sin∘atan2 one off)
+        (5e-324, 1.0, 5e-324),                            // extreme
+        (1.0, 5e-324, 1.0),                               // extreme
+        (1e+308, 1.7e+308, 0.5070201265633939),           // extreme (glibc sin∘atan2 one off)
+        (3e-310, 1e-309, 0.2873478855663441),             // extreme
+        (1e-200, 1e+150, 0.0),                            // extreme
+        (0.7, -0.2, 0.9615239476408232),                  // extreme
+        (3.0, 4.0, 0.6),                                  // extreme
+    ];
+
+    /// The direction key sorts directions as atan2 does: at the axes and
+    /// diagonals, signed zeros included, and over random directions at
+    /// every scale and close to the axes wherever the two angles differ by
+    /// more than rounding.
+    #[test]
+    fn direction_keys_order_as_atan2() {
+        let dirs = [
+            (-1.0, -0.0),
+            (-1.0, -1.0),
+            (-0.0, -1.0),
+            (1.0, -1.0),
+            (1.0, -0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (-1.0, 1.0),
+            (-1.0, 0.0),
+        ];
+        for w in dirs.windows(2) {
+            let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+            let expected = f64::atan2(y0, x0).total_cmp(&f64::atan2(y1, x1));
+            assert_eq!(
+                direction_cmp(direction_key(y0, x0), direction_key(y1, x1)),
+                expected,
+                "{w:?}"
+            );
+        }
+        for (y, x) in [(0.0, 0.0), (0.0, -0.0), (-0.0, 0.0), (-0.0, -0.0)] {
+            for (y1, x1) in [
+                (1.0, -1.0),
+                (-1.0, -1.0),
+                (1e-300, 1.0),
+                (-1e-300, 1.0),
+                (0.0, -1.0),
+                (-0.0, -1.0),
+            ] {
+                let expected = f64::atan2(y, x).total_cmp(&f64::atan2(y1, x1));
+                let got = direction_cmp(direction_key(y, x), direction_key(y1, x1));
+                assert_eq!(got, expected, "({y}, {x}) against ({y1}, {x1})");
+            }
+        }
+        let mut rng = Rng(0x00a1_71e5);
+        let mut dirs: Vec<(f64, f64)> = (0..6000)
+            .map(|i| {
+                let s = 2f64.powi(rng.below(600) as i32 - 300);
+                let (x, y) = (rng.centered() * s, rng.centered() * s);
+                // A third of them within 1e-12 of an axis.
+                match i % 3 {
+                    0 => (x, y),
+                    1 => (x, y * 1e-12 * rng.centered()),
+                    _ => (x * 1e-12 * rng.centered(), y),
+                }
+            })
+            .collect();
+        dirs.sort_by(|a, b| a.1.atan2(a.0).total_cmp(&b.1.atan2(b.0)));
+        for w in dirs.windows(2) {
+            let (a, b) = (w[0].1.atan2(w[0].0), w[1].1.atan2(w[1].0));
+            if b - a > 4.0 * f64::EPSILON * a.abs().max(b.abs()) {
+                let (ka, kb) = (direction_key(w[0].1, w[0].0), direction_key(w[1].1, w[1].0));
+                assert!(direction_cmp(ka, kb).is_lt(), "{w:?}");
+            }
+        }
+    }
+
+    /// `sine_of_direction` is correctly rounded (the values below are the
+    /// exact y/√(x² + y²) rounded to the nearest double, by 60-digit
+    /// decimal arithmetic), including the pairs where glibc's
+    /// `sin(atan2(y, x))` is one unit off, at extreme scales, and within
+    /// 2 ulp of `sin(atan2)` on random acute directions (obtuse ones lose
+    /// accuracy in atan2 near π).
+    #[test]
+    fn sine_of_direction_is_correctly_rounded() {
+        for (y, x, sine) in SINES {
+            assert_eq!(sine_of_direction(y, x).to_bits(), sine.to_bits(), "({y:e}, {x:e})");
+        }
+        assert_eq!(sine_of_direction(1.0, 0.0), 1.0);
+        assert_eq!(sine_of_direction(0.0, 1.0), 0.0);
+        let mut rng = Rng(0x51_7e5);
+        for _ in 0..10_000 {
+            let s = 2f64.powi(rng.below(1200) as i32 - 600);
+            let (y, x) = (rng.centered().abs() * s, rng.centered().abs() * s);
+            let (ours, libm) = (sine_of_direction(y, x), y.atan2(x).sin());
+            assert!(
+                (ours - libm).abs() <= 2.0 * f64::EPSILON * libm.abs().max(f64::MIN_POSITIVE),
+                "({y:e}, {x:e})"
+            );
+        }
+    }
+
     use std::f64::consts::PI;
 
     #[test]

@@ -240,7 +240,7 @@ impl Ds {
 /// shortest edge.
 pub fn sample_constants(surface: &Surface) -> SampleConstants {
     let f = surface.input_figures;
-    SampleConstants::new(f.min_angle, f.min_edge)
+    SampleConstants::with_sine(f.min_angle, f.min_angle_sin, f.min_edge)
 }
 
 /// The six conditions of splitting the interior edge `e` = (a, b), taken from

@@ -881,14 +881,17 @@ fn angular_order(positions: &[[f64; 3]], verts: &[[u32; 3]], members: &[usize]) 
     let x_dir = sub(&r0, &scale(&axis, dot(&r0, &axis) / axis_len2));
     let y_dir = cross(&axis, &x_dir); // |y_dir| = |axis| |x_dir|
     let axis_len = axis_len2.sqrt();
-    let mut keyed: Vec<(f64, usize)> = members
+    let mut keyed: Vec<((bool, f64), usize)> = members
         .iter()
         .map(|&e| {
             let r = sub(&positions[opposite_vertex(verts, e)], origin);
-            (dot(&r, &y_dir).atan2(axis_len * dot(&r, &x_dir)), e)
+            (
+                crate::geometry::direction_key(dot(&r, &y_dir), axis_len * dot(&r, &x_dir)),
+                e,
+            )
         })
         .collect();
-    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    keyed.sort_by(|a, b| crate::geometry::direction_cmp(a.0, b.0).then(a.1.cmp(&b.1)));
     keyed.into_iter().map(|(_, e)| e).collect()
 }
 

@@ -31,7 +31,13 @@ impl SampleConstants {
     /// The constants for a mesh with smallest angle `theta_min` and shortest
     /// edge `l_min`.
     pub fn new(theta_min: f64, l_min: f64) -> Self {
-        let s = theta_min.sin();
+        Self::with_sine(theta_min, theta_min.sin(), l_min)
+    }
+
+    /// [`SampleConstants::new`], given sin θ_min as well (as
+    /// [`crate::mesh::InputFigures::min_angle_sin`] computes it, the same on
+    /// every platform, where `sin`'s last bit depends on the C library).
+    pub fn with_sine(theta_min: f64, s: f64, l_min: f64) -> Self {
         let rho_v = (l_min * s / (0.5 + s)).min(l_min / 2.0);
         let rho_e = 2.0 * rho_v * s;
         SampleConstants {
@@ -659,9 +665,21 @@ pub fn shell_target(q: &SplitQuery) -> f64 {
     if (lo == 0.0) == (hi == 1.0) || !(rho_v > 0.0 && len > 0.0) {
         return (lo + hi) / 2.0;
     }
-    // 2^k nearest len / (2 ρ_v) on a log scale.
-    let k = (len / (2.0 * rho_v)).log2().round().max(0.0);
-    let d = rho_v * k.exp2();
+    // 2^k nearest r = len / (2 ρ_v) on a log scale, k ≥ 0, exactly (no
+    // `log2`, whose last bit differs between C libraries): with
+    // 2^e ≤ r < 2^(e + 1), k = e + 1 where r ≥ 2^e·√2, else e. (No double
+    // lies between 2^e·√2 and 2^e·`SQRT_2`, its rounding upwards.)
+    let r = len / (2.0 * rho_v);
+    if !r.is_finite() {
+        return (lo + hi) / 2.0; // ρ_v far below the sub-edge: no sample inside
+    }
+    let k = if r < 1.0 {
+        0
+    } else {
+        let e = ((r.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+        e + (r >= std::f64::consts::SQRT_2 * 2f64.powi(e)) as i32
+    };
+    let d = rho_v * 2f64.powi(k);
     if d >= len {
         return (lo + hi) / 2.0; // no sample inside anyway
     }

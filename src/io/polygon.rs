@@ -49,7 +49,7 @@
 
 use glam::DVec3;
 
-use crate::geometry::{delaunay_excess, delaunay_test, orient2d_sign, DelaunayTest, SEED_TOLERANCE};
+use crate::geometry::{delaunay_test, direction_cmp, excess_order, orient2d_sign, DelaunayTest, SEED_TOLERANCE};
 
 /// How many corners are tried as the fan's apex, at most: a large polygon
 /// that no early corner sees whole is not star-shaped from any of them in
@@ -113,7 +113,7 @@ pub fn quad_apex(corner: &impl Fn(usize) -> [f64; 3]) -> usize {
     if delaunay_test(c0, c2, c1, c3, SEED_TOLERANCE) != DelaunayTest::NonDelaunay {
         return 0;
     }
-    usize::from(delaunay_excess(c1, c3, c2, c0) < delaunay_excess(c0, c2, c1, c3))
+    usize::from(direction_cmp(excess_order(c1, c3, c2, c0), excess_order(c0, c2, c1, c3)).is_lt())
 }
 
 /// [`fan`]'s apex alone.
@@ -377,7 +377,11 @@ fn delaunay_flips(n: usize, corner: &impl Fn(usize) -> [f64; 3], t: &mut [[usize
             continue;
         }
         if delaunay_test(p[a], p[b], p[c], p[d], SEED_TOLERANCE) != DelaunayTest::NonDelaunay
-            || delaunay_excess(p[c], p[d], p[b], p[a]) >= delaunay_excess(p[a], p[b], p[c], p[d])
+            || direction_cmp(
+                excess_order(p[c], p[d], p[b], p[a]),
+                excess_order(p[a], p[b], p[c], p[d]),
+            )
+            .is_ge()
         {
             continue;
         }
@@ -564,6 +568,7 @@ fn length(a: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::delaunay_excess;
 
     #[test]
     fn a_triangle_is_its_own_fan() {

@@ -145,6 +145,11 @@ pub struct Surface {
 pub struct InputFigures {
     /// Smallest corner angle, radians.
     pub min_angle: f64,
+    /// The sine of [`InputFigures::min_angle`], correctly rounded from the
+    /// corner's vectors ([`crate::geometry::sine_of_direction`]: the same on
+    /// every platform, where `sin` and `atan2` differ in their last bit
+    /// between C libraries): the sample constants derive from it.
+    pub min_angle_sin: f64,
     /// Shortest edge.
     pub min_edge: f64,
     /// Longest edge.
@@ -345,6 +350,7 @@ impl Surface {
             flat_edges_apart: 0,
             input_figures: InputFigures {
                 min_angle: 0.0,
+                min_angle_sin: 0.0,
                 min_edge: 0.0,
                 max_edge: 0.0,
                 diagonal: 0.0,
@@ -949,6 +955,7 @@ impl Surface {
         } else {
             best_sin.atan2(best_cos)
         };
+        let min_angle_sin = crate::geometry::sine_of_direction(best_sin, best_cos);
         // Minima, maxima and counts are exact, so the ranges combine in any
         // order.
         let boxes = crate::parallel::map_ranges(self.positions.len(), |r| {
@@ -994,6 +1001,7 @@ impl Surface {
         };
         InputFigures {
             min_angle,
+            min_angle_sin,
             min_edge,
             max_edge,
             diagonal,
