@@ -15,8 +15,9 @@
 # against sequential (--jobs 1), and --prune on the armadillo and the
 # dragon at 202k faces. Then every mesh of ../shared/meshes that
 # ../shared/reference/peers.md times, against those figures, with the
-# default build and with the statically linked one (built into
-# target/static, README: Performance). Timings are never asserted.
+# default build and with a statically linked one (the musl build where its
+# target is installed, else glibc's; built into target/static, README:
+# Performance). Timings are never asserted.
 # DELMESH_BIN=path measures that binary instead of building
 # target/release/delmesh (and no static one).
 set -euo pipefail
@@ -30,16 +31,27 @@ if [ -n "${DELMESH_BIN:-}" ]; then
 else
   cargo build --release --quiet
   bin=${CARGO_TARGET_DIR:-$PWD/target}/release/delmesh
-  # The statically linked build of the README (Performance), in a target
+  # A statically linked build of the README (Performance), in a target
   # folder of its own so that it leaves the default build alone: the peer
   # table below times both (a process starts sooner without the dynamic
-  # loader). Skipped, with a note and the build's last error line, if it
-  # fails (as where glibc's static libraries are missing).
+  # loader). The musl build where its target is installed, else glibc's
+  # static build at a fixed address. Skipped, with a note and the build's
+  # last error line, if it fails (as where glibc's static libraries are
+  # missing).
   static_dir=${CARGO_TARGET_DIR:-$PWD/target}/static
-  if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- \
-    -C target-feature=+crt-static -C relocation-model=static \
-    2>"$out/static.err"; then
-    static_bin=$static_dir/release/delmesh
+  if rustup target list --installed 2>/dev/null | grep -qx x86_64-unknown-linux-musl; then
+    static_kind="the musl build"
+    if CARGO_TARGET_DIR=$static_dir cargo build --release --quiet --bin delmesh \
+      --target x86_64-unknown-linux-musl 2>"$out/static.err"; then
+      static_bin=$static_dir/x86_64-unknown-linux-musl/release/delmesh
+    fi
+  else
+    static_kind="glibc, statically linked at a fixed address"
+    if CARGO_TARGET_DIR=$static_dir cargo rustc --release --quiet --bin delmesh -- \
+      -C target-feature=+crt-static -C relocation-model=static \
+      2>"$out/static.err"; then
+      static_bin=$static_dir/release/delmesh
+    fi
   fi
 fi
 # Timed from fresh copies, as an installed binary is run (`cargo install`
@@ -175,7 +187,9 @@ while read -r name prefine ptotal; do
     printf ' | %12s %8s\n' - -
   fi
 done <<< "$peers"
-if [ -z "$static_bin" ]; then
+if [ -n "$static_bin" ]; then
+  echo "(static-total: $static_kind)"
+else
   if [ -n "${DELMESH_BIN:-}" ]; then
     echo "(static-total: not measured with DELMESH_BIN)"
   else

@@ -1,7 +1,9 @@
 //! The `delmesh` command line; see `delmesh --help` and README.md.
 
 mod cli;
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[cfg(target_arch = "x86_64")]
+mod copy;
+#[cfg(target_os = "linux")]
 mod memory;
 mod progress;
 mod stats_json;
@@ -10,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Lack of memory ends a run with one line and exit status 1, its
 /// temporary files removed ([`memory`]).
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[cfg(target_os = "linux")]
 #[global_allocator]
 static ALLOCATOR: memory::Allocator = memory::Allocator;
 
@@ -23,9 +25,9 @@ fn main() -> std::process::ExitCode {
 /// Names `path` as the file being worked on, for the line an exit for lack
 /// of memory prints ([`memory::set_subject`]).
 pub(crate) fn working_on(path: &std::path::Path) {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    #[cfg(target_os = "linux")]
     memory::set_subject(path);
-    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    #[cfg(not(target_os = "linux"))]
     let _ = path;
 }
 
@@ -43,7 +45,7 @@ pub(crate) fn stdout_closed() -> bool {
 
 /// Notes [`STDOUT_CLOSED`]: run by the C library before `main`, hence
 /// before Rust's runtime fills the gap.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array"]
 static NOTE_CLOSED_STDOUT: extern "C" fn() = {
@@ -68,7 +70,7 @@ static NOTE_CLOSED_STDOUT: extern "C" fn() = {
 /// A file size limit's SIGXFSZ (`ulimit -f`) is ignored instead: a write
 /// past the limit then fails with "File too large", which ends the run
 /// like a full disk, with one line and exit status 1.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[cfg(target_os = "linux")]
 fn remove_temporary_files_on_signals() {
     // SAFETY: sets a signal's disposition; called before any other thread
     // exists.
@@ -111,7 +113,7 @@ fn remove_temporary_files_on_signals() {
     }
 }
 
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+#[cfg(not(target_os = "linux"))]
 fn remove_temporary_files_on_signals() {}
 
 /// glibc's malloc hands blocks above 128 KiB back to the kernel when they are

@@ -19,15 +19,33 @@ use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
 /// The system allocator; when it has no memory to give, the run ends as
 /// the module says instead of aborting. (The check is one comparison: the
-/// armadillo's run takes the same time.)
+/// armadillo's run takes the same time.) With musl, blocks of
+/// [`large::MIN`] bytes or more come from [`large`] instead.
 pub struct Allocator;
 
-// SAFETY: every call is the system allocator's, with the same arguments;
-// a null result (no memory) never returns.
+/// Whether `layout` is served by [`large`]: with musl, from
+/// [`large::MIN`] bytes on, at most that aligned (its blocks are aligned
+/// to their class's size, or to a page). Decided by the layout alone, as
+/// each call repeats it, so a block goes back to the allocator it came
+/// from. (Compiled for glibc too, where it is always false, so that every
+/// build checks the code.)
+#[inline(always)]
+fn is_large(layout: &Layout) -> bool {
+    cfg!(target_env = "musl") && layout.size() >= large::MIN && layout.align() <= large::MIN
+}
+
+// SAFETY: every call is the system allocator's, with the same arguments, or
+// [`large`]'s for the layouts `is_large` gives it (and a block is freed or
+// resized with the layout it was made with); a null result (no memory)
+// never returns.
 unsafe impl GlobalAlloc for Allocator {
     #[inline]
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = System.alloc(layout);
+        let p = if is_large(&layout) {
+            large::alloc(layout.size(), false)
+        } else {
+            System.alloc(layout)
+        };
         if p.is_null() {
             out_of_memory(layout.size());
         }
@@ -36,7 +54,11 @@ unsafe impl GlobalAlloc for Allocator {
 
     #[inline]
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        let p = System.alloc_zeroed(layout);
+        let p = if is_large(&layout) {
+            large::alloc(layout.size(), true)
+        } else {
+            System.alloc_zeroed(layout)
+        };
         if p.is_null() {
             out_of_memory(layout.size());
         }
@@ -45,7 +67,17 @@ unsafe impl GlobalAlloc for Allocator {
 
     #[inline]
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let p = System.realloc(ptr, layout, new_size);
+        let new_layout = Layout::from_size_align_unchecked(new_size, layout.align());
+        let p = match (is_large(&layout), is_large(&new_layout)) {
+            (false, false) => System.realloc(ptr, layout, new_size),
+            (true, true) => large::realloc(ptr, layout.size(), new_size),
+            _ => {
+                let p = self.alloc(new_layout);
+                std::ptr::copy_nonoverlapping(ptr, p, layout.size().min(new_size));
+                self.dealloc(ptr, layout);
+                p
+            }
+        };
         if p.is_null() {
             out_of_memory(new_size);
         }
@@ -54,7 +86,207 @@ unsafe impl GlobalAlloc for Allocator {
 
     #[inline]
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
+        if is_large(&layout) {
+            large::dealloc(ptr, layout.size())
+        } else {
+            System.dealloc(ptr, layout)
+        }
+    }
+}
+
+/// Blocks of [`MIN`](large::MIN) bytes or more for the musl build. musl's
+/// malloc maps its groups of blocks, and every block over 128 KiB, on their
+/// own and unmaps them as soon as they empty; a run allocates and frees
+/// many (the file's bytes, the parsed polygons, the half-edge
+/// construction's lists, the output's text), and each new one is then
+/// faulted in again page by page (the bunny's run: 85 `mmap` and 82
+/// `munmap` calls). As glibc's heap does with `keep_freed_memory`'s
+/// settings, freed blocks up to 16 MiB are kept for reuse here: each size
+/// class (a power of two) has a list of free blocks, linked through their
+/// first bytes. A block of a page or more is a mapping of its own (pages
+/// never touched cost no memory) and grows by `mremap`, which moves pages
+/// instead of copying bytes; smaller ones are cut from 64 KiB chunks. Past
+/// 16 MiB, a block is mapped at its size and unmapped when freed.
+///
+/// The size a block was asked with is all it takes to free it: Rust's
+/// allocator interface passes it back (`Layout`), so blocks carry no header.
+mod large {
+    use std::cell::UnsafeCell;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// The page size (4 KiB on Linux x86-64; a larger one only leaves
+    /// the smallest mapped classes bigger than they need be).
+    pub const PAGE: usize = 4096;
+    /// The smallest block served here; smaller ones are musl's.
+    pub const MIN: usize = 256;
+    /// The largest block kept for reuse; larger ones are mapped at their
+    /// size and unmapped when freed.
+    const KEPT_MAX: usize = 16 << 20;
+    /// What blocks under a page are cut from.
+    const CHUNK: usize = 64 << 10;
+    /// Size classes: [`MIN`]·2^c bytes for class c, up to [`KEPT_MAX`].
+    const CLASSES: usize = (KEPT_MAX.trailing_zeros() - MIN.trailing_zeros() + 1) as usize;
+    const _: () = assert!(MIN.is_power_of_two() && KEPT_MAX.is_power_of_two() && MIN << (CLASSES - 1) == KEPT_MAX);
+
+    /// The free blocks of each class, behind a spin lock (held for a few
+    /// instructions: a pop or a push).
+    struct FreeLists {
+        lock: AtomicBool,
+        heads: UnsafeCell<[usize; CLASSES]>,
+    }
+    // SAFETY: `heads`, and the links in free blocks, are touched only with
+    // `lock` held.
+    unsafe impl Sync for FreeLists {}
+    static FREE: FreeLists = FreeLists {
+        lock: AtomicBool::new(false),
+        heads: UnsafeCell::new([0; CLASSES]),
+    };
+
+    /// Runs `f` on the list heads, with the lock held. (Nothing in `f` may
+    /// panic or allocate: the panic's message would wait for the lock.)
+    fn locked<R>(f: impl FnOnce(&mut [usize; CLASSES]) -> R) -> R {
+        while FREE
+            .lock
+            .compare_exchange_weak(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .is_err()
+        {
+            std::hint::spin_loop();
+        }
+        // SAFETY: the lock is held.
+        let r = f(unsafe { &mut *FREE.heads.get() });
+        FREE.lock.store(false, Ordering::Release);
+        r
+    }
+
+    /// How a block of `size` bytes is held: in class `c` (of [`MIN`]·2^c
+    /// bytes), or mapped at its size rounded to pages.
+    #[derive(Clone, Copy, PartialEq)]
+    enum Kind {
+        Class(usize),
+        Direct(usize),
+    }
+
+    impl Kind {
+        fn of(size: usize) -> Option<Kind> {
+            if size <= KEPT_MAX {
+                // 2^bits is the smallest power of two ≥ size.
+                let bits = usize::BITS - (size.max(MIN) - 1).leading_zeros();
+                Some(Kind::Class((bits - MIN.trailing_zeros()) as usize))
+            } else {
+                size.checked_add(PAGE - 1).map(|n| Kind::Direct(n & !(PAGE - 1)))
+            }
+        }
+
+        /// The bytes the block holds.
+        fn len(self) -> usize {
+            match self {
+                Kind::Class(c) => MIN << c,
+                Kind::Direct(len) => len,
+            }
+        }
+    }
+
+    /// A new mapping of `len` bytes (zeroed), or 0.
+    unsafe fn map(len: usize) -> usize {
+        let p = libc::mmap(
+            std::ptr::null_mut(),
+            len,
+            libc::PROT_READ | libc::PROT_WRITE,
+            libc::MAP_PRIVATE | libc::MAP_ANONYMOUS,
+            -1,
+            0,
+        );
+        if p == libc::MAP_FAILED {
+            0
+        } else {
+            p as usize
+        }
+    }
+
+    /// A block of `size` (≥ [`MIN`]) bytes, zeroed if asked, aligned to
+    /// its class's size (≥ [`MIN`]) or to a page; null without memory.
+    pub unsafe fn alloc(size: usize, zeroed: bool) -> *mut u8 {
+        let Some(kind) = Kind::of(size) else {
+            return std::ptr::null_mut();
+        };
+        let Kind::Class(c) = kind else {
+            return map(kind.len()) as *mut u8;
+        };
+        let free = locked(|heads| {
+            let p = heads[c];
+            if p != 0 {
+                // SAFETY: a listed free block holds the next one's address.
+                heads[c] = unsafe { *(p as *const usize) };
+            }
+            p
+        });
+        if free != 0 {
+            if zeroed {
+                std::ptr::write_bytes(free as *mut u8, 0, size);
+            }
+            return free as *mut u8;
+        }
+        let len = kind.len();
+        if len >= PAGE {
+            return map(len) as *mut u8;
+        }
+        // A chunk cut into blocks of the class: the first is returned, the
+        // others listed.
+        let chunk = map(CHUNK);
+        if chunk == 0 {
+            return std::ptr::null_mut();
+        }
+        locked(|heads| {
+            for b in (chunk + len..chunk + CHUNK).step_by(len) {
+                // SAFETY: b is a block of the new chunk, which nobody else holds.
+                unsafe { *(b as *mut usize) = heads[c] };
+                heads[c] = b;
+            }
+        });
+        chunk as *mut u8
+    }
+
+    /// The block `ptr` of `old` bytes, resized to `size` (both ≥ [`MIN`]):
+    /// the same block if its class holds `size`, moved by `mremap` if both
+    /// are mappings of their own, else copied into a new one; null without
+    /// memory (the old block is then still valid).
+    pub unsafe fn realloc(ptr: *mut u8, old: usize, size: usize) -> *mut u8 {
+        let (Some(from), Some(to)) = (Kind::of(old), Kind::of(size)) else {
+            return std::ptr::null_mut();
+        };
+        if from == to {
+            return ptr;
+        }
+        if from.len() >= PAGE && to.len() >= PAGE {
+            let p = libc::mremap(ptr.cast(), from.len(), to.len(), libc::MREMAP_MAYMOVE);
+            return if p == libc::MAP_FAILED {
+                std::ptr::null_mut()
+            } else {
+                p.cast()
+            };
+        }
+        let p = alloc(size, false);
+        if !p.is_null() {
+            std::ptr::copy_nonoverlapping(ptr, p, old.min(size));
+            dealloc(ptr, old);
+        }
+        p
+    }
+
+    /// Frees the block `ptr` of `size` bytes: listed for reuse, or unmapped
+    /// past [`KEPT_MAX`].
+    pub unsafe fn dealloc(ptr: *mut u8, size: usize) {
+        match Kind::of(size) {
+            Some(Kind::Class(c)) => locked(|heads| {
+                // SAFETY: the block is free: its first bytes hold the link.
+                unsafe { *(ptr as *mut usize) = heads[c] };
+                heads[c] = ptr as usize;
+            }),
+            Some(Kind::Direct(len)) => {
+                libc::munmap(ptr.cast(), len);
+            }
+            None => {}
+        }
     }
 }
 
@@ -210,5 +442,50 @@ impl Line {
             }
         }
         self.push(&digits[i..]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::large;
+
+    /// The musl build's blocks (compiled and tested on every build): blocks
+    /// of every kind keep their bytes through growing and shrinking across
+    /// kinds, a freed block is the next of its class handed out, zeroed
+    /// when asked, and blocks past the kept sizes are mapped and unmapped.
+    #[test]
+    fn large_blocks_keep_their_bytes_and_are_reused() {
+        // SAFETY: every block is used within its size and freed once, with
+        // the size it has.
+        unsafe {
+            let fill = |p: *mut u8, n: usize, seed: u8| {
+                for i in 0..n {
+                    *p.add(i) = seed.wrapping_add((i % 251) as u8);
+                }
+            };
+            let holds =
+                |p: *const u8, n: usize, seed: u8| (0..n).all(|i| *p.add(i) == seed.wrapping_add((i % 251) as u8));
+            let sizes = [256, 300, 4095, 4096, 5000, 65536, 1 << 20, (16 << 20) + 1, 40 << 20];
+            for (k, &a) in sizes.iter().enumerate() {
+                for &b in &sizes {
+                    let p = large::alloc(a, false);
+                    assert!(!p.is_null() && p as usize % large::MIN == 0);
+                    fill(p, a, k as u8);
+                    let q = large::realloc(p, a, b);
+                    assert!(!q.is_null());
+                    assert!(holds(q, a.min(b), k as u8), "{a} -> {b}");
+                    fill(q, b, 7);
+                    large::dealloc(q, b);
+                }
+            }
+            // Reuse, zeroed on request.
+            let p = large::alloc(10_000, false);
+            fill(p, 10_000, 1);
+            large::dealloc(p, 10_000);
+            let q = large::alloc(9_000, true);
+            assert_eq!(q, p, "the freed block of the class is handed out again");
+            assert!((0..9_000).all(|i| *q.add(i) == 0));
+            large::dealloc(q, 9_000);
+        }
     }
 }
