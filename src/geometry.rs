@@ -970,14 +970,14 @@ mod tests {
         (0.0006755493518115572, 0.0496147245347, 0.013614642544939024),   // rotor.obj (glibc sin∘atan2 one off)
         (0.3, 2.0, 0.14834045293024462),                                  // cube.obj (glibc sin∘atan2 one off)
         (0.059593229481208695, 4.0, 0.01489665423460109), // oval_cylinder_smooth_normals.obj (glibc sin∘atan2 one off)
-        (0.005157102890488694, 1.4264575344441892, 0.0036152980815795446), // terrain-utm.obj (glibc sin∘atan2 one off)
-        (5e-324, 1.0, 5e-324),                            // extreme
-        (1.0, 5e-324, 1.0),                               // extreme
-        (1e+308, 1.7e+308, 0.5070201265633939),           // extreme (glibc sin∘atan2 one off)
-        (3e-310, 1e-309, 0.2873478855663441),             // extreme
-        (1e-200, 1e+150, 0.0),                            // extreme
-        (0.7, -0.2, 0.9615239476408232),                  // extreme
-        (3.0, 4.0, 0.6),                                  // extreme
+        (0.005157102890488694, 1.4264575344441892, 0.0036152980815795446), // a generated terrain (glibc sin∘atan2 one off)
+        (5e-324, 1.0, 5e-324),                                             // extreme
+        (1.0, 5e-324, 1.0),                                                // extreme
+        (1e+308, 1.7e+308, 0.5070201265633939),                            // extreme (glibc sin∘atan2 one off)
+        (3e-310, 1e-309, 0.2873478855663441),                              // extreme
+        (1e-200, 1e+150, 0.0),                                             // extreme
+        (0.7, -0.2, 0.9615239476408232),                                   // extreme
+        (3.0, 4.0, 0.6),                                                   // extreme
     ];
 
     /// The direction key sorts directions as atan2 does: at the axes and

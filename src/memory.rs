@@ -3,7 +3,8 @@
 //! the temporary files of the outputs being written removed. Rust's own
 //! handling prints two lines (a backtrace with `RUST_BACKTRACE=1`) and
 //! aborts, leaving them behind; its hook for that is not stable, so the
-//! global allocator ([`Allocator`]: the system's, checked) does it.
+//! global allocator ([`Allocator`]: the system's, checked; with musl, its
+//! own size classes for blocks of 256 bytes or more, [`large`]) does it.
 //!
 //! The exit runs where an allocation just failed, on any thread, maybe
 //! with a lock held: it allocates nothing and takes no lock. It reads the
