@@ -19,38 +19,31 @@
 
 use std::arch::asm;
 
+/// Copies the first and the last `size_of::<T>()` bytes of `n` (between
+/// one and two such sizes, so they overlap or meet), both read before
+/// either is written.
+#[inline(always)]
+unsafe fn ends<T>(d: *mut u8, s: *const u8, n: usize) {
+    let k = n - std::mem::size_of::<T>();
+    let (a, b) = (
+        (s as *const T).read_unaligned(),
+        (s.add(k) as *const T).read_unaligned(),
+    );
+    (d as *mut T).write_unaligned(a);
+    (d.add(k) as *mut T).write_unaligned(b);
+}
+
 /// Copies `n ≤ 64` bytes from `s` to `d`, every byte read before any is written.
 #[inline(always)]
 unsafe fn short(d: *mut u8, s: *const u8, n: usize) {
-    if n >= 32 {
-        let a = (s as *const u128).read_unaligned();
-        let b = (s.add(16) as *const u128).read_unaligned();
-        let c = (s.add(n - 32) as *const u128).read_unaligned();
-        let e = (s.add(n - 16) as *const u128).read_unaligned();
-        (d as *mut u128).write_unaligned(a);
-        (d.add(16) as *mut u128).write_unaligned(b);
-        (d.add(n - 32) as *mut u128).write_unaligned(c);
-        (d.add(n - 16) as *mut u128).write_unaligned(e);
-    } else if n >= 16 {
-        let a = (s as *const u128).read_unaligned();
-        let b = (s.add(n - 16) as *const u128).read_unaligned();
-        (d as *mut u128).write_unaligned(a);
-        (d.add(n - 16) as *mut u128).write_unaligned(b);
-    } else if n >= 8 {
-        let a = (s as *const u64).read_unaligned();
-        let b = (s.add(n - 8) as *const u64).read_unaligned();
-        (d as *mut u64).write_unaligned(a);
-        (d.add(n - 8) as *mut u64).write_unaligned(b);
-    } else if n >= 4 {
-        let a = (s as *const u32).read_unaligned();
-        let b = (s.add(n - 4) as *const u32).read_unaligned();
-        (d as *mut u32).write_unaligned(a);
-        (d.add(n - 4) as *mut u32).write_unaligned(b);
-    } else if n > 0 {
-        let (a, b, c) = (*s, *s.add(n / 2), *s.add(n - 1));
-        *d = a;
-        *d.add(n / 2) = b;
-        *d.add(n - 1) = c;
+    match n {
+        32.. => ends::<[u128; 2]>(d, s, n),
+        16.. => ends::<u128>(d, s, n),
+        8.. => ends::<u64>(d, s, n),
+        4.. => ends::<u32>(d, s, n),
+        2.. => ends::<u16>(d, s, n),
+        1 => *d = *s,
+        0 => {}
     }
 }
 

@@ -29,6 +29,12 @@ pub const ALGORITHM_TOLERANCE: f64 = 1e-10;
 pub const SEED_TOLERANCE: f64 = 5e-10;
 const _: () = assert!(ALGORITHM_TOLERANCE <= SEED_TOLERANCE && SEED_TOLERANCE < ACCEPT_TOLERANCE);
 
+/// The e with 2^e ≤ `x` < 2^(e + 1), for a positive normal `x`: read from
+/// its bits, exactly (no `log2`, whose last bit differs between C libraries).
+pub fn binary_exponent(x: f64) -> i32 {
+    ((x.to_bits() >> 52) & 0x7ff) as i32 - 1023
+}
+
 /// sin(atan2(`y`, `x`)) = y / √(x² + y²) for `y` ≥ 0, correctly rounded
 /// (but in cases within about 2⁻¹⁰⁰ of halfway between two doubles), and so
 /// the same on every platform: `sin` and `atan2` are not correctly rounded,
@@ -55,8 +61,8 @@ pub fn sine_of_direction(y: f64, x: f64) -> f64 {
         let up = f64::from_bits((1023 + 600) << 52); // 2^600
         (y, x, m) = (y * up, x * up, m * up);
     }
-    let e = ((m.to_bits() >> 52) & 0x7ff) as i64 - 1023; // m in [2^e, 2^(e+1))
-    let half = |k: i64| f64::from_bits(((1023 - k) as u64) << 52); // 2^-k, |k| ≤ 600
+    let e = binary_exponent(m);
+    let half = |k: i32| f64::from_bits(((1023 - k) as u64) << 52); // 2^-k, |k| ≤ 600
     let (a, b) = (e / 2, e - e / 2);
     let (y, x) = (y * half(a) * half(b), x * half(a) * half(b));
     // q = x² + y², as qh + ql.

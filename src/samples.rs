@@ -676,7 +676,7 @@ pub fn shell_target(q: &SplitQuery) -> f64 {
     let k = if r < 1.0 {
         0
     } else {
-        let e = ((r.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+        let e = crate::geometry::binary_exponent(r);
         e + (r >= std::f64::consts::SQRT_2 * 2f64.powi(e)) as i32
     };
     let d = rho_v * 2f64.powi(k);
