@@ -218,9 +218,12 @@ fn parse_obj_with(bytes: &[u8], plain_lines: bool, whole: bool, tail_from: usize
     // A big file's second half, if it is all plain `v` and `f` lines (as
     // most big files are), is read on another thread while this one reads
     // the first; any other line there, and it is read here after the first.
-    let split = (plain_lines && whole && crate::parallel::threads() > 1)
+    // (The size first: asking how many threads there may be reads cgroup
+    // files.)
+    let split = (plain_lines && whole)
         .then(|| tail_start(text, tail_from))
-        .flatten();
+        .flatten()
+        .filter(|_| crate::parallel::threads() > 1);
     std::thread::scope(|scope| {
         let mut tail = split.and_then(|at| crate::parallel::try_spawn(scope, move || plain_tail(text, at)));
         let mut limit = split.filter(|_| tail.is_some()).unwrap_or(text.len());
