@@ -15,15 +15,31 @@
 //! Only the binary (`rustc-link-arg-bins`): the library, its tests and
 //! whatever a user links it into keep the shared unwinder. Not with
 //! `crt-static` (the toolchain already links `libgcc_eh` then) nor with
-//! musl (no `libgcc_s` at all).
+//! musl (no `libgcc_s` at all), and not where the linker driver does not
+//! know a `libgcc_eh.a` (a toolchain without gcc's runtime): the binary
+//! then loads `libgcc_s` as before.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-env-changed=RUSTC_LINKER");
     let var = |name: &str| std::env::var(name).unwrap_or_default();
     let static_crt = var("CARGO_CFG_TARGET_FEATURE").split(',').any(|f| f == "crt-static");
     if var("CARGO_CFG_TARGET_OS") != "linux" || var("CARGO_CFG_TARGET_ENV") != "gnu" || static_crt {
+        return;
+    }
+    // The linker driver names the archive's path if it has one, and the
+    // bare name if not (gcc's and clang's `-print-file-name`).
+    let linker = std::env::var("RUSTC_LINKER").unwrap_or_else(|_| "cc".into());
+    let archive = Command::new(linker).arg("-print-file-name=libgcc_eh.a").output();
+    let found = archive.is_ok_and(|out| {
+        let printed = String::from_utf8_lossy(&out.stdout);
+        let path = Path::new(printed.trim());
+        out.status.success() && path.is_absolute() && path.exists()
+    });
+    if !found {
         return;
     }
     let dir = PathBuf::from(var("OUT_DIR")).join("unwinder");
