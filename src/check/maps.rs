@@ -446,18 +446,24 @@ struct Pieces {
 /// its square (a 2,000-gon's face map took 1.7 s). A triangle without a normal (no area),
 /// which [`on_triangle`] takes every point to be on, is in every cell's list.
 struct PieceGrid {
-    /// The grown boxes' corner of least coordinates.
-    low: DVec3,
-    /// Cells per unit of length, along each axis.
-    scale: DVec3,
-    /// Cells along each axis.
-    dims: [usize; 3],
+    /// Where the cells are.
+    cells: Cells,
     /// Where each cell's triangles start in `items` (one more entry than cells).
     start: Vec<u32>,
     /// The triangles (numbers in the polygon's list), cell by cell.
     items: Vec<u32>,
     /// The triangles without a normal.
     everywhere: Vec<u32>,
+}
+
+/// The cells of a [`PieceGrid`]: boxes of equal size from a corner, numbered x fastest.
+struct Cells {
+    /// The grown boxes' corner of least coordinates.
+    low: DVec3,
+    /// Cells per unit of length, along each axis.
+    scale: DVec3,
+    /// Cells along each axis.
+    dims: [usize; 3],
 }
 
 impl PieceGrid {
@@ -494,14 +500,7 @@ impl PieceGrid {
         }
         let dims = extent.to_array().map(|e| ((e / cell).ceil() as usize).clamp(1, 1024));
         let scale = DVec3::from_array([0, 1, 2].map(|k| dims[k] as f64 / extent[k].max(f64::MIN_POSITIVE)));
-        let grid = PieceGrid {
-            low,
-            scale,
-            dims,
-            start: Vec::new(),
-            items: Vec::new(),
-            everywhere: Vec::new(),
-        };
+        let cells = Cells { low, scale, dims };
         let has_normal = |&[a, b, c]: &[DVec3; 3]| (b - a).cross(c - a).normalize_or_zero() != DVec3::ZERO;
         let mut count = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
         let mut everywhere = Vec::new();
@@ -510,7 +509,7 @@ impl PieceGrid {
                 everywhere.push(i as u32);
                 continue;
             }
-            grid.for_each_cell(b.0, b.1, |c| count[c + 1] += 1);
+            cells.for_each_cell(b.0, b.1, |c| count[c + 1] += 1);
         }
         for c in 1..count.len() {
             count[c] += count[c - 1];
@@ -519,24 +518,47 @@ impl PieceGrid {
         let mut next = count.clone();
         for (i, (t, b)) in triangles.iter().zip(&grown).enumerate() {
             if has_normal(t) {
-                grid.for_each_cell(b.0, b.1, |c| {
+                cells.for_each_cell(b.0, b.1, |c| {
                     items[next[c] as usize] = i as u32;
                     next[c] += 1;
                 });
             }
         }
         Some(PieceGrid {
+            cells,
             start: count,
             items,
             everywhere,
-            ..grid
         })
     }
 
+    /// The triangles that `p` may be on: those of its cell (none outside the grid) and
+    /// those without a normal.
+    fn near(&self, p: DVec3) -> impl Iterator<Item = u32> + '_ {
+        let here = self.cells.containing(p).map_or(&[][..], |c| {
+            &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+        });
+        here.iter().chain(&self.everywhere).copied()
+    }
+}
+
+impl Cells {
     /// The cell along each axis of `p`, clamped to the grid.
     fn cell_of(&self, p: DVec3) -> [usize; 3] {
         let q = (p - self.low) * self.scale;
         [0, 1, 2].map(|k| (q[k].max(0.0) as usize).min(self.dims[k] - 1))
+    }
+
+    /// The number of the cell with these indices along each axis.
+    fn number(&self, [x, y, z]: [usize; 3]) -> usize {
+        (z * self.dims[1] + y) * self.dims[0] + x
+    }
+
+    /// The number of the cell holding `p`; `None` outside the grid.
+    fn containing(&self, p: DVec3) -> Option<usize> {
+        let high = self.low + DVec3::from_array([0, 1, 2].map(|k| self.dims[k] as f64)) / self.scale;
+        let inside = p.cmpge(self.low).all() && p.cmple(high).all();
+        inside.then(|| self.number(self.cell_of(p)))
     }
 
     /// Calls `f` with the number of every cell the box from `lo` to `hi` meets.
@@ -545,25 +567,10 @@ impl PieceGrid {
         for z in z0..=z1 {
             for y in y0..=y1 {
                 for x in x0..=x1 {
-                    f((z * self.dims[1] + y) * self.dims[0] + x);
+                    f(self.number([x, y, z]));
                 }
             }
         }
-    }
-
-    /// The triangles that `p` may be on: those of its cell (none outside the grid) and
-    /// those without a normal.
-    fn near(&self, p: DVec3) -> impl Iterator<Item = u32> + '_ {
-        let high = self.low + DVec3::from_array([0, 1, 2].map(|k| self.dims[k] as f64)) / self.scale;
-        let inside = p.cmpge(self.low).all() && p.cmple(high).all();
-        let cell = inside.then(|| {
-            let [x, y, z] = self.cell_of(p);
-            (z * self.dims[1] + y) * self.dims[0] + x
-        });
-        let here = cell.map_or(&[][..], |c| {
-            &self.items[self.start[c] as usize..self.start[c + 1] as usize]
-        });
-        here.iter().chain(&self.everywhere).copied()
     }
 }
 
