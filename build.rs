@@ -48,7 +48,8 @@ fn main() {
         println!("cargo:warning=could not write the unwinder's linker script; linking libgcc_s");
         return;
     }
-    // GNU ld and lld search every -L directory before the toolchain's,
-    // wherever the option stands on the command line.
+    // The compiler driver passes the -L options it is given before its own
+    // library directories, and the linker searches them in that order for
+    // every -l, wherever the -l stands.
     println!("cargo:rustc-link-arg-bins=-L{}", dir.display());
 }
