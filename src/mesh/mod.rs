@@ -227,18 +227,33 @@ pub enum InputError {
     /// The triangles do not make a manifold, consistently oriented mesh.
     Topology(TopologyError),
     /// A coordinate of this vertex is NaN or infinite.
-    NonFinite { vertex: u32 },
+    NonFinite {
+        /// The vertex (0-based).
+        vertex: u32,
+    },
     /// A coordinate of this vertex is beyond ±[`crate::io::MAX_COORDINATE`]:
     /// products of such coordinates overflow.
-    OutOfRange { vertex: u32 },
+    OutOfRange {
+        /// The vertex (0-based).
+        vertex: u32,
+    },
     /// No triangle uses this vertex: the mesh would be one the construction
     /// cannot grow around (and a Laplacian gets an empty row for it).
-    UnusedVertex { vertex: u32 },
+    UnusedVertex {
+        /// The vertex (0-based).
+        vertex: u32,
+    },
     /// This triangle's corners are collinear, exactly.
-    ZeroArea { face: usize },
+    ZeroArea {
+        /// The triangle (0-based).
+        face: usize,
+    },
     /// This triangle has an edge shorter than [`crate::io::MIN_EDGE`]: the
     /// Delaunay test's products of lengths would underflow.
-    EdgeTooShort { face: usize },
+    EdgeTooShort {
+        /// The triangle (0-based).
+        face: usize,
+    },
 }
 
 impl std::fmt::Display for InputError {

@@ -95,22 +95,59 @@ impl EdgeId {
 pub enum TopologyError {
     /// The edge (a, b) is used by more than two faces; `face` is the third
     /// of them in list order (the first two alone would be fine).
-    EdgeWithMoreThanTwoFaces { face: usize, a: u32, b: u32 },
+    EdgeWithMoreThanTwoFaces {
+        /// The third face.
+        face: usize,
+        /// One end of the edge.
+        a: u32,
+        /// The other end.
+        b: u32,
+    },
     /// Two faces (`face` is the second) use the edge a → b in the same
     /// direction: their orientations disagree.
-    InconsistentOrientation { face: usize, a: u32, b: u32 },
+    InconsistentOrientation {
+        /// The second face using a → b.
+        face: usize,
+        /// The edge's origin in both faces.
+        a: u32,
+        /// Its destination in both faces.
+        b: u32,
+    },
     /// The faces around `vertex` form more than one fan (a pinch point).
-    NonManifoldVertex { vertex: u32 },
+    NonManifoldVertex {
+        /// The pinch point.
+        vertex: u32,
+    },
     /// A vertex index is not below the vertex count.
-    IndexOutOfRange { face: usize, index: u32 },
+    IndexOutOfRange {
+        /// The face.
+        face: usize,
+        /// The index out of range.
+        index: u32,
+    },
     /// A face uses a vertex twice.
-    RepeatedVertex { face: usize, vertex: u32 },
+    RepeatedVertex {
+        /// The face.
+        face: usize,
+        /// The vertex it uses twice.
+        vertex: u32,
+    },
     /// Faces `first` and `face` use the same three vertices (a closed
     /// two-face "pillow": every edge would have one vertex opposite it twice).
-    SameThreeVertices { first: usize, face: usize },
+    SameThreeVertices {
+        /// The earlier face.
+        first: usize,
+        /// The later one.
+        face: usize,
+    },
     /// More triangles than [`MAX_TRIANGLES`] (or more vertices than
     /// [`MAX_HALFEDGES`]): the ids, 32-bit, could not number them all.
-    TooLarge { triangles: usize, vertices: usize },
+    TooLarge {
+        /// Triangles given.
+        triangles: usize,
+        /// Vertices given.
+        vertices: usize,
+    },
 }
 
 impl fmt::Display for TopologyError {
