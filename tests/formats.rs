@@ -2163,3 +2163,53 @@ fn ply_triangle_strips_are_read_as_their_triangles() {
     let e = read_ply(no_list.as_bytes()).unwrap_err().to_string();
     assert!(e.contains("tristrips element has no vertex_indices"), "{e}");
 }
+
+/// `obj::write_obj_with_attributes` says which vertices it wrote twice: a
+/// vertex whose corners have two colours is written once per colour, the
+/// copy after the mesh's own vertices, and the returned list names the
+/// vertex each copy repeats.
+#[test]
+fn obj_writer_returns_the_copies_it_writes_for_colours() {
+    use delmesh::attributes::{Attributes, Channel};
+    use delmesh::io::obj::write_obj_with_attributes;
+    // Two triangles sharing the edge 1-2, the first red, the second blue:
+    // vertices 1 and 2 have a corner of each colour.
+    let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+    let triangles = [[0, 1, 2], [2, 1, 3]];
+    let colors = Channel {
+        dim: 3,
+        values: vec![1.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+        corners: vec![0, 0, 0, 1, 1, 1],
+    };
+    let attributes = Attributes {
+        colors: Some(colors),
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    let copies = write_obj_with_attributes(&mut buf, &positions, &triangles, &attributes).unwrap();
+    let text = String::from_utf8(buf).unwrap();
+    let vertices: Vec<&str> = text.lines().filter(|l| l.starts_with("v ")).collect();
+    // Each is written once more, for its second colour.
+    let mut sorted = copies.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, vec![1, 2], "{text}");
+    assert_eq!(vertices.len(), positions.len() + copies.len(), "{text}");
+    for (i, &v) in copies.iter().enumerate() {
+        let copy = vertices[positions.len() + i];
+        let original = vertices[v as usize];
+        // The same position, another colour.
+        let xyz = |l: &str| {
+            l.split_whitespace()
+                .skip(1)
+                .take(3)
+                .map(String::from)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(xyz(copy), xyz(original), "{text}");
+        assert_ne!(copy, original, "{text}");
+    }
+    // Without colours nothing is copied.
+    let mut buf = Vec::new();
+    let none = write_obj_with_attributes(&mut buf, &positions, &triangles, &Attributes::default()).unwrap();
+    assert!(none.is_empty());
+}

@@ -1067,14 +1067,21 @@ fn push_index(line: &mut Vec<u8>, i: u32) {
 /// group, each group opened by the `o`, `g`, `usemtl` and `s` lines that change,
 /// with `v/vt/vn`, `v/vt` or `v//vn` corners. Without attributes this is
 /// exactly [`write_obj`].
+///
+/// Returns the vertex each copy repeats, in the file's order (the file's
+/// vertex `positions.len() + i` repeats `copies[i]`); empty where every
+/// vertex has one colour. A copy has its vertex's position, so a reader
+/// that welds equal positions (delmesh's does) merges them again, and two
+/// vertices of the mesh at one position would merge with them: the command
+/// line refuses to write such a file ([`crate::io::Written::copies_of`]).
 pub fn write_obj_with_attributes(
     w: &mut dyn Write,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     attributes: &Attributes,
-) -> std::io::Result<()> {
+) -> std::io::Result<Vec<u32>> {
     let order = faces_in_file_order(triangles.len(), attributes);
-    write_obj_in_order(w, positions, triangles, attributes, order.as_deref()).map(|_| ())
+    write_obj_in_order(w, positions, triangles, attributes, order.as_deref())
 }
 
 /// [`write_obj_with_attributes`], the faces in `order` (of
