@@ -266,7 +266,9 @@ pub fn phase(p: Phase) {
 }
 
 /// Whether a progress line may be on the screen (drawn, at most 79
-/// characters): read without a lock, by the out-of-memory exit.
+/// characters): read without a lock, by the out-of-memory exit (Linux
+/// only, as that exit is).
+#[cfg(target_os = "linux")]
 pub fn drawing() -> bool {
     ENABLED.load(Relaxed)
 }

@@ -244,11 +244,13 @@ pub fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<(
                 // to one of the caller's groups.
                 let _ = std::os::unix::fs::fchown(tmp.as_file(), Some(m.uid()), Some(m.gid()));
             }
-            m.permissions()
+            Some(m.permissions())
         }
-        Err(_) => default_permissions(&dir),
+        Err(_) => new_file_permissions(),
     };
-    tmp.as_file().set_permissions(perms).map_err(err)?;
+    if let Some(perms) = perms {
+        tmp.as_file().set_permissions(perms).map_err(err)?;
+    }
     Ok(Staged {
         path: target,
         file: Some((tmp, registered)),
@@ -342,19 +344,18 @@ fn fill_compressed_if_gz(
     Ok(())
 }
 
+/// The permissions of a new output: 0644 on Unix (the temporary file was
+/// made 0600); elsewhere the temporary file's own, a writable file's.
 #[cfg(unix)]
-fn default_permissions(_dir: &Path) -> std::fs::Permissions {
+fn new_file_permissions() -> Option<std::fs::Permissions> {
     use std::os::unix::fs::PermissionsExt;
-    std::fs::Permissions::from_mode(0o644)
+    Some(std::fs::Permissions::from_mode(0o644))
 }
 
+/// See the Unix version.
 #[cfg(not(unix))]
-fn default_permissions(dir: &Path) -> std::fs::Permissions {
-    let mut p = std::fs::metadata(dir)
-        .map(|m| m.permissions())
-        .unwrap_or_else(|_| unreachable!());
-    p.set_readonly(false);
-    p
+fn new_file_permissions() -> Option<std::fs::Permissions> {
+    None
 }
 
 #[cfg(test)]
