@@ -3274,6 +3274,32 @@ fn a_run_in_place_keeps_the_files_mode_and_owner() {
     assert_eq!((after.uid(), after.gid()), (before.uid(), before.gid()));
 }
 
+/// A new output is readable by all and writable by its owner (0644), as
+/// files made by most tools are; the temporary file it was (0600, so that
+/// no one reads a half-written mesh) is gone.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_new_output_gets_mode_0644() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    delmesh()
+        .arg("-i")
+        .arg(common::data_dir().join("cube.obj"))
+        .arg("-o")
+        .arg(&out)
+        .arg("-q")
+        .assert()
+        .success();
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode();
+    assert_eq!(mode & 0o7777, 0o644);
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("out.obj")]);
+}
+
 /// `--check` on a mesh read from standard input or a pipe compares with
 /// the mesh read (written once to a temporary file): the input cannot be
 /// read a second time (it was rejected as "no faces", and a pipe hung).
