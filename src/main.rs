@@ -70,7 +70,7 @@ static NOTE_CLOSED_STDOUT: extern "C" fn() = {
 /// A file size limit's SIGXFSZ (`ulimit -f`) is ignored instead: a write
 /// past the limit then fails with "File too large", which ends the run
 /// like a full disk, with one line and exit status 1.
-#[cfg(target_os = "linux")]
+#[cfg(unix)]
 fn remove_temporary_files_on_signals() {
     // SAFETY: sets a signal's disposition; called before any other thread
     // exists.
@@ -113,7 +113,7 @@ fn remove_temporary_files_on_signals() {
     }
 }
 
-#[cfg(not(target_os = "linux"))]
+#[cfg(not(unix))]
 fn remove_temporary_files_on_signals() {}
 
 /// glibc's malloc hands blocks above 128 KiB back to the kernel when they are
