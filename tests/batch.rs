@@ -404,6 +404,7 @@ fn a_folder_stands_for_its_mesh_files() {
 /// folder inside the tree is left out (a second run reads the same files),
 /// folders made for outputs that all failed are removed again, and
 /// without the flag a folder whose meshes are all in subfolders says so.
+#[cfg(unix)]
 #[test]
 fn recursive_mirrors_a_folder_tree() {
     let dir = tempfile::tempdir().unwrap();

@@ -3461,6 +3461,7 @@ fn side_files_stay_out_when_the_output_cannot_be_put_in_place() {
 
 /// `sh -c SCRIPT` in `dir`, with `$D` the delmesh binary: for redirections
 /// and limits (`>> m.obj`, `>&-`, `ulimit`) that a test sets as a user does.
+#[cfg(unix)]
 fn sh(dir: &Path, script: &str) -> std::process::Output {
     std::process::Command::new("sh")
         .arg("-c")
@@ -3472,6 +3473,7 @@ fn sh(dir: &Path, script: &str) -> std::process::Output {
 }
 
 /// The names in `dir` starting with `.delmesh-`: temporary files left.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn temporary_files(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
         .unwrap()
