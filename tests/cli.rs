@@ -3283,11 +3283,7 @@ fn a_new_output_gets_mode_0644() {
     use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.obj");
-    delmesh()
-        .arg("-i")
-        .arg(common::data_dir().join("cube.obj"))
-        .arg("-o")
-        .arg(&out)
+    refine(common::data_dir().join("cube.obj"), &out)
         .arg("-q")
         .assert()
         .success();
