@@ -500,8 +500,6 @@ struct Run<'a> {
 }
 
 impl Run<'_> {
-    /// Whether `e` was found stuck and its neighbourhood has not changed
-    /// since, so that processing it again would change nothing.
     /// The four vertices of interior edge `e`'s quad: its ends, then the
     /// apexes of its two faces.
     #[cfg(debug_assertions)]
@@ -510,6 +508,8 @@ impl Run<'_> {
         [topo.origin(h), topo.dest(h), topo.apex(h), topo.apex(h.twin())]
     }
 
+    /// Whether `e` was found stuck and its neighbourhood has not changed
+    /// since, so that processing it again would change nothing.
     fn is_stuck(&self, e: EdgeId) -> bool {
         self.stuck.get(&e).is_some_and(|n| *n == self.neighbourhood(e))
     }
