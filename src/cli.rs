@@ -325,6 +325,24 @@ pub(crate) fn near_coincident_note(figures: &delmesh::mesh::InputFigures) -> Opt
     })
 }
 
+/// The note on an input whose surface folds flat onto itself
+/// ([`Surface::folded_edges`]): how many edges, the first named as `input`'s
+/// file numbers its vertices, and what follows. Such edges are never
+/// flipped, so an inverted triangle of a flat mesh (a 2D mesh with a
+/// flipped element) costs added vertices where flips alone would do: the
+/// user should learn the cause, and that the output keeps the fold.
+pub(crate) fn fold_note(surface: &Surface, input: &io::InputMesh) -> Option<String> {
+    let [a, b] = surface.first_folded_edge?;
+    Some(format!(
+        "{} input edge(s) where the surface folds flat onto itself (the two faces in one plane, on the same side of \
+         the edge: a face turned over in a flat part, or the rim of a flat two-sided sheet), the first between {} \
+         and {}; such an edge is never flipped (a non-Delaunay one is split), and the output keeps the fold",
+        surface.folded_edges,
+        input.vertex_name(a.0),
+        input.vertex_name(b.0)
+    ))
+}
+
 /// The note on an output with [`GROWTH_NOTE`] or more added vertices per
 /// input vertex: why (the smallest input angle), and what helps that the run
 /// did not use: other settings (`shells`: the run had them), as `--shells
@@ -834,6 +852,7 @@ struct Report<'a> {
     input_path: &'a Path,
     input: &'a io::InputMesh,
     figures: delmesh::mesh::InputFigures,
+    folded_edges: usize,
     lower_bound: usize,
     constants: delmesh::samples::SampleConstants,
     output: &'a Path,
@@ -866,6 +885,7 @@ impl Report<'_> {
                 input: self.input,
                 figures: self.figures,
                 lower_bound: self.lower_bound,
+                folded_edges: self.folded_edges,
                 output: self.output,
                 repaired: self.args.repaired.as_deref(),
                 refined,
@@ -956,6 +976,7 @@ fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         input_path,
         input: &input,
         figures: surface.input_figures,
+        folded_edges: surface.folded_edges,
         lower_bound,
         constants: refine::sample_constants(&surface),
         output: &output,
@@ -1150,7 +1171,8 @@ fn say_input(
     if let Some(t) = transfer {
         say!("        attributes: {}", describe_attributes(t.input()));
     }
-    for note in input.notes.iter().chain(&near_coincident_note(&figures)) {
+    let notes = [near_coincident_note(&figures), fold_note(surface, input)];
+    for note in input.notes.iter().chain(notes.iter().flatten()) {
         say!("note    {note}");
     }
 }

@@ -391,7 +391,7 @@ pub const FAST_MAX: f64 = f64::from_bits((1023 + 250) << 52);
 
 /// Whether every coordinate of `points` is in the range where `robust`'s
 /// predicates are exact (see [`FAST_MIN`]): then [`collinear_in_range`]
-/// and [`flat_pair_in_range`] may be called on them, once for a whole mesh
+/// and [`pair_shape_in_range`] may be called on them, once for a whole mesh
 /// instead of once per predicate.
 pub fn all_in_fast_range(points: &[DVec3]) -> bool {
     points.iter().all(|p| fast_range(&[p.x, p.y, p.z]))
@@ -408,13 +408,13 @@ pub fn collinear_for(points: &[DVec3]) -> fn(DVec3, DVec3, DVec3) -> bool {
     }
 }
 
-/// The flat-pair test for quads on `points`, chosen as [`collinear_for`]
-/// chooses: [`flat_pair_in_range`] or [`flat_pair`].
-pub fn flat_pair_for(points: &[DVec3]) -> fn(DVec3, DVec3, DVec3, DVec3) -> bool {
+/// The pair-shape test for quads on `points`, chosen as [`collinear_for`]
+/// chooses: [`pair_shape_in_range`] or [`pair_shape`].
+pub fn pair_shape_for(points: &[DVec3]) -> fn(DVec3, DVec3, DVec3, DVec3) -> PairShape {
     if all_in_fast_range(points) {
-        flat_pair_in_range
+        pair_shape_in_range
     } else {
-        flat_pair
+        pair_shape
     }
 }
 
@@ -690,23 +690,54 @@ fn collinear_slow(a: DVec3, b: DVec3, c: DVec3) -> bool {
         .all(|&(i, j)| orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == 0)
 }
 
+/// How two triangles (a, b, c) and (b, a, d) that share the edge (a, b)
+/// lie against each other ([`pair_shape`]).
+///
+/// ```text
+///        c                  c  d
+///       / \                / \/ \
+///      a---b     Flat      a---b      Folded: d turned over onto
+///       \ /                             c's side, in c's plane
+///        d
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairShape {
+    /// Not in one plane (or `d` on the line ab).
+    Bent,
+    /// In one plane, on opposite sides of the edge: a flat pair, whose edge
+    /// may be flipped.
+    Flat,
+    /// In one plane, on the same side of the edge: the surface folds flat
+    /// onto itself there (a face turned over in a flat part, or the rim of
+    /// a flat two-sided sheet).
+    Folded,
+}
+
 /// Exact test: do the triangles (a, b, c) and (b, a, d), which share the edge
 /// (a, b), lie in one plane and on opposite sides of the edge (a flat, not
 /// folded, pair)? Both triangles must be non-degenerate. Exact for every
 /// finite input, subnormal coordinates included.
 pub fn flat_pair(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
-        return flat_pair_slow(a, b, c, d);
-    }
-    flat_pair_in_range(a, b, c, d)
+    pair_shape(a, b, c, d) == PairShape::Flat
 }
 
-/// [`flat_pair`] of points whose coordinates are known to be in the fast
+/// Exact: how the triangles (a, b, c) and (b, a, d), which share the edge
+/// (a, b), lie against each other. The triangle (a, b, c) must be
+/// non-degenerate. Exact for every finite input, subnormal coordinates
+/// included.
+pub fn pair_shape(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> PairShape {
+    if !fast_range(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]) {
+        return pair_shape_slow(a, b, c, d);
+    }
+    pair_shape_in_range(a, b, c, d)
+}
+
+/// [`pair_shape`] of points whose coordinates are known to be in the fast
 /// range ([`all_in_fast_range`]); outside it the answer may be wrong.
 #[inline]
-pub fn flat_pair_in_range(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+pub fn pair_shape_in_range(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> PairShape {
     if !in_axis_plane(a, b, c, d) && robust_orient3d_sign(a, b, c, d) != 0 {
-        return false;
+        return PairShape::Bent;
     }
     // Coplanar: project on a coordinate plane where (a, b, c) does not
     // degenerate; sides of the line ab are preserved by that projection.
@@ -714,10 +745,21 @@ pub fn flat_pair_in_range(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
         let sc = robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
         if sc != 0 {
             let sd = robust_orient2d_sign([a[i], a[j]], [b[i], b[j]], [d[i], d[j]]);
-            return sc * sd < 0;
+            return shape_of_sides(sc * sd);
         }
     }
-    false
+    PairShape::Bent
+}
+
+/// The shape of a coplanar pair from the product of its apexes' sides of
+/// the shared edge.
+#[inline(always)]
+fn shape_of_sides(product: i8) -> PairShape {
+    match product {
+        ..0 => PairShape::Flat,
+        0 => PairShape::Bent,
+        1.. => PairShape::Folded,
+    }
 }
 
 /// Exact test: are the triangle (a, b, c) and the point d in one plane?
@@ -737,21 +779,21 @@ fn in_axis_plane(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
     (0..3).any(|i| a[i] == b[i] && a[i] == c[i] && a[i] == d[i])
 }
 
-/// [`flat_pair`] outside the fast range (same steps, exact signs).
+/// [`pair_shape`] outside the fast range (same steps, exact signs).
 #[cold]
 #[inline(never)]
-fn flat_pair_slow(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+fn pair_shape_slow(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> PairShape {
     if !in_axis_plane(a, b, c, d) && orient3d_sign(a, b, c, d) != 0 {
-        return false;
+        return PairShape::Bent;
     }
     for (i, j) in PLANES {
         let sc = orient2d_sign([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]);
         if sc != 0 {
             let sd = orient2d_sign([a[i], a[j]], [b[i], b[j]], [d[i], d[j]]);
-            return sc * sd < 0;
+            return shape_of_sides(sc * sd);
         }
     }
-    false
+    PairShape::Bent
 }
 
 /// Exact orientation predicates in integer arithmetic, for coordinates
@@ -1598,8 +1640,8 @@ mod tests {
             DVec3::new(0.0, 1.0, 1.0),
             DVec3::new(0.5, -1.0, 1.0),
         );
-        assert_eq!(flat_pair_in_range(a, b, c, d), flat_pair(a, b, c, d));
-        assert!(flat_pair_in_range(a, b, c, d));
+        assert_eq!(pair_shape_in_range(a, b, c, d), pair_shape(a, b, c, d));
+        assert_eq!(pair_shape_in_range(a, b, c, d), PairShape::Flat);
         assert!(collinear_in_range(a, b, (a + b) * 0.5));
         assert!(!collinear_in_range(a, b, c));
         // The mesh-wide choice: on a triangle 1e-310 across the unchecked
@@ -1608,11 +1650,45 @@ mod tests {
         assert!(collinear_in_range(tiny[0], tiny[1], tiny[2]), "underflows, as said");
         assert!(!collinear_for(&tiny)(tiny[0], tiny[1], tiny[2]));
         assert!(!collinear_for(&[a, b, c])(a, b, c));
-        assert!(flat_pair_for(&[a, b, c, d])(a, b, c, d));
+        assert_eq!(pair_shape_for(&[a, b, c, d])(a, b, c, d), PairShape::Flat);
         let far = DVec3::new(0.0, 0.0, 1e-310);
-        assert!(!flat_pair_for(&[tiny[0], tiny[1], tiny[2], far])(
-            tiny[0], tiny[1], tiny[2], far
-        ));
+        assert_eq!(
+            pair_shape_for(&[tiny[0], tiny[1], tiny[2], far])(tiny[0], tiny[1], tiny[2], far),
+            PairShape::Bent
+        );
+    }
+
+    #[test]
+    fn pair_shapes_tell_flat_from_folded_and_bent_in_and_out_of_the_fast_range() {
+        // The edge a-b, c above it; d below (flat), above (folded), lifted
+        // off the plane (bent), on the line ab (degenerate: bent).
+        // (Dyadic coordinates: every sum and scaling below is exact.)
+        let (a, b, c) = (
+            DVec3::new(0.0, 0.0, 2.0),
+            DVec3::new(1.0, 0.0, 2.0),
+            DVec3::new(0.25, 1.0, 2.0),
+        );
+        let cases = [
+            (DVec3::new(0.625, -1.0, 2.0), PairShape::Flat),
+            (DVec3::new(0.75, 0.5, 2.0), PairShape::Folded),
+            (DVec3::new(0.75, 0.5, 2.0 + 2f64.powi(-40)), PairShape::Bent),
+            (DVec3::new(0.5, -1.0, 2.5), PairShape::Bent),
+            (DVec3::new(2.0, 0.0, 2.0), PairShape::Bent),
+        ];
+        // In a tilted plane too (z = x + y), and scaled out of the fast
+        // range both ways (by powers of two).
+        let tilt = |p: DVec3| DVec3::new(p.x, p.y, p.x + p.y);
+        for scale in [1.0, 2f64.powi(-1000), 2f64.powi(900)] {
+            for (d, shape) in cases {
+                let [a, b, c, d] = [a, b, c, d].map(|p| p * scale);
+                assert_eq!(pair_shape(a, b, c, d), shape, "{d} at scale {scale:e}");
+                assert_eq!(flat_pair(a, b, c, d), shape == PairShape::Flat);
+                if shape != PairShape::Bent || d.z == c.z {
+                    let [a, b, c, d] = [a, b, c, d].map(tilt);
+                    assert_eq!(pair_shape(a, b, c, d), shape, "tilted {d} at scale {scale:e}");
+                }
+            }
+        }
     }
 
     #[test]

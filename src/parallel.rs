@@ -152,7 +152,7 @@ pub fn map<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
 
 /// The parts one after the other: the only part itself when there is one
 /// (every pass over a small mesh), else one copy of each part's block.
-fn concat<T>(parts: Vec<Vec<T>>) -> Vec<T> {
+pub(crate) fn concat<T>(parts: Vec<Vec<T>>) -> Vec<T> {
     let mut parts = parts.into_iter();
     let Some(mut all) = parts.next() else {
         return Vec::new();

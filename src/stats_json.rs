@@ -66,6 +66,8 @@ pub struct Invocation<'a> {
     pub figures: InputFigures,
     /// `Surface::added_vertex_lower_bound` of the input.
     pub lower_bound: usize,
+    /// `Surface::folded_edges` of the input.
+    pub folded_edges: usize,
     /// `-o` (the input when rewritten in place).
     pub output: &'a Path,
     /// `--repaired`, if given.
@@ -376,6 +378,7 @@ fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecor
                 ("min_edge", Json::Num(f.min_edge)),
                 ("max_edge", Json::Num(f.max_edge)),
                 ("near_coincident_edges", Json::Int(f.near_coincident_edges as u64)),
+                ("folded_edges", Json::Int(inv.folded_edges as u64)),
                 ("added_vertices_lower_bound", Json::Int(inv.lower_bound as u64)),
             ]),
         ),

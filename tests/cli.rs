@@ -1470,6 +1470,74 @@ fn a_stuck_run_points_to_smallest() {
     check_passes(&input, &out);
 }
 
+/// A flat 4 × 4 grid (a 2D mesh) with one interior vertex dragged across
+/// a diagonal, so that one triangle is turned over: the surface folds flat
+/// onto itself along that triangle's three edges. A note before refining
+/// counts them and names one by the file's vertex numbers, `--stats-json`
+/// counts them, a batch line carries the note too, and the output (which
+/// keeps the fold) passes check. The grid as made, with no fold, gets none.
+#[test]
+fn folds_in_a_flat_mesh_are_named_in_a_note_and_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 4;
+    let write = |name: &str, dragged: bool| {
+        let mut text = String::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                // Vertex 7 (1-based) is (1, 1): dragged to (0.25, 0.5),
+                // across the diagonal from vertex 2 (1, 0) to vertex 6
+                // (0, 1), it turns the triangle (2, 7, 6) over.
+                let (x, y) = if dragged && (i, j) == (1, 1) {
+                    (0.25, 0.5)
+                } else {
+                    (i as f64, j as f64)
+                };
+                text += &format!("v {x} {y} 0\n");
+            }
+        }
+        for t in common::grid_triangles(n) {
+            text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let (folded, flat) = (write("folded.obj", true), write("flat.obj", false));
+    let json = dir.path().join("stats.json");
+    let stats = ["--stats-json", json.to_str().unwrap()];
+    let (stdout, _) = refine_checked(&folded, &dir.path().join("out.obj"), &stats);
+    let note = "note    3 input edge(s) where the surface folds flat onto itself (the two faces in one plane, on the \
+                same side of the edge: a face turned over in a flat part, or the rim of a flat two-sided sheet), the \
+                first between vertex ";
+    let named = stdout.split(note).nth(1).unwrap_or_else(|| panic!("{stdout}"));
+    let named: Vec<&str> = named.split(';').next().unwrap().split(" and vertex ").collect();
+    let edges = [["2", "7"], ["7", "6"], ["6", "2"]];
+    assert!(
+        edges
+            .iter()
+            .any(|e| e[..] == named[..] || [e[1], e[0]][..] == named[..]),
+        "{stdout}"
+    );
+    assert!(stdout.contains("such an edge is never flipped"), "{stdout}");
+    let record = std::fs::read_to_string(&json).unwrap();
+    assert!(record.contains("\"folded_edges\": 3"), "{record}");
+    let batch = delmesh()
+        .args(["batch", "-d"])
+        .arg(dir.path().join("batch"))
+        .arg(&folded)
+        .output()
+        .unwrap();
+    let line = String::from_utf8_lossy(&batch.stdout);
+    assert!(
+        batch.status.success() && line.contains("; note: 3 input edge(s) where the surface folds flat"),
+        "{line}"
+    );
+    let (stdout, _) = refine_checked(&flat, &dir.path().join("flat-out.obj"), &stats);
+    assert!(!stdout.contains("folds flat"), "{stdout}");
+    let record = std::fs::read_to_string(&json).unwrap();
+    assert!(record.contains("\"folded_edges\": 0"), "{record}");
+}
+
 /// Marching tetrahedra with their crossings clamped a tenth of a billionth
 /// of a cell from the grid points (a sphere over an 8³ grid): where the
 /// field is almost zero at a grid point, vertices 2.5e-11 apart. Refining

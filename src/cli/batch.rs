@@ -19,9 +19,9 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use super::{
-    check_maps, check_output, check_output_dir, count, failure_record, file_key, flat_regions_notes, growth_note,
-    longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest, stage_face_map,
-    stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
+    check_maps, check_output, check_output_dir, count, failure_record, file_key, flat_regions_notes, fold_note,
+    growth_note, longest_first_note, name_stuck_edge, near_coincident_note, one_line, refine_once, smallest,
+    stage_face_map, stage_vertex_map, stuck_elsewhere, write_output, FirstPass, Settings,
 };
 use crate::stats_json::{self, FileDocument, RunRecord, RunSeconds};
 use delmesh::attributes::Transfer;
@@ -414,7 +414,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
         max_added: args.settings.max_added.for_input(surface.n_input_vertices),
         ..*options
     };
-    let figures = surface.input_figures;
+    let (figures, folded_edges) = (surface.input_figures, surface.folded_edges);
     let constants = delmesh::refine::sample_constants(&surface);
     let first_pass = FirstPass::new(&mut surface, args.settings.keep_order);
     let json = args.stats_json.is_some();
@@ -449,6 +449,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
             input: &mesh,
             figures,
             lower_bound,
+            folded_edges,
             output,
             repaired: repaired.as_deref(),
             refined: true,
@@ -514,6 +515,7 @@ fn refine_read(
     let t_write = Instant::now();
     let mut notes = std::mem::take(&mut mesh.notes);
     notes.extend(near_coincident_note(&out.surface.input_figures));
+    notes.extend(fold_note(&out.surface, mesh));
     notes.extend(growth_note(
         &out.surface,
         options.shells,

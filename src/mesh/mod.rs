@@ -15,7 +15,7 @@ pub use topology::{
     MAX_HALFEDGES, MAX_TRIANGLES,
 };
 
-use crate::geometry::{self, DelaunayTest, RegionPlane, ALGORITHM_TOLERANCE};
+use crate::geometry::{self, DelaunayTest, PairShape, RegionPlane, ALGORITHM_TOLERANCE};
 use crate::samples::point_on_edge;
 use crate::union_find::UnionFind;
 use glam::DVec3;
@@ -133,6 +133,13 @@ pub struct Surface {
     /// Exactly flat input edges between two planar regions: kept apart by
     /// the input's attributes ([`RegionCuts`]), they are never flipped.
     pub flat_edges_apart: usize,
+    /// Input edges where the surface folds flat onto itself
+    /// ([`geometry::PairShape::Folded`]: a face turned over in a flat part,
+    /// or the rim of a flat two-sided sheet): never flipped, as their two
+    /// faces are in different planar regions; a non-Delaunay one is split.
+    pub folded_edges: usize,
+    /// The ends of the first such edge (input vertices), to name it.
+    pub first_folded_edge: Option<[VertexId; 2]>,
     /// Smallest angle and extreme edge lengths of the input.
     pub input_figures: InputFigures,
     /// How each planar region's faces must look along a coordinate axis
@@ -363,6 +370,8 @@ impl Surface {
             n_input_vertices: n,
             n_regions: 0,
             flat_edges_apart: 0,
+            folded_edges: 0,
+            first_folded_edge: None,
             input_figures: InputFigures {
                 min_angle: 0.0,
                 min_angle_sin: 0.0,
@@ -393,15 +402,31 @@ impl Surface {
     fn find_regions(&mut self, cuts: &dyn RegionCuts) {
         let n_faces = self.topo.n_faces();
         // The exact test on every interior edge (read-only: on every core),
-        // then the joins (sequential, cheap).
+        // then the joins (sequential, cheap). It tells folds too, at no cost:
+        // a pair in one plane is one or the other.
         // Coordinates checked once for the whole mesh, not per edge.
-        let flat_pair = geometry::flat_pair_for(&self.positions);
-        let flat = crate::parallel::filter_indices(self.topo.n_edges(), |e| {
-            let e = EdgeId(e as u32);
-            self.topo.is_interior(e) && {
+        let pair_shape = geometry::pair_shape_for(&self.positions);
+        let parts = crate::parallel::map_ranges(self.topo.n_edges(), |edges| {
+            let (mut flat, mut folded) = (Vec::new(), Vec::new());
+            for e in edges.map(|e| EdgeId(e as u32)) {
+                if !self.topo.is_interior(e) {
+                    continue;
+                }
                 let [a, b, c, d] = self.edge_quad(e);
-                flat_pair(a, b, c, d)
+                match pair_shape(a, b, c, d) {
+                    PairShape::Flat => flat.push(e.0),
+                    PairShape::Folded => folded.push(e.0),
+                    PairShape::Bent => {}
+                }
             }
+            (flat, folded)
+        });
+        let (flat, folded): (Vec<Vec<u32>>, Vec<Vec<u32>>) = parts.into_iter().unzip();
+        let flat = crate::parallel::concat(flat);
+        self.folded_edges = folded.iter().map(Vec::len).sum();
+        self.first_folded_edge = folded.iter().flatten().next().map(|&e| {
+            let h = EdgeId(e).halfedge();
+            [self.topo.origin(h), self.topo.dest(h)]
         });
         let faces_of = |e: u32| {
             let h = EdgeId(e).halfedge();
