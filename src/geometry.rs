@@ -694,11 +694,11 @@ fn collinear_slow(a: DVec3, b: DVec3, c: DVec3) -> bool {
 /// lie against each other ([`pair_shape`]).
 ///
 /// ```text
-///        c                  c  d
-///       / \                / \/ \
-///      a---b     Flat      a---b      Folded: d turned over onto
-///       \ /                             c's side, in c's plane
-///        d
+///   Flat:    c          Folded:    c
+///           / \                   / \       d on c's side of ab, in
+///          a---b                 /  d \      c's plane: the faces
+///           \ /                 / .' '. \     (a, b, c) and (b, a, d)
+///            d                 a---------b    overlap
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PairShape {
