@@ -31,6 +31,17 @@ fn with_stdin<S: AsRef<std::ffi::OsStr>>(args: &[S], stdin: &Path) -> std::proce
         .unwrap()
 }
 
+/// `delmesh batch -d OUT_DIR INPUT`: whether it succeeded, and its printout.
+fn batch_line(out_dir: &Path, input: &Path) -> (bool, String) {
+    let run = delmesh()
+        .args(["batch", "-d"])
+        .arg(out_dir)
+        .arg(input)
+        .output()
+        .unwrap();
+    (run.status.success(), String::from_utf8_lossy(&run.stdout).into_owned())
+}
+
 fn check_passes(input: &Path, output: &Path) {
     let out = delmesh().arg("check").arg(input).arg(output).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -1521,15 +1532,9 @@ fn folds_in_a_flat_mesh_are_named_in_a_note_and_counted() {
     assert!(stdout.contains("such an edge is never flipped"), "{stdout}");
     let record = std::fs::read_to_string(&json).unwrap();
     assert!(record.contains("\"folded_edges\": 3"), "{record}");
-    let batch = delmesh()
-        .args(["batch", "-d"])
-        .arg(dir.path().join("batch"))
-        .arg(&folded)
-        .output()
-        .unwrap();
-    let line = String::from_utf8_lossy(&batch.stdout);
+    let (ok, line) = batch_line(&dir.path().join("batch"), &folded);
     assert!(
-        batch.status.success() && line.contains("; note: 3 input edge(s) where the surface folds flat"),
+        ok && line.contains("; note: 3 input edge(s) where the surface folds flat"),
         "{line}"
     );
     let (stdout, _) = refine_checked(&flat, &dir.path().join("flat-out.obj"), &stats);
@@ -1762,19 +1767,8 @@ fn a_large_growth_is_explained() {
     );
     assert_eq!(note(&[], &common::data_dir().join("bunny.obj")), None);
     // batch says it on the file's line.
-    let out_dir = dir.path().join("batch");
-    let run = delmesh()
-        .arg("batch")
-        .arg("-d")
-        .arg(&out_dir)
-        .arg(&input)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success() && stdout.contains("40 added vertices per input vertex"),
-        "{stdout}"
-    );
+    let (ok, stdout) = batch_line(&dir.path().join("batch"), &input);
+    assert!(ok && stdout.contains("40 added vertices per input vertex"), "{stdout}");
 }
 
 /// `-all --check` checks each of the 18 files as soon as it is written
