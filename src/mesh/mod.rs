@@ -1280,6 +1280,30 @@ mod tests {
     }
 
     #[test]
+    fn folds_are_counted_where_coplanar_faces_lie_on_one_side_of_their_edge() {
+        // A two-sided sheet: a triangle fanned from an inner point, closed
+        // by the triangle turned over. Its three rim edges are folds, its
+        // spokes flat; the fan is one region, the back another.
+        let positions = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.25, 0.25, 0.0),
+        ];
+        let sheet = [[0, 1, 3], [1, 2, 3], [2, 0, 3], [0, 2, 1]];
+        let s = Surface::new(positions.clone(), &sheet).unwrap();
+        s.validate().unwrap();
+        assert_eq!((s.folded_edges, s.n_regions), (3, 2));
+        let [a, b] = s.first_folded_edge.expect("a fold to name");
+        let rim = [[0, 1], [1, 2], [2, 0]].map(|e| e.map(VertexId));
+        assert!(rim.iter().any(|&e| e == [a, b] || e == [b, a]), "{a:?} {b:?}");
+        // The oval's cap is flat and its cone bent: no fold.
+        let (oval, triangles) = fanned_oval(12, false);
+        let s = Surface::new(oval, &triangles).unwrap();
+        assert_eq!((s.folded_edges, s.first_folded_edge), (0, None));
+    }
+
+    #[test]
     fn single_precision_planes_are_nearly_flat_within_their_rounding() {
         // The turned oval rounded to f32, as an STL stores it: its cap is
         // off its plane by far more than 1e-9 rad, and counted all the same.
