@@ -73,7 +73,7 @@ for mesh in "$dir"/*.obj; do
   line="mesh=$name"
   "$bin" -i "$mesh" -o "$out/x.obj" --no-refine > "$out/info" 2>/dev/null
   input=$(sed -n 's/^input .*: \([0-9]*\) vertices.*/\1/p' "$out/info")
-  lb=$(sed -n 's/^bound .* at least \([0-9]*\) vertices.*/\1/p' "$out/info")
+  lb=$(sed -n 's/^bound .* at least \([0-9]*\) vert.*/\1/p' "$out/info")
   line="$line input=$input lb=${lb:-NA}"
   prefix="" ; sweep
   best=$sbest best_combo=$sbest_combo

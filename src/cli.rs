@@ -1157,7 +1157,10 @@ fn say_input(
         (_, 0) => " and these attributes",
         _ => " and these attributes (--drop-attributes lets every flat edge flip)",
     };
-    say!("bound   any Delaunay mesh with this geometry{kept} adds at least {lower_bound} vertices");
+    say!(
+        "bound   any Delaunay mesh with this geometry{kept} adds at least {}",
+        count(lower_bound, "vertex", "vertices")
+    );
     if let Some(report) = &input.repair {
         if report.is_clean() {
             say!("repair  nothing to repair");

@@ -653,7 +653,7 @@ fn draw_chart(path: &Path, input_path: &Path, rows: &[Row], args: &RunArgs) -> a
                     match e.downcast_ref::<delmesh::Error>() {
                         Some(delmesh::Error::WorkLimit { .. }) => "failed: work limit".to_string(),
                         Some(delmesh::Error::Unsplittable { count, .. }) => {
-                            format!("failed: {count} edges can't be split")
+                            format!("failed: {} can't be split", super::count(*count, "edge", "edges"))
                         }
                         _ => "failed".to_string(),
                     },
