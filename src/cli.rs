@@ -1570,12 +1570,28 @@ fn write_output(
     let shared = || *shared.get_or_init(|| surface.added_vertices_at_shared_positions());
     // A stream cannot be taken back once written: there a file that would
     // be refused (below) is found before, by writing it into nothing.
+    // (Input vertices at shared positions too: the copies `--repair` makes
+    // where it cuts; counted once if asked.)
+    let cut = std::cell::OnceCell::new();
+    let cut = || *cut.get_or_init(|| surface.input_vertices_at_shared_positions());
     if let Some(a) = attributes.as_ref().filter(|_| io::is_stream(path)) {
-        if shared() > 0 {
+        if shared() > 0 || cut() > 0 {
             let copies = io::written_with_attributes(format, &surface.positions, &triangles, a)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
                 .copies_of;
             refuse_shared_positions(path, surface.positions.len(), shared, &triangles, Some(a), &copies)?;
+            if !copies.is_empty() {
+                // Read back from a temporary file of the same bytes.
+                let dir = std::env::temp_dir();
+                let file = io::temporary::TempFile::create_in(
+                    &dir,
+                    ".delmesh-",
+                    &format!(".{}", format.name().to_ascii_lowercase()),
+                )
+                .with_context(|| dir.display().to_string())?;
+                io::write_mesh_with_attributes(file.path(), &surface.positions, &triangles, a)?;
+                refuse_misread_copies(path, file.path(), surface, &triangles, Some(a), cut, &copies)?;
+            }
         }
     }
     let (mut written, staged) = match &attributes {
@@ -1593,6 +1609,17 @@ fn write_output(
         attributes.as_ref(),
         &written.copies_of,
     )?;
+    if !io::is_stream(path) {
+        refuse_misread_copies(
+            path,
+            staged.path(),
+            surface,
+            &triangles,
+            attributes.as_ref(),
+            cut,
+            &written.copies_of,
+        )?;
+    }
     drop(attributes);
     written.notes.extend(libraries_moved);
     if format == io::Format::Stl {
@@ -1647,20 +1674,73 @@ fn refuse_shared_positions(
     if shared == 0 {
         return Ok(());
     }
-    let obj_copies = (attributes.and_then(|a| a.colors.as_ref()))
-        .is_some_and(|c| delmesh::attributes::PerVertex::new(n, triangles, &[c]).source.len() > n);
     let format = io::output_format(path);
-    let (copied, instead) = match format {
-        io::Format::Obj => ("vertices with several colours", ""),
-        _ if obj_copies => ("vertices at attribute seams", ""),
-        _ => ("vertices at attribute seams", "write OBJ, or "),
-    };
+    let (copied, instead) = what_is_copied(format, n, triangles, attributes);
     anyhow::bail!(
         "{}: {} {} a position with another vertex (such as the sheets of an edge cut apart by --repair, split at \
          one point), which {} cannot keep apart where it copies {copied}; {instead}use --drop-attributes",
         path.display(),
         count(shared, "added vertex", "added vertices"),
         if shared == 1 { "shares" } else { "share" },
+        format.name(),
+    );
+}
+
+/// What a file of `format` copies, in the refusals' words, and whether OBJ
+/// is a way out: an OBJ copies a vertex only for its colours, so not where
+/// they differ at a vertex (`n` vertices, `triangles`, `attributes`).
+fn what_is_copied(
+    format: io::Format,
+    n: usize,
+    triangles: &[[u32; 3]],
+    attributes: Option<&delmesh::attributes::Attributes>,
+) -> (&'static str, &'static str) {
+    let obj_copies = (attributes.and_then(|a| a.colors.as_ref()))
+        .is_some_and(|c| delmesh::attributes::PerVertex::new(n, triangles, &[c]).source.len() > n);
+    match format {
+        io::Format::Obj => ("vertices with several colours", ""),
+        _ if obj_copies => ("vertices at attribute seams", ""),
+        _ => ("vertices at attribute seams", "write OBJ, or "),
+    }
+}
+
+/// Refuses the output `path` if its file (at `file`) copies vertices
+/// (`copies`: at seams, or an OBJ's for colours) and input vertices share a
+/// position (`cut()` of them, [`Surface::input_vertices_at_shared_positions`]:
+/// the copies `--repair` makes where it cuts), unless the file, read back as
+/// `check` reads an output, has the shape of the mesh written
+/// ([`delmesh::check::Mesh3::reads_back_as`]). Told apart only by their
+/// index, such vertices are welded on reading with the copies of the others
+/// at their position, and which copies are one vertex is then a guess; a
+/// file guessed wrong would fail `check` (a fuzz finding of the
+/// seventy-fourth session: two components where the mesh has one).
+fn refuse_misread_copies(
+    path: &Path,
+    file: &Path,
+    surface: &Surface,
+    triangles: &[[u32; 3]],
+    attributes: Option<&delmesh::attributes::Attributes>,
+    cut: impl Fn() -> usize,
+    copies: &[u32],
+) -> anyhow::Result<()> {
+    if copies.is_empty() || cut() == 0 {
+        return Ok(());
+    }
+    let written = delmesh::check::Mesh3 {
+        positions: surface.positions.clone(),
+        triangles: triangles.to_vec(),
+    };
+    if delmesh::check::Mesh3::reads_back_as(file, &written).unwrap_or(false) {
+        return Ok(());
+    }
+    let format = io::output_format(path);
+    let (copied, instead) = what_is_copied(format, surface.positions.len(), triangles, attributes);
+    anyhow::bail!(
+        "{}: {} share a position with another (the copies --repair makes where it cuts the surface apart), which \
+         {} cannot keep apart where it copies {copied}: the file would not read back as this mesh; {instead}use \
+         --drop-attributes",
+        path.display(),
+        count(cut(), "input vertex", "input vertices"),
         format.name(),
     );
 }

@@ -2730,6 +2730,20 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
             sig.push_str(&format!(" {out_name}:refused-shared"));
             continue;
         }
+        // Input vertices at a shared position (cut apart by `--repair`) in
+        // a file with copies: the command line refuses to write it unless
+        // it reads back as the mesh written (`check` guesses which copies
+        // are one vertex there; session 74's finding guessed wrong).
+        if !written.copies_of.is_empty() && s.input_vertices_at_shared_positions() > 0 {
+            let mesh = delmesh::check::Mesh3 {
+                positions: s.positions.clone(),
+                triangles: triangles.clone(),
+            };
+            if !delmesh::check::Mesh3::reads_back_as(&file, &mesh).unwrap_or(false) {
+                sig.push_str(&format!(" {out_name}:refused-misread"));
+                continue;
+            }
+        }
         // Read as the format's reader reads it (without welding: a mesh with
         // distinct vertices at one position, refined from an input that
         // overlaps itself, is then the file's), and as an input if it has

@@ -522,6 +522,42 @@ impl Mesh3 {
         Ok(settle_like(welded.mesh, &welded.file_corners, input, &input.positions, 0).mesh)
     }
 
+    /// Whether the file at `path`, read as `check` reads a run's output
+    /// ([`Mesh3::read_like`], aimed at `written`), has the shape of the mesh
+    /// `written` that was written to it: as many used vertices, edges,
+    /// faces, boundary edges and connected components. Where a file copies
+    /// vertices (at attribute seams, or an OBJ's for colours) and distinct
+    /// vertices share a position (the sheets of an edge `--repair` cut), the
+    /// reading has to guess which copies are one vertex; the command line
+    /// refuses to write a file read back otherwise.
+    pub fn reads_back_as(path: impl AsRef<Path>, written: &Mesh3) -> Result<bool, CheckError> {
+        let back = Mesh3::read_like(path, written)?;
+        Ok(back.shape() == written.shape())
+    }
+
+    /// Used vertices, edges, faces, boundary edges and connected components.
+    fn shape(&self) -> [usize; 5] {
+        let mut sides: FastMap<(u32, u32), u32> = FastMap::default();
+        let mut sets = UnionFind::new(self.positions.len());
+        for t in &self.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                *sides.entry((a.min(b), a.max(b))).or_default() += 1;
+                sets.union(a, b);
+            }
+        }
+        let used: HashSet<u32> = self.triangles.iter().flatten().copied().collect();
+        let components: HashSet<u32> = used.iter().map(|&v| sets.find(v)).collect();
+        let boundary = sides.values().filter(|&&n| n == 1).count();
+        [
+            used.len(),
+            sides.len(),
+            self.triangles.len(),
+            boundary,
+            components.len(),
+        ]
+    }
+
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
     /// triangulated (by [`triangulate`]), points and lines ignored, vertices with identical
     /// positions welded (-0 and 0 alike),

@@ -728,6 +728,21 @@ impl Surface {
             .sum()
     }
 
+    /// How many input vertices have the position of another input vertex:
+    /// the copies that `--repair` makes where it cuts an edge or a vertex
+    /// apart (reading welds every other shared position). As for
+    /// [`Surface::added_vertices_at_shared_positions`], a file that copies
+    /// vertices can only tell them apart by guessing. One pass over the
+    /// input's positions (a hash).
+    pub fn input_vertices_at_shared_positions(&self) -> usize {
+        use crate::hash::{position_key, FastMap};
+        let mut at: FastMap<[u64; 3], usize> = FastMap::default();
+        for p in &self.positions[..self.n_input_vertices] {
+            *at.entry(position_key(p.to_array())).or_default() += 1;
+        }
+        at.values().filter(|&&n| n > 1).sum()
+    }
+
     /// How many input edges join two faces that are coplanar to within
     /// [`NEARLY_FLAT`] radians ([`NEARLY_FLAT_SINGLE`] for single-precision
     /// coordinates) but not exactly (nor kept apart on purpose,
