@@ -3923,46 +3923,67 @@ fn added_vertices_at_one_position_are_not_written_with_seam_copies() {
     }
 }
 
-/// Session 74's attributes fuzz finding: `--repair` cuts two non-manifold
-/// edges, so that input vertices share three positions, two at each; a
-/// PLY or OFF copies vertices at attribute seams there too, and `check`,
-/// which must guess which copies are one vertex, read the output as two
-/// components where it has one. Such a file is now read back before it is
-/// put in place and refused with one line if it does not read as the mesh
-/// written; as OBJ, or without the attributes, it is written and passes.
+/// Session 74's attributes fuzz findings: `--repair` cuts non-manifold
+/// edges, so that input vertices share positions, two at each; a PLY or OFF
+/// copies vertices at attribute seams there too, and `check`, which must
+/// guess which copies are one vertex, read one output as two components
+/// where it has one, and another with faces joined across an edge that the
+/// mesh does not join (a non-Delaunay edge). Such a file is now read back
+/// before it is put in place and refused with one line if it does not read
+/// as the mesh written; as OBJ, or without the attributes, it is written
+/// and passes.
 #[test]
 fn cut_vertices_with_seam_copies_are_refused_if_misread() {
     let dir = tempfile::tempdir().unwrap();
-    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/fuzz-attributes-177bfafda1c39c84.bin");
+    let regression = |name: &str| {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/regressions")
+            .join(name)
+    };
+    let cases = [
+        (
+            regression("fuzz-attributes-177bfafda1c39c84.bin"),
+            &["--repair", "--ds", "pqueue"][..],
+            "6 input vertices",
+        ),
+        (
+            regression("fuzz-attributes-fec20632aeb7652b.bin"),
+            &["--repair", "--ds", "queue", "--attribute-tolerance", "0.1"][..],
+            "12 input vertices",
+        ),
+    ];
     let repaired = dir.path().join("repaired.obj");
-    let settings = ["--repair", "--ds", "pqueue"];
-    for ext in ["ply", "off"] {
-        let out = dir.path().join(format!("out.{ext}"));
-        let run = refine(&input, &out).args(settings).output().unwrap();
-        let error = one_line_error(&run);
-        assert!(
-            error.contains("6 input vertices share a position with another")
-                && error.contains("would not read back as this mesh; write OBJ, or use --drop-attributes"),
-            "{error}"
-        );
-        assert!(!out.exists());
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "a file left behind");
-    }
-    for (ext, extra) in [
-        ("obj", None),
-        ("ply", Some("--drop-attributes")),
-        ("off", Some("--drop-attributes")),
-    ] {
-        let out = dir.path().join(format!("out.{ext}"));
-        let run = refine(&input, &out)
-            .args(settings)
-            .args(extra)
-            .arg("--repaired")
-            .arg(&repaired)
-            .output()
-            .unwrap();
-        assert!(run.status.success(), "{ext}: {}", String::from_utf8_lossy(&run.stderr));
-        check_passes(&repaired, &out);
+    for (input, settings, shared) in cases {
+        for ext in ["ply", "off"] {
+            let out = dir.path().join(format!("out.{ext}"));
+            let run = refine(&input, &out).args(settings).output().unwrap();
+            let error = one_line_error(&run);
+            assert!(
+                error.contains(&format!("{shared} share a position with another"))
+                    && error.contains("would not read back as this mesh; write OBJ, or use --drop-attributes"),
+                "{error}"
+            );
+            assert!(!out.exists());
+            assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "a file left behind");
+        }
+        for (ext, extra) in [
+            ("obj", None),
+            ("ply", Some("--drop-attributes")),
+            ("off", Some("--drop-attributes")),
+        ] {
+            let out = dir.path().join(format!("out.{ext}"));
+            let run = refine(&input, &out)
+                .args(settings)
+                .args(extra)
+                .arg("--repaired")
+                .arg(&repaired)
+                .output()
+                .unwrap();
+            assert!(run.status.success(), "{ext}: {}", String::from_utf8_lossy(&run.stderr));
+            check_passes(&repaired, &out);
+            std::fs::remove_file(&out).unwrap();
+        }
+        std::fs::remove_file(&repaired).unwrap();
     }
 }
 

@@ -523,39 +523,49 @@ impl Mesh3 {
     }
 
     /// Whether the file at `path`, read as `check` reads a run's output
-    /// ([`Mesh3::read_like`], aimed at `written`), has the shape of the mesh
-    /// `written` that was written to it: as many used vertices, edges,
-    /// faces, boundary edges and connected components. Where a file copies
-    /// vertices (at attribute seams, or an OBJ's for colours) and distinct
-    /// vertices share a position (the sheets of an edge `--repair` cut), the
-    /// reading has to guess which copies are one vertex; the command line
-    /// refuses to write a file read back otherwise.
+    /// ([`Mesh3::read_like`], aimed at `written`), is the mesh `written` that
+    /// was written to it, as far as positions tell: as many used vertices,
+    /// faces and connected components, and the same edges with the same
+    /// faces on them (each edge by its ends' positions and the positions of
+    /// the apexes of its faces). Where a file copies vertices (at attribute
+    /// seams, or an OBJ's for colours) and distinct vertices share a position
+    /// (the copies `--repair` makes where it cuts), the reading has to guess
+    /// which copies are one vertex; a wrong guess joins other faces across an
+    /// edge, or cuts the surface apart. The command line refuses to write a
+    /// file read back otherwise.
     pub fn reads_back_as(path: impl AsRef<Path>, written: &Mesh3) -> Result<bool, CheckError> {
         let back = Mesh3::read_like(path, written)?;
         Ok(back.shape() == written.shape())
     }
 
-    /// Used vertices, edges, faces, boundary edges and connected components.
-    fn shape(&self) -> [usize; 5] {
-        let mut sides: FastMap<(u32, u32), u32> = FastMap::default();
+    /// Used vertices, faces and connected components, and every edge (its
+    /// ends' positions, in order) with the positions of its faces' apexes
+    /// (in order), sorted: what [`Mesh3::reads_back_as`] compares.
+    #[allow(clippy::type_complexity)]
+    fn shape(&self) -> ([usize; 3], Vec<([[u64; 3]; 2], Vec<[u64; 3]>)>) {
+        // (-0 and 0 alike, as reading welds them.)
+        let key = |v: u32| self.positions[v as usize].to_array().map(|x| (x + 0.0).to_bits());
+        let mut apexes: FastMap<(u32, u32), Vec<[u64; 3]>> = FastMap::default();
         let mut sets = UnionFind::new(self.positions.len());
         for t in &self.triangles {
             for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                *sides.entry((a.min(b), a.max(b))).or_default() += 1;
+                let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                apexes.entry((a.min(b), a.max(b))).or_default().push(key(c));
                 sets.union(a, b);
             }
         }
         let used: HashSet<u32> = self.triangles.iter().flatten().copied().collect();
         let components: HashSet<u32> = used.iter().map(|&v| sets.find(v)).collect();
-        let boundary = sides.values().filter(|&&n| n == 1).count();
-        [
-            used.len(),
-            sides.len(),
-            self.triangles.len(),
-            boundary,
-            components.len(),
-        ]
+        let mut edges: Vec<([[u64; 3]; 2], Vec<[u64; 3]>)> = apexes
+            .into_iter()
+            .map(|((a, b), mut on)| {
+                on.sort_unstable();
+                let (p, q) = (key(a), key(b));
+                ([p.min(q), p.max(q)], on)
+            })
+            .collect();
+        edges.sort_unstable();
+        ([used.len(), self.triangles.len(), components.len()], edges)
     }
 
     /// Reads a Wavefront OBJ file: all objects and groups merged into one mesh, polygons
