@@ -502,6 +502,10 @@ pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
 // Reading
 // ---------------------------------------------------------------------------------------------
 
+/// An edge as [`Mesh3::reads_back_as`] compares it: its ends' positions
+/// (as bits, in order) and the positions of its faces' apexes (in order).
+type EdgeWithFaces = ([[u64; 3]; 2], Vec<[u64; 3]>);
+
 impl Mesh3 {
     /// Reads a mesh file: OBJ with [`Mesh3::read_obj`]; OFF, PLY and STL (possibly
     /// gzip-compressed) with the readers of [`crate::io::formats`] — the one piece of reading
@@ -541,8 +545,7 @@ impl Mesh3 {
     /// Used vertices, faces and connected components, and every edge (its
     /// ends' positions, in order) with the positions of its faces' apexes
     /// (in order), sorted: what [`Mesh3::reads_back_as`] compares.
-    #[allow(clippy::type_complexity)]
-    fn shape(&self) -> ([usize; 3], Vec<([[u64; 3]; 2], Vec<[u64; 3]>)>) {
+    fn shape(&self) -> ([usize; 3], Vec<EdgeWithFaces>) {
         // (-0 and 0 alike, as reading welds them.)
         let key = |v: u32| self.positions[v as usize].to_array().map(|x| (x + 0.0).to_bits());
         let mut apexes: FastMap<(u32, u32), Vec<[u64; 3]>> = FastMap::default();
@@ -556,7 +559,7 @@ impl Mesh3 {
         }
         let used: HashSet<u32> = self.triangles.iter().flatten().copied().collect();
         let components: HashSet<u32> = used.iter().map(|&v| sets.find(v)).collect();
-        let mut edges: Vec<([[u64; 3]; 2], Vec<[u64; 3]>)> = apexes
+        let mut edges: Vec<EdgeWithFaces> = apexes
             .into_iter()
             .map(|((a, b), mut on)| {
                 on.sort_unstable();
