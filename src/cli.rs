@@ -1564,34 +1564,27 @@ fn write_output(
         }
         attributes
     });
-    // The added vertices at shared positions, counted once if asked (a
-    // pass over the added vertices).
-    let shared = std::cell::OnceCell::new();
-    let shared = || *shared.get_or_init(|| surface.added_vertices_at_shared_positions());
+    // The vertices at shared positions (added ones, and input ones that
+    // `--repair` cut apart), counted once if asked (a pass over the
+    // positions).
+    let counted = std::cell::OnceCell::new();
+    let counted = || *counted.get_or_init(|| surface.vertices_at_shared_positions());
+    let (shared, cut) = (|| counted().added, || counted().input);
     // A stream cannot be taken back once written: there a file that would
-    // be refused (below) is found before, by writing it into nothing.
-    // (Input vertices at shared positions too: the copies `--repair` makes
-    // where it cuts; counted once if asked.)
-    let cut = std::cell::OnceCell::new();
-    let cut = || *cut.get_or_init(|| surface.input_vertices_at_shared_positions());
+    // be refused (below) is found before, by writing it first to a
+    // temporary file.
     if let Some(a) = attributes.as_ref().filter(|_| io::is_stream(path)) {
         if shared() > 0 || cut() > 0 {
-            let copies = io::written_with_attributes(format, &surface.positions, &triangles, a)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-                .copies_of;
+            let dir = std::env::temp_dir();
+            let file = io::temporary::TempFile::create_in(
+                &dir,
+                ".delmesh-",
+                &format!(".{}", format.name().to_ascii_lowercase()),
+            )
+            .with_context(|| dir.display().to_string())?;
+            let copies = io::write_mesh_with_attributes(file.path(), &surface.positions, &triangles, a)?.copies_of;
             refuse_shared_positions(path, surface.positions.len(), shared, &triangles, Some(a), &copies)?;
-            if !copies.is_empty() {
-                // Read back from a temporary file of the same bytes.
-                let dir = std::env::temp_dir();
-                let file = io::temporary::TempFile::create_in(
-                    &dir,
-                    ".delmesh-",
-                    &format!(".{}", format.name().to_ascii_lowercase()),
-                )
-                .with_context(|| dir.display().to_string())?;
-                io::write_mesh_with_attributes(file.path(), &surface.positions, &triangles, a)?;
-                refuse_misread_copies(path, file.path(), surface, &triangles, Some(a), cut, &copies)?;
-            }
+            refuse_misread_copies(path, file.path(), surface, &triangles, Some(a), cut, &copies)?;
         }
     }
     let (mut written, staged) = match &attributes {
@@ -1654,7 +1647,7 @@ fn write_output(
 /// Refuses the output `path` if the file copies vertices (`copies`, as
 /// [`io::Written::copies_of`]: at seams, or an OBJ's for colours) and added
 /// vertices of the `n`-vertex surface share a position (`shared()` of them,
-/// [`Surface::added_vertices_at_shared_positions`]: the sheets of an edge
+/// [`Surface::vertices_at_shared_positions`]: the sheets of an edge
 /// `--repair` cut, split at one sample): told apart in a file only by their
 /// index, they are read back welded with the copies, and would fail
 /// `check`. The line says whether OBJ is a way out (an OBJ copies a vertex
@@ -1706,7 +1699,7 @@ fn what_is_copied(
 
 /// Refuses the output `path` if its file (at `file`) copies vertices
 /// (`copies`: at seams, or an OBJ's for colours) and input vertices share a
-/// position (`cut()` of them, [`Surface::input_vertices_at_shared_positions`]:
+/// position (`cut()` of them, [`Surface::vertices_at_shared_positions`]:
 /// the copies `--repair` makes where it cuts), unless the file, read back as
 /// `check` reads an output, has the shape of the mesh written
 /// ([`delmesh::check::Mesh3::reads_back_as`]). Told apart only by their

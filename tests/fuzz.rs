@@ -2726,7 +2726,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         // Added vertices at a shared position in a file with seam copies:
         // the command line refuses to write it (`check` reads such a file
         // welded), so the file is not judged.
-        if !written.copies_of.is_empty() && s.added_vertices_at_shared_positions() > 0 {
+        if !written.copies_of.is_empty() && s.vertices_at_shared_positions().added > 0 {
             sig.push_str(&format!(" {out_name}:refused-shared"));
             continue;
         }
@@ -2734,7 +2734,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         // a file with copies: the command line refuses to write it unless
         // it reads back as the mesh written (`check` guesses which copies
         // are one vertex there; session 74's finding guessed wrong).
-        if !written.copies_of.is_empty() && s.input_vertices_at_shared_positions() > 0 {
+        if !written.copies_of.is_empty() && s.vertices_at_shared_positions().input > 0 {
             let mesh = delmesh::check::Mesh3 {
                 positions: s.positions.clone(),
                 triangles: triangles.clone(),

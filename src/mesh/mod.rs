@@ -186,6 +186,15 @@ pub struct InputFigures {
     pub single_precision: bool,
 }
 
+/// What [`Surface::vertices_at_shared_positions`] counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SharedPositions {
+    /// Added vertices at the position of another vertex, input or added.
+    pub added: usize,
+    /// Input vertices at the position of another input vertex.
+    pub input: usize,
+}
+
 /// An edge shorter than this fraction of the mesh's size joins
 /// near-coincident vertices ([`InputFigures::near_coincident_edges`]): below
 /// what single precision can tell apart at that size (2⁻²³ ≈ 1.2e-7), so no
@@ -702,45 +711,39 @@ impl Surface {
         self.face_region.reserve(2 * splits);
     }
 
-    /// How many added vertices have the position of another vertex, input or
-    /// added: the sheets of an edge that `--repair` cut apart (two input
-    /// edges on one segment), each split at the same sample. The mesh keeps
-    /// them apart by index; a file that copies vertices at attribute seams
-    /// (PLY, OFF) or for their colours (OBJ) can only be read back by
-    /// welding positions, which joins them. One pass over the added vertices (a hash of their positions),
-    /// and one over the input's.
-    pub fn added_vertices_at_shared_positions(&self) -> usize {
+    /// The vertices that have the position of another vertex (one pass over
+    /// the positions, a hash): the added ones among them (beside an input or
+    /// another added vertex: the sheets of an edge that `--repair` cut apart,
+    /// two input edges on one segment, each split at the same sample), and
+    /// the input ones that share a position with another input vertex (the
+    /// copies `--repair` makes where it cuts an edge or a vertex apart;
+    /// reading welds every other shared position). The mesh keeps them apart
+    /// by index; a file that copies vertices at attribute seams (PLY, OFF)
+    /// or for their colours (OBJ) can only be read back by welding
+    /// positions, and which copies are one vertex is then a guess.
+    pub fn vertices_at_shared_positions(&self) -> SharedPositions {
         use crate::hash::{position_key, FastMap};
-        // Per position of an added vertex: how many added vertices are
-        // there, and whether an input vertex is too.
-        let mut at: FastMap<[u64; 3], (usize, bool)> = FastMap::default();
-        for p in &self.positions[self.n_input_vertices..] {
-            at.entry(position_key(p.to_array())).or_default().0 += 1;
-        }
-        for p in &self.positions[..self.n_input_vertices] {
-            if let Some(place) = at.get_mut(&position_key(p.to_array())) {
-                place.1 = true;
+        // Per position: how many input vertices are there, how many added.
+        let mut at: FastMap<[u64; 3], (usize, usize)> = FastMap::default();
+        let n = self.n_input_vertices;
+        for (v, p) in self.positions.iter().enumerate() {
+            let place = at.entry(position_key(p.to_array())).or_default();
+            if v < n {
+                place.0 += 1;
+            } else {
+                place.1 += 1;
             }
         }
-        at.values()
-            .filter(|&&(added, input)| added > 1 || input)
-            .map(|&(added, _)| added)
-            .sum()
-    }
-
-    /// How many input vertices have the position of another input vertex:
-    /// the copies that `--repair` makes where it cuts an edge or a vertex
-    /// apart (reading welds every other shared position). As for
-    /// [`Surface::added_vertices_at_shared_positions`], a file that copies
-    /// vertices can only tell them apart by guessing. One pass over the
-    /// input's positions (a hash).
-    pub fn input_vertices_at_shared_positions(&self) -> usize {
-        use crate::hash::{position_key, FastMap};
-        let mut at: FastMap<[u64; 3], usize> = FastMap::default();
-        for p in &self.positions[..self.n_input_vertices] {
-            *at.entry(position_key(p.to_array())).or_default() += 1;
+        let mut shared = SharedPositions::default();
+        for &(input, added) in at.values() {
+            if added > 1 || (added > 0 && input > 0) {
+                shared.added += added;
+            }
+            if input > 1 {
+                shared.input += input;
+            }
         }
-        at.values().filter(|&&n| n > 1).sum()
+        shared
     }
 
     /// How many input edges join two faces that are coplanar to within
