@@ -1140,7 +1140,7 @@ impl Transfer {
                     let slots = v.idx() * n_channels..(v.idx() + 1) * n_channels;
                     if last_region[v.idx()] == region {
                         for (pool, &i) in pools.iter_mut().zip(&last_value[slots]) {
-                            pool.pooled.corners.push(i);
+                            pool.found.corners.push(i);
                         }
                         continue;
                     }
@@ -1156,7 +1156,7 @@ impl Transfer {
                     let memo = last_value[slots.clone()].iter_mut().zip(&mut first_value[slots]);
                     for (pool, (last, first)) in pools.iter_mut().zip(memo) {
                         let i = pool.value_index(c0, c1, t, *first);
-                        pool.pooled.corners.push(i);
+                        pool.found.corners.push(i);
                         *last = i;
                         if *first == NO_VALUE {
                             *first = i;
@@ -1166,49 +1166,57 @@ impl Transfer {
             }
         }
         for pool in pools {
-            *out.channel_mut(pool.kind) = Some(pool.pooled);
+            let kind = pool.kind;
+            *out.channel_mut(kind) = Some(pool.into_channel());
         }
         out
     }
 }
 
-/// One channel's values on the output ([`Transfer::apply`]): the pool
-/// being filled, and its index.
+/// One channel's values on the output ([`Transfer::apply`]), as they are
+/// found: appended in the order the faces' corners need them, equal ones
+/// included, then numbered once each by [`Pool::into_channel`].
+///
+/// Numbering them as they come (a look in an index of the values for
+/// every new one) took most of the time spent writing a large textured
+/// mesh: each look is a cache and TLB miss in a table of millions of slots,
+/// which the walk over the faces between two looks leaves no room to
+/// overlap. In one pass over the values alone, the looks overlap (a 980k-face
+/// textured torus: 0.65 s of index looks during the walk, 0.17 s after).
 struct Pool<'a> {
     kind: Kind,
     /// The input's values.
     channel: &'a Channel,
     /// Integer properties take the nearer end's value.
     nearest: bool,
-    /// The output's values, each once, and the value of each corner.
-    pooled: Channel,
-    /// Equal values share an entry of the pool.
-    index: ValueIndex,
+    /// The output's values in the order found (a value found equal to the
+    /// one a vertex had first is not appended again), and the number of each
+    /// corner's among them.
+    found: Channel,
 }
 
 impl<'a> Pool<'a> {
     /// An empty pool for channel `kind` of `input`, with room for
     /// `corners` corners and `vertices` values (about one per vertex; more
-    /// at seams, then regrown).
+    /// at seams, then grown).
     fn new(kind: Kind, channel: &'a Channel, input: &Attributes, corners: usize, vertices: usize) -> Pool<'a> {
-        let mut pooled = Channel::new(channel.dim);
-        pooled.corners.reserve(corners);
+        let mut found = Channel::new(channel.dim);
+        found.corners.reserve(corners);
+        found.values.reserve(vertices * channel.dim);
         Pool {
             kind,
             channel,
             nearest: matches!(kind, Kind::Property(i) if input.properties[i as usize].ty.is_integer()),
-            pooled,
-            index: ValueIndex::with_room(vertices),
+            found,
         }
     }
 
-    /// The pool number of the value at input corner `c0`, or at `t`
-    /// between corners `c0` and `c1`: `known` if the value there is
-    /// equal to it (bit for bit), else found in (or added to) the
-    /// pool; [`NO_VALUE`] where a corner has none (a region of faces
-    /// without values).
+    /// The number of the value at input corner `c0`, or at `t` between
+    /// corners `c0` and `c1`, among those found: `known` if the value there
+    /// is equal to it (bit for bit), else appended; [`NO_VALUE`] where a
+    /// corner has none (a region of faces without values).
     fn value_index(&mut self, c0: usize, c1: Option<usize>, t: f64, known: u32) -> u32 {
-        let dim = self.pooled.dim;
+        let dim = self.found.dim;
         let mut value = [0.0f64; MAX_DIM];
         let x0 = self.channel.corner(c0);
         match c1 {
@@ -1233,16 +1241,49 @@ impl<'a> Pool<'a> {
             }
         }
         let value = &value[..dim];
-        // (A value in the pool is unique there: equal to `known`, it is the
-        // one the index holds.)
-        if known != NO_VALUE && same_bits(self.pooled.value(known), value) {
+        if known != NO_VALUE && same_bits(self.found.value(known), value) {
             return known;
         }
-        let i = self.index.find_or_insert(value, &self.pooled);
-        if i == self.pooled.n_values() as u32 {
-            self.pooled.values.extend_from_slice(value);
+        self.found.values.extend_from_slice(value);
+        (self.found.n_values() - 1) as u32
+    }
+
+    /// The output's channel: the values found, each once
+    /// ([`number_alike_values`]).
+    fn into_channel(self) -> Channel {
+        let mut channel = self.found;
+        number_alike_values(&mut channel);
+        channel
+    }
+}
+
+/// Keeps one of each value of `channel` (equal bit for bit), in order of
+/// first appearance, compacting its values in place, and renumbers its
+/// corners to match: the numbers a map from each value to the count of
+/// values before it would give, value by value.
+fn number_alike_values(channel: &mut Channel) {
+    let dim = channel.dim;
+    let n = channel.n_values();
+    let mut index = ValueIndex::with_room(n);
+    let mut number = Vec::with_capacity(n);
+    let mut value = [0.0f64; MAX_DIM];
+    for r in 0..n {
+        let value = &mut value[..dim];
+        value.copy_from_slice(&channel.values[r * dim..(r + 1) * dim]);
+        // (The values kept so far are `values[..dim * index.len]`, where
+        // value `r` is, or after: a kept value moves down, never up.)
+        let kept = index.len;
+        let i = index.find_or_insert(value, &channel.values, dim);
+        if index.len > kept && kept != r {
+            channel.values.copy_within(r * dim..(r + 1) * dim, kept * dim);
         }
-        i
+        number.push(i);
+    }
+    channel.values.truncate(index.len * dim);
+    if index.len < n {
+        for c in channel.corners.iter_mut().filter(|c| **c != NO_VALUE) {
+            *c = number[*c as usize];
+        }
     }
 }
 
@@ -1252,16 +1293,16 @@ fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
-/// The number of each value of a pool ([`Channel::values`]), found by the
+/// The number of each value kept ([`number_alike_values`]), found by the
 /// value's bits: open addressing with linear probing, each slot 8 bytes (the
 /// value's number and 32 bits of its hash), the values themselves read from
-/// the pool. A map holding the values too took 40 bytes a slot; on a mesh
+/// the channel. A map holding the values too took 40 bytes a slot; on a mesh
 /// of millions of values its page faults and cache misses were most of the
 /// time spent writing the output.
 struct ValueIndex {
     /// `tag << 32 | number`, or [`ValueIndex::EMPTY`].
     slots: Vec<u64>,
-    /// How many slots are taken.
+    /// How many slots are taken: the number of values numbered.
     len: usize,
 }
 
@@ -1288,12 +1329,13 @@ impl ValueIndex {
         h.finish()
     }
 
-    /// The number of `value` in `pool` (equal bit for bit), or, if it has
-    /// none, the number it will have once appended (`pool`'s count of
-    /// values), recorded as such.
-    fn find_or_insert(&mut self, value: &[f64], pool: &Channel) -> u32 {
+    /// The number of `value` among the values numbered so far (equal bit
+    /// for bit), number `i` being `values[dim * i..dim * (i + 1)]`; or, if
+    /// none is equal, the next number (the count of values numbered so
+    /// far), recorded as the value's: it is to be put there.
+    fn find_or_insert(&mut self, value: &[f64], values: &[f64], dim: usize) -> u32 {
         if 2 * (self.len + 1) > self.slots.len() {
-            self.grow(pool);
+            self.grow(values, dim);
         }
         let h = Self::hash(value);
         let tag = h >> 32;
@@ -1302,32 +1344,32 @@ impl ValueIndex {
         loop {
             let slot = self.slots[i];
             if slot == Self::EMPTY {
-                let next = pool.n_values() as u32;
+                let next = self.len as u32;
                 self.slots[i] = tag << 32 | u64::from(next);
                 self.len += 1;
                 return next;
             }
-            let number = slot as u32;
-            if slot >> 32 == tag && same_bits(pool.value(number), value) {
-                return number;
+            let number = (slot as u32) as usize;
+            if slot >> 32 == tag && same_bits(&values[dim * number..dim * (number + 1)], value) {
+                return number as u32;
             }
             i = (i + 1) & mask;
         }
     }
 
-    /// Twice the slots, every value of `pool` placed again.
-    fn grow(&mut self, pool: &Channel) {
+    /// Twice the slots, every value numbered placed again.
+    fn grow(&mut self, values: &[f64], dim: usize) {
         let mut bigger = ValueIndex::with_room(self.slots.len());
         let mask = bigger.slots.len() - 1;
-        for number in 0..pool.n_values() as u32 {
-            let h = Self::hash(pool.value(number));
+        for number in 0..self.len {
+            let h = Self::hash(&values[dim * number..dim * (number + 1)]);
             let mut i = h as usize & mask;
             while bigger.slots[i] != Self::EMPTY {
                 i = (i + 1) & mask;
             }
-            bigger.slots[i] = (h >> 32) << 32 | u64::from(number);
+            bigger.slots[i] = (h >> 32) << 32 | number as u64;
         }
-        bigger.len = pool.n_values();
+        bigger.len = self.len;
         *self = bigger;
     }
 }
@@ -1483,35 +1525,85 @@ mod tests {
         assert_eq!(interpolate(-big, big, 1.0), big);
     }
 
-    /// The pool's index numbers values in order of first appearance, as a
-    /// map of the values would, through its growth (from 16 slots), with
-    /// values equal but for the sign of zero kept apart (bit for bit).
+    /// 20,000 values of two numbers, some equal: those equal but for the
+    /// sign of zero apart (bit for bit), the others many times each.
+    fn values_with_repeats() -> Vec<[f64; 2]> {
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        (0..20_000u32)
+            .map(|n| {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                match n % 5 {
+                    0 => [0.0, -0.0],
+                    1 => [-0.0, 0.0],
+                    _ => [(rng % 3000) as f64 / 7.0, 0.5],
+                }
+            })
+            .collect()
+    }
+
+    /// The index numbers values in order of first appearance, as a map of
+    /// the values would, through its growth (from 16 slots).
     #[test]
     fn value_index_numbers_values_in_order_of_first_appearance() {
-        let mut pool = Channel::new(2);
+        let mut kept: Vec<f64> = Vec::new();
         let mut index = ValueIndex::with_room(0);
         let mut reference: FastMap<[u64; 2], u32> = FastMap::default();
-        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
-        for n in 0..20_000u32 {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            let value = match n % 5 {
-                0 => [0.0, -0.0],
-                1 => [-0.0, 0.0],
-                _ => [(rng % 3000) as f64 / 7.0, 0.5],
-            };
+        for (n, value) in values_with_repeats().into_iter().enumerate() {
             let expected = *reference
                 .entry(value.map(f64::to_bits))
-                .or_insert(pool.n_values() as u32);
-            let i = index.find_or_insert(&value, &pool);
+                .or_insert(kept.len() as u32 / 2);
+            let i = index.find_or_insert(&value, &kept, 2);
             assert_eq!(i, expected, "value {n}");
-            if i == pool.n_values() as u32 {
-                pool.values.extend_from_slice(&value);
+            if i as usize == kept.len() / 2 {
+                kept.extend_from_slice(&value);
             }
         }
-        assert_eq!(pool.n_values(), reference.len());
-        assert!(index.slots.len() >= 2 * pool.n_values() && index.len == pool.n_values());
+        assert_eq!(kept.len() / 2, reference.len());
+        assert!(index.slots.len() >= 2 * reference.len() && index.len == reference.len());
+    }
+
+    /// A channel whose values repeat keeps one of each, in order of first
+    /// appearance, and its corners (some without a value) point at the same
+    /// values as before.
+    #[test]
+    fn number_alike_values_keeps_one_of_each_and_renumbers_corners() {
+        let values = values_with_repeats();
+        let mut corners: Vec<u32> = (0..values.len() as u32).rev().step_by(3).collect();
+        corners.extend([NO_VALUE, 0, NO_VALUE]);
+        let mut channel = Channel {
+            dim: 2,
+            values: values.iter().flatten().copied().collect(),
+            corners: corners.clone(),
+        };
+        number_alike_values(&mut channel);
+        let mut reference: FastMap<[u64; 2], u32> = FastMap::default();
+        let mut expected: Vec<f64> = Vec::new();
+        for value in &values {
+            reference.entry(value.map(f64::to_bits)).or_insert_with(|| {
+                expected.extend_from_slice(value);
+                (expected.len() / 2 - 1) as u32
+            });
+        }
+        assert!(reference.len() < values.len() / 2, "the values repeat");
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&channel.values), bits(&expected));
+        for (&before, &after) in corners.iter().zip(&channel.corners) {
+            match before {
+                NO_VALUE => assert_eq!(after, NO_VALUE),
+                _ => {
+                    let value = values[before as usize].map(f64::to_bits);
+                    assert_eq!(after, reference[&value]);
+                    assert_eq!(bits(channel.value(after)), value);
+                }
+            }
+        }
+        // Values that never repeat are left as they are.
+        let mut alone = uv(&[[1.0, 2.0], [0.0, 0.0], [-0.0, 0.0]], vec![2, 0, 1]);
+        number_alike_values(&mut alone);
+        assert_eq!(alone.values, [1.0, 2.0, 0.0, 0.0, -0.0, 0.0]);
+        assert_eq!(alone.corners, [2, 0, 1]);
     }
 
     fn uv(values: &[[f64; 2]], corners: Vec<u32>) -> Channel {

@@ -11,7 +11,7 @@ use std::io::Write;
 
 use super::formats::{lone_cr_line, show, FormatError, OriginKind, RawMesh, LONE_CR};
 use super::lines::{
-    obj_vertex_line, push_decimal, push_face, write_numbered_lines, write_vertex_and_face_lines, VertexLines,
+    obj_vertex_line, push_face, put_decimal, write_numbered_lines, write_vertex_and_face_lines, VertexLines,
 };
 use super::number::{number_text, parse_f64};
 use super::Format;
@@ -1055,11 +1055,6 @@ fn face_line(t: &[u32; 3], line: &mut Vec<u8>) {
     line.push(b'\n');
 }
 
-/// Appends index `i` as OBJ writes it (from 1).
-fn push_index(line: &mut Vec<u8>, i: u32) {
-    push_decimal(line, u64::from(i) + 1);
-}
-
 /// Writes a triangle mesh with attributes (per corner of `triangles`) as
 /// OBJ: the `mtllib` lines, `v` lines (with `r g b` when there are colours;
 /// a vertex whose corners have different colours is written once per
@@ -1184,12 +1179,20 @@ fn numbers_line(line: &mut Vec<u8>, keyword: &[u8], values: &[f64]) {
 }
 
 /// Appends the `f` line of triangle `f`, `t`, with its corners' `v/vt/vn`,
-/// `v/vt` or `v//vn` numbers as `attributes` give them.
+/// `v/vt` or `v//vn` numbers as `attributes` give them. Built in a
+/// fixed-size array and appended with one fixed-size copy, as
+/// [`push_face`] does: nine variable-length copies a line were each a call
+/// into libc.
 fn face_line_with_attributes(line: &mut Vec<u8>, f: usize, t: &[u32; 3], attributes: &Attributes) {
-    line.push(b'f');
+    // `f`, then three times a blank, three numbers of at most 10 digits
+    // (u32::MAX) and two slashes; the newline.
+    let mut buf = [0u8; 112];
+    buf[0] = b'f';
+    let mut n = 1;
     for (k, &v) in t.iter().enumerate() {
-        line.push(b' ');
-        push_index(line, v);
+        buf[n] = b' ';
+        n += 1;
+        n += put_decimal(&mut buf, n, u64::from(v) + 1);
         // (No value: a face of an object that has none.)
         let corner = |c: &Option<Channel>| {
             c.as_ref()
@@ -1200,20 +1203,26 @@ fn face_line_with_attributes(line: &mut Vec<u8>, f: usize, t: &[u32; 3], attribu
         match (corner(&attributes.texcoords), corner(&attributes.normals)) {
             (None, None) => {}
             (Some(t), None) => {
-                line.push(b'/');
-                push_index(line, t);
+                buf[n] = b'/';
+                n += 1;
+                n += put_decimal(&mut buf, n, u64::from(t) + 1);
             }
-            (t, Some(n)) => {
-                line.push(b'/');
+            (t, Some(normal)) => {
+                buf[n] = b'/';
+                n += 1;
                 if let Some(t) = t {
-                    push_index(line, t);
+                    n += put_decimal(&mut buf, n, u64::from(t) + 1);
                 }
-                line.push(b'/');
-                push_index(line, n);
+                buf[n] = b'/';
+                n += 1;
+                n += put_decimal(&mut buf, n, u64::from(normal) + 1);
             }
         }
     }
-    line.push(b'\n');
+    buf[n] = b'\n';
+    let end = line.len() + n + 1;
+    line.extend_from_slice(&buf);
+    line.truncate(end);
 }
 
 /// Writes the line `keyword name`. A name ending in a backslash gets a blank after it: the
