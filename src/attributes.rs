@@ -1426,53 +1426,54 @@ pub struct PerVertex {
 
 impl PerVertex {
     /// Splits the `n_vertices` vertices of `triangles` by the values of
-    /// `channels` (each per corner of `triangles`).
+    /// `channels` (each per corner of `triangles`). Each vertex's first
+    /// values are held in one flat array, and only a copy's in a map: a
+    /// list of values per corner was a heap allocation each, 7.6 million on
+    /// a textured million-face output.
     pub fn new(n_vertices: usize, triangles: &[[u32; 3]], channels: &[&Channel]) -> PerVertex {
-        let values_of = |c: usize| -> Vec<u32> {
-            channels
-                .iter()
-                .map(|ch| ch.corners.get(c).copied().unwrap_or(0))
-                .collect()
-        };
-        let mut first: Vec<Option<Vec<u32>>> = vec![None; n_vertices];
+        let m = channels.len();
+        // The values of each vertex's first corner, `m` a vertex (0 for a
+        // vertex no face uses).
+        let mut first = vec![0u32; n_vertices * m];
+        let mut seen = vec![false; n_vertices];
         let mut copies: FastMap<(u32, Vec<u32>), u32> = FastMap::default();
         let mut source: Vec<u32> = (0..n_vertices as u32).collect();
-        let mut extra_values: Vec<Vec<u32>> = Vec::new();
+        // The values of each copy, `m` a copy.
+        let mut copy_values: Vec<u32> = Vec::new();
         let mut out_triangles = Vec::with_capacity(triangles.len());
+        let mut values_here = vec![0u32; m];
         for (f, t) in triangles.iter().enumerate() {
             let mut written = [0u32; 3];
             for (k, &v) in t.iter().enumerate() {
-                let vals = values_of(3 * f + k);
-                let slot = &mut first[v as usize];
-                written[k] = match slot {
-                    None => {
-                        *slot = Some(vals);
-                        v
+                for (x, channel) in values_here.iter_mut().zip(channels) {
+                    *x = channel.corners.get(3 * f + k).copied().unwrap_or(0);
+                }
+                let v_first = &mut first[v as usize * m..(v as usize + 1) * m];
+                written[k] = if !std::mem::replace(&mut seen[v as usize], true) {
+                    v_first.copy_from_slice(&values_here);
+                    v
+                } else if *v_first == values_here[..] {
+                    v
+                } else {
+                    let next = source.len() as u32;
+                    let id = *copies.entry((v, values_here.clone())).or_insert(next);
+                    if id == next {
+                        source.push(v);
+                        copy_values.extend_from_slice(&values_here);
                     }
-                    Some(existing) if *existing == vals => v,
-                    Some(_) => {
-                        let next = source.len() as u32;
-                        let id = *copies.entry((v, vals.clone())).or_insert(next);
-                        if id == next {
-                            source.push(v);
-                            extra_values.push(vals);
-                        }
-                        id
-                    }
+                    id
                 };
             }
             out_triangles.push(written);
         }
-        let mut values = vec![Vec::with_capacity(source.len()); channels.len()];
-        for vals in first
-            .iter()
-            .map(|v| v.clone().unwrap_or_else(|| vec![0; channels.len()]))
-            .chain(extra_values)
-        {
-            for (column, x) in values.iter_mut().zip(vals) {
-                column.push(x);
-            }
-        }
+        let values = (0..m)
+            .map(|j| {
+                let mut column = Vec::with_capacity(source.len());
+                column.extend(first.iter().skip(j).step_by(m));
+                column.extend(copy_values.iter().skip(j).step_by(m));
+                column
+            })
+            .collect();
         PerVertex {
             source,
             triangles: out_triangles,
