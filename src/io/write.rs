@@ -264,9 +264,13 @@ fn write_with_attributes_into(
             copies_of = obj::write_obj_in_order(w, p, triangles, attributes, order)?;
         }
         Format::Ply => {
-            let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);
-            let mut columns = Vec::new();
-            for ((kind, channel), index) in channels.iter().zip(&split.values) {
+            let (channels, mut split) = split_per_vertex(attributes, positions.len(), triangles, |_| true);
+            // Each property's name and type, and where a written vertex's
+            // value comes from: number `k` of its value of channel `c`,
+            // times `scale`.
+            let mut properties: Vec<(&str, ValueType)> = Vec::new();
+            let mut sources: Vec<(usize, usize, f64)> = Vec::new();
+            for (c, (kind, channel)) in channels.iter().enumerate() {
                 let property = match kind {
                     Kind::Property(i) => attributes.properties.get(*i as usize),
                     _ => None,
@@ -301,11 +305,8 @@ fn write_with_attributes_into(
                     channel.dim
                 };
                 for (k, &name) in names.iter().enumerate().take(dim) {
-                    columns.push(PlyColumn {
-                        name: name.to_owned(),
-                        ty,
-                        values: index.iter().map(|&i| scale * component(channel, i, k)).collect(),
-                    });
+                    properties.push((name, ty));
+                    sources.push((c, k, scale));
                 }
             }
             let face_columns: Vec<PlyColumn> = (attributes.face_properties.iter())
@@ -315,18 +316,20 @@ fn write_with_attributes_into(
                     values: p.values.clone(),
                 })
                 .collect();
-            let mut split = split;
+            // Written vertex `i`'s properties, as the file holds them.
+            let put_properties = |split: &PerVertex, i: usize, out: &mut Vec<u8>| {
+                for (&(_, ty), &(c, k, scale)) in properties.iter().zip(&sources) {
+                    ty.put_le(scale * component(channels[c].1, split.values[c][i], k), out);
+                }
+            };
             let record = |i: usize| {
                 let mut bytes = Vec::new();
-                columns.iter().for_each(|c| c.ty.put_le(c.values[i], &mut bytes));
+                put_properties(&split, i, &mut bytes);
                 bytes
             };
-            if let Some(keep) = merge_alike_copies(positions.len(), &mut split, record) {
-                for c in &mut columns {
-                    c.values = keep.iter().map(|&i| c.values[i]).collect();
-                }
+            if let Some((to, keep)) = alike_copies(positions.len(), &split, record) {
+                drop_copies(&mut split, &to, &keep);
             }
-            let written: Vec<[f64; 3]> = split.source.iter().map(|&v| p[v as usize]).collect();
             copies_of = split.source[positions.len()..].to_vec();
             // The texture image with the texture coordinates, as MeshLab names it.
             let comments: Vec<String> = match attributes.texcoords {
@@ -335,7 +338,19 @@ fn write_with_attributes_into(
                     .collect(),
                 None => Vec::new(),
             };
-            formats::write_ply_binary_columns(w, &written, &split.triangles, &columns, &face_columns, &comments)?;
+            // Each vertex's record made as it is written: gathering them in
+            // columns first held a copy of every value and position.
+            let vertices = formats::VertexRecords {
+                count: split.source.len(),
+                properties: &properties,
+                record: &|i, out: &mut Vec<u8>| {
+                    for c in &p[split.source[i] as usize] {
+                        out.extend_from_slice(&c.to_le_bytes());
+                    }
+                    put_properties(&split, i, out);
+                },
+            };
+            formats::write_ply_binary_records(w, p, &split.triangles, &vertices, &face_columns, &comments)?;
         }
         Format::Off => {
             let (channels, split) = split_per_vertex(attributes, positions.len(), triangles, |kind| {
@@ -478,6 +493,15 @@ fn split_per_vertex<'a>(
 /// the values of written vertex `i`; the mesh's own `n` vertices stay. Returns the old index
 /// of each vertex kept, in order, if any copy was dropped.
 fn merge_alike_copies(n: usize, split: &mut PerVertex, record: impl Fn(usize) -> Vec<u8>) -> Option<Vec<usize>> {
+    let (to, keep) = alike_copies(n, split, record)?;
+    drop_copies(split, &to, &keep);
+    Some(keep)
+}
+
+/// What [`merge_alike_copies`] would do, `split` left as it is: for each
+/// written vertex, the vertex it becomes (new numbering), and the old index
+/// of each vertex kept, in order; `None` if no copy would be dropped.
+fn alike_copies(n: usize, split: &PerVertex, record: impl Fn(usize) -> Vec<u8>) -> Option<(Vec<u32>, Vec<usize>)> {
     let total = split.source.len();
     if total == n {
         return None;
@@ -497,15 +521,16 @@ fn merge_alike_copies(n: usize, split: &mut PerVertex, record: impl Fn(usize) ->
         }
         to.push(target);
     }
-    if keep.len() == total {
-        return None;
-    }
+    (keep.len() < total).then_some((to, keep))
+}
+
+/// Drops the copies [`alike_copies`] found (`to`, `keep`) from `split`.
+fn drop_copies(split: &mut PerVertex, to: &[u32], keep: &[usize]) {
     split.triangles.iter_mut().flatten().for_each(|v| *v = to[*v as usize]);
     split.source = keep.iter().map(|&i| split.source[i]).collect();
     for column in &mut split.values {
         *column = keep.iter().map(|&i| column[i]).collect();
     }
-    Some(keep)
 }
 
 /// Number `k` of value `i` of `channel` (0 where it has none).

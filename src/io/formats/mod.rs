@@ -67,6 +67,7 @@ pub use off::{color_byte, read_off, write_off, write_off_after, write_off_with, 
 use off::{glued_vertex_count, off_keyword};
 use ply::VertexChannels;
 pub use ply::{read_ply, write_ply_ascii, write_ply_binary, write_ply_binary_columns, PlyColumn};
+pub(crate) use ply::{write_ply_binary_records, VertexRecords};
 use stl::{binary_stl_size, starts_with_solid};
 pub use stl::{read_stl, write_stl_binary};
 
@@ -1098,6 +1099,20 @@ pub(crate) fn check_for_writing(
     triangles: &[[u32; 3]],
     colors: Option<&[[u8; 3]]>,
 ) -> io::Result<()> {
+    check_positions_for_writing(positions)?;
+    let n = positions.len();
+    check_indices_for_writing(n, triangles)?;
+    if let Some(c) = colors {
+        if c.len() != n {
+            return Err(invalid(format!("{} colours for {n} vertices", c.len())));
+        }
+    }
+    Ok(())
+}
+
+/// The positions part of [`check_for_writing`]: every coordinate finite,
+/// at most as many vertices as 32-bit indices address.
+pub(crate) fn check_positions_for_writing(positions: &[[f64; 3]]) -> io::Result<()> {
     let finite = positions.iter().flatten().fold(true, |ok, c| ok & c.is_finite());
     if !finite {
         let i = positions
@@ -1112,6 +1127,12 @@ pub(crate) fn check_for_writing(
             "{n} vertices are more than 32-bit indices can address"
         )));
     }
+    Ok(())
+}
+
+/// The indices part of [`check_for_writing`]: every index of `triangles`
+/// below `n`, the count of vertices written.
+pub(crate) fn check_indices_for_writing(n: usize, triangles: &[[u32; 3]]) -> io::Result<()> {
     let largest = triangles.iter().flatten().fold(0u32, |m, &i| m.max(i));
     if !triangles.is_empty() && largest as usize >= n {
         let f = triangles
@@ -1121,11 +1142,6 @@ pub(crate) fn check_for_writing(
         return Err(invalid(format!(
             "triangle {f} has an index out of range ({n} vertices)"
         )));
-    }
-    if let Some(c) = colors {
-        if c.len() != n {
-            return Err(invalid(format!("{} colours for {n} vertices", c.len())));
-        }
     }
     Ok(())
 }
