@@ -1932,14 +1932,7 @@ pub fn write_ply_binary_columns(
     face_columns: &[PlyColumn],
     comments: &[String],
 ) -> io::Result<()> {
-    if let Some(c) = columns.iter().find(|c| c.values.len() != positions.len()) {
-        return Err(invalid(format!(
-            "{} values of {} for {} vertices",
-            c.values.len(),
-            c.name,
-            positions.len()
-        )));
-    }
+    check_column_lengths(columns, positions.len(), "vertices")?;
     let properties: Vec<(&str, ValueType)> = columns.iter().map(|c| (c.name.as_str(), c.ty)).collect();
     let records = VertexRecords {
         count: positions.len(),
@@ -1954,6 +1947,19 @@ pub fn write_ply_binary_columns(
         },
     };
     write_ply_binary_records(w, positions, triangles, &records, face_columns, comments)
+}
+
+/// Refuses a column whose length is not `n`, the count of `what`
+/// (`vertices`, `faces`) it gives a value each.
+fn check_column_lengths(columns: &[PlyColumn], n: usize, what: &str) -> io::Result<()> {
+    match columns.iter().find(|c| c.values.len() != n) {
+        Some(c) => Err(invalid(format!(
+            "{} values of {} for {n} {what}",
+            c.values.len(),
+            c.name
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The vertices of a binary PLY as [`write_ply_binary_records`] writes
@@ -1993,14 +1999,7 @@ pub(crate) fn write_ply_binary_records(
         )));
     }
     check_indices_for_writing(n, triangles)?;
-    if let Some(c) = face_columns.iter().find(|c| c.values.len() != triangles.len()) {
-        return Err(invalid(format!(
-            "{} values of {} for {} faces",
-            c.values.len(),
-            c.name,
-            triangles.len()
-        )));
-    }
+    check_column_lengths(face_columns, triangles.len(), "faces")?;
     let names = (vertices.properties.iter().map(|&(name, _)| name)).chain(face_columns.iter().map(|c| c.name.as_str()));
     if let Some(name) = names.into_iter().find(|name| !ply_name_is_one_word(name)) {
         return Err(invalid(format!("a PLY property name must be one word: {name:?}")));
@@ -2077,6 +2076,60 @@ pub fn write_ply_ascii(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The column writer gives back what the reader reads (positions
+    /// exact, each property in its type, the comments), and refuses a
+    /// column of the wrong length, a name of two words and a comment with a
+    /// line break, writing nothing.
+    #[test]
+    fn columns_read_back_and_bad_columns_are_refused() {
+        let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.1]];
+        let triangles = [[0, 1, 2]];
+        let column = |name: &str, ty, values: Vec<f64>| PlyColumn {
+            name: name.into(),
+            ty,
+            values,
+        };
+        let quality = column("quality", ValueType::F32, vec![0.5, 1.25, -3.0]);
+        let label = column("label", ValueType::U8, vec![7.0]);
+        let comments = ["TextureFile a.png".to_string()];
+        let mut bytes = Vec::new();
+        write_ply_binary_columns(
+            &mut bytes,
+            &positions,
+            &triangles,
+            &[quality.clone()],
+            &[label.clone()],
+            &comments,
+        )
+        .unwrap();
+        let read = read_ply(&bytes).unwrap();
+        assert_eq!(read.positions, positions);
+        assert_eq!(read.indices, [0, 1, 2]);
+        let property = &read.attributes.properties[0];
+        assert_eq!((property.name.as_str(), property.ty), ("quality", ValueType::F32));
+        let values = property.channel.as_ref().unwrap();
+        let by_corner: Vec<f64> = (0..3).map(|c| values.corner(c)[0]).collect();
+        assert_eq!(by_corner, quality.values);
+        assert_eq!(read.attributes.face_properties[0].values, [7.0]);
+        assert!(String::from_utf8_lossy(&bytes).contains("comment TextureFile a.png\n"));
+
+        let refused = |columns: &[PlyColumn], faces: &[PlyColumn], comments: &[String]| {
+            let mut bytes = Vec::new();
+            let error = write_ply_binary_columns(&mut bytes, &positions, &triangles, columns, faces, comments)
+                .unwrap_err()
+                .to_string();
+            assert!(bytes.is_empty(), "{error}");
+            error
+        };
+        let short = column("quality", ValueType::F32, vec![0.5]);
+        assert_eq!(refused(&[short], &[], &[]), "1 values of quality for 3 vertices");
+        let long = column("label", ValueType::U8, vec![1.0, 2.0]);
+        assert_eq!(refused(&[], &[long], &[]), "2 values of label for 1 faces");
+        let blank = column("my quality", ValueType::F32, vec![0.0; 3]);
+        assert!(refused(&[blank], &[], &[]).contains("one word"));
+        assert!(refused(&[], &[], &["two\nlines".into()]).contains("line break"));
+    }
 
     /// A random ASCII PLY text near the plain forms: vertex elements of
     /// float, integer and colour properties (sometimes a list, which is not
