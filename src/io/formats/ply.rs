@@ -2098,8 +2098,8 @@ mod tests {
             &mut bytes,
             &positions,
             &triangles,
-            &[quality.clone()],
-            &[label.clone()],
+            std::slice::from_ref(&quality),
+            std::slice::from_ref(&label),
             &comments,
         )
         .unwrap();
