@@ -1266,14 +1266,12 @@ fn number_alike_values(channel: &mut Channel) {
     let n = channel.n_values();
     let mut index = ValueIndex::with_room(n);
     let mut number = Vec::with_capacity(n);
-    let mut value = [0.0f64; MAX_DIM];
     for r in 0..n {
-        let value = &mut value[..dim];
-        value.copy_from_slice(&channel.values[r * dim..(r + 1) * dim]);
         // (The values kept so far are `values[..dim * index.len]`, where
-        // value `r` is, or after: a kept value moves down, never up.)
+        // value `r` is, or after: a kept value moves down, never up, so
+        // value `r` is still in its place.)
         let kept = index.len;
-        let i = index.find_or_insert(value, &channel.values, dim);
+        let i = index.find_or_insert(&channel.values[r * dim..(r + 1) * dim], &channel.values, dim);
         if index.len > kept && kept != r {
             channel.values.copy_within(r * dim..(r + 1) * dim, kept * dim);
         }
