@@ -126,6 +126,7 @@ pub fn prune_passes(surface: &mut Surface, options: &Options, passes: usize, hoo
         flips: 0,
         splits: 0,
         detached: 0,
+        doomed: false,
         dirty: Vec::new(),
     };
     let first_added = run.s.n_input_vertices;
@@ -211,6 +212,10 @@ struct Pruner<'a> {
     splits: usize,
     /// Vertices removed by the current attempt.
     detached: usize,
+    /// Debug builds: whether a settle of the current attempt (since the
+    /// last undo) found more non-flippable edges non-Delaunay than splits
+    /// left, so that the attempt must fail (release builds stop there).
+    doomed: bool,
     /// Vertices worth trying (again) in the next pass.
     dirty: Vec<bool>,
 }
@@ -343,6 +348,7 @@ impl Pruner<'_> {
         self.flips = 0;
         self.splits = 0;
         self.detached = 0;
+        self.doomed = false;
     }
 
     /// Keeps the current attempt: counts it, and marks the vertices near
@@ -374,6 +380,7 @@ impl Pruner<'_> {
             changes: self.changes.len(),
             splits: self.splits,
             flips: self.flips,
+            doomed: self.doomed,
         }
     }
 
@@ -388,6 +395,7 @@ impl Pruner<'_> {
         self.rewind_touches(mark);
         self.splits = mark.splits;
         self.flips = mark.flips;
+        self.doomed = mark.doomed;
         let topo = &self.s.topo;
         let (nv, ne, nf) = (topo.n_vertices(), topo.n_edges(), topo.n_faces());
         self.s.positions.truncate(nv);
@@ -602,7 +610,30 @@ impl Pruner<'_> {
 
     /// Flips the touched edges' regions back to Delaunay (Lawson, each edge
     /// at most once in the stack at a time). Returns the first touched edge
-    /// still non-Delaunay, or `Err` past the flip budget.
+    /// still non-Delaunay, or `Err` if the attempt cannot succeed: past the
+    /// flip budget, or once more non-flippable edges are found non-Delaunay
+    /// than the `splits_left` splits the budget leaves.
+    ///
+    /// Such an edge stays non-Delaunay until a vertex is added on it, so
+    /// each needs a split of its own. Its quad changes only when a face
+    /// beside it does, and each such change gives it, on that side, an apex
+    /// that sees it under a larger angle: a flip of another edge g of the
+    /// face, made because g's other apex y lies inside the face's
+    /// circumcircle (on the same side of the edge as the old apex c, which
+    /// lies on that circle), or a split of g, whose new vertex lies on g,
+    /// inside the circle too. So its opposite angles only grow.
+    ///
+    /// ```text
+    ///     c ------- y          c ------- y
+    ///     |  \      |          |      /  |     g = c-b flipped to a-y:
+    ///     |    g    |   ==>    |    /    |     the apex of a-b moves from
+    ///     |      \  |          |  /      |     c to y
+    ///     a ------- b          a ------- b
+    /// ```
+    ///
+    /// Debug builds (every test) do not stop there: they settle to the end,
+    /// check that each such edge is still non-Delaunay, and flag the attempt
+    /// ([`Pruner::doomed`]) for the callers to check that it fails.
     ///
     /// Edges whose status is known ([`Pruner::verdict`]) are not taken
     /// again when nothing changed them since they were found Delaunay, or
@@ -610,7 +641,7 @@ impl Pruner<'_> {
     /// leaving them out of the stack keeps the order of the others, and the
     /// result. (Whether a flip is valid can change without the edge's quad
     /// changing, so flippable ones are taken again.)
-    fn settle(&mut self) -> Result<Option<EdgeId>, ()> {
+    fn settle(&mut self, splits_left: usize) -> Result<Option<EdgeId>, ()> {
         self.stack.clear();
         let n = self.s.topo.n_edges();
         if self.queued.len() < n {
@@ -619,6 +650,9 @@ impl Pruner<'_> {
         if self.verdict.len() < n {
             self.verdict.resize(n, None);
         }
+        // The non-flippable edges found non-Delaunay (only debug builds go
+        // past `splits_left` of them).
+        let mut found = FixedBad::default();
         for i in 0..self.touched.len() {
             let e = self.touched[i];
             // Skipped: an edge found Delaunay, or non-Delaunay but not
@@ -629,6 +663,14 @@ impl Pruner<'_> {
                 None => false,
                 Some(bad) => !bad || !self.s.is_flippable(e),
             };
+            if settled
+                && self.verdict[e.idx()] == Some(true)
+                && !self.s.topo.is_dead_edge(e)
+                && found.add(e, splits_left)
+            {
+                self.unqueue_all();
+                return Err(());
+            }
             if !self.queued[e.idx()] && !settled {
                 self.queued[e.idx()] = true;
                 self.stack.push(e);
@@ -641,13 +683,21 @@ impl Pruner<'_> {
             }
             let bad = self.s.is_non_delaunay(e, ALGORITHM_TOLERANCE);
             self.verdict[e.idx()] = Some(bad);
-            if !bad || !self.s.is_flippable(e) || !self.s.flip_is_valid(e) {
+            if !bad {
+                continue;
+            }
+            if !self.s.is_flippable(e) {
+                if found.add(e, splits_left) {
+                    self.unqueue_all();
+                    return Err(());
+                }
+                continue;
+            }
+            if !self.s.flip_is_valid(e) {
                 continue;
             }
             let Some(around) = self.flip(e) else {
-                for &x in &self.stack {
-                    self.queued[x.idx()] = false;
-                }
+                self.unqueue_all();
                 return Err(());
             };
             for x in around {
@@ -667,32 +717,44 @@ impl Pruner<'_> {
         }
         let s = &*self.s;
         let verdict = &self.verdict;
-        Ok((self.touched.iter().copied()).find(|&e| {
+        let first_bad = (self.touched.iter().copied()).find(|&e| {
             !s.topo.is_dead_edge(e) && verdict[e.idx()].unwrap_or_else(|| s.is_non_delaunay(e, ALGORITHM_TOLERANCE))
-        }))
+        });
+        // (Debug builds check the claim above.)
+        #[cfg(debug_assertions)]
+        for &e in found.edges() {
+            assert!(
+                s.is_non_delaunay(e, ALGORITHM_TOLERANCE),
+                "flips mended a non-flippable edge"
+            );
+        }
+        self.doomed |= found.count > splits_left;
+        Ok(first_bad)
+    }
+
+    /// Empties the stack of [`Pruner::settle`] when it stops early.
+    fn unqueue_all(&mut self) {
+        for &x in &self.stack {
+            self.queued[x.idx()] = false;
+        }
+        self.stack.clear();
     }
 
     /// Algorithm 2 on the touched edges, with at most `budget` splits in the
-    /// whole attempt; `true` if every touched edge ends Delaunay. A
-    /// non-flippable edge may be bad for a while: a later flip can give it a
-    /// better opposite vertex, so splits wait until no flip is left to do.
+    /// whole attempt; `true` if every touched edge ends Delaunay. Splits
+    /// wait until no flip is left to do: flips change the apexes of the
+    /// non-flippable edges, and so where their samples are taken.
     fn refine_locally(&mut self, budget: usize) -> bool {
-        let mut hopeless = false;
         loop {
-            let bad = match self.settle() {
+            let bad = match self.settle(budget.saturating_sub(self.splits)) {
                 Err(()) => return false,
                 Ok(None) => {
-                    debug_assert!(!hopeless, "a local refinement found hopeless ended Delaunay");
+                    debug_assert!(!self.doomed, "a local refinement found hopeless ended Delaunay");
                     return true;
                 }
                 Ok(Some(bad)) => bad,
             };
             if self.splits >= budget || self.s.is_flippable(bad) {
-                return false;
-            }
-            // Debug builds (every test) go on, and check the claim above.
-            hopeless |= self.left_after_settle().needs_more_than(budget - self.splits);
-            if hopeless && !cfg!(debug_assertions) {
                 return false;
             }
             let Some(choice) = refine::choose_sample(self.s, &self.constants, &self.options, bad) else {
@@ -707,7 +769,7 @@ impl Pruner<'_> {
     /// ([`Pruner::candidates`]) and refines on, with at most `budget` splits
     /// in all; keeps the first that ends Delaunay.
     fn rebuild(&mut self, budget: usize) -> Attempt {
-        match self.settle() {
+        match self.settle(budget.saturating_sub(self.splits)) {
             Err(()) => return Attempt::Failed,
             Ok(None) => return Attempt::Kept,
             Ok(Some(_)) if budget == 0 => return Attempt::Failed,
@@ -718,13 +780,9 @@ impl Pruner<'_> {
         if self.s.topo.split_room() < budget.saturating_sub(self.splits) {
             return Attempt::Failed;
         }
-        // More bad edges than splits left: hopeless (see `Left`). Debug
-        // builds (every test) go on and check that the attempt fails indeed.
+        // (More non-flippable edges non-Delaunay than splits left made the
+        // settle fail: see `Left`.)
         let left = self.left_after_settle();
-        let hopeless = left.needs_more_than(budget.saturating_sub(self.splits));
-        if hopeless && !cfg!(debug_assertions) {
-            return Attempt::Failed;
-        }
         let mark = self.mark();
         // Splits the budget leaves after the first.
         let after_first = budget.saturating_sub(self.splits + 1);
@@ -746,7 +804,7 @@ impl Pruner<'_> {
                 }
                 self.split(bad, t);
                 if self.refine_locally(budget) {
-                    debug_assert!(!hopeless, "an attempt found hopeless ended Delaunay");
+                    debug_assert!(!self.doomed, "an attempt found hopeless ended Delaunay");
                     return Attempt::Kept;
                 }
                 self.undo_to(mark);
@@ -762,16 +820,13 @@ impl Pruner<'_> {
         let mut left = Left {
             fixed: [EdgeId::NONE; MAX_GROUP + 1],
             count: 0,
-            regions_delaunay: true,
         };
         for &e in &self.touched {
             let bad = || self.verdict[e.idx()].unwrap_or_else(|| s.is_non_delaunay(e, ALGORITHM_TOLERANCE));
             if s.topo.is_dead_edge(e) || !bad() {
                 continue;
             }
-            if s.is_flippable(e) {
-                left.regions_delaunay = false;
-            } else if left.count < left.fixed.len() && !left.fixed[..left.count].contains(&e) {
+            if !s.is_flippable(e) && left.count < left.fixed.len() && !left.fixed[..left.count].contains(&e) {
                 left.fixed[left.count] = e;
                 left.count += 1;
             }
@@ -794,32 +849,16 @@ impl Pruner<'_> {
     ///          x2     x3
     /// ```
     ///
-    /// The halves are not flippable (as `bad` is not). If the regions are
-    /// constrained-Delaunay ([`Left`]), a non-flippable edge of the six that
-    /// the split leaves non-Delaunay, with the apexes it has then, stays so
-    /// until a vertex is added on it: each needs a split of its own, as does
-    /// each other edge in `left`.
-    ///
-    /// If not (only as the last split): an edge's quad changes only if a
-    /// face of it does, and after the last split only flips can change
-    /// faces. Flippability never changes (a flip or split keeps each face's
-    /// region), p-c and p-d are never flipped (the flip would make the face
-    /// (a, p, b) on one input edge, which `flip_is_valid` refuses). So a
-    /// half keeps its quad if the two outer edges at its end (a-c and d-a
-    /// for a-p) are not flippable, and an outer edge that is not flippable
-    /// keeps its quad if the other two edges of the face beyond it are not.
-    /// Such an edge that the split leaves non-Delaunay stays so.
-    ///
-    /// Either way the test here is the one `settle` makes, on the same four
-    /// positions (it is symmetric in the edge's ends and in its apexes).
+    /// The halves are not flippable (as `bad` is not). A non-flippable edge
+    /// of the six that the split leaves non-Delaunay, with the apexes it has
+    /// then, stays so until a vertex is added on it (see
+    /// [`Pruner::settle`]): each needs a split of its own, as does each other
+    /// edge in `left`. The test here is the one `settle` makes, on the same
+    /// four positions (it is symmetric in the edge's ends and in its apexes).
     fn split_is_doomed(&self, bad: EdgeId, t: f64, left: &Left, splits_after: usize) -> bool {
-        let delaunay = left.regions_delaunay;
-        if !delaunay && splits_after > 0 {
-            return false;
-        }
         // The other edges already waiting for a split of their own.
         let others = left.count.saturating_sub(1);
-        if delaunay && others > splits_after {
+        if others > splits_after {
             return true;
         }
         let s = &*self.s;
@@ -827,16 +866,11 @@ impl Pruner<'_> {
         let [a, b, c, d] = s.edge_quad(bad);
         let [e0, e1] = s.input_edge_ends(s.edge_input[bad.idx()]);
         let p = point_on_edge(e0, e1, t);
-        let outer = topo.outer_halfedges(bad); // c→a, b→c, d→b, a→d
-        let fixed = outer.map(|x| !s.is_flippable(x.edge()));
         let bad_edge = |q: [DVec3; 4]| geometry::is_non_delaunay(q[0], q[1], q[2], q[3], ALGORITHM_TOLERANCE);
-        let mut needed = if delaunay { others } else { 0 };
-        let halves = [
-            ([a, p, c, d], fixed[0] && fixed[3]),
-            ([p, b, c, d], fixed[1] && fixed[2]),
-        ];
-        for (quad, kept) in halves {
-            if (delaunay || kept) && bad_edge(quad) {
+        let mut needed = others;
+        // The halves a-p and p-b.
+        for quad in [[a, p, c, d], [p, b, c, d]] {
+            if bad_edge(quad) {
                 needed += 1;
                 if needed > splits_after {
                     return true;
@@ -844,18 +878,15 @@ impl Pruner<'_> {
             }
         }
         // Outer edge i runs between `ends[i]`; its new apex on this side is p.
+        let outer = topo.outer_halfedges(bad); // c→a, b→c, d→b, a→d
         let ends = [[c, a], [b, c], [d, b], [a, d]];
         for i in 0..4 {
             let beyond = outer[i].twin();
-            if !fixed[i] || topo.face(beyond).is_none() {
+            if s.is_flippable(outer[i].edge()) || topo.face(beyond).is_none() {
                 continue;
             }
-            let (n1, n2) = (topo.next(beyond), topo.next(topo.next(beyond)));
-            let kept = delaunay || (!s.is_flippable(n1.edge()) && !s.is_flippable(n2.edge()));
-            if kept
-                && !left.fixed[..left.count].contains(&outer[i].edge())
-                && bad_edge([ends[i][0], ends[i][1], p, s.positions[topo.dest(n1).idx()]])
-            {
+            let apex = s.positions[topo.apex(beyond).idx()];
+            if !left.fixed[..left.count].contains(&outer[i].edge()) && bad_edge([ends[i][0], ends[i][1], p, apex]) {
                 needed += 1;
                 if needed > splits_after {
                     return true;
@@ -955,27 +986,53 @@ impl Candidates {
 
 /// The touched edges left non-Delaunay after a settle.
 ///
-/// Each of them that is not flippable lies between two regions. Once every
-/// flippable edge is Delaunay (`regions_delaunay`), each flat region is
-/// triangulated constrained-Delaunay, so such an edge's apex on each side
-/// sees it under the largest angle of any vertex visible from near it;
-/// splits elsewhere only add vertices (the old apex stays visible from near
-/// the edge), so that angle can only grow, and the edge stays non-Delaunay
-/// until a vertex is added on it: each needs a split of its own. Nothing is
-/// claimed while a flippable edge is left non-Delaunay (a flip refused where
-/// a region overlaps itself).
+/// Each of them that is not flippable lies between two regions, and stays
+/// non-Delaunay until a vertex is added on it: flips and splits beside it
+/// only give it apexes that see it under larger angles (see
+/// [`Pruner::settle`], which fails as soon as there are more of them than
+/// splits left).
 struct Left {
     /// The distinct non-flippable ones (the first `count`).
     fixed: [EdgeId; MAX_GROUP + 1],
     count: usize,
-    /// Whether every flippable touched edge is Delaunay.
-    regions_delaunay: bool,
 }
 
-impl Left {
-    /// Whether more than `splits` splits are certainly needed.
-    fn needs_more_than(&self, splits: usize) -> bool {
-        self.regions_delaunay && self.count > splits
+/// The distinct non-flippable edges one [`Pruner::settle`] found
+/// non-Delaunay: the first few, and how many.
+struct FixedBad {
+    edges: [EdgeId; MAX_GROUP + 1],
+    count: usize,
+}
+
+impl Default for FixedBad {
+    fn default() -> Self {
+        FixedBad {
+            edges: [EdgeId::NONE; MAX_GROUP + 1],
+            count: 0,
+        }
+    }
+}
+
+impl FixedBad {
+    /// Notes `e` (once); whether the settle stops: more than `splits_left`
+    /// found, in release builds (debug builds go on, see
+    /// [`Pruner::settle`]). `splits_left` is below the room kept, so the
+    /// count is exact up to where it matters.
+    fn add(&mut self, e: EdgeId, splits_left: usize) -> bool {
+        debug_assert!(splits_left < self.edges.len());
+        if self.edges().contains(&e) {
+            return false;
+        }
+        if let Some(slot) = self.edges.get_mut(self.count) {
+            *slot = e;
+        }
+        self.count += 1;
+        self.count > splits_left && !cfg!(debug_assertions)
+    }
+
+    /// The first ones noted.
+    fn edges(&self) -> &[EdgeId] {
+        &self.edges[..self.count.min(self.edges.len())]
     }
 }
 
@@ -988,6 +1045,7 @@ struct Mark {
     changes: usize,
     splits: usize,
     flips: usize,
+    doomed: bool,
 }
 
 /// How one removal attempt ended.
