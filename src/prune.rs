@@ -1057,3 +1057,32 @@ enum Attempt {
     /// Undo it; there is no larger group to try.
     NoGroup,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each edge is counted once; past the room kept, only the count grows;
+    /// a settle stops (release builds) once the count exceeds the splits
+    /// left, never before.
+    #[test]
+    fn fixed_bad_edges_are_counted_once_each() {
+        let mut found = FixedBad::default();
+        for (i, e) in [3, 3, 7, 3, 7].into_iter().enumerate() {
+            assert!(!found.add(EdgeId(e), 2), "add {i}");
+        }
+        assert_eq!(found.count, 2);
+        assert_eq!(found.edges(), &[EdgeId(3), EdgeId(7)]);
+        // The third distinct edge is one more than two splits can mend.
+        assert_eq!(found.add(EdgeId(9), 2), !cfg!(debug_assertions));
+        assert_eq!(found.count, 3);
+        for e in [11, 12, 13] {
+            found.add(EdgeId(e), 2);
+        }
+        assert_eq!(found.count, 6);
+        assert_eq!(found.edges(), &[EdgeId(3), EdgeId(7), EdgeId(9), EdgeId(11)]);
+        // With no split left, the first one ends the settle.
+        let mut found = FixedBad::default();
+        assert_eq!(found.add(EdgeId(5), 0), !cfg!(debug_assertions));
+    }
+}
