@@ -58,7 +58,7 @@ const SPREAD: [f64; 6] = [0.5, 0.35, 0.65, 0.2, 0.8, 0.1];
 /// How many of the edges left non-Delaunay after a removal are tried as the
 /// place of the first new vertex.
 const FIRST_SPLITS: usize = 1;
-// The first edges to split are taken from `Left::fixed`.
+// The first edges to split are taken from `FixedBad::edges`.
 const _: () = assert!(FIRST_SPLITS <= MAX_GROUP + 1);
 /// Triples are made of p and two of its this many nearest added neighbours.
 const TRIPLE_NEIGHBOURS: usize = 4;
@@ -781,14 +781,14 @@ impl Pruner<'_> {
             return Attempt::Failed;
         }
         // (More non-flippable edges non-Delaunay than splits left made the
-        // settle fail: see `Left`.)
+        // settle fail: see `FixedBad`.)
         let left = self.left_after_settle();
         let mark = self.mark();
         // Splits the budget leaves after the first.
         let after_first = budget.saturating_sub(self.splits + 1);
         // The first non-flippable edges left non-Delaunay, in the order
         // touched: `left` has found them.
-        for &bad in &left.fixed[..left.count.min(FIRST_SPLITS)] {
+        for &bad in &left.edges()[..left.edges().len().min(FIRST_SPLITS)] {
             let candidates = self.candidates(bad);
             for &t in candidates.as_slice() {
                 if self.split_is_doomed(bad, t, &left, after_first) {
@@ -813,22 +813,16 @@ impl Pruner<'_> {
         Attempt::Failed
     }
 
-    /// What the touched edges left non-Delaunay just after
-    /// [`Pruner::settle`] say about the splits still needed (see [`Left`]).
-    fn left_after_settle(&self) -> Left {
+    /// The non-flippable touched edges left non-Delaunay just after
+    /// [`Pruner::settle`], in the order touched: each needs a split of its
+    /// own (see [`FixedBad`]).
+    fn left_after_settle(&self) -> FixedBad {
         let s = &*self.s;
-        let mut left = Left {
-            fixed: [EdgeId::NONE; MAX_GROUP + 1],
-            count: 0,
-        };
+        let mut left = FixedBad::default();
         for &e in &self.touched {
             let bad = || self.verdict[e.idx()].unwrap_or_else(|| s.is_non_delaunay(e, ALGORITHM_TOLERANCE));
-            if s.topo.is_dead_edge(e) || !bad() {
-                continue;
-            }
-            if !s.is_flippable(e) && left.count < left.fixed.len() && !left.fixed[..left.count].contains(&e) {
-                left.fixed[left.count] = e;
-                left.count += 1;
+            if !s.topo.is_dead_edge(e) && !s.is_flippable(e) && bad() {
+                left.note(e);
             }
         }
         left
@@ -855,7 +849,7 @@ impl Pruner<'_> {
     /// [`Pruner::settle`]): each needs a split of its own, as does each other
     /// edge in `left`. The test here is the one `settle` makes, on the same
     /// four positions (it is symmetric in the edge's ends and in its apexes).
-    fn split_is_doomed(&self, bad: EdgeId, t: f64, left: &Left, splits_after: usize) -> bool {
+    fn split_is_doomed(&self, bad: EdgeId, t: f64, left: &FixedBad, splits_after: usize) -> bool {
         // The other edges already waiting for a split of their own.
         let others = left.count.saturating_sub(1);
         if others > splits_after {
@@ -886,7 +880,7 @@ impl Pruner<'_> {
                 continue;
             }
             let apex = s.positions[topo.apex(beyond).idx()];
-            if !left.fixed[..left.count].contains(&outer[i].edge()) && bad_edge([ends[i][0], ends[i][1], p, apex]) {
+            if !left.edges().contains(&outer[i].edge()) && bad_edge([ends[i][0], ends[i][1], p, apex]) {
                 needed += 1;
                 if needed > splits_after {
                     return true;
@@ -984,21 +978,14 @@ impl Candidates {
     }
 }
 
-/// The touched edges left non-Delaunay after a settle.
+/// Distinct non-flippable edges found non-Delaunay, by a settle as it goes
+/// or after it ([`Pruner::left_after_settle`]): the first few, in the order
+/// noted, and how many.
 ///
-/// Each of them that is not flippable lies between two regions, and stays
-/// non-Delaunay until a vertex is added on it: flips and splits beside it
-/// only give it apexes that see it under larger angles (see
-/// [`Pruner::settle`], which fails as soon as there are more of them than
-/// splits left).
-struct Left {
-    /// The distinct non-flippable ones (the first `count`).
-    fixed: [EdgeId; MAX_GROUP + 1],
-    count: usize,
-}
-
-/// The distinct non-flippable edges one [`Pruner::settle`] found
-/// non-Delaunay: the first few, and how many.
+/// Each lies between two regions, and stays non-Delaunay until a vertex is
+/// added on it: flips and splits beside it only give it apexes that see it
+/// under larger angles (see [`Pruner::settle`], which fails as soon as there
+/// are more of them than splits left). So each needs a split of its own.
 struct FixedBad {
     edges: [EdgeId; MAX_GROUP + 1],
     count: usize,
@@ -1014,19 +1001,25 @@ impl Default for FixedBad {
 }
 
 impl FixedBad {
-    /// Notes `e` (once); whether the settle stops: more than `splits_left`
-    /// found, in release builds (debug builds go on, see
-    /// [`Pruner::settle`]). `splits_left` is below the room kept, so the
-    /// count is exact up to where it matters.
-    fn add(&mut self, e: EdgeId, splits_left: usize) -> bool {
-        debug_assert!(splits_left < self.edges.len());
+    /// Notes `e`, once while there is room for it (past the room, only the
+    /// count grows).
+    fn note(&mut self, e: EdgeId) {
         if self.edges().contains(&e) {
-            return false;
+            return;
         }
         if let Some(slot) = self.edges.get_mut(self.count) {
             *slot = e;
         }
         self.count += 1;
+    }
+
+    /// [`FixedBad::note`], and whether a settle stops: more than
+    /// `splits_left` noted, in release builds (debug builds go on, see
+    /// [`Pruner::settle`]). `splits_left` is below the room kept, so the
+    /// count is exact up to where it matters.
+    fn add(&mut self, e: EdgeId, splits_left: usize) -> bool {
+        debug_assert!(splits_left < self.edges.len());
+        self.note(e);
         self.count > splits_left && !cfg!(debug_assertions)
     }
 

@@ -1110,8 +1110,7 @@ pub(crate) fn check_for_writing(
     Ok(())
 }
 
-/// The positions part of [`check_for_writing`]: every coordinate finite,
-/// at most as many vertices as 32-bit indices address.
+/// The positions part of [`check_for_writing`]: every coordinate finite.
 pub(crate) fn check_positions_for_writing(positions: &[[f64; 3]]) -> io::Result<()> {
     let finite = positions.iter().flatten().fold(true, |ok, c| ok & c.is_finite());
     if !finite {
@@ -1121,18 +1120,18 @@ pub(crate) fn check_positions_for_writing(positions: &[[f64; 3]]) -> io::Result<
             .unwrap_or(0);
         return Err(invalid(format!("vertex {i} has a non-finite coordinate")));
     }
-    let n = positions.len();
+    Ok(())
+}
+
+/// The indices part of [`check_for_writing`]: `n`, the count of vertices
+/// written, at most what 32-bit indices address, and every index of
+/// `triangles` below it.
+pub(crate) fn check_indices_for_writing(n: usize, triangles: &[[u32; 3]]) -> io::Result<()> {
     if n > u32::MAX as usize {
         return Err(invalid(format!(
             "{n} vertices are more than 32-bit indices can address"
         )));
     }
-    Ok(())
-}
-
-/// The indices part of [`check_for_writing`]: every index of `triangles`
-/// below `n`, the count of vertices written.
-pub(crate) fn check_indices_for_writing(n: usize, triangles: &[[u32; 3]]) -> io::Result<()> {
     let largest = triangles.iter().flatten().fold(0u32, |m, &i| m.max(i));
     if !triangles.is_empty() && largest as usize >= n {
         let f = triangles

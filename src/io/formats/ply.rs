@@ -1993,11 +1993,6 @@ pub(crate) fn write_ply_binary_records(
     }
     check_positions_for_writing(positions)?;
     let n = vertices.count;
-    if n > u32::MAX as usize {
-        return Err(invalid(format!(
-            "{n} vertices are more than 32-bit indices can address"
-        )));
-    }
     check_indices_for_writing(n, triangles)?;
     check_column_lengths(face_columns, triangles.len(), "faces")?;
     let names = (vertices.properties.iter().map(|&(name, _)| name)).chain(face_columns.iter().map(|c| c.name.as_str()));
