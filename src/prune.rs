@@ -222,13 +222,14 @@ struct Pruner<'a> {
 
 impl Pruner<'_> {
     /// Tries to remove `p` alone, then to replace it and the next added
-    /// vertices along its input edge, or it and one added neighbour, by one
-    /// vertex fewer; keeps the first attempt that succeeds.
+    /// vertices along its input edge, or it and one or two added neighbours,
+    /// by one vertex fewer; keeps the first attempt that succeeds.
     ///
     /// Every attempt begins by detaching `p` from the same mesh (a failed
     /// one is undone entirely), so that is done once: each attempt undoes
-    /// back to just after it. The attempts and their outcomes are those of
-    /// starting each one afresh.
+    /// back to just after it. Likewise a neighbour `q1` is detached once for
+    /// its pair (p, q1) and its triples (p, q1, q2). The attempts and their
+    /// outcomes are those of starting each one afresh.
     fn try_remove(&mut self, p: VertexId) {
         let Carrier::Edge { edge: input, .. } = self.s.carriers[p.idx()] else {
             return;
@@ -258,34 +259,42 @@ impl Pruner<'_> {
         }
         // Pairs: p and an added neighbour (often a vertex that a split at p
         // made necessary) replaced by one vertex; then triples: p and two
-        // added neighbours replaced by two.
+        // added neighbours replaced by two. Each q1 is detached once for its
+        // pair and its triples, which undo back to just after it (as every
+        // attempt undoes back to just after p): the attempts and their
+        // outcomes are those of detaching q1 afresh for each.
         'pairs: for (i, &q1) in neighbours.iter().enumerate() {
             if kept {
                 break;
             }
-            kept = matches!(self.conclude(after_p, |me| me.replace_with(&[q1])), Attempt::Kept);
-            if i >= TRIPLE_NEIGHBOURS {
-                continue;
-            }
-            for &q2 in &neighbours[i + 1..neighbours.len().min(TRIPLE_NEIGHBOURS)] {
+            let partners = match i < TRIPLE_NEIGHBOURS {
+                true => &neighbours[i + 1..neighbours.len().min(TRIPLE_NEIGHBOURS)],
+                false => &[][..],
+            };
+            let after_q1 = after_p.and_then(|_| self.detach_added(q1).then(|| self.mark()));
+            kept = matches!(self.conclude(after_q1, |me| me.rebuild(1)), Attempt::Kept);
+            for &q2 in partners {
                 if kept {
                     break 'pairs;
                 }
-                kept = matches!(self.conclude(after_p, |me| me.replace_with(&[q1, q2])), Attempt::Kept);
+                kept = matches!(self.conclude(after_q1, |me| me.replace_with(q2)), Attempt::Kept);
+            }
+            // Back to just after p (also when q1 could not be detached).
+            if let (false, Some(mark)) = (kept, after_p) {
+                self.undo_to(mark);
             }
         }
         if !kept {
             self.undo_to(Mark::default());
         }
-        self.detached = 0;
     }
 
-    /// Counts one attempt and runs `rest` of it if p was detached (`after_p`,
-    /// the mark just after; `None`: p could not be, and the attempt fails);
-    /// keeps it, or undoes back to `after_p`.
-    fn conclude(&mut self, after_p: Option<Mark>, rest: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
+    /// Counts one attempt and runs `rest` of it if its first vertices were
+    /// detached (`start`, the mark just after; `None`: one could not be, and
+    /// the attempt fails); keeps it, or undoes back to `start`.
+    fn conclude(&mut self, start: Option<Mark>, rest: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
         self.stats.tried += 1;
-        let Some(mark) = after_p else {
+        let Some(mark) = start else {
             return Attempt::Failed;
         };
         let r = rest(self);
@@ -293,7 +302,6 @@ impl Pruner<'_> {
             self.keep();
         } else {
             self.undo_to(mark);
-            self.detached = 1;
         }
         r
     }
@@ -319,18 +327,21 @@ impl Pruner<'_> {
         self.rebuild(group - 1)
     }
 
-    /// With `p` detached: detaches the added vertices `others` too (each on
-    /// its own input edge), then refines locally with at most as many splits.
-    fn replace_with(&mut self, others: &[VertexId]) -> Attempt {
-        for &v in others {
-            let Carrier::Edge { edge, .. } = self.s.carriers[v.idx()] else {
-                return Attempt::Failed;
-            };
-            if !self.detach(v, edge) {
-                return Attempt::Failed;
-            }
+    /// With `p` and `q1` detached: detaches the added vertex `q2` too, then
+    /// refines locally with at most two splits.
+    fn replace_with(&mut self, q2: VertexId) -> Attempt {
+        if !self.detach_added(q2) {
+            return Attempt::Failed;
         }
-        self.rebuild(others.len())
+        self.rebuild(2)
+    }
+
+    /// Detaches the added vertex `v` on its own input edge ([`Pruner::detach`]).
+    fn detach_added(&mut self, v: VertexId) -> bool {
+        match self.s.carriers[v.idx()] {
+            Carrier::Edge { edge, .. } => self.detach(v, edge),
+            _ => false,
+        }
     }
 
     /// The added vertices joined to `p` by an edge.
@@ -380,6 +391,7 @@ impl Pruner<'_> {
             changes: self.changes.len(),
             splits: self.splits,
             flips: self.flips,
+            detached: self.detached,
             doomed: self.doomed,
         }
     }
@@ -395,6 +407,7 @@ impl Pruner<'_> {
         self.rewind_touches(mark);
         self.splits = mark.splits;
         self.flips = mark.flips;
+        self.detached = mark.detached;
         self.doomed = mark.doomed;
         let topo = &self.s.topo;
         let (nv, ne, nf) = (topo.n_vertices(), topo.n_edges(), topo.n_faces());
@@ -1038,6 +1051,7 @@ struct Mark {
     changes: usize,
     splits: usize,
     flips: usize,
+    detached: usize,
     doomed: bool,
 }
 
