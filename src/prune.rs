@@ -229,7 +229,10 @@ impl Pruner<'_> {
     /// one is undone entirely), so that is done once: each attempt undoes
     /// back to just after it. Likewise a neighbour `q1` is detached once for
     /// its pair (p, q1) and its triples (p, q1, q2). The attempts and their
-    /// outcomes are those of starting each one afresh.
+    /// outcomes are those of starting each one afresh. The pair of p and the
+    /// next vertex along its input edge is the group of two along the edge
+    /// again: when that failed, the pair is counted as tried and failed
+    /// without being made again.
     fn try_remove(&mut self, p: VertexId) {
         let Carrier::Edge { edge: input, .. } = self.s.carriers[p.idx()] else {
             return;
@@ -246,12 +249,18 @@ impl Pruner<'_> {
         let along = self.along_input(p, input).map(|[_, to_w]| self.s.topo.dest(to_w));
         let after_p = self.detach(p, input).then(|| self.mark());
         let mut kept = false;
+        // The next vertex, if p and it were tried as a group of two and
+        // failed: the pair of p and it below is the same attempt.
+        let mut failed_with_next = None;
         for group in 1..=MAX_GROUP {
             let Some(next) = along else {
                 self.stats.tried += 1; // the first attempt finds no group
                 break;
             };
             let r = self.conclude(after_p, |me| me.replace_after(next, input, group));
+            if group == 2 && !matches!(r, Attempt::Kept) {
+                failed_with_next = Some(next);
+            }
             kept = matches!(r, Attempt::Kept);
             if !matches!(r, Attempt::Failed) {
                 break;
@@ -272,7 +281,14 @@ impl Pruner<'_> {
                 false => &[][..],
             };
             let after_q1 = after_p.and_then(|_| self.detach_added(q1).then(|| self.mark()));
-            kept = matches!(self.conclude(after_q1, |me| me.rebuild(1)), Attempt::Kept);
+            kept = if failed_with_next == Some(q1) {
+                // Detaching q1 and refining with one split, from just after
+                // p: what the group of two did, and it failed.
+                self.stats.tried += 1;
+                false
+            } else {
+                matches!(self.conclude(after_q1, |me| me.rebuild(1)), Attempt::Kept)
+            };
             for &q2 in partners {
                 if kept {
                     break 'pairs;
