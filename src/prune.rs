@@ -280,10 +280,16 @@ impl Pruner<'_> {
                 true => &neighbours[i + 1..neighbours.len().min(TRIPLE_NEIGHBOURS)],
                 false => &[][..],
             };
+            // Detaching q1 and refining with one split, from just after p,
+            // is what the group of two did if q1 is the next vertex: when
+            // that failed, the pair is counted and not made again.
+            let pair_failed = failed_with_next == Some(q1);
+            if pair_failed && partners.is_empty() {
+                self.stats.tried += 1;
+                continue;
+            }
             let after_q1 = after_p.and_then(|_| self.detach_added(q1).then(|| self.mark()));
-            kept = if failed_with_next == Some(q1) {
-                // Detaching q1 and refining with one split, from just after
-                // p: what the group of two did, and it failed.
+            kept = if pair_failed {
                 self.stats.tried += 1;
                 false
             } else {
