@@ -282,19 +282,15 @@ impl Pruner<'_> {
             };
             // Detaching q1 and refining with one split, from just after p,
             // is what the group of two did if q1 is the next vertex: when
-            // that failed, the pair is counted and not made again.
+            // that failed, the pair is counted as failed and not made again
+            // (and q1 is detached only if a triple needs it).
             let pair_failed = failed_with_next == Some(q1);
-            if pair_failed && partners.is_empty() {
-                self.stats.tried += 1;
-                continue;
-            }
-            let after_q1 = after_p.and_then(|_| self.detach_added(q1).then(|| self.mark()));
-            kept = if pair_failed {
-                self.stats.tried += 1;
-                false
-            } else {
-                matches!(self.conclude(after_q1, |me| me.rebuild(1)), Attempt::Kept)
+            let after_q1 = match pair_failed && partners.is_empty() {
+                true => None,
+                false => after_p.and_then(|_| self.detach_added(q1).then(|| self.mark())),
             };
+            let pair_start = after_q1.filter(|_| !pair_failed);
+            kept = matches!(self.conclude(pair_start, |me| me.rebuild(1)), Attempt::Kept);
             for &q2 in partners {
                 if kept {
                     break 'pairs;
@@ -312,8 +308,9 @@ impl Pruner<'_> {
     }
 
     /// Counts one attempt and runs `rest` of it if its first vertices were
-    /// detached (`start`, the mark just after; `None`: one could not be, and
-    /// the attempt fails); keeps it, or undoes back to `start`.
+    /// detached (`start`, the mark just after; `None`: one could not be, or
+    /// the attempt is known to fail, and it fails); keeps it, or undoes back
+    /// to `start`.
     fn conclude(&mut self, start: Option<Mark>, rest: impl FnOnce(&mut Self) -> Attempt) -> Attempt {
         self.stats.tried += 1;
         let Some(mark) = start else {
