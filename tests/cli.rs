@@ -755,6 +755,15 @@ fn repair_cuts_a_moebius_band_open_and_the_output_checks_against_the_repaired_in
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("moebius.obj");
     std::fs::write(&input, text).unwrap();
+    // Without --repair it is refused as what it is, not as a face to turn over.
+    let e = one_line_error(&refine(&input, dir.path().join("x.obj")).output().unwrap());
+    assert!(
+        e.contains("it is not orientable (a Möbius band), and delmesh refines oriented surfaces only")
+            && e.contains("--repair cuts it open where it must, leaving a seam")
+            && !e.contains("--repair would fix this"),
+        "{e}"
+    );
+    assert!(!dir.path().join("x.obj").exists());
     let (repaired, output, stdout) = repair_and_refine(dir.path(), &input);
     assert!(
         stdout.contains("repair  cut 1 edge to orient a non-orientable surface"),

@@ -10,7 +10,7 @@ use glam::DVec3;
 use crate::attributes::{AttributeCuts, Attributes, Tolerances, NO_VALUE};
 use crate::error::{Error, Result};
 use crate::geometry;
-use crate::mesh::{room_for_splits, NoCuts, RegionCuts, Surface, Topology, TopologyError};
+use crate::mesh::{component_is_orientable, room_for_splits, NoCuts, RegionCuts, Surface, Topology, TopologyError};
 use crate::repair::{self, RepairOptions, RepairReport};
 
 use super::*;
@@ -854,6 +854,17 @@ pub fn build_surface_with(input: &mut InputMesh, path: &Path, tolerances: Tolera
                         "{}: face repeats the one at {} (duplicate face){REPAIR_HINT}",
                         at(face),
                         at(first)
+                    ),
+                    // Not a fault of this face alone: no orientation of the
+                    // surface avoids it (a Möbius band), which --repair only
+                    // mends by cutting the surface open.
+                    None if !welded(&[a, b]) && !component_is_orientable(&input.triangles, face) => format!(
+                        "{}: face runs along the edge from {} to {} in the same direction as another face, as some \
+                         face must on this surface: it is not orientable (a Möbius band), and delmesh refines \
+                         oriented surfaces only (--repair cuts it open where it must, leaving a seam)",
+                        at(face),
+                        v(a),
+                        v(b)
                     ),
                     None => {
                         let (once, hint) = once_welded(&[a, b], "inconsistent orientation");

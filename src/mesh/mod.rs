@@ -11,8 +11,8 @@ mod topology;
 
 pub(crate) use topology::refuse_beyond_ids;
 pub use topology::{
-    room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId, ADJACENCY_LIMIT,
-    MAX_HALFEDGES, MAX_TRIANGLES,
+    component_is_orientable, room_for_splits, EdgeId, FaceId, HalfEdgeId, Saved, Topology, TopologyError, VertexId,
+    ADJACENCY_LIMIT, MAX_HALFEDGES, MAX_TRIANGLES,
 };
 
 use crate::geometry::{self, DelaunayTest, PairShape, RegionPlane, ALGORITHM_TOLERANCE};

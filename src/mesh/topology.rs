@@ -206,6 +206,51 @@ pub fn room_for_splits(n_triangles: usize) -> usize {
     (3 * n_triangles / 2 + 16).max(MIN_ROOM_FOR_SPLITS)
 }
 
+/// Whether the faces joined to `face` (through edges of exactly two faces)
+/// can be oriented alike, each keeping or reversing its corner order:
+/// `false` for a Möbius band, where every choice leaves two faces running
+/// along some edge in the same direction. The error path's question, so
+/// that a refusal can say which fault it is: it builds an edge list of every
+/// triangle (linear memory, a sort).
+pub fn component_is_orientable(triangles: &[[u32; 3]], face: usize) -> bool {
+    // Each face's three edges as (low end, high end, face, runs low -> high).
+    let mut edges: Vec<(u32, u32, u32, bool)> = (triangles.iter().enumerate())
+        .flat_map(|(f, t)| (0..3).map(move |k| (t[k], t[(k + 1) % 3], f as u32)))
+        .map(|(a, b, f)| (a.min(b), a.max(b), f, a < b))
+        .collect();
+    edges.sort_unstable();
+    // Faces glued across an edge of two faces, and whether they run along it
+    // the same way (then exactly one of them must be reversed).
+    let mut glued: Vec<(u32, u32, bool)> = Vec::new();
+    for group in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        if let [(_, _, f, df), (_, _, g, dg)] = *group {
+            glued.extend([(f, g, df == dg), (g, f, df == dg)]);
+        }
+    }
+    glued.sort_unstable();
+    let start = |f: u32| glued.partition_point(|x| x.0 < f);
+    // Walk the component, reversing faces to agree with the face they are
+    // reached from; a face reached both ways proves it non-orientable.
+    let mut reversed: Vec<Option<bool>> = vec![None; triangles.len()];
+    let mut stack = vec![face as u32];
+    reversed[face] = Some(false);
+    while let Some(f) = stack.pop() {
+        let flip = reversed[f as usize] == Some(true);
+        for &(_, g, same) in glued[start(f)..].iter().take_while(|x| x.0 == f) {
+            let want = flip != same;
+            match reversed[g as usize] {
+                None => {
+                    reversed[g as usize] = Some(want);
+                    stack.push(g);
+                }
+                Some(r) if r != want => return false,
+                Some(_) => {}
+            }
+        }
+    }
+    true
+}
+
 /// The least room for splits any mesh gets: CAD parts with slivers add
 /// several vertices per face (the rotor 3.9, mpi_triang 40), and for a
 /// small mesh this much untouched capacity costs address space only.
@@ -1375,6 +1420,26 @@ impl Topology {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A Möbius band (five triangles on five vertices, each running along
+    /// the edge it shares with the next in the same direction: an odd cycle
+    /// of disagreements) is not orientable; a tetrahedron with one face
+    /// turned over is (turn that face back); and the question is of the
+    /// component of the face asked about.
+    #[test]
+    fn component_is_orientable_tells_a_moebius_band_from_a_turned_face() {
+        let band: Vec<[u32; 3]> = (0..5).map(|i| [i, (i + 1) % 5, (i + 2) % 5]).collect();
+        assert!((0..5).all(|f| !component_is_orientable(&band, f)));
+        let tetrahedron = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        assert!(component_is_orientable(&tetrahedron, 0));
+        let turned = [[0, 2, 1], [0, 3, 1], [1, 2, 3], [0, 3, 2]];
+        assert!(Topology::from_triangles(4, &turned).is_err());
+        assert!((0..4).all(|f| component_is_orientable(&turned, f)));
+        // The band and, apart, a triangle (vertices 5 to 7).
+        let both: Vec<[u32; 3]> = band.iter().copied().chain([[5, 6, 7]]).collect();
+        assert!(component_is_orientable(&both, 5));
+        assert!(!component_is_orientable(&both, 0));
+    }
 
     /// The faces of `t` as vertex triples, each from its lowest corner, sorted.
     fn face_set(t: &Topology) -> Vec<[u32; 3]> {
