@@ -140,6 +140,7 @@ pub fn main() -> ExitCode {
             original,
             weld_tolerance,
             quiet,
+            gabriel_boundary,
         }) => {
             if let Some(jobs) = jobs {
                 delmesh::parallel::set_threads(usize::from(jobs));
@@ -150,7 +151,7 @@ pub fn main() -> ExitCode {
                 original,
                 weld_tolerance,
             };
-            run_check(&input, &output, &maps, quiet)
+            run_check(&input, &output, &maps, quiet, gabriel_boundary)
         }
         Some(Command::Batch(args)) => batch::run_batch(&args),
         Some(Command::Completions { shell }) => {
@@ -889,6 +890,7 @@ impl Report<'_> {
                 output: self.output,
                 repaired: self.args.repaired.as_deref(),
                 refined,
+                gabriel_boundary: self.args.settings.gabriel_boundary,
                 seconds_read: self.read_s,
                 seconds_build: self.build_s,
                 seconds_total: total,
@@ -1369,7 +1371,14 @@ fn run_refined(
     let mut checked_files = None;
     if args.check {
         let keep_files = args.vertex_map.is_some() || args.face_map.is_some();
-        staged = match check_output(input_path, input, staged, output, keep_files) {
+        staged = match check_output(
+            input_path,
+            input,
+            staged,
+            output,
+            keep_files,
+            args.settings.gabriel_boundary,
+        ) {
             Ok((staged, files)) => {
                 checked_files = files;
                 staged
@@ -1423,6 +1432,16 @@ fn run_refined(
     Ok(ExitCode::SUCCESS)
 }
 
+/// How `--check`'s line names what was verified beyond the Delaunay
+/// property (`--gabriel-boundary`).
+fn gabriel_text(gabriel_boundary: bool) -> &'static str {
+    if gabriel_boundary {
+        " with a Gabriel boundary"
+    } else {
+        ""
+    }
+}
+
 /// What a refined run adds to its summary beside its figures.
 struct SummaryNotes<'a> {
     /// The writer's notes.
@@ -1455,13 +1474,18 @@ fn say_refined(
     let s = &out.stats;
     let c = s.constants.unwrap_or(delmesh::samples::SampleConstants::new(0.0, 0.0));
     say!(
-        "run     {}, {}, {}{}",
+        "run     {}, {}, {}{}{}",
         ds_name(options.worklist),
         score_name(options.score),
         match (options.shells, options.median) {
             (true, _) => "shells",
             (false, true) => "median",
             (false, false) => "no median",
+        },
+        if args.settings.gabriel_boundary {
+            ", Gabriel boundary"
+        } else {
+            ""
         },
         if args.smallest {
             smallest_note(pruned_settings)
@@ -1506,8 +1530,9 @@ fn say_refined(
     }
     if args.check {
         say!(
-            "check   PASS: {} is a Delaunay mesh with the geometry of {}{}{maps_checked}",
+            "check   PASS: {} is a Delaunay mesh{} with the geometry of {}{}{maps_checked}",
             report.output.display(),
+            gabriel_text(args.settings.gabriel_boundary),
             report.input_path.display(),
             if report.input.repair.is_some() {
                 " (as repaired)"
@@ -1915,7 +1940,7 @@ mod tests {
             io::stage_mesh_after(path, &Default::default(), positions, triangles).unwrap()
         };
         let staged = stage(&output, &mesh.positions, &mesh.triangles);
-        let e = check_output(&cube, &mesh, staged, &output, false).unwrap_err();
+        let e = check_output(&cube, &mesh, staged, &output, false, false).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("failed the check"), "{e}");
         // The file it would have replaced is untouched (a run in place
@@ -1930,7 +1955,7 @@ mod tests {
             s
         };
         let staged = stage(&output, &surface.positions, &surface.triangles());
-        check_output(&cube, &mesh, staged, &output, false)
+        check_output(&cube, &mesh, staged, &output, false, false)
             .unwrap()
             .0
             .commit()
@@ -1941,7 +1966,7 @@ mod tests {
         // is not put in place as if verified either.
         let missing = dir.path().join("missing.obj");
         let staged = stage(&output, &surface.positions, &surface.triangles());
-        let e = check_output(&missing, &mesh, staged, &output, true).unwrap_err();
+        let e = check_output(&missing, &mesh, staged, &output, true, false).unwrap_err();
         assert!(e.downcast_ref::<CheckFailed>().is_some(), "{e}");
         assert!(e.to_string().contains("the check could not read the files"), "{e}");
         assert!(!output.exists());
@@ -2008,7 +2033,7 @@ mod tests {
         std::fs::remove_file(dir.path().join("f.csv.rejected")).unwrap();
         std::fs::remove_file(dir.path().join("v.csv.rejected")).unwrap();
         let checked = |staged: io::Staged| {
-            let (staged, files) = check_output(&cube, &mesh, staged, &output, true).unwrap();
+            let (staged, files) = check_output(&cube, &mesh, staged, &output, true, false).unwrap();
             (staged, files.expect("kept"))
         };
         let (staged, files) = checked(staged);

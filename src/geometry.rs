@@ -273,6 +273,49 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
     decide(y, x, tolerance)
 }
 
+/// `(sin, cos)` of γ − π/2 for the angle γ = ∠acb opposite the boundary
+/// edge (a, b) in its one face (a, b, c), both scaled by the same positive
+/// factor: with u = a − c and v = b − c, −u·v and |u × v|. Positive sine:
+/// γ is obtuse, and the edge's cotangent weight (cot γ)/2 is negative.
+#[inline]
+pub fn boundary_excess_sin_cos(a: DVec3, b: DVec3, c: DVec3) -> (f64, f64) {
+    // Scaled by 1/|ab|, as in `excess_sin_cos`.
+    let k = 1.0 / (b - a).length();
+    let (u, v) = ((a - c) * k, (b - c) * k);
+    (-u.dot(v), u.cross(v).length())
+}
+
+/// The test of a boundary edge (a, b) with one face (a, b, c) that
+/// [`crate::mesh::Surface::gabriel_boundary`] asks for: `NonDelaunay` when
+/// the angle at c exceeds π/2 by more than `tolerance` (its diametral circle
+/// holds c: the edge is not Gabriel, and its cotangent weight is negative).
+#[inline]
+pub fn boundary_test(a: DVec3, b: DVec3, c: DVec3, tolerance: f64) -> DelaunayTest {
+    let (u, v) = (a - c, b - c);
+    let dot = u.dot(v);
+    // A non-obtuse angle, its dot product clear of underflow: decided
+    // without a square root (as `delaunay_test` decides its common case).
+    if dot > TINY_DOT {
+        return DelaunayTest::Delaunay;
+    }
+    let (y, x) = match dot.abs() > TINY_DOT {
+        true => boundary_excess_sin_cos(a, b, c),
+        // Near underflow: each vector scaled exactly by a power of two.
+        false => {
+            let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
+            (-u.dot(v), u.cross(v).length())
+        }
+    };
+    decide(y, x, tolerance)
+}
+
+/// γ − π/2 (radians) of the boundary edge (a, b) with one face (a, b, c):
+/// how far the angle opposite it is past a right angle.
+pub fn boundary_excess(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (y, x) = boundary_excess_sin_cos(a, b, c);
+    y.atan2(x)
+}
+
 /// What `(y, x)` from [`excess_sin_cos`] says of the edge.
 #[inline(always)]
 fn decide(y: f64, x: f64, tolerance: f64) -> DelaunayTest {
@@ -1023,6 +1066,38 @@ pub mod exact {
 mod tests {
     use super::*;
     use crate::test_rng::Rng;
+
+    /// The boundary test calls an angle past π/2 by more than the tolerance non-Delaunay, a
+    /// right or acute one Delaunay, at any scale (down to a face 1e-300 wide, where the
+    /// products underflow unless the vectors are scaled first), and says so for the same
+    /// edges as the angle itself.
+    #[test]
+    fn boundary_test_tells_obtuse_from_right_and_acute_at_any_scale() {
+        let (a, b) = (DVec3::new(-1.0, 0.0, 0.0), DVec3::new(1.0, 0.0, 0.0));
+        for scale in [1e-300, 1e-150, 1e-20, 1.0, 1e20, 1e70] {
+            for (height, want) in [
+                (1.0, DelaunayTest::Delaunay),      // right angle
+                (2.0, DelaunayTest::Delaunay),      // acute
+                (0.5, DelaunayTest::NonDelaunay),   // obtuse
+                (1e-12, DelaunayTest::NonDelaunay), // a needle
+            ] {
+                let c = DVec3::new(0.0, height, 0.0) * scale;
+                let got = boundary_test(a * scale, b * scale, c, ALGORITHM_TOLERANCE);
+                assert_eq!(got, want, "scale {scale}, height {height}");
+            }
+        }
+        let mut rng = Rng(0xb0_0da7);
+        for _ in 0..10_000 {
+            let p = |rng: &mut Rng| DVec3::new(rng.centered(), rng.centered(), rng.centered());
+            let (a, b, c) = (p(&mut rng), p(&mut rng), p(&mut rng));
+            let excess = boundary_excess(a, b, c);
+            if excess.abs() < 1e-9 {
+                continue;
+            }
+            let bad = boundary_test(a, b, c, ALGORITHM_TOLERANCE) == DelaunayTest::NonDelaunay;
+            assert_eq!(bad, excess > ALGORITHM_TOLERANCE, "{a} {b} {c}: {excess}");
+        }
+    }
 
     /// (y, x, correctly rounded y/√(x² + y²)): the smallest corners of the
     /// shared meshes and `data/`, then extreme scales.

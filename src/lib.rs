@@ -17,6 +17,12 @@
 //! the same in a file, and tolerances that are NaN, negative or infinite
 //! ([`Error::Setting`]).
 //!
+//! Boundary edges count as Delaunay, as the report has it; set
+//! [`Surface::gabriel_boundary`] before refining to have them face no
+//! obtuse angle too (`--gabriel-boundary`: every cotangent weight then
+//! non-negative), and [`check::CheckReport::require_gabriel_boundary`] to
+//! have the judge require it.
+//!
 //! Texture coordinates, normals, colours, groups and materials are carried
 //! by [`attributes`]: make an [`attributes::Transfer`] from the input's
 //! attributes and the surface *before* refining, and write

@@ -439,6 +439,11 @@ impl Pruner<'_> {
     /// Flips `p` down to degree four and merges its two sub-edges, saving
     /// every change; `false` if that cannot be done.
     fn detach(&mut self, p: VertexId, input: u32) -> bool {
+        // A vertex on the boundary (split there with `gabriel_boundary`) has
+        // one side: it stays.
+        if self.s.topo.is_boundary_he(self.s.topo.vertex_he(p).twin()) {
+            return false;
+        }
         let Some([to_u, to_w]) = self.along_input(p, input) else {
             return false;
         };
@@ -698,7 +703,7 @@ impl Pruner<'_> {
             if settled
                 && self.verdict[e.idx()] == Some(true)
                 && !self.s.topo.is_dead_edge(e)
-                && found.add(e, splits_left)
+                && (found.add(e, splits_left) || !self.s.topo.is_interior(e))
             {
                 self.unqueue_all();
                 return Err(());
@@ -719,7 +724,10 @@ impl Pruner<'_> {
                 continue;
             }
             if !self.s.is_flippable(e) {
-                if found.add(e, splits_left) {
+                // A boundary edge facing an obtuse angle (`gabriel_boundary`
+                // only) would need a split on the boundary, which pruning
+                // does not make: the attempt fails.
+                if found.add(e, splits_left) || !self.s.topo.is_interior(e) {
                     self.unqueue_all();
                     return Err(());
                 }

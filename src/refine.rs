@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use crate::error::{Error, NearCoincident, Result};
 use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
 use crate::hash::FastMap;
-use crate::mesh::{room_for_splits, EdgeId, Surface, VertexId, NO_INPUT_EDGE};
+use crate::mesh::{room_for_splits, EdgeId, HalfEdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
 
 // The first pass of [`make_delaunay`] relies on it.
@@ -353,7 +353,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
     for &e in first_pass {
-        let (y, x) = run.s.excess_sin_cos(e).expect("a non-Delaunay edge is interior");
+        let (y, x) = (run.s.excess_sin_cos(e)).expect("a non-Delaunay edge is interior, or a tested boundary edge");
         run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
         ds.push(e, None, || run.s.edge_length(e));
     }
@@ -535,7 +535,15 @@ impl Run<'_> {
     fn neighbourhood(&self, e: EdgeId) -> [VertexId; 8] {
         let topo = &self.s.topo;
         let h = e.halfedge();
-        let [x0, x1, x2, x3] = topo.outer_halfedges(e).map(|x| topo.apex(x.twin()));
+        // (A boundary edge, tested with `gabriel_boundary`, has one side.)
+        let beyond = |x: HalfEdgeId| match x.is_none() {
+            true => VertexId::NONE,
+            false => topo.apex(x.twin()),
+        };
+        let [x0, x1, x2, x3] = match topo.is_interior(e) {
+            true => topo.outer_halfedges(e).map(beyond),
+            false => topo.outer_halfedges_of_faces(e).map(beyond),
+        };
         [
             topo.origin(h),
             topo.dest(h),
@@ -583,6 +591,12 @@ impl Run<'_> {
                 self.mark_stuck(e);
                 return;
             }
+        }
+        if !self.s.topo.is_interior(e) {
+            // Only with `gabriel_boundary`: a boundary edge facing an obtuse
+            // angle, which no flip can change.
+            self.split_boundary_edge(e, ds);
+            return;
         }
         let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
         let flippable = self.s.is_flippable(e);
@@ -632,6 +646,118 @@ impl Run<'_> {
     fn choose_sample(&self, e: EdgeId) -> Option<samples::Choice> {
         choose_sample(self.s, &self.constants, &self.options, e)
     }
+
+    /// Splits the boundary edge `e`, found facing an obtuse angle (with
+    /// [`Surface::gabriel_boundary`]), at the sample the run's settings
+    /// choose ([`choose_boundary_sample`]), and queues the edges whose
+    /// faces changed.
+    fn split_boundary_edge(&mut self, e: EdgeId, ds: &mut Ds) {
+        let Some(choice) = choose_boundary_sample(self.s, &self.constants, &self.options, e) else {
+            self.mark_stuck(e);
+            return;
+        };
+        if self.stats.splits >= self.split_limit {
+            self.over_limit = true;
+            return;
+        }
+        let topo = &self.s.topo;
+        let around = topo.outer_halfedges_of_faces(e);
+        let n = topo.n_edges() as u32;
+        self.s.split_boundary(e, choice.t);
+        self.stats.splits += 1;
+        let outer = around.into_iter().filter(|x| !x.is_none()).map(|x| x.edge());
+        for x in [e, EdgeId(n), EdgeId(n + 1)].into_iter().chain(outer) {
+            self.push_if_bad(ds, x);
+        }
+    }
+}
+
+/// The sample at which the boundary edge `e` of `s` is split when its one
+/// opposite angle is obtuse (with [`Surface::gabriel_boundary`]): chosen as
+/// for an interior edge ([`choose_sample`]: the run's score, median or
+/// shells), the two halves' conditions being that each faces a right or
+/// acute angle, and the outer edges' that the two other edges of its face
+/// stay Delaunay. `None` if no sample inside gives valid faces.
+///
+/// ```text
+///              c            the half a-m faces a right or acute angle at c
+///            / | \          iff m is no farther along ab than |ac|^2 / p,
+///           /  |  \         and m-b iff m is no nearer than p - h^2/(L - p),
+///          /   |h  \        where (p, h) is c in the frame of ab: between
+///         a ---+----- b     the two lies the foot of the altitude from c
+///              p            (each half then faces an acute angle)
+/// ```
+pub(crate) fn choose_boundary_sample(
+    s: &Surface,
+    constants: &SampleConstants,
+    options: &Options,
+    e: EdgeId,
+) -> Option<samples::Choice> {
+    let input = s.edge_input[e.idx()];
+    let h = s.boundary_side(e)?;
+    if input == NO_INPUT_EDGE {
+        return None; // cannot happen: a boundary edge lies on an input edge
+    }
+    let topo = &s.topo;
+    let (a, b, c) = (topo.origin(h), topo.dest(h), topo.apex(h));
+    let [pa, pb, pc] = [a, b, c].map(|v| s.positions[v.idx()]);
+    // The face's other two edges, as `Topology::outer_halfedges` lists the
+    // first side's: c→a, then b→c.
+    let outer_halfedges = [topo.next(topo.next(h)), topo.next(h)];
+    let beyond = outer_halfedges.map(|x| {
+        let v = topo.apex(x.twin());
+        (!v.is_none()).then(|| s.positions[v.idx()])
+    });
+    // The outer edges' conditions as for an interior edge (the missing side's
+    // two, with nothing beyond, always hold).
+    let (_, outer) = split_conditions([pa, pb, pc, pc], [beyond[0], beyond[1], None, None]);
+    let frame = EdgeFrame::new(pa, pb);
+    let len = frame.length;
+    let c2 = frame.unfold(pc, true);
+    let halves = [
+        Condition {
+            side: Side::AtMost,
+            breakpoint: if c2.x > 0.0 {
+                c2.length_squared() / c2.x
+            } else {
+                f64::NAN
+            },
+        },
+        Condition {
+            side: Side::AtLeast,
+            breakpoint: if len - c2.x > 0.0 {
+                c2.x - c2.y * c2.y / (len - c2.x)
+            } else {
+                f64::NAN
+            },
+        },
+    ];
+    let ends = s.input_edge_ends(input);
+    let edge_samples = EdgeSamples::new((ends[1] - ends[0]).length(), constants);
+    let flippable = options.score == Score::SplitAware;
+    let query = SplitQuery {
+        samples: &edge_samples,
+        edge_ends: ends,
+        t_a: s.param_on(a, input),
+        t_b: s.param_on(b, input),
+        pos_a: pa,
+        pos_b: pb,
+        halves,
+        outer,
+        outer_flippable: match flippable {
+            true => [
+                s.is_flippable(outer_halfedges[0].edge()),
+                s.is_flippable(outer_halfedges[1].edge()),
+                false,
+                false,
+            ],
+            false => [false; 4],
+        },
+        score: options.score,
+        median: options.median,
+        shells: options.shells,
+    };
+    choose_valid(s, e, &query)
 }
 
 /// The sample at which Algorithm 2 splits the non-Delaunay edge `e` of `s`

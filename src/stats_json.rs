@@ -74,6 +74,8 @@ pub struct Invocation<'a> {
     pub repaired: Option<&'a Path>,
     /// False with `--no-refine`.
     pub refined: bool,
+    /// `--gabriel-boundary`: boundary edges refined to face no obtuse angle.
+    pub gabriel_boundary: bool,
     /// Seconds reading (and repairing).
     pub seconds_read: f64,
     /// Seconds building the half-edge mesh.
@@ -394,6 +396,7 @@ fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecor
         ),
         ("output", Json::Str(inv.output.display().to_string())),
         ("refined", Json::Bool(inv.refined)),
+        ("gabriel_boundary", Json::Bool(inv.gabriel_boundary)),
         (
             "constants",
             Json::Obj(vec![

@@ -4075,3 +4075,79 @@ fn the_vertex_map_of_an_obj_has_rows_for_its_colour_copies() {
         .unwrap();
     assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
 }
+
+/// `--gabriel-boundary` on an open mesh whose boundary faces obtuse angles (a strip of
+/// needles): the run says so, its output passes `check --gabriel-boundary`, which prints the
+/// boundary's figures; the output of a run without it passes the plain `check` but not that one,
+/// which names the edges; `--stats-json` records the setting.
+#[test]
+fn gabriel_boundary_is_made_and_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::new();
+    for i in 0..11 {
+        text += &format!("v {i} 0 0\n");
+    }
+    for i in 0..10 {
+        text += &format!("v {}.5 {} 0\n", i, 0.001 * (1 + i % 3) as f64);
+    }
+    for i in 1..=10 {
+        text += &format!("f {i} {} {}\n", i + 1, 11 + i);
+    }
+    for i in 1..=9 {
+        text += &format!("f {} {} {}\n", 11 + i, i + 1, 12 + i);
+    }
+    let input = dir.path().join("strip.obj");
+    std::fs::write(&input, text).unwrap();
+    let (gabriel, plain, json) = (
+        dir.path().join("g.obj"),
+        dir.path().join("p.obj"),
+        dir.path().join("g.json"),
+    );
+    let run = refine(&input, &gabriel)
+        .arg("--gabriel-boundary")
+        .arg("--stats-json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        stdout.contains("run     stack, always center, median, Gabriel boundary"),
+        "{stdout}"
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(doc["gabriel_boundary"], true);
+    let check = |output: &Path, gabriel: bool| {
+        let mut cmd = delmesh();
+        cmd.arg("check").arg(&input).arg(output);
+        if gabriel {
+            cmd.arg("--gabriel-boundary");
+        }
+        let run = cmd.output().unwrap();
+        (run.status.code(), String::from_utf8_lossy(&run.stdout).into_owned())
+    };
+    let (code, out) = check(&gabriel, true);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(
+        out.contains("boundary edges; facing an obtuse angle: 0 (max gamma-pi/2 -"),
+        "{out}"
+    );
+    assert!(
+        out.contains("is a Delaunay mesh with a Gabriel boundary with the geometry of"),
+        "{out}"
+    );
+    refine(&input, &plain).assert().success();
+    let (code, out) = check(&plain, false);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(!out.contains("boundary"), "{out}");
+    let (code, out) = check(&plain, true);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.contains("FAIL    boundary edge (v") && out.contains("faces an obtuse angle: gamma-pi/2 = "),
+        "{out}"
+    );
+    assert!(
+        out.contains("FAILED  ") && out.contains(" is not a Delaunay mesh with a Gabriel boundary"),
+        "{out}"
+    );
+}

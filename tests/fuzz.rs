@@ -2081,6 +2081,10 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
             }
         };
         let options = combination(h.wrapping_add(k as u64 * 7) % 18);
+        // One run in four also makes the boundary Gabriel (`--gabriel-boundary`), which the
+        // checks below then require.
+        let gabriel = (h >> 8) & 3 == 0;
+        s.gabriel_boundary = gabriel;
         let n = input.positions.len();
         let transfer = delmesh::attributes::Transfer::new(input.attributes.clone(), &input.triangles, &s);
         let origins = delmesh::face_map::FaceOrigins::new(&input.triangles, &input.triangle_polygon, &s);
@@ -2120,7 +2124,7 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                 if face_on_one_input_edge(&s) {
                     scale.push_str("[face on one input edge] ");
                 }
-                let tag = format!("{scale}{options:?} repair={repaired}");
+                let tag = format!("{scale}{options:?} repair={repaired} gabriel={gabriel}");
                 // Where f64 cannot hold the input's detail, geometric
                 // oracles (the face map's, the damages') do not apply.
                 let imprecise = imprecise(&scale);
@@ -2155,7 +2159,10 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     maps_pass_the_judge(&raw, &input, &origins, s, !imprecise)
                         .map_err(|e| format!("{tag}: map check: {e}"))?;
                     if welded {
-                        let report = common::check_refined(&input, s);
+                        let mut report = common::check_refined(&input, s);
+                        if gabriel {
+                            report.require_gabriel_boundary();
+                        }
                         if !report.passed() {
                             return Err(format!("{tag}: check failed: {:?}", report.failures));
                         }
@@ -2165,7 +2172,13 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     let (r, o) = (dir.path().join("repaired.obj"), dir.path().join("output.obj"));
                     io::write_mesh(&r, &input.positions, &input.triangles).map_err(|e| e.to_string())?;
                     io::write_mesh(&o, &s.positions, &s.triangles()).map_err(|e| e.to_string())?;
-                    match delmesh::check::check_files(&r, &o) {
+                    let checked = delmesh::check::check_files(&r, &o).map(|mut report| {
+                        if gabriel {
+                            report.require_gabriel_boundary();
+                        }
+                        report
+                    });
+                    match checked {
                         Ok(report) if report.passed() => Ok(()),
                         Ok(report) => Err(format!("{tag}: check of the files failed: {:?}", report.failures)),
                         Err(e) => Err(format!("{tag}: check of the files refused: {e}")),
@@ -2208,6 +2221,9 @@ fn target_pipeline(bytes: &[u8]) -> Result<String, String> {
                     if pruned.removed > 0 {
                         sig.push_str(" pruned");
                     }
+                }
+                if gabriel {
+                    sig.push_str(" gabriel");
                 }
                 sig.push_str(&format!(" refined s{} f{}", bucket(stats.splits), bucket(stats.flips)));
             }

@@ -284,6 +284,7 @@ fn single_run_json_and_csv_match_the_readme_and_the_summary() {
     }
     assert_eq!(s["refine"], run["seconds_refine"]);
     assert_eq!(doc["refined"], true);
+    assert_eq!(doc["gabriel_boundary"], false);
     assert!(doc["repair"].is_null() && doc["repaired"].is_null());
     if cfg!(target_os = "linux") {
         assert!(doc["peak_memory_bytes"].as_u64().unwrap() > 1_000_000);

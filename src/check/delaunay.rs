@@ -8,6 +8,14 @@ pub(super) struct DelaunayStats {
     pub(super) max_excess: f64,
     /// The non-Delaunay edges `(excess, lo, hi)`, worst first.
     pub(super) bad: Vec<(f64, u32, u32)>,
+    /// Boundary edges (one face).
+    pub(super) boundary: usize,
+    /// `max(gamma - pi/2)` over them, gamma the angle opposite in the one face.
+    pub(super) max_boundary_excess: f64,
+    /// Those facing an obtuse angle, `gamma > pi/2 + DELAUNAY_TOLERANCE`: `(gamma - pi/2, lo,
+    /// hi)`, worst first. Not failures unless asked for
+    /// ([`CheckReport::require_gabriel_boundary`]).
+    pub(super) bad_boundary: Vec<(f64, u32, u32)>,
 }
 
 impl DelaunayStats {
@@ -22,6 +30,24 @@ impl DelaunayStats {
                 )
             });
         }
+    }
+}
+
+impl DelaunayStats {
+    /// The lines naming the boundary edges that face an obtuse angle, worst first (at most
+    /// [`MAX_LINES_PER_KIND`], then a count of the rest).
+    pub(super) fn boundary_lines(&self, output: &Names) -> Vec<String> {
+        let shown = self.bad_boundary.iter().take(MAX_LINES_PER_KIND).map(|&(x, lo, hi)| {
+            format!(
+                "boundary edge ({}, {}) faces an obtuse angle: gamma-pi/2 = {x:.3e} rad (its cotangent weight is negative)",
+                output.label(lo),
+                output.label(hi)
+            )
+        });
+        let more = self.bad_boundary.len().saturating_sub(MAX_LINES_PER_KIND);
+        shown
+            .chain((more > 0).then(|| format!("... and {more} more boundary edges facing an obtuse angle")))
+            .collect()
     }
 }
 
@@ -64,7 +90,24 @@ pub(super) fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
         interior: 0,
         max_excess: f64::NEG_INFINITY,
         bad: Vec::new(),
+        boundary: 0,
+        max_boundary_excess: f64::NEG_INFINITY,
+        bad_boundary: Vec::new(),
     };
+    // Boundary edges: the one angle opposite each, against a right angle (few edges: no bound
+    // needed).
+    for e in edges.iter().filter(|e| e.count == 1) {
+        let c = third(&output.triangles[e.faces[0] as usize], e.lo, e.hi);
+        let (a, b, c) = (p(e.lo), p(e.hi), p(c));
+        let x = angle(a - c, b - c) - FRAC_PI_2;
+        stats.boundary += 1;
+        stats.max_boundary_excess = stats.max_boundary_excess.max(x);
+        let gabriel = x <= DELAUNAY_TOLERANCE; // false for NaN too
+        if !gabriel {
+            stats.bad_boundary.push((x, e.lo, e.hi));
+        }
+    }
+    stats.bad_boundary.sort_by(|x, y| y.0.total_cmp(&x.0));
     let mut bound = ExcessBound::below(stats.max_excess);
     for e in edges.iter().filter(|e| e.is_interior()) {
         let (a, b, f, g) = e.oriented();

@@ -106,7 +106,7 @@ use topology::*;
 use vertices::*;
 
 use std::collections::HashSet;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -265,6 +265,18 @@ pub struct CheckReport {
     /// `max(alpha + beta - pi)` over the interior output edges, in radians
     /// (`f64::NEG_INFINITY` when there is no interior edge).
     pub max_excess: f64,
+    /// Boundary edges of the output (one face).
+    pub boundary_edges: usize,
+    /// Boundary edges whose one opposite angle gamma exceeds `pi/2 + DELAUNAY_TOLERANCE`: not
+    /// Gabriel, their cotangent weight negative. Not a failure (the spec counts boundary
+    /// edges as Delaunay) unless [`CheckReport::require_gabriel_boundary`] makes them one.
+    pub non_gabriel_boundary_edges: usize,
+    /// `max(gamma - pi/2)` over the boundary edges, in radians (`f64::NEG_INFINITY` when there
+    /// is none).
+    pub max_boundary_excess: f64,
+    /// One line per boundary edge counted in [`CheckReport::non_gabriel_boundary_edges`], worst
+    /// first (at most [`MAX_LINES_PER_KIND`], then one `... and N more` line).
+    pub boundary_lines: Vec<String>,
     /// One human-readable line per failure, at most [`MAX_LINES_PER_KIND`] per kind plus one
     /// `... and N more` line per kind that overflowed. Empty iff the output is valid.
     pub failures: Vec<String>,
@@ -274,6 +286,22 @@ impl CheckReport {
     /// True iff the output is a valid result for the input (no failure).
     pub fn passed(&self) -> bool {
         self.failures.is_empty()
+    }
+
+    /// Makes every boundary edge facing an obtuse angle a failure (`check
+    /// --gabriel-boundary`, for outputs of `--gabriel-boundary`).
+    pub fn require_gabriel_boundary(&mut self) {
+        self.failures.append(&mut self.boundary_lines);
+    }
+
+    /// [`CheckReport::max_boundary_excess`] for a printout: in radians, or
+    /// `none` when the output has no boundary edge.
+    pub fn max_boundary_excess_text(&self) -> String {
+        if self.boundary_edges == 0 {
+            "none (no boundary edge)".to_string()
+        } else {
+            format!("{:.3e} rad", self.max_boundary_excess)
+        }
     }
 
     /// [`CheckReport::max_excess`] for a printout: in radians, or `none`
@@ -300,6 +328,10 @@ impl CheckReport {
             interior_edges: 0,
             non_delaunay_edges: 0,
             max_excess: f64::NEG_INFINITY,
+            boundary_edges: 0,
+            non_gabriel_boundary_edges: 0,
+            max_boundary_excess: f64::NEG_INFINITY,
+            boundary_lines: Vec::new(),
             failures: Vec::new(),
         }
     }
@@ -828,6 +860,10 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
         report.interior_edges = delaunay.interior;
         report.non_delaunay_edges = delaunay.bad.len();
         report.max_excess = delaunay.max_excess;
+        report.boundary_edges = delaunay.boundary;
+        report.non_gabriel_boundary_edges = delaunay.bad_boundary.len();
+        report.max_boundary_excess = delaunay.max_boundary_excess;
+        report.boundary_lines = delaunay.boundary_lines(&output_names);
     }
     report.failures = fail.finish();
     Ok(report)

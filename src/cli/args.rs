@@ -176,6 +176,14 @@ pub(super) struct Settings {
     #[arg(long = "shells", conflicts_with = "nomedian")]
     pub(super) shells: bool,
 
+    /// Also make every boundary edge Gabriel: the one angle opposite it at
+    /// most pi/2, so that its cotangent weight is not negative, by splitting
+    /// the boundary edges that face an obtuse angle. With it, every weight of
+    /// the output's cotangent Laplacian is non-negative, on open meshes too
+    /// (without it boundary edges count as Delaunay, as in the report)
+    #[arg(long = "gabriel-boundary")]
+    pub(super) gabriel_boundary: bool,
+
     /// Work limit: stop (exit 1) when a run needs more than this many added
     /// vertices, or more than three times as many flips; `Nx` (such as
     /// `20x`): N times the input's vertex count, file by file in `batch`.
@@ -287,8 +295,11 @@ impl Settings {
     }
 
     /// Builds the refinable mesh of `input`, read from `path`.
+    /// (With --gabriel-boundary, boundary edges are tested too.)
     pub(super) fn build(&self, input: &mut io::InputMesh, path: &Path) -> delmesh::Result<Surface> {
-        io::build_surface_with(input, path, self.tolerances())
+        let mut surface = io::build_surface_with(input, path, self.tolerances())?;
+        surface.gabriel_boundary = self.gabriel_boundary;
+        Ok(surface)
     }
 
     /// Reads `path`, with or without repair, and without its attributes
@@ -389,6 +400,11 @@ pub(super) enum Command {
         /// the same.
         #[arg(short = 'q', long = "quiet")]
         quiet: bool,
+        /// Also require every boundary edge to be Gabriel (its one opposite
+        /// angle at most pi/2 + 1e-9 rad: a non-negative cotangent weight),
+        /// as `--gabriel-boundary` makes them, and print how far they are.
+        #[arg(long = "gabriel-boundary")]
+        gabriel_boundary: bool,
     },
 }
 

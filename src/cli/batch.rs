@@ -453,6 +453,7 @@ fn refine_file(input: &Path, output: &Path, args: &BatchArgs, options: &Options)
             output,
             repaired: repaired.as_deref(),
             refined: true,
+            gabriel_boundary: args.settings.gabriel_boundary,
             seconds_read: read_s,
             seconds_build: build_s,
             seconds_total: t0.elapsed().as_secs_f64(),
@@ -553,7 +554,8 @@ fn refine_read(
     let mut checked_files = None;
     if args.check {
         let keep_files = args.vertex_maps || args.face_maps;
-        (staged, checked_files) = check_output(input, mesh, staged, output, keep_files)?;
+        (staged, checked_files) =
+            check_output(input, mesh, staged, output, keep_files, args.settings.gabriel_boundary)?;
     }
     let (vertex_map, face_map, maps_checked) = if args.check {
         check_maps(

@@ -20,14 +20,16 @@ impl std::error::Error for CheckFailed {}
 /// read); an output that fails, or that the judge cannot read, is renamed
 /// to `<output>.rejected`.
 /// With `keep_files`, the files the judge read come back too, for [`check_maps`].
+/// `gabriel_boundary`: the run's `--gabriel-boundary`, which the judge then requires.
 pub(super) fn check_output(
     input: &Path,
     mesh: &io::InputMesh,
     staged: io::Staged,
     output: &Path,
     keep_files: bool,
+    gabriel_boundary: bool,
 ) -> anyhow::Result<(io::Staged, Option<CheckedFiles>)> {
-    CheckReference::new(input, mesh, output)?.check_keeping(staged, output, keep_files)
+    CheckReference::new(input, mesh, output, gabriel_boundary)?.check_keeping(staged, output, keep_files)
 }
 
 /// Why a file failed `--check`: its first failure line (of `failures`, not
@@ -192,12 +194,19 @@ pub(super) struct CheckedFiles {
 pub(super) struct CheckReference<'a> {
     pub(super) input: &'a Path,
     pub(super) written: Option<(io::temporary::Registration, io::temporary::TempFile)>,
+    /// Whether boundary edges must face no obtuse angle (`--gabriel-boundary`).
+    pub(super) gabriel_boundary: bool,
 }
 
 impl<'a> CheckReference<'a> {
     /// The reference for outputs of `mesh`, read from `input`; a written
-    /// one goes beside `output`.
-    pub(super) fn new(input: &'a Path, mesh: &io::InputMesh, output: &Path) -> anyhow::Result<Self> {
+    /// one goes beside `output`. `gabriel_boundary`: the run's setting.
+    pub(super) fn new(
+        input: &'a Path,
+        mesh: &io::InputMesh,
+        output: &Path,
+        gabriel_boundary: bool,
+    ) -> anyhow::Result<Self> {
         // An input read only once (standard input, a pipe): the mesh read
         // from it is written once, as a repaired one is.
         let written = match mesh.repair {
@@ -213,7 +222,11 @@ impl<'a> CheckReference<'a> {
                 Some((io::temporary::register(file.path()), file))
             }
         };
-        Ok(CheckReference { input, written })
+        Ok(CheckReference {
+            input,
+            written,
+            gabriel_boundary,
+        })
     }
 
     /// Runs the judge on `staged`, the file written for `output`, and
@@ -243,7 +256,13 @@ impl<'a> CheckReference<'a> {
                 shares_vertices,
             },
         );
-        let why = match delmesh::check::check_files_with(reference, staged.path(), kept) {
+        let checked = delmesh::check::check_files_with(reference, staged.path(), kept).map(|(mut report, files)| {
+            if self.gabriel_boundary {
+                report.require_gabriel_boundary();
+            }
+            (report, files)
+        });
+        let why = match checked {
             Ok((report, files)) if report.passed() => return Ok((staged, files)),
             Ok((report, _)) => failed_the_check(&report.failures),
             Err(e) => format!("the check could not read the files: {e}"),
@@ -276,7 +295,15 @@ impl MapFiles {
     }
 }
 
-pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: bool) -> anyhow::Result<ExitCode> {
+/// `gabriel_boundary`: also require boundary edges to face no obtuse angle
+/// (`check --gabriel-boundary`).
+pub(super) fn run_check(
+    input: &Path,
+    output: &Path,
+    maps: &MapFiles,
+    quiet: bool,
+    gabriel_boundary: bool,
+) -> anyhow::Result<ExitCode> {
     if maps.original.is_some() && !maps.any() {
         bail!("--original names the file the maps number: give --vertex-map or --face-map with it");
     }
@@ -319,7 +346,10 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: boo
         let (vertex_map, face_map) = (maps.vertex_map.as_deref(), maps.face_map.as_deref());
         judge_maps_of(files, original, output, vertex_map, face_map, maps.weld_tolerance)
     };
-    let (report, map_reports) = delmesh::check::check_files_with(input, output, maps.any().then_some(judge_maps))?;
+    let (mut report, map_reports) = delmesh::check::check_files_with(input, output, maps.any().then_some(judge_maps))?;
+    if gabriel_boundary {
+        report.require_gabriel_boundary();
+    }
     let (vertex_report, face_report) = map_reports.transpose()?.unwrap_or((None, None));
     // With --quiet, a check that passes prints nothing, and one that fails
     // only its FAIL and FAILED lines and the notes that say why.
@@ -339,6 +369,16 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: boo
         report.non_delaunay_edges,
         report.max_excess_text()
     );
+    if gabriel_boundary && report.boundary_edges == 0 {
+        inform!("check   no boundary edge");
+    } else if gabriel_boundary {
+        inform!(
+            "check   {}; facing an obtuse angle: {} (max gamma-pi/2 {})",
+            count(report.boundary_edges, "boundary edge", "boundary edges"),
+            report.non_gabriel_boundary_edges,
+            report.max_boundary_excess_text()
+        );
+    }
     if report.unused_vertices > 0 {
         let n = report.unused_vertices;
         let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
@@ -396,14 +436,16 @@ pub(super) fn run_check(input: &Path, output: &Path, maps: &MapFiles, quiet: boo
             (None, None) => "",
         };
         inform!(
-            "PASS    {} is a Delaunay mesh with the geometry of {}{and_maps}",
+            "PASS    {} is a Delaunay mesh{} with the geometry of {}{and_maps}",
             output.display(),
+            gabriel_text(gabriel_boundary),
             input.display()
         );
     } else {
         say!(
-            "FAILED  {} is not a Delaunay mesh with the geometry of {}",
+            "FAILED  {} is not a Delaunay mesh{} with the geometry of {}",
             output.display(),
+            gabriel_text(gabriel_boundary),
             input.display()
         );
     }

@@ -13,7 +13,14 @@ pub(super) fn run_sweep(
 ) -> anyhow::Result<ExitCode> {
     let args = report.args;
     let reference = (args.check)
-        .then(|| CheckReference::new(report.input_path, report.input, report.output))
+        .then(|| {
+            CheckReference::new(
+                report.input_path,
+                report.input,
+                report.output,
+                args.settings.gabriel_boundary,
+            )
+        })
         .transpose()?;
     let sweep = Sweep {
         surface,
@@ -591,8 +598,9 @@ fn run_all(sweep: &Sweep, output: &Path, args: &RunArgs) -> anyhow::Result<(Exit
         }
         if args.check && failed == 0 {
             say!(
-                "check   PASS: each of the {} files is a Delaunay mesh with the geometry of {}",
+                "check   PASS: each of the {} files is a Delaunay mesh{} with the geometry of {}",
                 rows.len(),
+                gabriel_text(args.settings.gabriel_boundary),
                 sweep.input_path.display()
             );
         }

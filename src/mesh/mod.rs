@@ -145,6 +145,14 @@ pub struct Surface {
     /// How each planar region's faces must look along a coordinate axis
     /// (from its largest input face): the exact test every new face passes.
     pub region_plane: Vec<RegionPlane>,
+    /// Whether boundary edges must be Gabriel too: the one angle opposite
+    /// each at most π/2, so that its cotangent weight is not negative
+    /// (`--gabriel-boundary`; off by default, where boundary edges count as
+    /// Delaunay, as the spec says). [`Surface::delaunay_test`] then tests
+    /// them ([`geometry::boundary_test`]), and refining splits those that
+    /// fail. Set it before the first pass
+    /// ([`crate::refine::non_delaunay_edges`]).
+    pub gabriel_boundary: bool,
 }
 
 /// Figures of the input that the report's tables give.
@@ -376,6 +384,7 @@ impl Surface {
                 v
             },
             face_region: Vec::new(),
+            gabriel_boundary: false,
             n_input_vertices: n,
             n_regions: 0,
             flat_edges_apart: 0,
@@ -593,12 +602,39 @@ impl Surface {
         ]
     }
 
+    /// With [`Surface::gabriel_boundary`], the positions (a, b, c) of the
+    /// boundary edge `e` = a→b, running along its one face (a, b, c); `None`
+    /// without it, or for an interior edge (or a dead one).
+    #[inline]
+    pub fn boundary_triangle(&self, e: EdgeId) -> Option<[DVec3; 3]> {
+        if !self.gabriel_boundary {
+            return None;
+        }
+        let h = self.boundary_side(e)?;
+        let (t, p) = (&self.topo, &self.positions);
+        Some([t.origin(h), t.dest(h), t.apex(h)].map(|v| p[v.idx()]))
+    }
+
+    /// The half-edge of the boundary edge `e` that has the face; `None` if
+    /// `e` is interior or has no face at all.
+    #[inline]
+    pub fn boundary_side(&self, e: EdgeId) -> Option<HalfEdgeId> {
+        let h = e.halfedge();
+        match (self.topo.is_boundary_he(h), self.topo.is_boundary_he(h.twin())) {
+            (false, true) => Some(h),
+            (true, false) => Some(h.twin()),
+            _ => None,
+        }
+    }
+
     /// `(sin, cos)` of α + β − π for an interior edge, up to a positive
     /// factor (see [`geometry::excess_sin_cos`]); `None` on the boundary.
     #[inline]
     pub fn excess_sin_cos(&self, e: EdgeId) -> Option<(f64, f64)> {
         if !self.topo.is_interior(e) {
-            return None;
+            // With `gabriel_boundary`: γ − π/2 of the angle γ opposite it.
+            let [a, b, c] = self.boundary_triangle(e)?;
+            return Some(geometry::boundary_excess_sin_cos(a, b, c));
         }
         let [a, b, c, d] = self.edge_quad(e);
         Some(geometry::excess_sin_cos(a, b, c, d))
@@ -611,20 +647,27 @@ impl Surface {
         self.delaunay_test(e, tolerance) != DelaunayTest::Delaunay
     }
 
-    /// [`geometry::delaunay_test`] of `e`; a boundary edge is Delaunay.
+    /// [`geometry::delaunay_test`] of `e`; a boundary edge is Delaunay,
+    /// unless [`Surface::gabriel_boundary`] asks for its
+    /// [`geometry::boundary_test`].
     #[inline(always)]
     pub fn delaunay_test(&self, e: EdgeId, tolerance: f64) -> DelaunayTest {
         if !self.topo.is_interior(e) {
-            return DelaunayTest::Delaunay;
+            return match self.boundary_triangle(e) {
+                Some([a, b, c]) => geometry::boundary_test(a, b, c, tolerance),
+                None => DelaunayTest::Delaunay,
+            };
         }
         let [a, b, c, d] = self.edge_quad(e);
         geometry::delaunay_test(a, b, c, d, tolerance)
     }
 
-    /// α + β − π of an interior edge (radians); `None` on the boundary.
+    /// α + β − π of an interior edge (radians); `None` on the boundary,
+    /// or γ − π/2 there with [`Surface::gabriel_boundary`].
     pub fn delaunay_excess(&self, e: EdgeId) -> Option<f64> {
         if !self.topo.is_interior(e) {
-            return None;
+            let [a, b, c] = self.boundary_triangle(e)?;
+            return Some(geometry::boundary_excess(a, b, c));
         }
         let [a, b, c, d] = self.edge_quad(e);
         Some(geometry::delaunay_excess(a, b, c, d))
@@ -957,6 +1000,26 @@ impl Surface {
         p
     }
 
+    /// Splits the boundary edge `e`, which lies on an input edge, at
+    /// parameter `t` of that input edge (with [`Surface::gabriel_boundary`]).
+    /// Returns the new vertex. See [`Topology::split_boundary`] for the ids
+    /// of the new edges and face.
+    pub fn split_boundary(&mut self, e: EdgeId, t: f64) -> VertexId {
+        let edge = self.edge_input[e.idx()];
+        debug_assert_ne!(edge, NO_INPUT_EDGE);
+        let [p0, p1] = self.input_edge_ends(edge);
+        let f1 = self
+            .boundary_side(e)
+            .map(|h| self.topo.face(h))
+            .expect("a boundary edge");
+        let p = self.topo.split_boundary(e);
+        self.positions.push(point_on_edge(p0, p1, t));
+        self.carriers.push(Carrier::Edge { edge, t });
+        self.edge_input.extend_from_slice(&[edge, NO_INPUT_EDGE]);
+        self.face_region.push(self.face_region[f1.idx()]);
+        p
+    }
+
     /// Drops the vertices, edges and faces that [`Topology::unsplit`] left
     /// dead, renumbering the others in order (input vertices keep their ids).
     pub fn compact(&mut self) {
@@ -1157,7 +1220,8 @@ impl Surface {
     /// A lower bound on the vertices that any method keeping the geometry
     /// must add: the interior edges, non-Delaunay by more than twice the
     /// acceptance tolerance, whose two sides are planar regions of a single
-    /// face each. Inside such a face every possible opposite vertex (a point
+    /// face each (with [`Surface::gabriel_boundary`], and the boundary edges
+    /// so facing an obtuse angle in such a face). Inside such a face every possible opposite vertex (a point
     /// of the face) sees the edge under at least the angle its own apex
     /// does, so the edge stays non-Delaunay until a vertex is added on it.
     /// Computed on the input (before any refinement).
@@ -1178,14 +1242,18 @@ impl Surface {
             region_faces[r as usize] = region_faces[r as usize].saturating_add(1);
         }
         let single = |f: FaceId| region_faces[self.face_region[f.idx()] as usize] == 1;
-        (candidates.iter().copied())
-            .filter(|&e| {
+        // With `gabriel_boundary`, likewise a boundary edge facing an obtuse
+        // angle in its one face, a region of its own: every point of the face
+        // sees it under at least that angle.
+        let sides_single = |e: EdgeId| match self.boundary_side(e) {
+            Some(h) => self.gabriel_boundary && single(self.topo.face(h)),
+            None => {
                 let h = e.halfedge();
-                self.topo.is_interior(e)
-                    && single(self.topo.face(h))
-                    && single(self.topo.face(h.twin()))
-                    && self.is_non_delaunay(e, 2.0 * geometry::ACCEPT_TOLERANCE)
-            })
+                self.topo.is_interior(e) && single(self.topo.face(h)) && single(self.topo.face(h.twin()))
+            }
+        };
+        (candidates.iter().copied())
+            .filter(|&e| sides_single(e) && self.is_non_delaunay(e, 2.0 * geometry::ACCEPT_TOLERANCE))
             .count()
     }
 

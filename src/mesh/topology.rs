@@ -746,6 +746,20 @@ impl Topology {
         let (h1, t1) = (self.next(h), self.next(h.twin()));
         [self.next(h1), h1, self.next(t1), t1]
     }
+    /// [`Topology::outer_halfedges`] of any edge: `NONE` for the two of a
+    /// side with no face (a boundary edge has one side).
+    pub fn outer_halfedges_of_faces(&self, e: EdgeId) -> [HalfEdgeId; 4] {
+        let h = e.halfedge();
+        let side = |x: HalfEdgeId| match self.is_boundary_he(x) {
+            true => [HalfEdgeId::NONE; 2],
+            false => {
+                let x1 = self.next(x);
+                [self.next(x1), x1]
+            }
+        };
+        let ([a, b], [c, d]) = (side(h), side(h.twin()));
+        [a, b, c, d]
+    }
     /// The face of a half-edge (`NONE` on the boundary).
     #[inline]
     pub fn face(&self, h: HalfEdgeId) -> FaceId {
@@ -982,6 +996,58 @@ impl Topology {
         if self.vertex_he[b.idx()] == t {
             self.vertex_he[b.idx()] = g_t;
         }
+        p
+    }
+
+    /// Splits the boundary edge `e` at a new vertex p (returned): its one
+    /// face (a, b, c), where `h` = a→b is the half-edge with the face,
+    /// becomes (a, p, c) and a new face (p, b, c). Ids as in
+    /// [`Topology::split`], one edge fewer: edge `e` becomes a–p (on the
+    /// boundary), edge n (the edge count before) p–b (on the boundary),
+    /// edge n + 1 p–c; the new face is face m (the face count before).
+    ///
+    /// ```text
+    ///          c                      c
+    ///         / \                    /|\
+    ///        /   \                  / | \
+    ///       /  F1 \      ->        / F1|F3\
+    ///      /   h   \              /  h | g \
+    ///     a ------- b            a -- p -- b
+    ///     (boundary: t)        (t, p->a) (g_t, b->p)
+    /// ```
+    pub fn split_boundary(&mut self, e: EdgeId) -> VertexId {
+        let mut h = e.halfedge();
+        if self.is_boundary_he(h) {
+            h = h.twin();
+        }
+        let t = h.twin();
+        debug_assert!(!self.is_boundary_he(h) && self.is_boundary_he(t));
+        let h1 = self.next(h);
+        let h2 = self.next(h1);
+        let b = self.origin(t);
+        let c = self.origin(h2);
+        let f1 = self.face(h);
+        let p = VertexId(self.vertex_he.len() as u32);
+        let base = self.he_origin.len() as u32;
+        // p→b, then b→p (base + 1: on the boundary, no face, no next).
+        let g = HalfEdgeId(base);
+        let (k, k_t) = (HalfEdgeId(base + 2), HalfEdgeId(base + 3)); // p→c, c→p
+        let f3 = FaceId(self.face_he.len() as u32);
+        self.he_origin.extend_from_slice(&[p, b, p, c]);
+        self.he_next.extend_from_slice(&[HalfEdgeId::NONE; 4]);
+        self.he_face.extend_from_slice(&[FaceId::NONE; 4]);
+        self.face_he.push(g);
+        // p's first outgoing half-edge counter-clockwise, its twin on the
+        // boundary: p→b.
+        self.vertex_he.push(g);
+        // The boundary half-edge b→a is now p→a (no face, no next).
+        self.he_origin[t.idx()] = p;
+        // F1 = (a, p, c): h, k, h2.
+        self.link(f1, [h, k, h2]);
+        // F3 = (p, b, c): g, h1, k_t.
+        self.link(f3, [g, h1, k_t]);
+        // (b's outgoing half-edges with a face are those it had: b→a had
+        // none, so b's own is unchanged; so are a's and c's.)
         p
     }
 
@@ -1946,6 +2012,49 @@ mod tests {
         assert_eq!(t, split);
         t.restore(&log[..split_entries]);
         assert_eq!(t, before);
+    }
+
+    /// Splitting boundary edges, again and again (of a single triangle, of a square of two, of
+    /// a fan around a vertex), keeps a valid mesh: one vertex, two edges and a face more each
+    /// time, the boundary one edge longer, the split edge now running to the new vertex.
+    #[test]
+    fn split_boundary_keeps_structure() {
+        let meshes: [&[[u32; 3]]; 3] = [
+            &[[0, 1, 2]],
+            &[[0, 1, 2], [0, 2, 3]],
+            &[[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+        ];
+        for triangles in meshes {
+            let n = 1 + triangles.iter().flatten().copied().max().unwrap() as usize;
+            let mut t = Topology::from_triangles(n, triangles).unwrap();
+            let boundary = |t: &Topology| (0..t.n_edges() as u32).filter(|&e| !t.is_interior(EdgeId(e))).count();
+            for round in 0..3 {
+                for e in 0..t.n_edges() as u32 {
+                    let e = EdgeId(e);
+                    if t.is_interior(e) {
+                        continue;
+                    }
+                    let before = (t.n_vertices(), t.n_edges(), t.n_faces(), boundary(&t));
+                    let h = e.halfedge();
+                    let (a, b) = (t.origin(h), t.dest(h));
+                    let p = t.split_boundary(e);
+                    t.validate()
+                        .unwrap_or_else(|m| panic!("{triangles:?}, round {round}, {e:?}: {m}"));
+                    assert_eq!(
+                        (t.n_vertices(), t.n_edges(), t.n_faces(), boundary(&t)),
+                        (before.0 + 1, before.1 + 2, before.2 + 1, before.3 + 1)
+                    );
+                    // Edge e keeps the end its face side starts from; edge n runs p-b or p-a.
+                    let ends = [t.origin(h), t.dest(h)];
+                    assert!(
+                        ends.contains(&p) && (ends.contains(&a) || ends.contains(&b)),
+                        "{ends:?}"
+                    );
+                    assert!(!t.is_interior(e) && !t.is_interior(EdgeId(before.1 as u32)));
+                    assert!(t.is_interior(EdgeId(before.1 as u32 + 1)));
+                }
+            }
+        }
     }
 
     #[test]
