@@ -2648,6 +2648,10 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         let input_region = s.face_region.clone();
         let mut options = combination(h.wrapping_add(k as u64 * 7) % 18);
         options.max_added = ATTRIBUTES_MAX_ADDED;
+        // One run in four also makes the boundary Gabriel (`--gabriel-boundary`: boundary
+        // edges split, with their values), which the check then requires.
+        let gabriel = (h >> 8).wrapping_add(k as u64) & 3 == 0;
+        s.gabriel_boundary = gabriel;
         let stats = match make_delaunay(&mut s, &options) {
             Ok(stats) => stats,
             Err(Error::WorkLimit { .. }) => {
@@ -2660,7 +2664,7 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
             }
             Err(e) => return Err(format!("{out_name}: make_delaunay failed unexpectedly: {e}")),
         };
-        let tag = format!("{out_name} {tolerances:?} {options:?}");
+        let tag = format!("{out_name} {tolerances:?} {options:?} gabriel={gabriel}");
         let mut added = stats.splits;
         if stats.splits <= 200 && h % 2 == 0 {
             added -= prune(&mut s, &options).removed;
@@ -2673,7 +2677,10 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         if s.positions.len() != n + added || moved {
             return Err(format!("{tag}: input vertices changed or wrong vertex count"));
         }
-        let report = common::check_refined(&input, &s);
+        let mut report = common::check_refined(&input, &s);
+        if gabriel {
+            report.require_gabriel_boundary();
+        }
         if !report.passed() {
             return Err(format!(
                 "{tag}: check of the refined surface failed: {:?}",
