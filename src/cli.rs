@@ -1203,7 +1203,14 @@ fn run_unrefined(
     progress::phase(Phase::Write {
         name: file_name(output),
     });
-    let (written, staged) = write_output(output, report.input_path, surface, transfer, &Default::default())?;
+    let (written, staged) = write_output(
+        output,
+        report.input_path,
+        report.input,
+        surface,
+        transfer,
+        &Default::default(),
+    )?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     // The side files before the mesh is put in place (as in `run_refined`).
@@ -1336,7 +1343,7 @@ fn run_refined(
     progress::phase(Phase::Write {
         name: file_name(output),
     });
-    let (mut written, mut staged) = write_output(output, input_path, &out.surface, transfer, &vertex_lines)?;
+    let (mut written, mut staged) = write_output(output, input_path, input, &out.surface, transfer, &vertex_lines)?;
     let write_s = t1.elapsed().as_secs_f64();
     progress::phase(Phase::Idle);
     drop(vertex_lines);
@@ -1575,6 +1582,7 @@ const STL_NOTE: &str = "STL stores f32 coordinates: input coordinates that need 
 fn write_output(
     path: &Path,
     input: &Path,
+    mesh: &io::InputMesh,
     surface: &Surface,
     transfer: Option<&Transfer>,
     done: &io::VertexLines,
@@ -1609,7 +1617,7 @@ fn write_output(
             .with_context(|| dir.display().to_string())?;
             let copies = io::write_mesh_with_attributes(file.path(), &surface.positions, &triangles, a)?.copies_of;
             refuse_shared_positions(path, surface.positions.len(), shared, &triangles, Some(a), &copies)?;
-            refuse_misread_copies(path, file.path(), surface, &triangles, Some(a), cut, &copies)?;
+            refuse_misread_copies(path, file.path(), surface, mesh, &triangles, Some(a), cut, &copies)?;
         }
     }
     let (mut written, staged) = match &attributes {
@@ -1632,6 +1640,7 @@ fn write_output(
             path,
             staged.path(),
             surface,
+            mesh,
             &triangles,
             attributes.as_ref(),
             cut,
@@ -1726,16 +1735,18 @@ fn what_is_copied(
 /// (`copies`: at seams, or an OBJ's for colours) and input vertices share a
 /// position (`cut()` of them, [`Surface::vertices_at_shared_positions`]:
 /// the copies `--repair` makes where it cuts), unless the file, read back as
-/// `check` reads an output, has the shape of the mesh written
-/// ([`delmesh::check::Mesh3::reads_back_as`]). Told apart only by their
+/// `check` reads an output of `mesh` (the input as read, and repaired), has
+/// the shape of the mesh written ([`delmesh::check::Mesh3::reads_back_as`]). Told apart only by their
 /// index, such vertices are welded on reading with the copies of the others
 /// at their position, and which copies are one vertex is then a guess; a
 /// file guessed wrong would fail `check` (a fuzz finding of the
 /// seventy-fourth session: two components where the mesh has one).
+#[allow(clippy::too_many_arguments)]
 fn refuse_misread_copies(
     path: &Path,
     file: &Path,
     surface: &Surface,
+    mesh: &io::InputMesh,
     triangles: &[[u32; 3]],
     attributes: Option<&delmesh::attributes::Attributes>,
     cut: impl Fn() -> usize,
@@ -1748,7 +1759,13 @@ fn refuse_misread_copies(
         positions: surface.positions.clone(),
         triangles: triangles.to_vec(),
     };
-    if delmesh::check::Mesh3::reads_back_as(file, &written).unwrap_or(false) {
+    // (Aimed at the input, as `check` reads the output against it: not at the mesh written,
+    // which would tell the reading which sheet of a cut edge was split.)
+    let input = delmesh::check::Mesh3 {
+        positions: mesh.positions.clone(),
+        triangles: mesh.triangles.clone(),
+    };
+    if delmesh::check::Mesh3::reads_back_as(file, &written, &input).unwrap_or(false) {
         return Ok(());
     }
     let format = io::output_format(path);

@@ -2755,14 +2755,21 @@ fn target_attributes(bytes: &[u8]) -> Result<String, String> {
         }
         // Input vertices at a shared position (cut apart by `--repair`) in
         // a file with copies: the command line refuses to write it unless
-        // it reads back as the mesh written (`check` guesses which copies
-        // are one vertex there; session 74's finding guessed wrong).
+        // it reads back as the mesh written, read against the input as
+        // `check` reads it (`check` guesses which copies are one vertex there;
+        // session 74's finding guessed wrong, and session 78's, a cut edge
+        // split on one sheet by --gabriel-boundary, was read back right only
+        // when aimed at the mesh written).
         if !written.copies_of.is_empty() && s.vertices_at_shared_positions().input > 0 {
             let mesh = delmesh::check::Mesh3 {
                 positions: s.positions.clone(),
                 triangles: triangles.clone(),
             };
-            if !delmesh::check::Mesh3::reads_back_as(&file, &mesh).unwrap_or(false) {
+            let aim = delmesh::check::Mesh3 {
+                positions: input.positions.clone(),
+                triangles: input.triangles.clone(),
+            };
+            if !delmesh::check::Mesh3::reads_back_as(&file, &mesh, &aim).unwrap_or(false) {
                 sig.push_str(&format!(" {out_name}:refused-misread"));
                 continue;
             }

@@ -559,8 +559,10 @@ impl Mesh3 {
     }
 
     /// Whether the file at `path`, read as `check` reads a run's output
-    /// ([`Mesh3::read_like`], aimed at `written`), is the mesh `written` that
-    /// was written to it, as far as positions tell: as many used vertices,
+    /// ([`Mesh3::read_like`], aimed at `input`, the run's input: not at
+    /// `written`, which would tell the reading which sheet of a cut edge a
+    /// split went to), is the mesh `written` that was written to it, as far
+    /// as positions tell: as many used vertices,
     /// faces and connected components, and the same edges with the same
     /// faces on them (each edge by its ends' positions and the positions of
     /// the apexes of its faces). Where a file copies vertices (at attribute
@@ -569,8 +571,8 @@ impl Mesh3 {
     /// which copies are one vertex; a wrong guess joins other faces across an
     /// edge, or cuts the surface apart. The command line refuses to write a
     /// file read back otherwise.
-    pub fn reads_back_as(path: impl AsRef<Path>, written: &Mesh3) -> Result<bool, CheckError> {
-        let back = Mesh3::read_like(path, written)?;
+    pub fn reads_back_as(path: impl AsRef<Path>, written: &Mesh3, input: &Mesh3) -> Result<bool, CheckError> {
+        let back = Mesh3::read_like(path, input)?;
         Ok(back.shape() == written.shape())
     }
 

@@ -526,7 +526,14 @@ fn refine_read(
     notes.extend(flat_regions_notes(&first_pass.flat));
     notes.extend(longest_first_note(&out.stats));
     *seconds = out.seconds(0.0);
-    let written = write_output(output, input, &out.surface, transfer.as_ref(), &Default::default());
+    let written = write_output(
+        output,
+        input,
+        mesh,
+        &out.surface,
+        transfer.as_ref(),
+        &Default::default(),
+    );
     let seconds_write = t_write.elapsed().as_secs_f64();
     seconds.write = seconds_write;
     let (written, mut staged) = written?;

@@ -456,6 +456,7 @@ fn run_combination(
     let written = write_output(
         file,
         sweep.input_path,
+        sweep.input,
         &out.surface,
         sweep.transfer,
         &Default::default(),
