@@ -40,7 +40,7 @@ pub enum Error {
     /// Some non-Delaunay edge can be neither split (no sample left strictly
     /// inside it) nor flipped (the flip would fold a face or duplicate an
     /// edge), so the algorithm cannot make it Delaunay.
-    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}{}{}", worst_edge.as_ref().map_or_else(String::new, |e| format!("{e}, ")), worst_text(*.worst_excess), near_coincident.after_semicolon())]
+    #[error("{count} non-Delaunay edge(s) can be neither split (no sample point left inside them) nor flipped (the flip would fold a face or duplicate an edge); worst: {}{}{}", worst_edge.as_ref().map_or_else(String::new, |e| format!("{e}, ")), worst_text(*.worst_excess, worst_edge.as_ref().is_some_and(|e| e.boundary)), near_coincident.after_semicolon())]
     Unsplittable {
         /// How many edges are left non-Delaunay.
         count: usize,
@@ -192,6 +192,9 @@ pub struct StuckEdge {
     pub ends: [EdgeEnd; 2],
     /// Its middle.
     pub middle: [f64; 3],
+    /// Whether it is a boundary edge (then tested with `--gabriel-boundary`:
+    /// it faces an obtuse angle).
+    pub boundary: bool,
     /// Its ends in words, once [`StuckEdge::name_vertices`] named the input
     /// vertices as the file does; until then "input vertex i", i an index
     /// into the input's positions.
@@ -214,8 +217,14 @@ impl StuckEdge {
         StuckEdge {
             ends,
             middle,
+            boundary: false,
             named: None,
         }
+    }
+
+    /// The same edge, on the boundary (with `--gabriel-boundary`).
+    pub fn on_boundary(self, boundary: bool) -> StuckEdge {
+        StuckEdge { boundary, ..self }
     }
 
     /// Names the input vertices with `name` (the index into the input's
@@ -242,6 +251,11 @@ impl StuckEdge {
                     name(b)
                 )
             }
+            [first, second] if self.boundary => format!(
+                "the boundary edge from {} to {} (its middle at {middle}), which faces an obtuse angle (--gabriel-boundary)",
+                end(first),
+                end(second)
+            ),
             [first, second] => format!(
                 "the edge from {} to {} (its middle at {middle})",
                 end(first),
@@ -292,8 +306,10 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// The worst excess of [`Error::Unsplittable`] in words: not positive only
 /// when the angles underflowed (a needle a subnormal distance from its edge).
-fn worst_text(excess: f64) -> String {
-    if excess > 0.0 {
+fn worst_text(excess: f64, boundary: bool) -> String {
+    if excess > 0.0 && boundary {
+        format!("gamma-pi/2 = {excess:.3e} rad")
+    } else if excess > 0.0 {
         format!("alpha+beta-pi = {excess:.3e} rad")
     } else {
         "angles too thin for f64 to measure (coordinates differ by subnormal amounts)".into()

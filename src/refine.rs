@@ -340,6 +340,7 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
         constants,
         stats: Stats::default(),
         stuck: FastMap::default(),
+        occupied: None,
         over_limit: false,
         split_limit,
     };
@@ -497,6 +498,17 @@ struct Run<'a> {
     /// The most splits the run may make: [`Options::max_added`], or fewer
     /// where the ids would run out first.
     split_limit: usize,
+    /// The positions of the mesh's vertices (bits, -0 as 0), made at the
+    /// first split of a boundary edge (`gabriel_boundary`) and kept up
+    /// since: such a split must not land on a vertex of another part of a
+    /// surface that overlaps itself (a boundary edge of a fan folded over,
+    /// running through a vertex), where the two would be one point.
+    occupied: Option<std::collections::HashSet<[u64; 3], crate::hash::FastBuild>>,
+}
+
+/// A position as [`Run::occupied`] keys it.
+fn position_key(p: DVec3) -> [u64; 3] {
+    p.to_array().map(|x| (x + 0.0).to_bits())
 }
 
 impl Run<'_> {
@@ -632,8 +644,11 @@ impl Run<'_> {
                     return;
                 }
                 let n = self.s.topo.n_edges() as u32;
-                self.s.split(e, choice.t);
+                let p = self.s.split(e, choice.t);
                 self.stats.splits += 1;
+                if let Some(occupied) = &mut self.occupied {
+                    occupied.insert(position_key(self.s.positions[p.idx()]));
+                }
                 for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)].into_iter().chain(around) {
                     self.push_if_bad(ds, x);
                 }
@@ -652,7 +667,10 @@ impl Run<'_> {
     /// choose ([`choose_boundary_sample`]), and queues the edges whose
     /// faces changed.
     fn split_boundary_edge(&mut self, e: EdgeId, ds: &mut Ds) {
-        let Some(choice) = choose_boundary_sample(self.s, &self.constants, &self.options, e) else {
+        let s = &*self.s;
+        let occupied = (self.occupied).get_or_insert_with(|| s.positions.iter().map(|&p| position_key(p)).collect());
+        let free = |p: DVec3| !occupied.contains(&position_key(p));
+        let Some(choice) = choose_boundary_sample(s, &self.constants, &self.options, e, free) else {
             self.mark_stuck(e);
             return;
         };
@@ -663,8 +681,11 @@ impl Run<'_> {
         let topo = &self.s.topo;
         let around = topo.outer_halfedges_of_faces(e);
         let n = topo.n_edges() as u32;
-        self.s.split_boundary(e, choice.t);
+        let p = self.s.split_boundary(e, choice.t);
         self.stats.splits += 1;
+        if let Some(occupied) = &mut self.occupied {
+            occupied.insert(position_key(self.s.positions[p.idx()]));
+        }
         let outer = around.into_iter().filter(|x| !x.is_none()).map(|x| x.edge());
         for x in [e, EdgeId(n), EdgeId(n + 1)].into_iter().chain(outer) {
             self.push_if_bad(ds, x);
@@ -677,7 +698,8 @@ impl Run<'_> {
 /// for an interior edge ([`choose_sample`]: the run's score, median or
 /// shells), the two halves' conditions being that each faces a right or
 /// acute angle, and the outer edges' that the two other edges of its face
-/// stay Delaunay. `None` if no sample inside gives valid faces.
+/// stay Delaunay. `None` if no sample inside gives valid faces at a point
+/// `free` says no vertex is at.
 ///
 /// ```text
 ///              c            the half a-m faces a right or acute angle at c
@@ -692,6 +714,7 @@ pub(crate) fn choose_boundary_sample(
     constants: &SampleConstants,
     options: &Options,
     e: EdgeId,
+    free: impl Fn(DVec3) -> bool,
 ) -> Option<samples::Choice> {
     let input = s.edge_input[e.idx()];
     let h = s.boundary_side(e)?;
@@ -757,7 +780,7 @@ pub(crate) fn choose_boundary_sample(
         median: options.median,
         shells: options.shells,
     };
-    choose_valid(s, e, &query)
+    choose_valid_where(s, e, &query, |t| free(samples::point_on_edge(ends[0], ends[1], t)))
 }
 
 /// The sample at which Algorithm 2 splits the non-Delaunay edge `e` of `s`
@@ -837,7 +860,17 @@ pub(crate) fn with_split_query<R>(
 /// vertex or of a line through one), the middle of the sub-edge, the best
 /// hope, if that does.
 pub(crate) fn choose_valid(s: &Surface, e: EdgeId, query: &SplitQuery) -> Option<samples::Choice> {
-    let valid = |c: &samples::Choice| s.split_is_valid(e, c.t);
+    choose_valid_where(s, e, query, |_| true)
+}
+
+/// [`choose_valid`], with one more condition on the sample's parameter.
+fn choose_valid_where(
+    s: &Surface,
+    e: EdgeId,
+    query: &SplitQuery,
+    also: impl Fn(f64) -> bool,
+) -> Option<samples::Choice> {
+    let valid = |c: &samples::Choice| s.split_is_valid(e, c.t) && also(c.t);
     let pieces = samples::Pieces::new(query)?;
     Some(pieces.choose(query))
         .filter(valid)

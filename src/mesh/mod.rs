@@ -714,7 +714,7 @@ impl Surface {
         };
         let (a, b) = (self.topo.origin(h), self.topo.dest(h));
         let middle = (self.positions[a.idx()] + self.positions[b.idx()]) / 2.0;
-        crate::error::StuckEdge::new([end(a), end(b)], middle.to_array())
+        crate::error::StuckEdge::new([end(a), end(b)], middle.to_array()).on_boundary(!self.topo.is_interior(e))
     }
 
     /// Where each vertex comes from: `(a, b, t)` with input vertices `a`,
