@@ -175,6 +175,21 @@ fn on_a_flat_fold(m: &Mesh3, v: usize) -> bool {
     normals.iter().any(|n| normals.iter().any(|o| n.dot(*o) < -1.0 + 1e-9))
 }
 
+/// The area of face `f` of `m`.
+fn face_area(m: &Mesh3, f: usize) -> f64 {
+    let [a, b, c] = m.triangles[f].map(|v| m.positions[v as usize]);
+    0.5 * (b - a).cross(c - a).length()
+}
+
+/// Whether face `f` of `m` has an edge no other face has.
+fn touches_boundary(m: &Mesh3, f: usize) -> bool {
+    let t = m.triangles[f];
+    (0..3).any(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        !(m.triangles.iter().enumerate()).any(|(g, u)| g != f && u.contains(&a) && u.contains(&b))
+    })
+}
+
 /// `out`, the refined `s` as a [`Mesh3`], with damage of `kind` at a random
 /// place; `None` if it has no place for it.
 pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<Mesh3> {
@@ -210,6 +225,14 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<M
             if on_a_flat_fold(&m, v) {
                 return None;
             }
+            // Faces turned over that are all below 1e-8 of the whole area change the regions'
+            // areas by less than `check` allows (1e-9 of a region): not done there, as
+            // `--gabriel-boundary` makes such faces (splits at sample resolution by a needle).
+            let total: f64 = (0..m.triangles.len()).map(|g| face_area(&m, g)).sum();
+            let tiny = |g: usize| !m.triangles[g].contains(&(v as u32)) || face_area(&m, g) < 1e-8 * total;
+            if (0..m.triangles.len()).all(tiny) {
+                return None;
+            }
             let (_, next) = neighbours_on_edge(s, edge, t);
             let [a, b] = s.input_edge_ends(edge);
             m.positions[v] = delmesh::samples::point_on_edge(a, b, next + 0.5 * (next - t));
@@ -222,7 +245,17 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<M
             m.positions[v] = DVec3::from_array(c);
         }
         Damage::FaceRemoved => {
-            m.triangles.swap_remove(rng.below(n_faces) as usize);
+            let f = rng.below(n_faces) as usize;
+            // A face along the boundary, removed, leaves the topology as it was (one edge and
+            // one face fewer, the same boundary loops): only the region's area tells, and
+            // `check` allows 1e-9 of it. Not such a face below 1e-8 of the whole area, as
+            // `--gabriel-boundary` makes them (splits at sample resolution by a needle).
+            if touches_boundary(&m, f)
+                && face_area(&m, f) < 1e-8 * (0..m.triangles.len()).map(|g| face_area(&m, g)).sum::<f64>()
+            {
+                return None;
+            }
+            m.triangles.swap_remove(f);
         }
         Damage::FaceDoubled => {
             let t = m.triangles[rng.below(n_faces) as usize];
