@@ -442,6 +442,66 @@ fn face_removed_at_the_border_is_reported_beside_a_huge_face() {
     }
 }
 
+/// A flat unit square fanned from its centre `e`, and an output with two vertices added on its
+/// bottom edge 2^-34 apart: the face between them and `e` has an area of 1.5e-11, below the
+/// billionth of its region's area that the area rule allows. Removed, it leaves the counts of
+/// the topology as they were (one edge and one face fewer, one boundary loop), so only the
+/// boundary rule sees it: the output's boundary now goes up to `e` and back.
+#[test]
+fn tiny_face_removed_along_the_boundary_is_reported() {
+    let m = 0.5 + 2f64.powi(-34);
+    let v = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.0],
+        [m, 0.0, 0.0],
+    ];
+    let input = obj(&v[..5], &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]);
+    let mut faces = vec![[0, 5, 4], [5, 6, 4], [6, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    assert_passes(&check_texts(&input, &obj(&v, &faces)));
+    faces.remove(1);
+    let report = check_texts(&input, &obj(&v, &faces));
+    assert_eq!(
+        report.failures,
+        vec![
+            "output boundary edge (v5, v6) lies along no input boundary edge (a face along the boundary removed, or one added)",
+            "output boundary edge (v5, v7) lies along no input boundary edge (a face along the boundary removed, or one added)",
+        ],
+        "{report}"
+    );
+}
+
+/// A square fanned from its centre with one face missing, and an output that has the face:
+/// the output's boundary edge across the gap lies along no input boundary edge, and the
+/// input's two boundary edges into the centre have no output boundary edge along them.
+#[test]
+fn face_added_across_the_boundary_is_reported() {
+    let v = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 0.0],
+    ];
+    let faces = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    let report = check_texts(&obj(&v, &faces[..3]), &obj(&v, &faces));
+    assert_failure(
+        &report,
+        "output boundary edge (v1, v4) lies along no input boundary edge",
+    );
+    assert_failure(
+        &report,
+        "input boundary edge (v1, v5) has no output boundary edge along it",
+    );
+    assert_failure(
+        &report,
+        "input boundary edge (v4, v5) has no output boundary edge along it",
+    );
+}
+
 #[test]
 fn edge_flipped_across_a_crease_is_reported() {
     let input = obj(&kite(true), &KITE_F);

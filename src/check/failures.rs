@@ -10,6 +10,7 @@ pub(super) const KIND_VERTEX: &str = "misplaced output vertex";
 pub(super) const KIND_FACE: &str = "face outside a planar region";
 pub(super) const KIND_AREA: &str = "region area change";
 pub(super) const KIND_TOPOLOGY: &str = "topology change";
+pub(super) const KIND_BOUNDARY: &str = "boundary change";
 pub(super) const KIND_DELAUNAY: &str = "non-Delaunay edge";
 
 /// Collects failure lines, keeping at most [`MAX_LINES_PER_KIND`] per kind.

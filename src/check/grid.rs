@@ -254,6 +254,23 @@ impl EdgeGrid {
     pub(super) fn edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
         nearest_edges_containing(mesh, edges, self.candidates(p), p, out);
     }
+
+    /// Fills `out` with the (sorted, unique) input boundary edges (one face) that contain `p`
+    /// within the on-edge tolerance, nearest or not: where an output edge runs along the
+    /// boundary is judged leniently, so that a point computed on a boundary edge near a needle's
+    /// tip, nearer still to the needle's other edge, is not taken off the boundary.
+    pub(super) fn boundary_edges_containing(&self, mesh: &Mesh3, edges: &[Edge], p: DVec3, out: &mut Vec<u32>) {
+        out.clear();
+        for &e in self.candidates(p) {
+            let edge = &edges[e as usize];
+            let (a, b) = (mesh.positions[edge.lo as usize], mesh.positions[edge.hi as usize]);
+            if edge.is_boundary() && distance_on_edge(p, a, b).is_some() {
+                out.push(e);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
 }
 
 /// Of the `candidates` (input edges, repeats allowed), the ones that contain `p` and are nearest

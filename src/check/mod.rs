@@ -37,7 +37,11 @@
 //!    proves no overlap; in the plane of no region at its other vertices, it lies on no input
 //!    face, a failure of its own, and counts in no region.
 //! 5. The topology is unchanged: the output is an oriented manifold, and its Euler characteristic,
-//!    number of boundary loops and number of connected components equal the input's.
+//!    number of boundary loops and number of connected components equal the input's. The
+//!    boundary is where it was: every output boundary edge lies along an input boundary edge
+//!    (its two ends at that edge's endpoints or on it, within [`ON_EDGE_TOLERANCE`]), and every
+//!    input boundary edge has an output boundary edge along it (a face along the boundary,
+//!    removed, keeps the counts, and can be far smaller than rule 4 sees).
 //! 6. Every interior output edge is Delaunay: `alpha + beta <= pi + DELAUNAY_TOLERANCE`.
 //! 7. ([`check_files`] only.) The OUTPUT's file does not give one vertex two records that reading
 //!    joins (not copies a seam made, nor distinct vertices rounded to one point, which reading
@@ -856,6 +860,7 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
                 let rounding = rounding_allowance(&model, &candidates.edge_has_added);
                 check_areas(&model, &mut assignment, &rounding, &mut fail);
                 compare_topology(&model.prepared.stats, &out.stats, &mut fail);
+                compare_boundaries(&model, &out.edges, &candidates, &output_names, &mut fail);
             },
         );
         delaunay.report(&output_names, &mut fail);

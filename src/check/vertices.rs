@@ -15,6 +15,21 @@ pub(super) struct Candidates {
     pub(super) unused: usize,
     /// Whether an added vertex lies on each input edge (indexed like `Prepared::edges`).
     pub(super) edge_has_added: Vec<bool>,
+    /// `(output vertex, input boundary edge)` for every input boundary edge each recognised
+    /// output vertex is on: as an endpoint (at an input vertex's position) or within the on-edge
+    /// tolerance; by vertex, then by edge.
+    pub(super) on_boundary: Vec<(u32, u32)>,
+}
+
+impl Candidates {
+    /// The input boundary edges output vertex `v` is on (sorted, unique).
+    pub(super) fn boundary_edges_of(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let start = self.on_boundary.partition_point(|&(w, _)| w < v);
+        self.on_boundary[start..]
+            .iter()
+            .take_while(move |&&(w, _)| w == v)
+            .map(|&(_, e)| e)
+    }
 }
 
 /// Where the output's vertices are looked up: the input's vertices by position, and for the
@@ -40,6 +55,10 @@ pub(super) struct VertexSearch {
     /// vertex, empty for the others): on the thread that builds the grid, beside the input's
     /// regions and the output's edges.
     added_edges: Csr,
+    /// `(output vertex, input boundary edge)` for each input boundary edge that contains such an
+    /// output vertex within the on-edge tolerance, nearest or not
+    /// ([`EdgeGrid::boundary_edges_containing`]), by output vertex.
+    added_boundary: Vec<(u32, u32)>,
 }
 
 impl VertexSearch {
@@ -76,12 +95,18 @@ impl VertexSearch {
         // Every vertex of `added_points` is looked up in the grid.
         let grid = (!added_points.is_empty()).then(|| EdgeGrid::new(input, &prepared.edges, &added_points));
         let mut added_edges = CsrBuilder::default();
+        let mut added_boundary = Vec::new();
+        let has_boundary = prepared.edges.iter().any(Edge::is_boundary);
         if let Some(grid) = &grid {
             let mut on_edges = Vec::new();
             for (v, p) in output.positions.iter().enumerate() {
                 if out_referenced[v] && !lookup.contains_key(&bits(*p)) {
                     grid.edges_containing(input, &prepared.edges, *p, &mut on_edges);
                     added_edges.extend(&on_edges);
+                    if has_boundary {
+                        grid.boundary_edges_containing(input, &prepared.edges, *p, &mut on_edges);
+                        added_boundary.extend(on_edges.iter().map(|&e| (v as u32, e)));
+                    }
                 }
                 added_edges.finish_row();
             }
@@ -94,6 +119,7 @@ impl VertexSearch {
             unused_input,
             grid,
             added_edges: added_edges.build(),
+            added_boundary,
         }
     }
 }
@@ -118,7 +144,17 @@ pub(super) fn classify_output_vertices(
         unused_input,
         grid,
         added_edges,
+        added_boundary,
     } = search;
+    // The boundary edges at each input vertex, to place the output's vertices at input positions.
+    let boundary_ends: Vec<(u32, u32)> = (model.prepared.edges.iter().enumerate())
+        .filter(|(_, edge)| edge.is_boundary())
+        .flat_map(|(e, edge)| [(edge.lo, e as u32), (edge.hi, e as u32)])
+        .collect();
+    let boundary_at = Csr::from_pairs(input.positions.len(), &boundary_ends);
+    drop(boundary_ends);
+    let mut on_boundary = Vec::new();
+    let mut boundary_set = Vec::new();
     let is_input_position = |p: DVec3| lookup.contains_key(&bits(p)) || unused_input.contains(&bits(p));
     let mut seen = vec![false; input.positions.len()];
     let mut regions = CsrBuilder::default();
@@ -153,11 +189,13 @@ pub(super) fn classify_output_vertices(
         if let Some(&first) = lookup.get(&bits(p)) {
             known[v] = true;
             set.clear();
+            boundary_set.clear();
             let mut iv = first;
             let mut input_count = 0;
             while iv != END {
                 seen[iv as usize] = true;
                 set.extend_from_slice(model.vertex_regions.row(iv as usize));
+                boundary_set.extend_from_slice(boundary_at.row(iv as usize));
                 iv = same_next[iv as usize];
                 input_count += 1;
             }
@@ -173,10 +211,15 @@ pub(super) fn classify_output_vertices(
                 model.regions_of_edges(&on_edges, &mut edge_regions);
                 set.extend_from_slice(&edge_regions);
                 on_edges.iter().for_each(|&e| edge_has_added[e as usize] = true);
+                grid.boundary_edges_containing(input, &model.prepared.edges, p, &mut on_edges);
+                boundary_set.extend_from_slice(&on_edges);
             }
             set.sort_unstable();
             set.dedup();
             regions.extend(&set);
+            boundary_set.sort_unstable();
+            boundary_set.dedup();
+            on_boundary.extend(boundary_set.iter().map(|&e| (v as u32, e)));
         } else {
             added += 1;
             // (Looked up when the grid was built, which it was: `p` is among its points.)
@@ -194,6 +237,10 @@ pub(super) fn classify_output_vertices(
                 model.regions_of_edges(&on_edges, &mut set);
                 regions.extend(&set);
                 on_edges.iter().for_each(|&e| edge_has_added[e as usize] = true);
+                // (`added_boundary` is in vertex order too.)
+                let start = added_boundary.partition_point(|&(w, _)| w < v as u32);
+                let row = added_boundary[start..].iter().take_while(|&&(w, _)| w == v as u32);
+                on_boundary.extend(row);
             }
         }
         regions.finish_row();
@@ -211,6 +258,7 @@ pub(super) fn classify_output_vertices(
         added,
         unused,
         edge_has_added,
+        on_boundary,
     }
 }
 

@@ -181,12 +181,20 @@ fn face_area(m: &Mesh3, f: usize) -> f64 {
     0.5 * (b - a).cross(c - a).length()
 }
 
-/// Whether face `f` of `m` has an edge no other face has.
-fn touches_boundary(m: &Mesh3, f: usize) -> bool {
+/// Whether face `f` of `m` has an edge no other face has, with the opposite corner closer to
+/// that edge's line than 1e-10 times the mesh's largest coordinate (six times `check`'s on-edge
+/// tolerance, which is relative to the input edge's coordinates, at most the mesh's): removed,
+/// such a face leaves a boundary `check` may rightly take to lie along the input's.
+fn hugs_the_boundary(m: &Mesh3, f: usize) -> bool {
     let t = m.triangles[f];
+    let scale = m.positions.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
     (0..3).any(|k| {
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        !(m.triangles.iter().enumerate()).any(|(g, u)| g != f && u.contains(&a) && u.contains(&b))
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        let boundary = !(m.triangles.iter().enumerate()).any(|(g, u)| g != f && u.contains(&a) && u.contains(&b));
+        let [a, b, c] = [a, b, c].map(|v| m.positions[v as usize]);
+        let height = (b - a).cross(c - a).length() / (b - a).length();
+        // (A NaN height, of an edge of length 0, hugs it too.)
+        boundary && (height.is_nan() || height <= 1e-10 * scale)
     })
 }
 
@@ -246,13 +254,12 @@ pub fn damage(kind: Damage, s: &Surface, out: &Mesh3, rng: &mut Rng) -> Option<M
         }
         Damage::FaceRemoved => {
             let f = rng.below(n_faces) as usize;
-            // A face along the boundary, removed, leaves the topology as it was (one edge and
-            // one face fewer, the same boundary loops): only the region's area tells, and
-            // `check` allows 1e-9 of it. Not such a face below 1e-8 of the whole area, as
-            // `--gabriel-boundary` makes them (splits at sample resolution by a needle).
-            if touches_boundary(&m, f)
-                && face_area(&m, f) < 1e-8 * (0..m.triangles.len()).map(|g| face_area(&m, g)).sum::<f64>()
-            {
+            // A face along the boundary, removed, leaves the topology's counts as they were
+            // (one edge and one face fewer, the same boundary loops), and its region's area
+            // changes by less than `check` allows where the face is tiny (as
+            // `--gabriel-boundary` makes them, by needles); `check` sees the boundary move,
+            // unless the face is so thin that its corner is on the boundary edge.
+            if hugs_the_boundary(&m, f) {
                 return None;
             }
             m.triangles.swap_remove(f);
