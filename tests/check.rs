@@ -717,6 +717,33 @@ fn non_manifold_input_is_an_error_naming_the_file() {
     assert!(err.to_string().contains("is shared by 3 faces"), "{err}");
 }
 
+/// A Möbius band as input is refused as not orientable; a face turned over, which turning it
+/// back would mend, only as inconsistently oriented.
+#[test]
+fn moebius_band_input_is_refused_as_not_orientable() {
+    let dir = TempDir::new().expect("tempdir");
+    // Five triangles (i, i+1, i+2) round a pentagon's vertices: each edge (i, i+1) is shared by
+    // two of them, and going round once turns the strip over.
+    let mut band = String::new();
+    for i in 0..5 {
+        let angle = f64::from(i) * 2.0 * PI / 5.0;
+        band.push_str(&format!("v {} {} {}\n", angle.cos(), angle.sin(), f64::from(i % 2)));
+    }
+    for i in 0..5 {
+        band.push_str(&format!("f {} {} {}\n", i + 1, (i + 1) % 5 + 1, (i + 2) % 5 + 1));
+    }
+    let input = write(&dir, "band.obj", &band);
+    let err = check_files(&input, &input).expect_err("a Möbius band is not a valid input");
+    assert!(err.to_string().contains("in the same direction"), "{err}");
+    assert!(err.to_string().contains("not orientable (a Möbius band)"), "{err}");
+    // A tetrahedron with one face turned over.
+    let turned = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 4 2\nf 2 3 4\nf 1 4 3\n";
+    let input = write(&dir, "turned.obj", turned);
+    let err = check_files(&input, &input).expect_err("a face turned over is not a valid input");
+    assert!(err.to_string().contains("(inconsistent orientation)"), "{err}");
+    assert!(!err.to_string().contains("orientable"), "{err}");
+}
+
 #[test]
 fn unreadable_files_are_errors() {
     let dir = TempDir::new().expect("tempdir");

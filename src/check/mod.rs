@@ -886,7 +886,20 @@ fn prepare_input(mesh: &Mesh3, around: Option<&VertexFaces>, naming: &Naming) ->
     let mut problems = Failures::default();
     match Prepared::new(&names, around, &mut problems) {
         Some(p) if problems.is_empty() => Ok(p),
-        _ => Err(problems.summary(5)),
+        Some(p) => {
+            // Faces along an edge the same way, on a surface no orientation makes consistent:
+            // said as such, as the construction says it (turning faces would not help).
+            let misoriented = p.edges.iter().find(|e| e.count == 2 && !e.is_interior());
+            let moebius =
+                misoriented.is_some_and(|e| !component_is_orientable(mesh.triangles.len(), &p.edges, e.faces[0]));
+            let why = if moebius {
+                "; the surface is not orientable (a Möbius band): no orientation of its faces is consistent (check the output of `delmesh --repair` against the file its `--repaired` writes, cut open)"
+            } else {
+                ""
+            };
+            Err(problems.summary(5) + why)
+        }
+        None => Err(problems.summary(5)),
     }
 }
 

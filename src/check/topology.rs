@@ -458,3 +458,39 @@ pub(super) fn compare_boundaries(
         }
     }
 }
+
+/// Whether the component of face `start` can be oriented consistently (`faces` faces, `edges`
+/// their edges): walks it from `start`, turning each face to agree with the face it is reached
+/// from across an edge of two faces; a face reached both turned and not proves that no
+/// orientation is consistent (a Möbius band). For the message on an input that has faces
+/// running along an edge the same way.
+pub(super) fn component_is_orientable(faces: usize, edges: &[Edge], start: u32) -> bool {
+    // Across every edge of two faces: whether they run along it the same way (then exactly one
+    // of them must be turned), from either side, by face.
+    let mut across: Vec<(u32, u32, bool)> = (edges.iter().filter(|e| e.count == 2))
+        .flat_map(|e| {
+            let same = e.forward[0] == e.forward[1];
+            [(e.faces[0], e.faces[1], same), (e.faces[1], e.faces[0], same)]
+        })
+        .collect();
+    across.sort_unstable();
+    let mut turned: Vec<Option<bool>> = vec![None; faces];
+    turned[start as usize] = Some(false);
+    let mut stack = vec![start];
+    while let Some(f) = stack.pop() {
+        let f_turned = turned[f as usize] == Some(true);
+        let first = across.partition_point(|&(g, _, _)| g < f);
+        for &(_, g, same) in across[first..].iter().take_while(|&&(g, _, _)| g == f) {
+            let want = f_turned != same;
+            match turned[g as usize] {
+                None => {
+                    turned[g as usize] = Some(want);
+                    stack.push(g);
+                }
+                Some(was) if was != want => return false,
+                Some(_) => {}
+            }
+        }
+    }
+    true
+}
