@@ -141,6 +141,7 @@ pub fn main() -> ExitCode {
             weld_tolerance,
             quiet,
             gabriel_boundary,
+            json,
         }) => {
             if let Some(jobs) = jobs {
                 delmesh::parallel::set_threads(usize::from(jobs));
@@ -151,7 +152,7 @@ pub fn main() -> ExitCode {
                 original,
                 weld_tolerance,
             };
-            run_check(&input, &output, &maps, quiet, gabriel_boundary)
+            run_check(&input, &output, &maps, quiet, gabriel_boundary, json.as_deref())
         }
         Some(Command::Batch(args)) => batch::run_batch(&args),
         Some(Command::Completions { shell }) => {

@@ -11,6 +11,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use delmesh::check::maps::MapReport;
+use delmesh::check::CheckReport;
 use delmesh::io::InputMesh;
 use delmesh::mesh::InputFigures;
 use delmesh::prune::PruneStats;
@@ -420,6 +422,111 @@ fn document_value(inv: &Invocation, constants: SampleConstants, runs: &[RunRecor
         ("peak_memory_bytes", peak_memory.map_or(Json::Null, Json::Int)),
         ("runs", Json::Arr(runs.iter().map(run_object).collect())),
     ])
+}
+
+/// What `delmesh check --json FILE` records of one check (fields documented in README.md, the
+/// check JSON table).
+pub struct CheckRecord<'a> {
+    /// INPUT as given.
+    pub input: &'a Path,
+    /// OUTPUT as given.
+    pub output: &'a Path,
+    /// The verdict on the mesh.
+    pub report: &'a CheckReport,
+    /// `--gabriel-boundary`: boundary edges facing an obtuse angle were failures.
+    pub gabriel_boundary: bool,
+    /// `--vertex-map` and its verdict, if given.
+    pub vertex_map: Option<(&'a Path, &'a MapReport)>,
+    /// `--face-map` and its verdict, if given.
+    pub face_map: Option<(&'a Path, &'a MapReport)>,
+    /// `--original`, if given.
+    pub original: Option<&'a Path>,
+    /// Seconds for the whole check.
+    pub seconds: f64,
+}
+
+/// The JSON document of a check ([`CheckRecord`]).
+pub fn check_document(c: &CheckRecord) -> String {
+    let r = c.report;
+    let strings = |lines: &[String]| Json::Arr(lines.iter().map(|l| Json::Str(l.clone())).collect());
+    let map = |m: Option<(&Path, &MapReport)>, face: bool| {
+        m.map_or(Json::Null, |(path, m)| {
+            let mut fields = vec![
+                ("path", Json::Str(path.display().to_string())),
+                ("rows", Json::Int(m.rows as u64)),
+            ];
+            if face {
+                fields.push(("not_inside", Json::Int(m.not_inside as u64)));
+            }
+            fields.push(("passed", Json::Bool(m.passed())));
+            fields.push(("failures", strings(&m.failures)));
+            Json::Obj(fields)
+        })
+    };
+    let maps_pass = [c.vertex_map, c.face_map].iter().flatten().all(|(_, m)| m.passed());
+    // An excess over no edge at all (-inf) is null.
+    let excess = |x: f64, edges: usize| if edges == 0 { Json::Null } else { Json::Num(x) };
+    let doc = Json::Obj(vec![
+        ("delmesh_version", Json::Str(env!("CARGO_PKG_VERSION").into())),
+        ("passed", Json::Bool(r.passed() && maps_pass)),
+        (
+            "input",
+            Json::Obj(vec![
+                ("path", Json::Str(c.input.display().to_string())),
+                ("vertices", Json::Int(r.input_vertices as u64)),
+                ("faces", Json::Int(r.input_faces as u64)),
+                ("planar_regions", Json::Int(r.input_regions as u64)),
+            ]),
+        ),
+        (
+            "output",
+            Json::Obj(vec![
+                ("path", Json::Str(c.output.display().to_string())),
+                ("vertices", Json::Int(r.output_vertices as u64)),
+                ("faces", Json::Int(r.output_faces as u64)),
+                ("added_vertices", Json::Int(r.added_vertices as u64)),
+                ("unused_vertices", Json::Int(r.unused_vertices as u64)),
+                ("first_reordered_vertex", Json::opt_int(r.first_reordered_vertex)),
+            ]),
+        ),
+        ("gabriel_boundary", Json::Bool(c.gabriel_boundary)),
+        (
+            "edges",
+            Json::Obj(vec![
+                ("interior", Json::Int(r.interior_edges as u64)),
+                ("non_delaunay", Json::Int(r.non_delaunay_edges as u64)),
+                ("max_excess_rad", excess(r.max_excess, r.interior_edges)),
+                ("boundary", Json::Int(r.boundary_edges as u64)),
+                ("boundary_facing_obtuse", Json::Int(r.non_gabriel_boundary_edges as u64)),
+                (
+                    "max_boundary_excess_rad",
+                    excess(r.max_boundary_excess, r.boundary_edges),
+                ),
+            ]),
+        ),
+        ("failures", strings(&r.failures)),
+        (
+            "failure_counts",
+            Json::Arr(
+                (r.failure_counts.iter())
+                    .map(|&(kind, count)| {
+                        Json::Obj(vec![
+                            ("kind", Json::Str(kind.into())),
+                            ("count", Json::Int(count as u64)),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ),
+        (
+            "original",
+            c.original.map_or(Json::Null, |p| Json::Str(p.display().to_string())),
+        ),
+        ("vertex_map", map(c.vertex_map, false)),
+        ("face_map", map(c.face_map, true)),
+        ("seconds", Json::Num(c.seconds)),
+    ]);
+    text(&doc)
 }
 
 /// The CSV table of the runs: a header, then one row per run; the columns

@@ -631,3 +631,156 @@ fn batch_json_overwrites_nothing() {
     }
     assert_eq!(std::fs::read(&cube).unwrap(), before);
 }
+
+/// `check --json` against the README's table both ways, on a run with both maps: every
+/// figure as the run's own `--stats-json` and the printout say.
+#[test]
+fn check_json_matches_the_readme_table_and_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = dir.path().join("out.obj");
+    let (v, f) = (dir.path().join("v.csv"), dir.path().join("f.csv"));
+    let (stats, verdict) = (dir.path().join("s.json"), dir.path().join("c.json"));
+    let status = delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&out)
+        .arg("--vertex-map")
+        .arg(&v)
+        .arg("--face-map")
+        .arg(&f)
+        .arg("--stats-json")
+        .arg(&stats)
+        .output()
+        .unwrap()
+        .status;
+    assert!(status.success());
+    let run: Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let printout = delmesh()
+        .arg("check")
+        .arg(&bunny)
+        .arg(&out)
+        .arg("--vertex-map")
+        .arg(&v)
+        .arg("--face-map")
+        .arg(&f)
+        .arg("--json")
+        .arg(&verdict)
+        .output()
+        .unwrap();
+    assert!(printout.status.success());
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&verdict).unwrap()).unwrap();
+    let fields = table_fields("check-json-fields");
+    assert!(fields.len() > 30, "{fields:?}");
+    validate_with(&doc, &fields, None);
+    assert_eq!(doc["passed"], true);
+    assert_eq!(doc["output"]["added_vertices"], run["runs"][0]["added_vertices"]);
+    assert_eq!(doc["output"]["vertices"], run["runs"][0]["vertices"]);
+    assert_eq!(doc["output"]["faces"], run["runs"][0]["faces"]);
+    assert_eq!(doc["input"]["vertices"], run["input"]["vertices"]);
+    assert_eq!(doc["edges"]["non_delaunay"], 0);
+    assert_eq!(doc["failures"], serde_json::json!([]));
+    assert_eq!(doc["failure_counts"], serde_json::json!([]));
+    assert_eq!(doc["vertex_map"]["rows"], doc["output"]["vertices"]);
+    assert_eq!(doc["face_map"]["rows"], doc["output"]["faces"]);
+    assert_eq!(doc["vertex_map"]["passed"], true);
+    let text = String::from_utf8_lossy(&printout.stdout);
+    let max = doc["edges"]["max_excess_rad"].as_f64().unwrap();
+    assert!(text.contains(&format!("(max alpha+beta-pi {max:.3e} rad)")), "{text}");
+}
+
+/// A failing check's JSON on standard output (the printout on standard error): every failure
+/// counted by kind, past the 20 lines printed; the maps absent are null.
+#[test]
+fn check_json_counts_every_failure_and_goes_to_standard_output() {
+    // The bunny against itself: its 236 non-Delaunay edges.
+    let bunny = common::data_dir().join("bunny.obj");
+    let out = delmesh()
+        .arg("check")
+        .arg(&bunny)
+        .arg(&bunny)
+        .args(["--json", "-"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let doc: Value = serde_json::from_slice(&out.stdout).expect("standard output is the JSON alone");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("FAILED"), "{stderr}");
+    let fields: Vec<(String, String)> = table_fields("check-json-fields")
+        .into_iter()
+        .filter(|(p, _)| !p.starts_with("vertex_map.") && !p.starts_with("face_map."))
+        .collect();
+    validate_with(&doc, &fields, None);
+    assert_eq!(doc["passed"], false);
+    assert_eq!(doc["edges"]["non_delaunay"], 236);
+    assert_eq!(
+        doc["failure_counts"],
+        serde_json::json!([{"kind": "non-Delaunay edge", "count": 236}])
+    );
+    let failures = doc["failures"].as_array().unwrap();
+    assert_eq!(failures.len(), 21);
+    assert_eq!(failures[20], "... and 216 more non-Delaunay edge failures");
+    assert!(doc["vertex_map"].is_null() && doc["face_map"].is_null() && doc["original"].is_null());
+}
+
+/// `check --json` refuses, before the work, a FILE that the check reads, and writes nothing
+/// when a file cannot be read.
+#[test]
+fn check_json_overwrites_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = dir.path().join("cube.obj");
+    std::fs::copy(common::data_dir().join("cube.obj"), &cube).unwrap();
+    let before = std::fs::read(&cube).unwrap();
+    let verdict = dir.path().join("c.json");
+    for (args, said) in [
+        (
+            vec![cube.clone(), cube.clone(), "--json".into(), cube.clone()],
+            "would overwrite INPUT",
+        ),
+        (
+            vec![
+                cube.clone(),
+                dir.path().join("missing.obj"),
+                "--json".into(),
+                verdict.clone(),
+            ],
+            "missing.obj",
+        ),
+        (
+            vec![
+                cube.clone(),
+                cube.clone(),
+                "--json".into(),
+                dir.path().join("no/c.json"),
+            ],
+            "does not exist",
+        ),
+    ] {
+        let out = delmesh().arg("check").args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(said), "{stderr}");
+        assert!(!verdict.exists(), "{args:?}");
+    }
+    assert_eq!(std::fs::read(&cube).unwrap(), before);
+}
+
+/// The README names every kind of failure `check --json` counts (`invalid input` comes only
+/// from the library's `check_meshes`), and no other.
+#[test]
+fn readme_lists_the_check_failure_kinds() {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let row = readme
+        .lines()
+        .find(|l| l.starts_with("| `failure_counts[].kind` |"))
+        .expect("the kinds' row");
+    let listed: Vec<&str> = row.split('`').skip(3).step_by(2).collect();
+    let known: Vec<&str> = delmesh::check::FAILURE_KINDS
+        .into_iter()
+        .filter(|&k| k != "invalid input")
+        .collect();
+    assert_eq!(listed, known, "{row}");
+}

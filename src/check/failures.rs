@@ -11,7 +11,31 @@ pub(super) const KIND_FACE: &str = "face outside a planar region";
 pub(super) const KIND_AREA: &str = "region area change";
 pub(super) const KIND_TOPOLOGY: &str = "topology change";
 pub(super) const KIND_BOUNDARY: &str = "boundary change";
+/// An input that cannot be judged ([`check_meshes`] only: files give an error instead).
+pub(super) const KIND_INVALID_INPUT: &str = "invalid input";
+/// Output vertices apart in the file at one position (reported by `check_files_with`).
+pub(super) const KIND_CRACK: &str = "crack";
+/// Boundary edges facing an obtuse angle, failures with `check --gabriel-boundary` only.
+pub(super) const KIND_NOT_GABRIEL: &str = "boundary edge facing an obtuse angle";
 pub(super) const KIND_DELAUNAY: &str = "non-Delaunay edge";
+
+/// Every kind of failure a check of files can report ([`CheckReport::failure_counts`]), in the
+/// order of the rules; `invalid input` only from [`check_meshes`].
+pub const FAILURE_KINDS: [&str; 13] = [
+    KIND_INDEX,
+    KIND_DEGENERATE,
+    KIND_MANIFOLD,
+    KIND_MISSING,
+    KIND_VERTEX,
+    KIND_FACE,
+    KIND_AREA,
+    KIND_TOPOLOGY,
+    KIND_BOUNDARY,
+    KIND_DELAUNAY,
+    KIND_CRACK,
+    KIND_NOT_GABRIEL,
+    KIND_INVALID_INPUT,
+];
 
 /// Collects failure lines, keeping at most [`MAX_LINES_PER_KIND`] per kind.
 #[derive(Default)]

@@ -100,6 +100,7 @@ use cuts::*;
 use delaunay::*;
 use exact::*;
 use faces::*;
+pub use failures::FAILURE_KINDS;
 use failures::*;
 use grid::*;
 pub use read::read_raw;
@@ -284,6 +285,10 @@ pub struct CheckReport {
     /// One human-readable line per failure, at most [`MAX_LINES_PER_KIND`] per kind plus one
     /// `... and N more` line per kind that overflowed. Empty iff the output is valid.
     pub failures: Vec<String>,
+    /// How many failures of each kind there were (all of them, also those past the lines
+    /// kept), kinds in the order of their first failure: `("non-Delaunay edge", 37)`. Empty
+    /// iff the output is valid.
+    pub failure_counts: Vec<(&'static str, usize)>,
 }
 
 impl CheckReport {
@@ -296,6 +301,10 @@ impl CheckReport {
     /// --gabriel-boundary`, for outputs of `--gabriel-boundary`).
     pub fn require_gabriel_boundary(&mut self) {
         self.failures.append(&mut self.boundary_lines);
+        if self.non_gabriel_boundary_edges > 0 {
+            self.failure_counts
+                .push((KIND_NOT_GABRIEL, self.non_gabriel_boundary_edges));
+        }
     }
 
     /// [`CheckReport::max_boundary_excess`] for a printout: in radians, or
@@ -337,6 +346,7 @@ impl CheckReport {
             max_boundary_excess: f64::NEG_INFINITY,
             boundary_lines: Vec::new(),
             failures: Vec::new(),
+            failure_counts: Vec::new(),
         }
     }
 }
@@ -494,6 +504,9 @@ pub fn check_files_with<T>(
         reason,
     })?;
     report.failures.extend(crack_lines);
+    if cracks.0 > 0 {
+        report.failure_counts.push((KIND_CRACK, cracks.0));
+    }
     report.first_reordered_vertex = reordered;
     report.first_reordered_vertex_names = reordered.map(|k| {
         let name = |mesh: &Mesh3, naming: &Naming| Names::new("", mesh, naming).vertex_noun(k as u32);
@@ -525,6 +538,7 @@ pub fn check_meshes(input: &Mesh3, output: &Mesh3) -> CheckReport {
     let mut report = check_core(meshes, None).unwrap_or_else(|reason| {
         let mut report = CheckReport::empty(input, output);
         report.failures.push(format!("input mesh is invalid: {reason}"));
+        report.failure_counts.push((KIND_INVALID_INPUT, 1));
         report
     });
     report.first_reordered_vertex = first_reordered_vertex(&input.positions, &output.positions);
@@ -872,6 +886,7 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
         report.max_boundary_excess = delaunay.max_boundary_excess;
         report.boundary_lines = delaunay.boundary_lines(&output_names);
     }
+    report.failure_counts = fail.counts.clone();
     report.failures = fail.finish();
     Ok(report)
 }

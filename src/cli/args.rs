@@ -405,6 +405,14 @@ pub(super) enum Command {
         /// as `--gabriel-boundary` makes them, and print how far they are.
         #[arg(long = "gabriel-boundary")]
         gabriel_boundary: bool,
+        /// Also write the verdict as JSON to FILE (`-`: standard output, the
+        /// printout then going to standard error): the counts, every failure
+        /// line and how many failures of each kind, the maps' verdicts
+        /// (fields listed in README.md). Written atomically whenever the
+        /// files could be judged, passing or not; not when one cannot be
+        /// read.
+        #[arg(long = "json", value_name = "FILE")]
+        json: Option<PathBuf>,
     },
 }
 

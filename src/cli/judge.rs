@@ -296,14 +296,17 @@ impl MapFiles {
 }
 
 /// `gabriel_boundary`: also require boundary edges to face no obtuse angle
-/// (`check --gabriel-boundary`).
+/// (`check --gabriel-boundary`); `json`: also write the verdict there
+/// (`check --json`).
 pub(super) fn run_check(
     input: &Path,
     output: &Path,
     maps: &MapFiles,
     quiet: bool,
     gabriel_boundary: bool,
+    json: Option<&Path>,
 ) -> anyhow::Result<ExitCode> {
+    let t0 = std::time::Instant::now();
     if maps.original.is_some() && !maps.any() {
         bail!("--original names the file the maps number: give --vertex-map or --face-map with it");
     }
@@ -331,6 +334,23 @@ pub(super) fn run_check(
         );
     }
     let paths: Vec<&Path> = read.iter().map(|(_, p)| *p).collect();
+    if let Some(json) = json {
+        // Refused before the work: a file the check reads, or a folder that is not there.
+        let written = [("--json".to_string(), json.to_path_buf())];
+        for (what, path) in &read {
+            refuse_same_files(path, None, &written).map_err(|_| {
+                anyhow::anyhow!(
+                    "{}: --json would overwrite {what}, a file the check reads",
+                    json.display()
+                )
+            })?;
+        }
+        check_output_dir(json)?;
+        // The JSON on standard output is alone there.
+        if io::standard_stream(json) == Some(1) {
+            PRINTOUT_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
     // (Even with --quiet: a failure's lines would still go there.)
     refuse_printout_into_inputs(&paths, false)?;
     refuse_closed_stdout(!quiet)?;
@@ -466,6 +486,20 @@ pub(super) fn run_check(
     }
     if !map_failures.is_empty() && maps.original.is_none() {
         say!("note    the maps number the file the run read (-i): when INPUT is another (the --repaired file), give that one as --original FILE (and a run's --weld-tolerance as well)");
+    }
+    if let Some(json) = json {
+        let record = stats_json::CheckRecord {
+            input,
+            output,
+            report: &report,
+            gabriel_boundary,
+            vertex_map: maps.vertex_map.as_deref().zip(vertex_report.as_ref()),
+            face_map: maps.face_map.as_deref().zip(face_report.as_ref()),
+            original: maps.original.as_deref(),
+            seconds: t0.elapsed().as_secs_f64(),
+        };
+        let doc = stats_json::check_document(&record);
+        io::write_atomic(json, |w| w.write_all(doc.as_bytes()))?;
     }
     Ok(if report.passed() && map_failures.is_empty() {
         ExitCode::SUCCESS
