@@ -388,16 +388,23 @@ fn reordered_input_vertices_are_reported_not_failed() {
     assert_eq!(report.first_reordered_vertex, Some(2));
 }
 
+/// A flat square of side `side` in z = 0, fanned from its centre (vertex 4): its corners
+/// and centre, and its four faces.
+fn fanned_square(side: f64) -> (Vec<[f64; 3]>, [[u32; 3]; 4]) {
+    let v = vec![
+        [0.0, 0.0, 0.0],
+        [side, 0.0, 0.0],
+        [side, side, 0.0],
+        [0.0, side, 0.0],
+        [side / 2.0, side / 2.0, 0.0],
+    ];
+    (v, [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+}
+
 #[test]
 fn missing_input_vertex_is_reported() {
-    let v = [
-        [0.0, 0.0, 0.0],
-        [2.0, 0.0, 0.0],
-        [2.0, 2.0, 0.0],
-        [0.0, 2.0, 0.0],
-        [1.0, 1.0, 0.0],
-    ];
-    let input = obj(&v, &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]);
+    let (v, faces) = fanned_square(2.0);
+    let input = obj(&v, &faces);
     let output = obj(&v, &[[0, 1, 2], [0, 2, 3]]); // vertex 5 no longer used
     let report = check_texts(&input, &output);
     assert_eq!(
@@ -449,17 +456,9 @@ fn face_removed_at_the_border_is_reported_beside_a_huge_face() {
 /// boundary rule sees it: the output's boundary now goes up to `e` and back.
 #[test]
 fn tiny_face_removed_along_the_boundary_is_reported() {
-    let m = 0.5 + 2f64.powi(-34);
-    let v = [
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.5, 0.5, 0.0],
-        [0.5, 0.0, 0.0],
-        [m, 0.0, 0.0],
-    ];
-    let input = obj(&v[..5], &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]);
+    let (mut v, square) = fanned_square(1.0);
+    let input = obj(&v, &square);
+    v.extend([[0.5, 0.0, 0.0], [0.5 + 2f64.powi(-34), 0.0, 0.0]]);
     let mut faces = vec![[0, 5, 4], [5, 6, 4], [6, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
     assert_passes(&check_texts(&input, &obj(&v, &faces)));
     faces.remove(1);
@@ -479,14 +478,7 @@ fn tiny_face_removed_along_the_boundary_is_reported() {
 /// input's two boundary edges into the centre have no output boundary edge along them.
 #[test]
 fn face_added_across_the_boundary_is_reported() {
-    let v = [
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.5, 0.5, 0.0],
-    ];
-    let faces = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    let (v, faces) = fanned_square(1.0);
     let report = check_texts(&obj(&v, &faces[..3]), &obj(&v, &faces));
     assert_failure(
         &report,
