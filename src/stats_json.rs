@@ -486,6 +486,8 @@ pub fn check_document(c: &CheckRecord) -> String {
                 ("faces", Json::Int(r.output_faces as u64)),
                 ("added_vertices", Json::Int(r.added_vertices as u64)),
                 ("unused_vertices", Json::Int(r.unused_vertices as u64)),
+                ("misplaced_vertices", Json::Int(r.misplaced_vertices.0 as u64)),
+                ("misplaced_vertices_rounded", Json::Int(r.misplaced_vertices.1 as u64)),
                 ("first_reordered_vertex", Json::opt_int(r.first_reordered_vertex)),
             ]),
         ),

@@ -494,6 +494,39 @@ fn face_added_across_the_boundary_is_reported() {
     );
 }
 
+/// `misplaced_vertices` counts the output vertices off the input's edges, and those of them
+/// with only rounded coordinates (what a file written with `%f` or as PLY `float` holds).
+#[test]
+fn misplaced_vertices_with_rounded_coordinates_are_counted() {
+    // A triangle whose corners have irrational coordinates, and a vertex added at a third of
+    // its first edge.
+    let third = 1.0 / 3.0;
+    let root = |x: f64| x.sqrt();
+    let v = [
+        [0.0, 0.0, 0.0],
+        [root(2.0) / 4.0, root(3.0) / 7.0, 0.0],
+        [root(5.0) / 9.0, 0.5, root(7.0) / 11.0],
+    ];
+    let input = obj(&v, &[[0, 1, 2]]);
+    let on_edge = [v[1][0] / 3.0, v[1][1] / 3.0, 0.0];
+    let faces = [[0, 3, 2], [3, 1, 2]];
+    let exact = check_texts(&input, &obj(&[v[0], v[1], v[2], on_edge], &faces));
+    assert_passes(&exact);
+    assert_eq!(exact.misplaced_vertices, (0, 0));
+    // Off its edge by 1e-7 at full precision: misplaced, not rounded.
+    let moved = [on_edge[0], on_edge[1], 1e-7 * third];
+    let report = check_texts(&input, &obj(&[v[0], v[1], v[2], moved], &faces));
+    assert_eq!(report.misplaced_vertices, (1, 0), "{report}");
+    // Printed with six decimals: two corners move too (missing input vertices, and misplaced
+    // output ones; the origin stays), all three rounded; as 32-bit floats likewise.
+    let six = |p: [f64; 3]| p.map(|x| format!("{x:.6}").parse::<f64>().unwrap());
+    let report = check_texts(&input, &obj(&[v[0], v[1], v[2], on_edge].map(six), &faces));
+    assert_eq!(report.misplaced_vertices, (3, 3), "{report}");
+    let float = |p: [f64; 3]| p.map(|x| f64::from(x as f32));
+    let report = check_texts(&input, &obj(&[v[0], v[1], v[2], on_edge].map(float), &faces));
+    assert_eq!(report.misplaced_vertices, (3, 3), "{report}");
+}
+
 #[test]
 fn edge_flipped_across_a_crease_is_reported() {
     let input = obj(&kite(true), &KITE_F);

@@ -575,6 +575,55 @@ fn the_shipped_teapot_is_refused_clearly() {
     );
 }
 
+/// An output written with rounded numbers (six decimals, as `%f` prints them) fails, and a note
+/// says why; the same output written exactly passes without it.
+#[test]
+fn check_notes_an_output_written_with_rounded_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = common::data_dir().join("bunny.obj");
+    let exact = dir.path().join("exact.obj");
+    assert!(delmesh()
+        .arg("-q")
+        .arg("-i")
+        .arg(&bunny)
+        .arg("-o")
+        .arg(&exact)
+        .output()
+        .unwrap()
+        .status
+        .success());
+    let rounded_text: String = std::fs::read_to_string(&exact)
+        .unwrap()
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(xyz) => {
+                let c: Vec<f64> = xyz.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                format!("v {:.6} {:.6} {:.6}\n", c[0], c[1], c[2])
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    let rounded = dir.path().join("rounded.obj");
+    std::fs::write(&rounded, rounded_text).unwrap();
+    let out = delmesh()
+        .args(["check", "-q"])
+        .arg(&bunny)
+        .arg(&rounded)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.lines().any(|l| l.starts_with("note    ")
+            && l.contains("output vertices off the input's edges have only rounded coordinates")
+            && l.contains("looks written with rounded numbers")),
+        "{text}"
+    );
+    let out = delmesh().arg("check").arg(&bunny).arg(&exact).output().unwrap();
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("rounded"));
+}
+
 #[test]
 fn check_rejects_a_non_delaunay_output() {
     // The input itself, as its own "output", is not Delaunay.

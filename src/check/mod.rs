@@ -165,6 +165,11 @@ pub const AREA_ROUNDING: f64 = 8.0;
 /// point moved off the edge by `1e-9` relative (60 times the tolerance).
 pub const ON_EDGE_TOLERANCE: f64 = 16e-12;
 
+/// A decimal with at most this many significant digits counts as a rounded coordinate in
+/// [`CheckReport::misplaced_vertices`]: a double computed on an edge has 15 to 17 (three such
+/// coordinates of at most 9 by chance: about one vertex in 10^20).
+pub const SHORT_DIGITS: usize = 9;
+
 /// At most this many failure lines are reported per kind of failure; the rest are summarised
 /// in one `... and N more` line.
 pub const MAX_LINES_PER_KIND: usize = 20;
@@ -253,6 +258,13 @@ pub struct CheckReport {
     /// be at an input vertex's position or on an input edge, but gives a Laplacian an empty
     /// row.
     pub unused_vertices: usize,
+    /// Output vertices used by a face that are neither input vertices nor on an input edge
+    /// (failures of rule 2), and how many of them have only coordinates that a file with
+    /// rounded numbers holds: each a 32-bit float, or a decimal of at most
+    /// [`SHORT_DIGITS`] significant digits. When nearly all are so, OUTPUT was most likely
+    /// written with rounded coordinates (by a tool printing `%f`, or as PLY `float`), which moves
+    /// every vertex, and the check says so in a note.
+    pub misplaced_vertices: (usize, usize),
     /// Where the output stops beginning with the input's vertices in the input's order (0-based:
     /// output vertex `k` is not input vertex `k`, bit for bit but -0 and 0 alike); `None` when
     /// it does begin so, as delmesh writes it. Not a failure (the geometry does not depend on numbering), but the
@@ -336,6 +348,7 @@ impl CheckReport {
             output_faces: output.triangles.len(),
             added_vertices: 0,
             unused_vertices: 0,
+            misplaced_vertices: (0, 0),
             first_reordered_vertex: None,
             first_reordered_vertex_names: None,
             interior_edges: 0,
@@ -870,6 +883,7 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
                 drop(search);
                 report.added_vertices = candidates.added;
                 report.unused_vertices = candidates.unused;
+                report.misplaced_vertices = candidates.misplaced;
                 let mut assignment = assign_faces(&model, &output_names, &candidates, &mut fail);
                 let rounding = rounding_allowance(&model, &candidates.edge_has_added);
                 check_areas(&model, &mut assignment, &rounding, &mut fail);

@@ -13,6 +13,9 @@ pub(super) struct Candidates {
     pub(super) added: usize,
     /// Number of output vertices no face uses.
     pub(super) unused: usize,
+    /// Output vertices used by a face on no input edge and at no input vertex, and how many of
+    /// them have only short coordinates ([`CheckReport::misplaced_vertices`]).
+    pub(super) misplaced: (usize, usize),
     /// Whether an added vertex lies on each input edge (indexed like `Prepared::edges`).
     pub(super) edge_has_added: Vec<bool>,
     /// `(output vertex, input boundary edge)` for every input boundary edge each recognised
@@ -161,6 +164,7 @@ pub(super) fn classify_output_vertices(
     let mut known = vec![false; output.positions.len()];
     let mut added = 0;
     let mut unused = 0;
+    let mut misplaced = (0, 0);
     let mut edge_has_added = vec![false; model.prepared.edges.len()];
     let mut on_edges = Vec::new();
     let mut set = Vec::new();
@@ -226,6 +230,8 @@ pub(super) fn classify_output_vertices(
             on_edges.clear();
             on_edges.extend_from_slice(added_edges.row(v));
             if on_edges.is_empty() {
+                misplaced.0 += 1;
+                misplaced.1 += usize::from(p.to_array().iter().all(|&x| is_short_coordinate(x)));
                 fail.push(KIND_VERTEX, || {
                     format!(
                         "output {} is neither an input vertex nor on an input edge",
@@ -257,9 +263,21 @@ pub(super) fn classify_output_vertices(
         known,
         added,
         unused,
+        misplaced,
         edge_has_added,
         on_boundary,
     }
+}
+
+/// Whether `x` is what a file with rounded coordinates holds: a 32-bit float, or a decimal of
+/// at most [`SHORT_DIGITS`] significant digits (its shortest round-trip form).
+pub(super) fn is_short_coordinate(x: f64) -> bool {
+    if x == 0.0 || f64::from(x as f32) == x {
+        return true;
+    }
+    let text = format!("{:e}", x.abs());
+    let mantissa = text.split('e').next().unwrap_or("");
+    mantissa.chars().filter(char::is_ascii_digit).count() <= SHORT_DIGITS
 }
 
 /// The on-edge tolerance of input edge `(a, b)`; see [`ON_EDGE_TOLERANCE`].

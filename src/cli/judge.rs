@@ -404,6 +404,18 @@ pub(super) fn run_check(
         let (noun, verb) = if n == 1 { ("vertex", "is") } else { ("vertices", "are") };
         inform!("note    {n} output {noun} {verb} in no face (a Laplacian gets an empty row for each)");
     }
+    // An output written with rounded numbers (`%f`, PLY `float`): every vertex moved, and the
+    // failures alone do not say why (shown with --quiet too, as a note that says why).
+    let (misplaced, short) = report.misplaced_vertices;
+    if misplaced > 0 && short * 10 >= misplaced * 9 {
+        say!(
+            "note    {short} of the {} off the input's edges {} only rounded coordinates (32-bit floats, or at most {} significant digits): {} looks written with rounded numbers, which moves every vertex off the input; check compares coordinates bit for bit (delmesh writes each in the shortest form that reads back exactly)",
+            count(misplaced, "output vertex", "output vertices"),
+            if short == 1 { "has" } else { "have" },
+            delmesh::check::SHORT_DIGITS,
+            output.display()
+        );
+    }
     // The refined mesh given first: OUTPUT then has no vertex of its own
     // and lacks INPUT's added ones (and the order of its vertices says
     // nothing).
