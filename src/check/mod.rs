@@ -383,6 +383,12 @@ impl fmt::Display for CheckReport {
         if let Some((output, _)) = &self.first_reordered_vertex_names {
             writeln!(f, "input vertices not first in input order: output {output} differs")?;
         }
+        if let (misplaced @ 1.., rounded) = self.misplaced_vertices {
+            writeln!(
+                f,
+                "output vertices off the input: {misplaced}, {rounded} of them with only rounded coordinates"
+            )?;
+        }
         writeln!(
             f,
             "interior edges: {}, non-Delaunay: {}, max alpha+beta-pi: {}",
