@@ -9,7 +9,7 @@ use glam::{DVec2, DVec3};
 
 use crate::error::{Error, NearCoincident, Result};
 use crate::geometry::{self, DelaunayTest, EdgeFrame, ACCEPT_TOLERANCE, ALGORITHM_TOLERANCE, SEED_TOLERANCE};
-use crate::hash::FastMap;
+use crate::hash::{position_key, FastMap};
 use crate::mesh::{room_for_splits, EdgeId, HalfEdgeId, Surface, VertexId, NO_INPUT_EDGE};
 use crate::samples::{self, Condition, EdgeSamples, SampleConstants, Score, Side, SplitQuery};
 
@@ -498,17 +498,12 @@ struct Run<'a> {
     /// The most splits the run may make: [`Options::max_added`], or fewer
     /// where the ids would run out first.
     split_limit: usize,
-    /// The positions of the mesh's vertices (bits, -0 as 0), made at the
+    /// The positions of the mesh's vertices ([`position_key`]), made at the
     /// first split of a boundary edge (`gabriel_boundary`) and kept up
     /// since: such a split must not land on a vertex of another part of a
     /// surface that overlaps itself (a boundary edge of a fan folded over,
     /// running through a vertex), where the two would be one point.
     occupied: Option<std::collections::HashSet<[u64; 3], crate::hash::FastBuild>>,
-}
-
-/// A position as [`Run::occupied`] keys it.
-fn position_key(p: DVec3) -> [u64; 3] {
-    p.to_array().map(|x| (x + 0.0).to_bits())
 }
 
 impl Run<'_> {
@@ -646,9 +641,7 @@ impl Run<'_> {
                 let n = self.s.topo.n_edges() as u32;
                 let p = self.s.split(e, choice.t);
                 self.stats.splits += 1;
-                if let Some(occupied) = &mut self.occupied {
-                    occupied.insert(position_key(self.s.positions[p.idx()]));
-                }
+                self.occupy(p);
                 for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)].into_iter().chain(around) {
                     self.push_if_bad(ds, x);
                 }
@@ -662,14 +655,22 @@ impl Run<'_> {
         choose_sample(self.s, &self.constants, &self.options, e)
     }
 
+    /// Adds the new vertex `p` to [`Run::occupied`], once that is kept.
+    fn occupy(&mut self, p: VertexId) {
+        if let Some(occupied) = &mut self.occupied {
+            occupied.insert(position_key(self.s.positions[p.idx()].to_array()));
+        }
+    }
+
     /// Splits the boundary edge `e`, found facing an obtuse angle (with
     /// [`Surface::gabriel_boundary`]), at the sample the run's settings
     /// choose ([`choose_boundary_sample`]), and queues the edges whose
     /// faces changed.
     fn split_boundary_edge(&mut self, e: EdgeId, ds: &mut Ds) {
         let s = &*self.s;
-        let occupied = (self.occupied).get_or_insert_with(|| s.positions.iter().map(|&p| position_key(p)).collect());
-        let free = |p: DVec3| !occupied.contains(&position_key(p));
+        let occupied =
+            (self.occupied).get_or_insert_with(|| s.positions.iter().map(|p| position_key(p.to_array())).collect());
+        let free = |p: DVec3| !occupied.contains(&position_key(p.to_array()));
         let Some(choice) = choose_boundary_sample(s, &self.constants, &self.options, e, free) else {
             self.mark_stuck(e);
             return;
@@ -683,9 +684,7 @@ impl Run<'_> {
         let n = topo.n_edges() as u32;
         let p = self.s.split_boundary(e, choice.t);
         self.stats.splits += 1;
-        if let Some(occupied) = &mut self.occupied {
-            occupied.insert(position_key(self.s.positions[p.idx()]));
-        }
+        self.occupy(p);
         let outer = around.into_iter().filter(|x| !x.is_none()).map(|x| x.edge());
         for x in [e, EdgeId(n), EdgeId(n + 1)].into_iter().chain(outer) {
             self.push_if_bad(ds, x);
