@@ -1546,3 +1546,42 @@ fn a_misnamed_file_is_refused_as_misnamed() {
     }
     assert!(check_files(&obj, &obj).unwrap().passed());
 }
+
+/// A face turned over where the input is folded flat onto itself (fuzz seed 2026120530): the
+/// input's faces lie in the plane z = 0, and its vertex 7, at x = 12, pulls two faces back over
+/// the others, so two planar regions facing opposite ways overlap, their edges running along
+/// each other on the line y = 1/3. Moving an added vertex there 3.5e-8 along its input edge,
+/// past its neighbour, turns two faces of 3e-9 over: each then fits the other sheet, the right
+/// way up, and the regions' areas move by less than a billionth. Only the fold across an output
+/// edge inside the input's faces tells it.
+#[test]
+fn face_turned_over_on_a_folded_region_is_reported() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/regressions");
+    let input = dir.join("bug-checker-folded-turned-face.obj");
+    let output = dir.join("bug-checker-folded-turned-face-output.obj");
+    // The refined output (`--repair -ds queue -s 0`), folded edges along the input's fold
+    // included, passes.
+    assert_passes(&check_files(&input, &output).expect("valid files"));
+    let text = std::fs::read_to_string(&output).expect("readable");
+    let (moved, past) = (
+        "v 1.5731372550311296 0.3333333333333333 0.0",
+        "1.5731372317623578 0.3333333333333333",
+    );
+    assert!(
+        text.contains(moved) && text.contains(past),
+        "the vertex and its neighbour on y = 1/3"
+    );
+    let damaged = text.replace(moved, "v 1.5731372201279719 0.3333333333333333 0.0");
+    let input_text = std::fs::read_to_string(&input).expect("readable");
+    let report = check_texts(&input_text, &damaged);
+    assert_failure(&report, "lie folded onto each other across the edge");
+    assert_failure(&report, "which lies along no input edge: one of them is turned over");
+    // Nothing else tells it: no area, orientation or vertex failure.
+    assert!(
+        report
+            .failures
+            .iter()
+            .all(|line| line.contains("folded onto each other")),
+        "{report}"
+    );
+}

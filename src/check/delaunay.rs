@@ -16,6 +16,9 @@ pub(super) struct DelaunayStats {
     /// hi)`, worst first. Not failures unless asked for
     /// ([`CheckReport::require_gabriel_boundary`]).
     pub(super) bad_boundary: Vec<(f64, u32, u32)>,
+    /// The interior edges (indices into the edges given) whose two faces lie exactly folded
+    /// onto each other ([`folded`]), for [`check_folds`].
+    pub(super) folds: Vec<u32>,
 }
 
 impl DelaunayStats {
@@ -93,6 +96,7 @@ pub(super) fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
         boundary: 0,
         max_boundary_excess: f64::NEG_INFINITY,
         bad_boundary: Vec::new(),
+        folds: Vec::new(),
     };
     // Boundary edges: the one angle opposite each, against a right angle (few edges: no bound
     // needed).
@@ -109,12 +113,16 @@ pub(super) fn delaunay_edges(output: &Mesh3, edges: &[Edge]) -> DelaunayStats {
     }
     stats.bad_boundary.sort_by(|x, y| y.0.total_cmp(&x.0));
     let mut bound = ExcessBound::below(stats.max_excess);
-    for e in edges.iter().filter(|e| e.is_interior()) {
+    for (i, e) in edges.iter().enumerate().filter(|(_, e)| e.is_interior()) {
         let (a, b, f, g) = e.oriented();
         let c = third(&output.triangles[f as usize], a, b);
         let d = third(&output.triangles[g as usize], a, b);
         stats.interior += 1;
         let quad = [p(a), p(b), p(c), p(d)];
+        // (Rule 3's folds, found here where the quad is at hand.)
+        if folded(quad) {
+            stats.folds.push(i as u32);
+        }
         if bound.holds(quad) {
             continue;
         }

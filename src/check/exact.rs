@@ -53,20 +53,30 @@ pub(super) fn exactly_degenerate(triangle: [DVec3; 3]) -> bool {
 
 /// Exactly: `d` is in the plane of `a, b, c` and on the other side of line `ab` than `c`.
 pub(super) fn coplanar_and_flat(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    coplanar_sides(a, b, c, d).is_some_and(|(side_c, side_d)| side_c == -side_d)
+}
+
+/// Exactly: `d` is in the plane of `a, b, c` and on the same side of line `ab` as `c`: faces
+/// `(a, b, c)` and `(b, a, d)` lie folded onto each other.
+pub(super) fn coplanar_and_folded(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    coplanar_sides(a, b, c, d).is_some_and(|(side_c, side_d)| side_c == side_d)
+}
+
+/// If `d` is exactly in the plane of `a, b, c` (and `c` off line `ab`): the sides of line `ab`
+/// that `c` and `d` are on (-1, 0 or 1; `c`'s not 0), in a projection along an axis where the
+/// plane's projection keeps its area.
+fn coplanar_sides(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Option<(i8, i8)> {
     // Four points with one coordinate equal lie in that axis plane: decided without the exact
     // predicate, which would run its slowest stage to prove the zero (most flat pairs of CAD
     // meshes are such).
     let in_axis_plane = (0..3).any(|k| a[k] == b[k] && a[k] == c[k] && a[k] == d[k]);
     if !in_axis_plane && orient3d_sign(a, b, c, d) != 0 {
-        return false;
+        return None;
     }
-    for axis in 0..3 {
+    (0..3).find_map(|axis| {
         let side_c = projected_orientation([a, b, c], axis);
-        if side_c != 0 {
-            return side_c == -projected_orientation([a, b, d], axis);
-        }
-    }
-    false
+        (side_c != 0).then(|| (side_c, projected_orientation([a, b, d], axis)))
+    })
 }
 
 /// The sign (-1, 0 or 1) of `(ax - cx)(by - cy) - (ay - cy)(bx - cx)`, exactly for every finite

@@ -134,6 +134,96 @@ pub(super) fn assign_faces(
     }
 }
 
+/// Checks rule 3 across the output's edges: two output faces folded onto each other (exactly
+/// coplanar, their third corners on the same side of the edge between them) face opposite ways
+/// in one plane, so lie in two planar regions of the input that meet there, along an input edge
+/// (a folded one: where an input overlaps itself, one sheet turning back over the other).
+/// Across any other output edge, one of the two is a face turned over. So the edge must lie
+/// along an input edge: both its ends at that edge's ends or on it, within the on-edge
+/// tolerance.
+///
+/// ```text
+///             d
+///            /|        faces (a, b, c) and (b, a, d) in one plane, c and d on the same
+///       c   / |        side of a-b: they overlap, folded onto each other. Along an input
+///       |\ /  |        edge between two sheets of a folded input, as they may be; anywhere
+///       a-----b        else, one of the two is turned over.
+/// ```
+///
+/// Areas alone cannot tell such a face where the input is folded: turned over, it fits the other
+/// sheet's region, the right way up there, and a tiny one moves less area between the two
+/// regions than a billionth of theirs (`AREA_TOLERANCE`). The rule looks only at exactly folded
+/// faces (an input folded in a plane that is not an axis plane has added vertices rounded off
+/// it, and folds only within rounding): `folds`, the interior output edges whose faces are
+/// [`folded`], found by rule 6's pass over the edges (few: none unless the input is folded).
+pub(super) fn check_folds(
+    model: &InputModel,
+    output_names: &Names,
+    output_edges: &[Edge],
+    folds: &[u32],
+    fail: &mut Failures,
+) {
+    if folds.is_empty() {
+        return;
+    }
+    let (input, input_edges, output) = (model.mesh, &model.prepared.edges, output_names.mesh);
+    let ends = |e: u32| {
+        let e = &output_edges[e as usize];
+        (output.positions[e.lo as usize], output.positions[e.hi as usize])
+    };
+    // Looked up at the edges' midpoints: every input edge containing one is among the grid's
+    // candidates there.
+    let middle = |(a, b): (DVec3, DVec3)| 0.5 * a + 0.5 * b;
+    let middles: Vec<DVec3> = folds.iter().map(|&e| middle(ends(e))).collect();
+    let grid = EdgeGrid::new(input, input_edges, &middles);
+    // `x` at an end of the input edge from `u` to `w`, or on it within the on-edge tolerance.
+    let on_or_at = |x: DVec3, u: DVec3, w: DVec3| x == u || x == w || distance_on_edge(x, u, w).is_some();
+    for (&e, &m) in folds.iter().zip(&middles) {
+        let (pa, pb) = ends(e);
+        let along = grid.candidates(m).iter().any(|&k| {
+            let k = &input_edges[k as usize];
+            let (u, w) = (input.positions[k.lo as usize], input.positions[k.hi as usize]);
+            on_or_at(pa, u, w) && on_or_at(pb, u, w)
+        });
+        if !along {
+            let (a, b, f, g) = output_edges[e as usize].oriented();
+            fail.push(KIND_FACE, || {
+                format!(
+                    "output {} and {} lie folded onto each other across the edge ({}, {}), which lies \
+                     along no input edge: one of them is turned over",
+                    output_names.face(f as usize),
+                    output_names.face(g as usize),
+                    output_names.label(a),
+                    output_names.label(b)
+                )
+            });
+        }
+    }
+}
+
+/// Whether faces `(a, b, c)` and `(b, a, d)` lie exactly folded onto each other
+/// ([`coplanar_and_folded`]). Their normals are then opposite; the computed ones are within
+/// their rounding of that (far from it only for needles), which rules out nearly every other
+/// pair before the exact test.
+pub(super) fn folded([a, b, c, d]: [DVec3; 4]) -> bool {
+    if ![a, b, c, d].iter().all(|p| p.is_finite()) {
+        return false; // (reported as an invalid coordinate)
+    }
+    let (n1, n2) = ((b - a).cross(c - a), (a - b).cross(d - b));
+    let slack = normal_rounding(n1, b - a, c - a) + normal_rounding(n2, a - b, d - b);
+    // 0 for opposite directions (NaN for a zero normal: then the exact test decides).
+    let opposite = 1.0 + n1.dot(n2) / (n1.length() * n2.length());
+    let surely_not = opposite > 0.5 * slack * slack + 8.0 * f64::EPSILON;
+    !surely_not && coplanar_and_folded(a, b, c, d)
+}
+
+/// A bound, in radians, on how far the direction of `n`, the cross product `u x v` computed in
+/// f64 (`u` and `v` themselves differences of positions), is from the exact one: a few units of
+/// roundoff of `|u| |v|`, relative to `|n|` (infinite for a zero `n`).
+fn normal_rounding(n: DVec3, u: DVec3, v: DVec3) -> f64 {
+    16.0 * f64::EPSILON * u.length() * v.length() / n.length()
+}
+
 /// How much the rounding of the added vertices may change the area of every region: the input
 /// edges on the region's border (a boundary edge, or an edge to another region) that carry
 /// added vertices, each allowing [`AREA_ROUNDING`] units of roundoff of its largest coordinate

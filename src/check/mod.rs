@@ -25,7 +25,10 @@
 //!    exactly coplanar, unfolded edges, decided with exact predicates) and has the region's
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
 //!    the region's faces and non-zero area (an exact `orient2d`, so that a valid needle face is
-//!    never called degenerate and a folded one never passes).
+//!    never called degenerate and a folded one never passes). Two output faces folded onto each
+//!    other (exactly coplanar, on one side of their common edge) meet only along an input edge:
+//!    where the input overlaps itself, a face turned over fits the other sheet, the right way
+//!    up, and a tiny one moves less area than rule 4 sees.
 //! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`], plus what
 //!    rounding the added vertices on the region's border can do, [`AREA_ROUNDING`], and
 //!    [`AREA_FLOOR`], far below any face). Face areas
@@ -897,6 +900,7 @@ fn check_core(meshes: Meshes, input_prepared: Option<Result<Prepared, String>>) 
                 compare_boundaries(&model, &out.edges, &candidates, &output_names, &mut fail);
             },
         );
+        check_folds(&model, &output_names, &out.edges, &delaunay.folds, &mut fail);
         delaunay.report(&output_names, &mut fail);
         report.interior_edges = delaunay.interior;
         report.non_delaunay_edges = delaunay.bad.len();
@@ -1128,12 +1132,13 @@ mod tests {
         }
     }
 
-    /// The axis-plane shortcut of `coplanar_and_flat` decides as the exact determinant does:
-    /// random quads with one coordinate shared (0.0 and -0.0 mixed), some moved one ulp off.
+    /// The axis-plane shortcut of `coplanar_and_flat` and `coplanar_and_folded` decides as the
+    /// exact determinant does: random quads with one coordinate shared (0.0 and -0.0 mixed), some
+    /// moved one ulp off.
     #[test]
     fn axis_plane_quads_are_judged_as_the_exact_determinant_says() {
         let mut rng = Rng(0xa715_91a9);
-        let (mut flat, mut not_flat) = (0, 0);
+        let (mut flat, mut folded, mut neither) = (0, 0, 0);
         for case in 0..4000 {
             let axis = rng.below(3) as usize;
             let level = [0.0, 0.1, 3.0][rng.below(3) as usize];
@@ -1150,18 +1155,19 @@ mod tests {
             }
             let rows = [a, b, c, d].map(|v| [v.x, v.y, v.z, 1.0]);
             let coplanar = exact_determinant_sign(rows) == 0;
-            let expected = coplanar && {
-                let k = (0..3).find(|&k| projected_orientation([a, b, c], k) != 0).unwrap();
-                projected_orientation([a, b, c], k) == -projected_orientation([a, b, d], k)
-            };
-            assert_eq!(coplanar_and_flat(a, b, c, d), expected, "case {case}: {p:?}");
-            if expected {
-                flat += 1;
-            } else {
-                not_flat += 1;
-            }
+            let k = (0..3).find(|&k| projected_orientation([a, b, c], k) != 0).unwrap();
+            let sides = projected_orientation([a, b, c], k) * projected_orientation([a, b, d], k);
+            let (expected_flat, expected_folded) = (coplanar && sides < 0, coplanar && sides > 0);
+            assert_eq!(coplanar_and_flat(a, b, c, d), expected_flat, "case {case}: {p:?}");
+            assert_eq!(coplanar_and_folded(a, b, c, d), expected_folded, "case {case}: {p:?}");
+            flat += usize::from(expected_flat);
+            folded += usize::from(expected_folded);
+            neither += usize::from(!expected_flat && !expected_folded);
         }
-        assert!(flat > 1000 && not_flat > 1000, "{flat} flat, {not_flat} not");
+        assert!(
+            flat > 1000 && folded > 1000 && neither > 500,
+            "{flat} flat, {folded} folded, {neither} neither"
+        );
     }
 
     /// `angle` scales its vectors exactly: at ordinary lengths it gives what the plain formula
