@@ -623,6 +623,27 @@ impl Run<'_> {
             return;
         }
         if flippable && self.s.edge_input[e.idx()] == NO_INPUT_EDGE {
+            // The flip would duplicate an edge c–d that lies on an input
+            // edge (a region that overlaps itself: the two sheets of a flat
+            // two-sided plate, whose Delaunay triangulations want the same
+            // edges between the rim's vertices): that edge is split instead,
+            // at a sample, and `e` taken again (its flip is then possible).
+            //
+            //     this sheet:        the other sheet:
+            //          c                  c
+            //         / \                 |
+            //        a---b                m      c-d split at m: then
+            //         \ /                 |      e = a-b flips into c-d
+            //          d                  d
+            if let Some(blocking) = self.s.edge_blocking_flip(e) {
+                if self.s.topo.is_interior(blocking) && self.s.edge_input[blocking.idx()] != NO_INPUT_EDGE {
+                    if let Some(choice) = self.choose_sample(blocking) {
+                        self.split_at(blocking, choice.t, ds);
+                        self.push_if_bad(ds, e);
+                        return;
+                    }
+                }
+            }
             // A numerically degenerate quad, and no input edge to split:
             // leave the edge for the final count.
             self.mark_stuck(e);
@@ -633,20 +654,25 @@ impl Run<'_> {
         // onto itself; or rounding in a needle quad): an edge on an input
         // edge is split instead, at a sample like any other.
         match self.choose_sample(e) {
-            Some(choice) => {
-                if self.stats.splits >= self.split_limit {
-                    self.over_limit = true;
-                    return;
-                }
-                let n = self.s.topo.n_edges() as u32;
-                let p = self.s.split(e, choice.t);
-                self.stats.splits += 1;
-                self.occupy(p);
-                for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)].into_iter().chain(around) {
-                    self.push_if_bad(ds, x);
-                }
-            }
+            Some(choice) => self.split_at(e, choice.t, ds),
             None => self.mark_stuck(e),
+        }
+    }
+
+    /// Splits the interior edge `e` at `t` along its input edge (unless the
+    /// work limit is reached), and queues the edges whose quads changed.
+    fn split_at(&mut self, e: EdgeId, t: f64, ds: &mut Ds) {
+        if self.stats.splits >= self.split_limit {
+            self.over_limit = true;
+            return;
+        }
+        let around = self.s.topo.outer_halfedges(e).map(|x| x.edge());
+        let n = self.s.topo.n_edges() as u32;
+        let p = self.s.split(e, t);
+        self.stats.splits += 1;
+        self.occupy(p);
+        for x in [e, EdgeId(n), EdgeId(n + 1), EdgeId(n + 2)].into_iter().chain(around) {
+            self.push_if_bad(ds, x);
         }
     }
 

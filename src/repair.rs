@@ -20,9 +20,12 @@
 //!    edge are glued together; on an edge with more than two faces (a non-manifold edge) the faces
 //!    are sorted by angle around the edge and glued in pairs of angular neighbours, so glued
 //!    sheets never cross each other; of the possible pairings the one with the most oppositely
-//!    oriented pairs wins (ties: the odd face out is the one with the highest index, or the
-//!    lowest-index face is paired with its lower-index neighbour). Every pair beyond the first ends
-//!    up on its own copies of the edge's vertices.
+//!    oriented pairs wins, then the one with the fewest pairs of faces lying on each other (ties:
+//!    the odd face out is the one with the highest index, or the lowest-index face is paired with
+//!    its lower-index neighbour). Faces lying on each other (one direction around the edge, as
+//!    the two sheets of a flat two-sided plate at an inner edge) are ordered so that each sheet
+//!    is glued on to its own continuation, not folded back onto the other sheet. Every pair
+//!    beyond the first ends up on its own copies of the edge's vertices.
 //! 4. *Orient*: each component (faces connected through glued edges) is walked breadth-first from
 //!    its lowest-index face, flipping faces to agree with the faces they are glued to. A glued edge
 //!    whose two faces still disagree when the walk reaches it from both sides proves the component
@@ -853,17 +856,21 @@ fn pair_faces(positions: &[[f64; 3]], verts: &[[u32; 3]], groups: &EdgeGroups, r
 }
 
 /// Pairs the faces of a non-manifold edge: angular neighbours, as many oppositely oriented
-/// pairs as possible.
+/// pairs as possible; of those pairings, the one with the fewest pairs of faces lying on each
+/// other (see [`coincident_last`]).
 fn pair_around_edge(positions: &[[f64; 3]], verts: &[[u32; 3]], members: &[usize], partner: &mut [u32]) {
     let order = angular_order(positions, verts, members);
+    let (order, on_next) = coincident_last(positions, verts, order);
     let k = order.len();
-    let opposite: Vec<bool> = (0..k)
-        .map(|i| !same_direction(verts, order[i], order[(i + 1) % k]))
+    // Per position: whether the face there and the next one make a good pair (glued oppositely,
+    // and not lying on each other), the first counting before the second.
+    let pair_score: Vec<(bool, bool)> = (0..k)
+        .map(|i| (!same_direction(verts, order[i], order[(i + 1) % k]), !on_next[i]))
         .collect();
     let first = if k % 2 == 0 {
-        best_even_start(&order, &opposite)
+        best_even_start(&order, &pair_score)
     } else {
-        best_odd_start(&order, &opposite)
+        best_odd_start(&order, &pair_score)
     };
     for j in 0..k / 2 {
         link(partner, order[(first + 2 * j) % k], order[(first + 2 * j + 1) % k]);
@@ -895,11 +902,64 @@ fn angular_order(positions: &[[f64; 3]], verts: &[[u32; 3]], members: &[usize]) 
     keyed.into_iter().map(|(_, e)| e).collect()
 }
 
-/// Even count: pairs start at position 0 or 1. Most opposite pairs; tie: the lowest-index face
-/// is paired with its lower-index angular neighbour.
-fn best_even_start(order: &[usize], opposite: &[bool]) -> usize {
+/// Faces lying on each other around the edge (their third vertices exactly in one plane with
+/// it, on one side: one direction, as the two sheets of a flat two-sided plate, or a double-
+/// sided card welded into one, meet at each inner edge) are neighbours in the angular order in
+/// any order. They are put in the one that glues each sheet on to its continuation rather than
+/// back onto the other sheet: the faces running along the edge from its lower vertex, whose
+/// normals point towards the angles after theirs, last (next to the faces after them), the
+/// others first. Returns the order (turned so that no such run straddles its end) and, per
+/// position, whether the face there lies on the next one; without such faces, the order as
+/// given.
+///
+/// ```text
+///   T1 ---- T2       a plate's top (T) and bottom (B) faces at an inner edge, side view:
+///   B1 ---- B2       glued in angular order B1 T1 | T2 B2 as T1-T2 and B2-B1 (two sheets),
+///        ^ edge      not T1-B1 and T2-B2 (each cell folded shut on its own)
+/// ```
+fn coincident_last(positions: &[[f64; 3]], verts: &[[u32; 3]], mut order: Vec<usize>) -> (Vec<usize>, Vec<bool>) {
     let k = order.len();
-    let score = |s: usize| (0..k / 2).filter(|&j| opposite[(s + 2 * j) % k]).count();
+    let p = |v: usize| glam::DVec3::from_array(positions[v]);
+    let (low, high) = edge_key(verts, order[0]);
+    let on_each_other = |e: usize, f: usize| {
+        let (c, d) = (p(opposite_vertex(verts, e)), p(opposite_vertex(verts, f)));
+        crate::geometry::pair_shape(p(low), p(high), c, d) == crate::geometry::PairShape::Folded
+    };
+    let on_next =
+        |order: &[usize]| -> Vec<bool> { (0..k).map(|i| on_each_other(order[i], order[(i + 1) % k])).collect() };
+    let joined = on_next(&order);
+    if !joined.contains(&true) {
+        return (order, joined);
+    }
+    // Start at a run's first face (all of them one run: anywhere).
+    let start = (0..k).find(|&i| !joined[(i + k - 1) % k]).unwrap_or(0);
+    order.rotate_left(start);
+    let joined: Vec<bool> = (0..k).map(|i| joined[(i + start) % k]).collect();
+    let forward = |e: usize| edge_vertices(verts, e).0 == low;
+    let mut i = 0;
+    while i < k {
+        let mut end = i;
+        while end + 1 < k && joined[end] {
+            end += 1;
+        }
+        order[i..=end].sort_by_key(|&e| (forward(e), e));
+        i = end + 1;
+    }
+    let joined = on_next(&order);
+    (order, joined)
+}
+
+/// Even count: pairs start at position 0 or 1. The best `pair_score`s (most opposite pairs,
+/// then fewest faces on each other); tie: the lowest-index face is paired with its lower-index
+/// angular neighbour.
+fn best_even_start(order: &[usize], pair_score: &[(bool, bool)]) -> usize {
+    let k = order.len();
+    let score = |s: usize| {
+        (0..k / 2).fold((0, 0), |(o, n), j| {
+            let (opposite, apart) = pair_score[(s + 2 * j) % k];
+            (o + usize::from(opposite), n + usize::from(apart))
+        })
+    };
     let (s0, s1) = (score(0), score(1));
     if s0 != s1 {
         return if s0 > s1 { 0 } else { 1 };
@@ -913,16 +973,22 @@ fn best_even_start(order: &[usize], opposite: &[bool]) -> usize {
     }
 }
 
-/// Odd count: pairs start at position `s`, leaving position `s - 1` alone. Most opposite pairs;
-/// tie: the face left alone has the highest index. Scores are updated in O(1) per start.
-fn best_odd_start(order: &[usize], opposite: &[bool]) -> usize {
+/// Odd count: pairs start at position `s`, leaving position `s - 1` alone. The best
+/// `pair_score`s (most opposite pairs, then fewest faces on each other); tie: the face left
+/// alone has the highest index. Scores are updated in O(1) per start.
+fn best_odd_start(order: &[usize], pair_score: &[(bool, bool)]) -> usize {
     let k = order.len();
-    let mut score = (0..k / 2).filter(|&j| opposite[2 * j]).count();
+    let value = |i: usize| {
+        let (opposite, apart) = pair_score[i % k];
+        (usize::from(opposite), usize::from(apart))
+    };
+    let mut score = (0..k / 2).fold((0, 0), |(o, n), j| (o + value(2 * j).0, n + value(2 * j).1));
     let mut s = 0;
     let mut best = (score, order[k - 1], 0);
     for _ in 1..k {
         // pairs of start s: s, s+2, ..., s+k-3; of start s+2: drop s, add s+k-1.
-        score = score - usize::from(opposite[s]) + usize::from(opposite[(s + k - 1) % k]);
+        let (dropped, added) = (value(s), value(s + k - 1));
+        score = (score.0 - dropped.0 + added.0, score.1 - dropped.1 + added.1);
         s = (s + 2) % k;
         let candidate = (score, order[(s + k - 1) % k], s);
         if (candidate.0, candidate.1) > (best.0, best.1) {

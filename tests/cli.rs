@@ -4200,3 +4200,25 @@ fn gabriel_boundary_is_made_and_checked() {
         "{out}"
     );
 }
+
+/// A flat two-sided sheet whose two sides share their vertices (`tests/regressions/two-sided-sheet.obj`,
+/// a jittered 8 x 8 grid of 4:1 cells): `--repair` glues it sheet by sheet, and where the two
+/// sheets' flips want the same edge between two rim vertices, the one that lies on an input edge
+/// is split. The output passes `check` against the repaired input (the session before, the
+/// repair folded every cell shut and the run stopped with 14 edges it could neither split nor
+/// flip).
+#[test]
+fn two_sided_sheet_is_refined_with_repair() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions/two-sided-sheet.obj");
+    let (output, repaired) = (dir.path().join("out.obj"), dir.path().join("repaired.obj"));
+    let run = refine(&input, &output)
+        .arg("--repair")
+        .arg("--repaired")
+        .arg(&repaired)
+        .assert()
+        .success();
+    let text = String::from_utf8_lossy(&run.get_output().stdout).into_owned();
+    assert!(text.contains("repair  cut 112 non-manifold edges"), "{text}");
+    delmesh().arg("check").arg(&repaired).arg(&output).assert().success();
+}

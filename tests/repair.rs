@@ -438,6 +438,72 @@ fn book_is_cut_into_pairs() {
     assert_eq!(out.triangles[1], [2, 0, 5]);
 }
 
+/// A flat two-sided sheet welded into one: a 3 x 3 grid in z = 0 whose top faces are cut along
+/// one diagonal and whose bottom faces (reversed, on the same vertices) along the other. Each
+/// inner grid edge has four faces, two of each sheet, lying on each other in pairs: they are
+/// glued sheet to sheet (the top on with the top, the bottom with the bottom), not each cell's
+/// top back onto its bottom (16 cells folded shut, each a component of its own). The sheets then
+/// meet at the rim only, and each inner grid vertex has a copy for each sheet.
+#[test]
+fn two_sided_sheet_is_glued_sheet_by_sheet() {
+    let n = 3;
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            // Jittered inside, so that no two cells are alike.
+            let inner = i % n != 0 && j % n != 0;
+            let jitter = if inner {
+                0.1 * ((i * 7 + j * 3) % 5) as f64 - 0.2
+            } else {
+                0.0
+            };
+            positions.push([i as f64 * 4.0 + jitter, j as f64 - jitter, 0.0]);
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            triangles.extend([[a, b, c], [a, c, d]]); // top
+            triangles.extend([[a, d, b], [b, d, c]]); // bottom
+        }
+    }
+    let out = repaired(&positions, &triangles);
+    // The inner grid edges: 2 n (n - 1).
+    assert_eq!(out.report.non_manifold_edges, 2 * n * (n - 1));
+    assert_eq!(out.positions.len(), (n + 1) * (n + 1) + (n - 1) * (n - 1));
+    // One component, each face glued to faces of its own sheet (the same side up) but at the
+    // rim.
+    let up = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| out.positions[v as usize]);
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0
+    };
+    let mut faces_of_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (f, t) in out.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            faces_of_edge.entry((u.min(v), u.max(v))).or_default().push(f);
+        }
+    }
+    let mut glued: Vec<Vec<usize>> = vec![Vec::new(); out.triangles.len()];
+    let mut folded = 0;
+    for faces in faces_of_edge.values() {
+        if let [f, g] = faces[..] {
+            glued[f].push(g);
+            glued[g].push(f);
+            folded += usize::from(up(&out.triangles[f]) != up(&out.triangles[g]));
+        }
+    }
+    let mut reached = BTreeSet::from([0]);
+    let mut stack = vec![0];
+    while let Some(f) = stack.pop() {
+        stack.extend(glued[f].iter().filter(|&&g| reached.insert(g)));
+    }
+    assert_eq!(reached.len(), out.triangles.len(), "one component");
+    assert_eq!(folded, 4 * n, "glued top to bottom only along the rim");
+}
+
 #[test]
 fn book_with_equal_orientations_still_pairs() {
     let positions = [

@@ -891,6 +891,41 @@ impl Surface {
     fn flip_check(&self, e: EdgeId, new_edge_delaunay: bool) -> bool {
         let h = e.halfedge();
         let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
+        // Unknown (both fans longer than the limit, which only settings
+        // that split beside one vertex again and again reach) counts as
+        // adjacent: refusing a flip is always safe, the edge is then split
+        // (or left for the final count), and each test stays bounded.
+        self.flip_shape_check(e, new_edge_delaunay)
+            && self.topo.are_adjacent_within_either(c, d, ADJACENCY_LIMIT) == Some(false)
+    }
+
+    /// The edge c–d that alone keeps the flippable edge `e` = (a, b) from
+    /// being flipped into (c, d) ([`Surface::flip_is_valid`]): c and d are
+    /// joined already, elsewhere (where a region overlaps itself, as the two
+    /// sheets of a flat two-sided plate do along their shared rim), and the
+    /// flip is valid otherwise. `None` if the flip is valid, or invalid for
+    /// another reason.
+    pub fn edge_blocking_flip(&self, e: EdgeId) -> Option<EdgeId> {
+        let h = e.halfedge();
+        let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
+        if !self.flip_shape_check(e, true) {
+            return None;
+        }
+        let mut joining = None;
+        self.topo.for_each_neighbour(c, |edge, v| {
+            if v == d {
+                joining = Some(edge);
+            }
+        });
+        joining
+    }
+
+    /// [`Surface::flip_check`] but for the test that c–d is not an edge
+    /// already.
+    #[inline(always)]
+    fn flip_shape_check(&self, e: EdgeId, new_edge_delaunay: bool) -> bool {
+        let h = e.halfedge();
+        let (c, d) = (self.topo.apex(h), self.topo.apex(h.twin()));
         if c == d {
             return false;
         }
@@ -908,14 +943,7 @@ impl Surface {
         // The new edge must itself be Delaunay: on a quad that is degenerate
         // to rounding, both diagonals can look non-Delaunay, and flipping
         // would then go back and forth for ever.
-        if new_edge_delaunay && geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE) {
-            return false;
-        }
-        // Unknown (both fans longer than the limit, which only settings
-        // that split beside one vertex again and again reach) counts as
-        // adjacent: refusing a flip is always safe, the edge is then split
-        // (or left for the final count), and each test stays bounded.
-        self.topo.are_adjacent_within_either(c, d, ADJACENCY_LIMIT) == Some(false)
+        !(new_edge_delaunay && geometry::is_non_delaunay(c3, d3, a3, b3, ALGORITHM_TOLERANCE))
     }
 
     /// Whether the bookkeeping says that the three vertices all lie on one
