@@ -134,8 +134,8 @@ pub(super) fn assign_faces(
     }
 }
 
-/// Checks rule 3 across the output's edges: two output faces folded onto each other (exactly
-/// coplanar, their third corners on the same side of the edge between them) face opposite ways
+/// Checks rule 3 across the output's edges: two output faces folded onto each other (coplanar,
+/// their third corners on the same side of the edge between them) face opposite ways
 /// in one plane, so lie in two planar regions of the input that meet there, along an input edge
 /// (a folded one: where an input overlaps itself, one sheet turning back over the other).
 /// Across any other output edge, one of the two is a face turned over. So the edge must lie
@@ -152,10 +152,10 @@ pub(super) fn assign_faces(
 ///
 /// Areas alone cannot tell such a face where the input is folded: turned over, it fits the other
 /// sheet's region, the right way up there, and a tiny one moves less area between the two
-/// regions than a billionth of theirs (`AREA_TOLERANCE`). The rule looks only at exactly folded
-/// faces (an input folded in a plane that is not an axis plane has added vertices rounded off
-/// it, and folds only within rounding): `folds`, the interior output edges whose faces are
-/// [`folded`], found by rule 6's pass over the edges (few: none unless the input is folded).
+/// regions than a billionth of theirs (`AREA_TOLERANCE`). `folds` are the interior output
+/// edges whose faces are [`folded`] (exactly, or within rounding where their normals are
+/// clear: in a plane that is not an axis plane, added vertices are rounded off it), found by
+/// rule 6's pass over the edges (few: none unless the input is folded).
 pub(super) fn check_folds(
     model: &InputModel,
     output_names: &Names,
@@ -201,27 +201,51 @@ pub(super) fn check_folds(
     }
 }
 
-/// Whether faces `(a, b, c)` and `(b, a, d)` lie exactly folded onto each other
-/// ([`coplanar_and_folded`]). Their normals are then opposite; the computed ones are within
+/// Whether faces `(a, b, c)` and `(b, a, d)` lie folded onto each other: exactly
+/// ([`coplanar_and_folded`]), or within the rounding of their corners' positions where their
+/// normals are clear (in a plane that is not an axis plane, vertices added on a folded input
+/// edge are rounded off it). Their normals are then opposite; the computed ones are within
 /// their rounding of that (far from it only for needles), which rules out nearly every other
 /// pair before the exact test.
+///
+/// Across an edge that lies along no input edge, two output faces lie in one planar region
+/// of the input, whose corners are in its plane exactly: their normals agree to within that
+/// rounding, and a pair whose normals are clear is never taken for folded there.
 pub(super) fn folded([a, b, c, d]: [DVec3; 4]) -> bool {
     if ![a, b, c, d].iter().all(|p| p.is_finite()) {
         return false; // (reported as an invalid coordinate)
     }
     let (n1, n2) = ((b - a).cross(c - a), (a - b).cross(d - b));
-    let slack = normal_rounding(n1, b - a, c - a) + normal_rounding(n2, a - b, d - b);
+    // The computation's rounding, and the positions' (an added vertex is a rounded point of
+    // its input edge: within a few units of roundoff of the largest coordinate).
+    let arithmetic = normal_rounding(n1, b - a, c - a) + normal_rounding(n2, a - b, d - b);
+    let largest = [a, b, c, d].iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
+    let positions = position_rounding(n1, b - a, c - a, largest) + position_rounding(n2, a - b, d - b, largest);
+    let slack = arithmetic + positions;
     // 0 for opposite directions (NaN for a zero normal: then the exact test decides).
     let opposite = 1.0 + n1.dot(n2) / (n1.length() * n2.length());
-    let surely_not = opposite > 0.5 * slack * slack + 8.0 * f64::EPSILON;
-    !surely_not && coplanar_and_folded(a, b, c, d)
+    if opposite > 0.5 * slack * slack + 8.0 * f64::EPSILON {
+        return false;
+    }
+    coplanar_and_folded(a, b, c, d) || slack < CLEAR_NORMALS
 }
+
+/// Two faces' normals are clear ([`folded`]) when rounding can turn them by less than this,
+/// in radians, in all: far above the rounding of any face that is not a needle, and small
+/// enough that two faces of one region, whose normals then agree within it, never look folded.
+const CLEAR_NORMALS: f64 = 1e-3;
 
 /// A bound, in radians, on how far the direction of `n`, the cross product `u x v` computed in
 /// f64 (`u` and `v` themselves differences of positions), is from the exact one: a few units of
 /// roundoff of `|u| |v|`, relative to `|n|` (infinite for a zero `n`).
 fn normal_rounding(n: DVec3, u: DVec3, v: DVec3) -> f64 {
     16.0 * f64::EPSILON * u.length() * v.length() / n.length()
+}
+
+/// A bound, in radians, on how far rounding the face's corners (each by a few units of roundoff
+/// of `largest`, the largest coordinate around) turns the direction of its normal `n = u x v`.
+fn position_rounding(n: DVec3, u: DVec3, v: DVec3, largest: f64) -> f64 {
+    16.0 * f64::EPSILON * largest * (u.length() + v.length()) / n.length()
 }
 
 /// How much the rounding of the added vertices may change the area of every region: the input

@@ -26,7 +26,8 @@
 //!    orientation, exactly: its projection along the region's main axis has the orientation of
 //!    the region's faces and non-zero area (an exact `orient2d`, so that a valid needle face is
 //!    never called degenerate and a folded one never passes). Two output faces folded onto each
-//!    other (exactly coplanar, on one side of their common edge) meet only along an input edge:
+//!    other (coplanar, exactly or within their corners' rounding where their normals are
+//!    clear, on one side of their common edge) meet only along an input edge:
 //!    where the input overlaps itself, a face turned over fits the other sheet, the right way
 //!    up, and a tiny one moves less area than rule 4 sees.
 //! 4. The area of every planar region is unchanged (relative [`AREA_TOLERANCE`], plus what
