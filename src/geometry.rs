@@ -215,7 +215,9 @@ pub enum DelaunayTest {
     Delaunay,
     /// α + β − π > the tolerance.
     NonDelaunay,
-    /// Every sine and a cosine underflowed: f64 cannot tell.
+    /// The excess's sine and cosine are both 0, even from rescaled vectors
+    /// (an apex at an end of the edge, or products a subnormal distance
+    /// from zero): f64 cannot tell.
     Underflow,
 }
 
@@ -254,22 +256,37 @@ fn power_of_two_scaled(v: DVec3) -> DVec3 {
 /// The Delaunay test of the edge (a, b) with opposite vertices `c`, `d`.
 ///
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
-/// that common case is decided without a square root.
+/// that common case is decided without a square root. Where a dot product,
+/// or the excess's sine and cosine, are small enough to have underflowed,
+/// the test is made again on the vectors scaled exactly by powers of two
+/// ([`delaunay_test_rescaled`]), which tells the angles apart however close
+/// to the edge's line or ends (in f64) the apexes lie.
 #[inline(always)]
 pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> DelaunayTest {
     let (u1, v1) = (a - c, b - c);
     let (u2, v2) = (a - d, b - d);
     let (c1, c2) = (u1.dot(v1), u2.dot(v2));
     if (c1 >= 0.0) & (c2 >= 0.0) {
-        // A dot product this small may have underflowed, and then its sign
-        // says nothing (a fuzz finding: at a needle 1e-323 wide every product
-        // is ±0); exact right angles land here too.
         if c1.min(c2) > TINY_DOT {
             return DelaunayTest::Delaunay;
         }
+        // Exact right angles, or dot products that may have underflowed
+        // (a fuzz finding: at a needle 1e-323 wide every product is ±0).
         return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
     }
-    let (y, x) = excess_sin_cos(a, b, c, d);
+    // As `excess_sin_cos`, from the vectors at hand.
+    let k = 1.0 / (b - a).length();
+    let (y, x) = excess_from_vectors([u1 * k, v1 * k, u2 * k, v2 * k]);
+    // Rescaled where a dot product may have underflowed (its sign and the
+    // products it enters say nothing: a fuzz finding, an angle of 72° at a
+    // vertex 1.6e-323 from the edge's end read as 0), where the products of
+    // four coordinates may have (apexes a subnormal distance from the ends,
+    // however clear their dot products are), and where the scale 1/|ab|
+    // overflowed them (an edge far shorter than the apexes' distance).
+    let clear = (c1.abs().min(c2.abs()) > TINY_DOT) & (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite();
+    if !clear {
+        return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
+    }
     decide(y, x, tolerance)
 }
 
@@ -1226,7 +1243,7 @@ mod tests {
         }
     }
 
-    use std::f64::consts::PI;
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 
     #[test]
     fn corner_angle_of_right_triangle() {
@@ -1502,17 +1519,59 @@ mod tests {
 
     #[test]
     fn underflowing_angles_are_not_called_delaunay() {
+        // The excess of the rescaled vectors, in radians.
+        let rescaled_excess = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
+            let (y, x) = excess_from_vectors([a - c, b - c, a - d, b - d].map(power_of_two_scaled));
+            y.atan2(x)
+        };
         // The pipeline fuzz finding (tests/regressions/fuzz-pipeline-dbeb…):
         // the apexes lie 1e-323 and 0 from the edge's line; every sine and
         // one cosine underflow, (sin, cos) of the excess is (0, 0). The true
-        // excess is about π/2.
+        // excess is about π/2, and the rescaled vectors tell it.
         let (a, b) = (DVec3::new(0.25, 0.0, 0.0), DVec3::new(0.2, 2e-323, 0.0));
         let (c, d) = (DVec3::new(0.225, 0.0, 0.0), DVec3::new(0.25, 1e-323, 0.0));
         for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
             assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0));
-            assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Underflow);
-            assert!(is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
+            assert!((rescaled_excess(a, b, c, d) - FRAC_PI_2).abs() < 1e-3);
+            assert_eq!(
+                delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
+                DelaunayTest::NonDelaunay
+            );
         }
+        // The attributes fuzz finding (tests/regressions/fuzz-attributes-
+        // f3e3…): an apex 1.6e-323 from the edge's end b sees the edge at
+        // 71.6° (atan 3), but its dot product underflows to 0, and the other
+        // apex's is negative (129.6°): the excess, 21.2°, read as about 0.
+        let (a, b) = (DVec3::new(-0.2, 0.0, 0.0), DVec3::ZERO);
+        let (c, d) = (DVec3::new(5e-324, 0.0, -1.5e-323), DVec3::new(-0.1, 0.0, 0.0471));
+        assert_eq!((a - c).dot(b - c), 0.0, "the case must underflow");
+        for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
+            assert!((rescaled_excess(a, b, c, d) - 0.37).abs() < 1e-2);
+            assert_eq!(
+                delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
+                DelaunayTest::NonDelaunay
+            );
+        }
+        // Both apexes 1e-200 from `a` (angles 120°): the dot products are
+        // clear of underflow, but the excess's products of four
+        // coordinates are not; its true value is 60°.
+        let (a, b) = (DVec3::ZERO, DVec3::X);
+        let (c, d) = (DVec3::new(5e-201, 8.66e-201, 0.0), DVec3::new(5e-201, -8.66e-201, 0.0));
+        assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0), "the case must underflow");
+        assert!((rescaled_excess(a, b, c, d) - FRAC_PI_3).abs() < 1e-3);
+        assert_eq!(
+            delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
+            DelaunayTest::NonDelaunay
+        );
+        // An apex 1e309 times the edge's length away: the vectors scaled by
+        // 1/|ab| overflow, and the rescaled ones tell the angles (the far
+        // one below 1e-308, the near one 0.04 short of π): Delaunay.
+        let (a, b) = (DVec3::ZERO, DVec3::new(1e-10, 0.0, 0.0));
+        let (c, d) = (DVec3::new(5e-11, 1e-12, 0.0), DVec3::new(0.0, -1e299, 0.0));
+        let (y, x) = excess_sin_cos(a, b, c, d);
+        assert!(!(y + x).is_finite(), "the case must overflow");
+        assert!((rescaled_excess(a, b, c, d) + 0.04).abs() < 1e-3);
+        assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Delaunay);
         // Both dot products underflow to ±0, so the shortcut for two
         // non-obtuse angles cannot trust them: an apex 1e-200 from `a` (angle
         // nearly π) and a right angle, excess about π/2.
