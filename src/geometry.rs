@@ -315,14 +315,15 @@ pub fn boundary_test(a: DVec3, b: DVec3, c: DVec3, tolerance: f64) -> DelaunayTe
     if dot > TINY_DOT {
         return DelaunayTest::Delaunay;
     }
-    let (y, x) = match dot.abs() > TINY_DOT {
-        true => boundary_excess_sin_cos(a, b, c),
-        // Near underflow: each vector scaled exactly by a power of two.
-        false => {
-            let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
-            (-u.dot(v), u.cross(v).length())
-        }
-    };
+    let (mut y, mut x) = boundary_excess_sin_cos(a, b, c);
+    // Near underflow (the dot product, or the sine and cosine scaled by
+    // 1/|ab|², at an apex a subnormal fraction of |ab| from an end), or
+    // not finite: each vector scaled exactly by a power of two instead.
+    let clear = (dot.abs() > TINY_DOT) & (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite();
+    if !clear {
+        let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
+        (y, x) = (-u.dot(v), u.cross(v).length());
+    }
     decide(y, x, tolerance)
 }
 
@@ -1103,6 +1104,12 @@ mod tests {
                 assert_eq!(got, want, "scale {scale}, height {height}");
             }
         }
+        // An apex 1e-253 from an end of an edge 1e70 long, its angle 0.01
+        // rad past a right one: the dot product is clear of underflow, but
+        // scaled by 1/|ab|² the cosine underflows to 0 and the sine to 1e-323.
+        let (a, b, c) = (DVec3::ZERO, DVec3::new(1e70, 0.0, 0.0), DVec3::new(1e-255, 1e-253, 0.0));
+        assert_eq!(boundary_excess_sin_cos(a, b, c).0, 0.0, "the case must underflow");
+        assert_eq!(boundary_test(a, b, c, ALGORITHM_TOLERANCE), DelaunayTest::NonDelaunay);
         let mut rng = Rng(0xb0_0da7);
         for _ in 0..10_000 {
             let p = |rng: &mut Rng| DVec3::new(rng.centered(), rng.centered(), rng.centered());
