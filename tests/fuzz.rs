@@ -333,6 +333,7 @@ fn fx_hash(bytes: &[u8]) -> u64 {
 // ---------------------------------------------------------------------------
 
 /// A polygon mesh to write in every format.
+#[derive(Clone)]
 struct SeedMesh {
     positions: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
@@ -813,6 +814,16 @@ fn obj_seeds() -> Vec<Vec<u8>> {
     v.push(obj_text(&seed_meshes()[1], 1));
     v.push(obj_text(&seed_meshes()[0], 2));
     v.push(std::fs::read(common::data_dir().join("cube.obj")).expect("data/cube.obj"));
+    // The seeds from the rhombus on, scaled exactly by 2^±200 (about 1e±60):
+    // within the supported scale (1e-75 to 1e75), where products of four
+    // coordinates leave the range of f64 unless the geometry rescales them.
+    for (k, m) in seed_meshes().iter().enumerate().skip(2) {
+        for exponent in [200, -200] {
+            let mut m = m.clone();
+            m.positions.iter_mut().flatten().for_each(|c| *c *= 2f64.powi(exponent));
+            v.push(obj_text(&m, k % 4));
+        }
+    }
     v
 }
 
