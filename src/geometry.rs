@@ -123,10 +123,37 @@ pub fn corner_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// the decision is made.
 #[inline]
 pub fn excess_sin_cos(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, f64) {
+    let vectors = [a - c, b - c, a - d, b - d];
     // Scaled by 1/|ab|: products of four coordinates neither overflow nor
-    // underflow, whatever the mesh's scale.
+    // underflow, whatever the mesh's scale, but where an apex lies a
+    // subnormal fraction of |ab| from an end (its sine and cosine
+    // underflow), or 1e308 times |ab| away (they overflow).
     let k = 1.0 / (b - a).length();
-    excess_from_vectors([(a - c) * k, (b - c) * k, (a - d) * k, (b - d) * k])
+    let (y, x) = excess_from_vectors(vectors.map(|v| v * k));
+    if clear_of_underflow(y, x) {
+        return (y, x);
+    }
+    rescaled_excess_sin_cos(vectors)
+}
+
+/// Whether a sine and cosine computed from vectors scaled by 1/|ab| are
+/// clear of underflow (above [`TINY_DOT`]) and finite.
+#[inline(always)]
+fn clear_of_underflow(y: f64, x: f64) -> bool {
+    (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite()
+}
+
+/// [`excess_sin_cos`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
+/// each first multiplied by the power of two that brings its largest
+/// coordinate into [1, 2): exact, and each angle's sine and cosine are then
+/// its true ones times |u||v| ≥ 1 up to about 1e-15, where nothing can
+/// underflow but a sine below 1e-154 (an angle within 1e-154 of 0 or π).
+/// Both angles' (sine, cosine) pairs get different positive factors, which
+/// does not change the sign or the tangent of the excess.
+#[cold]
+#[inline(never)]
+fn rescaled_excess_sin_cos(vectors: [DVec3; 4]) -> (f64, f64) {
+    excess_from_vectors(vectors.map(power_of_two_scaled))
 }
 
 /// [`excess_sin_cos`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
@@ -225,20 +252,6 @@ pub enum DelaunayTest {
 /// the exact dot product, up to the usual rounding (about 1e-16 of |u||v|).
 const TINY_DOT: f64 = 1e-280;
 
-/// [`delaunay_test`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
-/// each first multiplied by the power of two that brings its largest
-/// coordinate into [1, 2): exact, and each angle's sine and cosine are then
-/// its true ones times |u||v| ≥ 1 up to about 1e-15, where nothing can
-/// underflow but a sine below 1e-154 (an angle within 1e-154 of 0 or π).
-/// Both angles' (sine, cosine) pairs get different positive factors, which
-/// does not change the sign or the tangent of the excess.
-#[cold]
-#[inline(never)]
-fn delaunay_test_rescaled(vectors: [DVec3; 4], tolerance: f64) -> DelaunayTest {
-    let (y, x) = excess_from_vectors(vectors.map(power_of_two_scaled));
-    decide(y, x, tolerance)
-}
-
 /// `v` times the power of two that brings its largest coordinate magnitude
 /// into [1, 2) (exact: only exponents change); `v` itself when it is zero
 /// or not finite.
@@ -258,8 +271,8 @@ fn power_of_two_scaled(v: DVec3) -> DVec3 {
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
 /// that common case is decided without a square root. Where a dot product,
 /// or the excess's sine and cosine, are small enough to have underflowed,
-/// the test is made again on the vectors scaled exactly by powers of two
-/// ([`delaunay_test_rescaled`]), which tells the angles apart however close
+/// the vectors are scaled exactly by powers of two instead
+/// ([`rescaled_excess_sin_cos`]), which tells the angles apart however close
 /// to the edge's line or ends (in f64) the apexes lie.
 #[inline(always)]
 pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> DelaunayTest {
@@ -272,20 +285,22 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
         }
         // Exact right angles, or dot products that may have underflowed
         // (a fuzz finding: at a needle 1e-323 wide every product is ±0).
-        return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
+        let (y, x) = rescaled_excess_sin_cos([u1, v1, u2, v2]);
+        return decide(y, x, tolerance);
     }
-    // As `excess_sin_cos`, from the vectors at hand.
+    // One angle obtuse. The excess's sine and cosine are rescaled where they
+    // may have underflowed (`excess_sin_cos`), and so is a face whose dot
+    // product may have (then its sine and cosine scaled by 1/|ab|² may have
+    // too, though the other face's larger ones keep the excess's clear of
+    // underflow). A fuzz finding: an angle of 72° at a vertex 1.6e-323 from
+    // the edge's end, its dot product 0 and the other apex's negative, was
+    // read as 0.
+    // (As `excess_sin_cos`, from the vectors at hand, with one branch.)
     let k = 1.0 / (b - a).length();
     let (y, x) = excess_from_vectors([u1 * k, v1 * k, u2 * k, v2 * k]);
-    // Rescaled where a dot product may have underflowed (its sign and the
-    // products it enters say nothing: a fuzz finding, an angle of 72° at a
-    // vertex 1.6e-323 from the edge's end read as 0), where the products of
-    // four coordinates may have (apexes a subnormal distance from the ends,
-    // however clear their dot products are), and where the scale 1/|ab|
-    // overflowed them (an edge far shorter than the apexes' distance).
-    let clear = (c1.abs().min(c2.abs()) > TINY_DOT) & (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite();
-    if !clear {
-        return delaunay_test_rescaled([u1, v1, u2, v2], tolerance);
+    if !((c1.abs().min(c2.abs()) > TINY_DOT) & clear_of_underflow(y, x)) {
+        let (y, x) = rescaled_excess_sin_cos([u1, v1, u2, v2]);
+        return decide(y, x, tolerance);
     }
     decide(y, x, tolerance)
 }
@@ -296,9 +311,24 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
 /// γ is obtuse, and the edge's cotangent weight (cot γ)/2 is negative.
 #[inline]
 pub fn boundary_excess_sin_cos(a: DVec3, b: DVec3, c: DVec3) -> (f64, f64) {
-    // Scaled by 1/|ab|, as in `excess_sin_cos`.
+    let (u, v) = (a - c, b - c);
+    // Scaled by 1/|ab|, as in `excess_sin_cos`, and as there rescaled
+    // exactly where that underflows (an apex a subnormal fraction of |ab|
+    // from an end) or overflows.
     let k = 1.0 / (b - a).length();
-    let (u, v) = ((a - c) * k, (b - c) * k);
+    let (y, x) = (-(u * k).dot(v * k), (u * k).cross(v * k).length());
+    if clear_of_underflow(y, x) {
+        return (y, x);
+    }
+    rescaled_boundary_excess_sin_cos(u, v)
+}
+
+/// [`boundary_excess_sin_cos`] from `u = a − c` and `v = b − c`, each
+/// scaled exactly by a power of two first (as [`rescaled_excess_sin_cos`]).
+#[cold]
+#[inline(never)]
+fn rescaled_boundary_excess_sin_cos(u: DVec3, v: DVec3) -> (f64, f64) {
+    let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
     (-u.dot(v), u.cross(v).length())
 }
 
@@ -315,15 +345,12 @@ pub fn boundary_test(a: DVec3, b: DVec3, c: DVec3, tolerance: f64) -> DelaunayTe
     if dot > TINY_DOT {
         return DelaunayTest::Delaunay;
     }
-    let (mut y, mut x) = boundary_excess_sin_cos(a, b, c);
-    // Near underflow (the dot product, or the sine and cosine scaled by
-    // 1/|ab|², at an apex a subnormal fraction of |ab| from an end), or
-    // not finite: each vector scaled exactly by a power of two instead.
-    let clear = (dot.abs() > TINY_DOT) & (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite();
-    if !clear {
-        let (u, v) = (power_of_two_scaled(u), power_of_two_scaled(v));
-        (y, x) = (-u.dot(v), u.cross(v).length());
-    }
+    // A dot product near underflow: each vector scaled exactly by a power
+    // of two first.
+    let (y, x) = match dot.abs() > TINY_DOT {
+        true => boundary_excess_sin_cos(a, b, c),
+        false => rescaled_boundary_excess_sin_cos(u, v),
+    };
     decide(y, x, tolerance)
 }
 
@@ -1108,7 +1135,9 @@ mod tests {
         // rad past a right one: the dot product is clear of underflow, but
         // scaled by 1/|ab|² the cosine underflows to 0 and the sine to 1e-323.
         let (a, b, c) = (DVec3::ZERO, DVec3::new(1e70, 0.0, 0.0), DVec3::new(1e-255, 1e-253, 0.0));
-        assert_eq!(boundary_excess_sin_cos(a, b, c).0, 0.0, "the case must underflow");
+        let k = 1.0 / (b - a).length();
+        assert_eq!(((a - c) * k).dot((b - c) * k), 0.0, "the case must underflow");
+        assert!((boundary_excess(a, b, c) - 0.01).abs() < 1e-3);
         assert_eq!(boundary_test(a, b, c, ALGORITHM_TOLERANCE), DelaunayTest::NonDelaunay);
         let mut rng = Rng(0xb0_0da7);
         for _ in 0..10_000 {
@@ -1528,8 +1557,13 @@ mod tests {
     fn underflowing_angles_are_not_called_delaunay() {
         // The excess of the rescaled vectors, in radians.
         let rescaled_excess = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
-            let (y, x) = excess_from_vectors([a - c, b - c, a - d, b - d].map(power_of_two_scaled));
+            let (y, x) = rescaled_excess_sin_cos([a - c, b - c, a - d, b - d]);
             y.atan2(x)
+        };
+        // (sin, cos) of the excess from the vectors scaled by 1/|ab| only.
+        let scaled = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
+            let k = 1.0 / (b - a).length();
+            excess_from_vectors([a - c, b - c, a - d, b - d].map(|v| v * k))
         };
         // The pipeline fuzz finding (tests/regressions/fuzz-pipeline-dbeb…):
         // the apexes lie 1e-323 and 0 from the edge's line; every sine and
@@ -1538,7 +1572,8 @@ mod tests {
         let (a, b) = (DVec3::new(0.25, 0.0, 0.0), DVec3::new(0.2, 2e-323, 0.0));
         let (c, d) = (DVec3::new(0.225, 0.0, 0.0), DVec3::new(0.25, 1e-323, 0.0));
         for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
-            assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0));
+            assert_eq!(scaled(a, b, c, d), (0.0, 0.0));
+            assert!((delaunay_excess(a, b, c, d) - FRAC_PI_2).abs() < 1e-3);
             assert!((rescaled_excess(a, b, c, d) - FRAC_PI_2).abs() < 1e-3);
             assert_eq!(
                 delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
@@ -1554,6 +1589,7 @@ mod tests {
         assert_eq!((a - c).dot(b - c), 0.0, "the case must underflow");
         for (a, b, c, d) in [(a, b, c, d), (b, a, d, c)] {
             assert!((rescaled_excess(a, b, c, d) - 0.37).abs() < 1e-2);
+            assert!((delaunay_excess(a, b, c, d) - 0.37).abs() < 1e-2);
             assert_eq!(
                 delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
                 DelaunayTest::NonDelaunay
@@ -1564,7 +1600,8 @@ mod tests {
         // coordinates are not; its true value is 60°.
         let (a, b) = (DVec3::ZERO, DVec3::X);
         let (c, d) = (DVec3::new(5e-201, 8.66e-201, 0.0), DVec3::new(5e-201, -8.66e-201, 0.0));
-        assert_eq!(excess_sin_cos(a, b, c, d), (0.0, 0.0), "the case must underflow");
+        assert_eq!(scaled(a, b, c, d), (0.0, 0.0), "the case must underflow");
+        assert!((delaunay_excess(a, b, c, d) - FRAC_PI_3).abs() < 1e-3);
         assert!((rescaled_excess(a, b, c, d) - FRAC_PI_3).abs() < 1e-3);
         assert_eq!(
             delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE),
@@ -1575,8 +1612,9 @@ mod tests {
         // one below 1e-308, the near one 0.04 short of π): Delaunay.
         let (a, b) = (DVec3::ZERO, DVec3::new(1e-10, 0.0, 0.0));
         let (c, d) = (DVec3::new(5e-11, 1e-12, 0.0), DVec3::new(0.0, -1e299, 0.0));
-        let (y, x) = excess_sin_cos(a, b, c, d);
+        let (y, x) = scaled(a, b, c, d);
         assert!(!(y + x).is_finite(), "the case must overflow");
+        assert!((delaunay_excess(a, b, c, d) + 0.04).abs() < 1e-3);
         assert!((rescaled_excess(a, b, c, d) + 0.04).abs() < 1e-3);
         assert_eq!(delaunay_test(a, b, c, d, ALGORITHM_TOLERANCE), DelaunayTest::Delaunay);
         // Both dot products underflow to ±0, so the shortcut for two
