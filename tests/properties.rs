@@ -1131,3 +1131,74 @@ fn generators_make_what_they_claim() {
         }
     }
 }
+
+/// Scaling an input by a power of two scales its output exactly and changes
+/// nothing else, down to 2^-200 and up to 2^200 (about 1e∓60, within the
+/// supported 1e-75 to 1e75): the construction's tests scale their vectors
+/// (by 1/|ab|, or exactly by powers of two where products of coordinates
+/// would underflow or overflow: `geometry::excess_sin_cos`) and its
+/// thresholds are relative, so each decides alike. One case of each family,
+/// with and without a Gabriel boundary: the defaults, a longest-first run
+/// without the median, and the defaults then `--prune`.
+#[test]
+fn refining_commutes_with_scaling_by_powers_of_two() {
+    let cases = [
+        sphere_cases().swap_remove(0),
+        torus_cases().swap_remove(1),
+        height_field_cases().swap_remove(1),
+        coplanar_cases().swap_remove(2),
+        needle_cases().swap_remove(0),
+    ];
+    let runs = [
+        (Options::new(Worklist::Stack, Score::AlwaysCenter, true), false),
+        (
+            Options::new(Worklist::PriorityQueue, Score::WeightedCenter, false),
+            false,
+        ),
+        (Options::new(Worklist::Stack, Score::AlwaysCenter, true), true),
+    ];
+    let refine = |m: &Mesh, scale: f64, options: &Options, gabriel: bool, prune: bool| {
+        let positions: Vec<DVec3> = m.positions.iter().map(|&p| p * scale).collect();
+        let mut s = Surface::new(positions, &m.triangles).expect("a valid input");
+        s.gabriel_boundary = gabriel;
+        let mut options = *options;
+        options.max_added = MAX_ADDED;
+        make_delaunay(&mut s, &options).map(|stats| {
+            if prune {
+                delmesh::prune::prune(&mut s, &options);
+            }
+            (bits(&s.positions), s.triangles(), stats.flips)
+        })
+    };
+    let mut compared = 0;
+    for c in &cases {
+        for gabriel in [false, true] {
+            for (options, prune) in &runs {
+                let unscaled = refine(&c.mesh, 1.0, options, gabriel, *prune);
+                for exponent in [200, -200, -3] {
+                    let scale = 2f64.powi(exponent);
+                    let scaled = refine(&c.mesh, scale, options, gabriel, *prune);
+                    let what = format!("{} gabriel={gabriel} prune={prune} {options:?} at 2^{exponent}", c.name);
+                    match (&unscaled, &scaled) {
+                        (Ok((p, t, flips)), Ok((q, u, scaled_flips))) => {
+                            let expected: Vec<[u64; 3]> = p
+                                .iter()
+                                .map(|b| b.map(|x| (f64::from_bits(x) * scale).to_bits()))
+                                .collect();
+                            assert!(*q == expected, "{what}: positions not scaled exactly");
+                            assert!(t == u && flips == scaled_flips, "{what}: another mesh");
+                            compared += 1;
+                        }
+                        (Err(a), Err(b)) => assert_eq!(
+                            std::mem::discriminant(a),
+                            std::mem::discriminant(b),
+                            "{what}: another error"
+                        ),
+                        _ => panic!("{what}: one run failed, the other not"),
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(compared, 90, "runs that failed at every scale");
+}
