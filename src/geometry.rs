@@ -271,9 +271,9 @@ fn power_of_two_scaled(v: DVec3) -> DVec3 {
 /// Two non-obtuse opposite angles (both dot products ≥ 0) sum to at most π:
 /// that common case is decided without a square root. Where a dot product,
 /// or the excess's sine and cosine, are small enough to have underflowed,
-/// the vectors are scaled exactly by powers of two instead
-/// ([`rescaled_excess_sin_cos`]), which tells the angles apart however close
-/// to the edge's line or ends (in f64) the apexes lie.
+/// the vectors are scaled exactly by powers of two instead (as
+/// [`excess_sin_cos`] does there), which tells the angles apart however
+/// close to the edge's line or ends (in f64) the apexes lie.
 #[inline(always)]
 pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> DelaunayTest {
     let (u1, v1) = (a - c, b - c);
