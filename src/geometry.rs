@@ -288,14 +288,13 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
         let (y, x) = rescaled_excess_sin_cos([u1, v1, u2, v2]);
         return decide(y, x, tolerance);
     }
-    // One angle obtuse. The excess's sine and cosine are rescaled where they
-    // may have underflowed (`excess_sin_cos`), and so is a face whose dot
-    // product may have (then its sine and cosine scaled by 1/|ab|² may have
-    // too, though the other face's larger ones keep the excess's clear of
-    // underflow). A fuzz finding: an angle of 72° at a vertex 1.6e-323 from
-    // the edge's end, its dot product 0 and the other apex's negative, was
-    // read as 0.
-    // (As `excess_sin_cos`, from the vectors at hand, with one branch.)
+    // One angle obtuse: the excess's sine and cosine as `excess_sin_cos`
+    // makes them, from the vectors at hand, rescaled where they may have
+    // underflowed, or where a dot product may have (then that face's sine
+    // and cosine may have too, while the other face's larger ones keep the
+    // excess's clear of underflow). One branch for both. A fuzz finding: an
+    // angle of 72° at a vertex 1.6e-323 from the edge's end, its dot product
+    // 0 and the other apex's negative, was read as 0.
     let k = 1.0 / (b - a).length();
     let (y, x) = excess_from_vectors([u1 * k, v1 * k, u2 * k, v2 * k]);
     if !((c1.abs().min(c2.abs()) > TINY_DOT) & clear_of_underflow(y, x)) {

@@ -530,12 +530,12 @@ impl Run<'_> {
     /// Everything [`Run::process`] reads about `e`: its quad and the apexes
     /// beyond its four outer edges ([`VertexId::NONE`] past a boundary).
     /// Positions never move and a face's region follows from its vertices,
-    /// so the same neighbourhood means the same decision, but for one
-    /// thing it does not hold: whether c and d are joined elsewhere (a flip
-    /// into an edge that exists already, where a region overlaps itself).
-    /// An edge stuck on that stays stuck until its neighbourhood changes,
-    /// even if that edge goes away (retrying such edges at the end of each
-    /// pass changed nothing on 40 jittered two-sided grids).
+    /// so the same neighbourhood means the same decision, with one
+    /// exception: a flip refused because c and d are joined elsewhere
+    /// (where a region overlaps itself). Such an edge stays stuck until its
+    /// neighbourhood changes, even if the joining edge goes away (retrying
+    /// those at the end of each pass changed nothing on 40 jittered
+    /// two-sided grids).
     ///
     /// ```text
     ///          x1     x0
