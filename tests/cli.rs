@@ -4269,15 +4269,7 @@ fn face_turned_over_on_a_tilted_folded_region_is_reported() {
         .success();
     check_passes(&repaired, &output);
     // The input's positions (which the map numbers) and the map's rows on input edge (v2, v6).
-    let positions: Vec<[f64; 3]> = std::fs::read_to_string(&input)
-        .unwrap()
-        .lines()
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().take(3).map(|w| w.parse().unwrap()).collect();
-            [x[0], x[1], x[2]]
-        })
-        .collect();
+    let positions = common::obj_vertices(&input);
     let mut on_edge: Vec<(f64, usize)> = std::fs::read_to_string(&map)
         .unwrap()
         .lines()

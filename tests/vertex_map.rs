@@ -12,19 +12,6 @@ fn delmesh() -> Command {
     Command::cargo_bin("delmesh").unwrap()
 }
 
-/// The `v` lines of an OBJ file, in order.
-fn obj_vertices(path: &Path) -> Vec<[f64; 3]> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().take(3).map(|x| x.parse().unwrap()).collect();
-            [x[0], x[1], x[2]]
-        })
-        .collect()
-}
-
 /// Refines `input` with `flags` and the vertex map, checks every row, and
 /// returns the map.
 fn rebuild(input: &Path, flags: &[&str]) -> String {
@@ -48,11 +35,11 @@ fn rebuild_as(input: &Path, output: &str, flags: &[&str]) -> (String, Vec<[f64; 
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let inp = obj_vertices(input);
+    let inp = common::obj_vertices(input);
     let outp = if output.ends_with(".ply") {
         ply_vertices(&out)
     } else {
-        obj_vertices(&out)
+        common::obj_vertices(&out)
     };
     let table = std::fs::read_to_string(&map).unwrap();
     let mut lines = table.lines();
@@ -86,7 +73,7 @@ fn every_output_vertex_is_rebuilt_from_the_input_file() {
     inputs.push(common::data_dir().join("cad/rotor.obj"));
     for input in &inputs {
         let rows = rebuild(input, &[]).lines().count() - 1;
-        assert!(rows >= obj_vertices(input).len() / 2);
+        assert!(rows >= common::obj_vertices(input).len() / 2);
         rebuild(input, &["--prune", "-s", "3"]);
     }
     rebuild(&common::data_dir().join("repair/dragon-cut.obj"), &["--repair"]);

@@ -36,6 +36,19 @@ pub fn data_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data")
 }
 
+/// The positions of an OBJ file's `v` lines, in order.
+pub fn obj_vertices(path: &std::path::Path) -> Vec<[f64; 3]> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let x: Vec<f64> = l.split_whitespace().take(3).map(|x| x.parse().unwrap()).collect();
+            [x[0], x[1], x[2]]
+        })
+        .collect()
+}
+
 /// Every `.obj` in `data/`, sorted.
 pub fn fixtures() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(data_dir())
