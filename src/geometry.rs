@@ -137,10 +137,10 @@ pub fn excess_sin_cos(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, f64) {
 }
 
 /// Whether a sine and cosine computed from vectors scaled by 1/|ab| are
-/// clear of underflow (above [`TINY_DOT`]) and finite.
+/// clear of underflow (above [`TINY_PRODUCT`]) and finite.
 #[inline(always)]
 fn clear_of_underflow(y: f64, x: f64) -> bool {
-    (y.abs().max(x.abs()) > TINY_DOT) & (y + x).is_finite()
+    (y.abs().max(x.abs()) > TINY_PRODUCT) & (y + x).is_finite()
 }
 
 /// [`excess_sin_cos`] from the vectors `a − c`, `b − c`, `a − d`, `b − d`,
@@ -248,9 +248,11 @@ pub enum DelaunayTest {
     Underflow,
 }
 
-/// Dot products above this are far from underflow: their sign is that of
-/// the exact dot product, up to the usual rounding (about 1e-16 of |u||v|).
-const TINY_DOT: f64 = 1e-280;
+/// Products of coordinates above this are far from underflow: a dot
+/// product's sign is then that of the exact one, up to the usual rounding
+/// (about 1e-16 of |u||v|), and so are the excess's sine and cosine
+/// ([`clear_of_underflow`]), products of four coordinates scaled by 1/|ab|.
+const TINY_PRODUCT: f64 = 1e-280;
 
 /// `v` times the power of two that brings its largest coordinate magnitude
 /// into [1, 2) (exact: only exponents change); `v` itself when it is zero
@@ -280,7 +282,7 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
     let (u2, v2) = (a - d, b - d);
     let (c1, c2) = (u1.dot(v1), u2.dot(v2));
     if (c1 >= 0.0) & (c2 >= 0.0) {
-        if c1.min(c2) > TINY_DOT {
+        if c1.min(c2) > TINY_PRODUCT {
             return DelaunayTest::Delaunay;
         }
         // Exact right angles, or dot products that may have underflowed
@@ -297,7 +299,7 @@ pub fn delaunay_test(a: DVec3, b: DVec3, c: DVec3, d: DVec3, tolerance: f64) -> 
     // 0 and the other apex's negative, was read as 0.
     let k = 1.0 / (b - a).length();
     let (y, x) = excess_from_vectors([u1 * k, v1 * k, u2 * k, v2 * k]);
-    if !((c1.abs().min(c2.abs()) > TINY_DOT) & clear_of_underflow(y, x)) {
+    if !((c1.abs().min(c2.abs()) > TINY_PRODUCT) & clear_of_underflow(y, x)) {
         let (y, x) = rescaled_excess_sin_cos([u1, v1, u2, v2]);
         return decide(y, x, tolerance);
     }
@@ -341,12 +343,12 @@ pub fn boundary_test(a: DVec3, b: DVec3, c: DVec3, tolerance: f64) -> DelaunayTe
     let dot = u.dot(v);
     // A non-obtuse angle, its dot product clear of underflow: decided
     // without a square root (as `delaunay_test` decides its common case).
-    if dot > TINY_DOT {
+    if dot > TINY_PRODUCT {
         return DelaunayTest::Delaunay;
     }
     // A dot product near underflow: each vector scaled exactly by a power
     // of two first.
-    let (y, x) = match dot.abs() > TINY_DOT {
+    let (y, x) = match dot.abs() > TINY_PRODUCT {
         true => boundary_excess_sin_cos(a, b, c),
         false => rescaled_boundary_excess_sin_cos(u, v),
     };

@@ -1844,19 +1844,42 @@ fn min_record_size(el: &PlyElement) -> u64 {
 // Writing
 // ---------------------------------------------------------------------------
 
-fn ply_header(w: &mut dyn Write, format: &str, vertices: usize, triangles: usize, colors: bool) -> io::Result<()> {
-    write!(
-        w,
-        "ply\nformat {format} 1.0\ncomment written by delmesh\nelement vertex {vertices}\n"
-    )?;
-    w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
-    if colors {
-        w.write_all(b"property uchar red\nproperty uchar green\nproperty uchar blue\n")?;
+/// Writes the header of a PLY that delmesh writes: `format` (`ascii` or
+/// `binary_little_endian`), a comment naming delmesh and then `comments`,
+/// the vertex element (`double x y z` then `vertex_properties`, each a
+/// type's PLY name and a property name) and the face element (the list
+/// `vertex_indices` then `face_properties`). Names are not checked here.
+fn write_ply_header<'a>(
+    w: &mut dyn Write,
+    format: &str,
+    comments: &[String],
+    vertices: usize,
+    vertex_properties: impl IntoIterator<Item = (&'a str, &'a str)>,
+    triangles: usize,
+    face_properties: impl IntoIterator<Item = (&'a str, &'a str)>,
+) -> io::Result<()> {
+    write!(w, "ply\nformat {format} 1.0\ncomment written by delmesh\n")?;
+    for c in comments {
+        writeln!(w, "comment {c}")?;
     }
-    write!(
-        w,
-        "element face {triangles}\nproperty list uchar uint vertex_indices\nend_header\n"
-    )
+    writeln!(w, "element vertex {vertices}")?;
+    w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
+    for (ty, name) in vertex_properties {
+        writeln!(w, "property {ty} {name}")?;
+    }
+    write!(w, "element face {triangles}\nproperty list uchar uint vertex_indices\n")?;
+    for (ty, name) in face_properties {
+        writeln!(w, "property {ty} {name}")?;
+    }
+    w.write_all(b"end_header\n")
+}
+
+/// The header of [`write_ply_binary`] and [`write_ply_ascii`]: positions,
+/// optional `uchar red green blue`, faces.
+fn ply_header(w: &mut dyn Write, format: &str, vertices: usize, triangles: usize, colors: bool) -> io::Result<()> {
+    let rgb = [("uchar", "red"), ("uchar", "green"), ("uchar", "blue")];
+    let rgb = if colors { &rgb[..] } else { &[] };
+    write_ply_header(w, format, &[], vertices, rgb.iter().copied(), triangles, [])
 }
 
 /// Writes a binary little-endian PLY 1.0: double x y z, optional uchar red green blue, face list uchar
@@ -2000,24 +2023,15 @@ pub(crate) fn write_ply_binary_records(
         return Err(invalid(format!("a PLY property name must be one word: {name:?}")));
     }
     let mut w = BufWriter::new(w);
-    write!(w, "ply\nformat binary_little_endian 1.0\ncomment written by delmesh\n",)?;
-    for c in comments {
-        writeln!(w, "comment {c}")?;
-    }
-    writeln!(w, "element vertex {n}")?;
-    w.write_all(b"property double x\nproperty double y\nproperty double z\n")?;
-    for (name, ty) in vertices.properties {
-        writeln!(w, "property {} {name}", ty.ply_name())?;
-    }
-    write!(
-        w,
-        "element face {}\nproperty list uchar uint vertex_indices\n",
-        triangles.len()
+    write_ply_header(
+        &mut w,
+        "binary_little_endian",
+        comments,
+        n,
+        vertices.properties.iter().map(|&(name, ty)| (ty.ply_name(), name)),
+        triangles.len(),
+        face_columns.iter().map(|c| (c.ty.ply_name(), c.name.as_str())),
     )?;
-    for c in face_columns {
-        writeln!(w, "property {} {}", c.ty.ply_name(), c.name)?;
-    }
-    w.write_all(b"end_header\n")?;
     let mut record = Vec::with_capacity(24 + 8 * vertices.properties.len().max(face_columns.len()));
     for i in 0..n {
         record.clear();
