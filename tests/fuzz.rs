@@ -3965,10 +3965,12 @@ fn pipeline_problems(name: &str) -> Vec<String> {
 /// regions of the input edges it lies inside.
 ///
 /// Still open, and not a checker matter: written to a file, such an output
-/// cannot be read back as it was made. Readers weld bit-identical positions
-/// (SPEC §2), so the added vertex becomes the input vertex, and the new edge
-/// from it to (1, 0.15, 0.25) coincides with an input edge: `delmesh check`
-/// on the files reports "output edge (v6, v8) is shared by 3 faces".
+/// holds two vertices at one position, and a reader that welds bit-identical
+/// positions (SPEC §2) makes the added vertex the input vertex, so that the
+/// new edge from it to (1, 0.15, 0.25) coincides with an input edge: the
+/// main command refuses the file as input ("edge between vertex 6 and vertex
+/// 8 has more than two faces"). `delmesh check` on the two files passes
+/// (README: Real-world meshes, surfaces that touch themselves).
 #[test]
 fn regression_checker_vertex_at_t_junction() {
     let problems = pipeline_problems("bug-checker-vertex-at-t-junction.obj");
