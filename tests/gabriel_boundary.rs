@@ -230,3 +230,50 @@ fn a_closed_mesh_refines_as_without_it() {
     assert_eq!(plain.positions, gabriel.positions);
     assert_eq!(plain.triangles(), gabriel.triangles());
 }
+
+#[test]
+fn many_obtuse_boundary_edges_are_listed_worst_first_then_counted() {
+    // A flat zigzag strip of 59 needles, 1 long and 0.1 to 0.13 high: every
+    // bottom and top edge faces an angle of 150 to 157 degrees (59 edges),
+    // the two ends and the inner edges acute ones. Judged against itself, it passes;
+    // its boundary lines are the worst 20 and one line counting the rest.
+    let n = 30;
+    let mut positions = Vec::new();
+    for i in 0..=n {
+        positions.push(DVec3::new(i as f64, 0.0, 0.0)); // b_i = 2i
+        positions.push(DVec3::new(i as f64 + 0.5, 0.1 + 0.001 * i as f64, 0.0));
+        // t_i = 2i + 1
+    }
+    let (b, t) = (|i: u32| 2 * i, |i: u32| 2 * i + 1);
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        triangles.push([b(i), b(i + 1), t(i)]);
+        if i + 1 < n {
+            triangles.push([t(i), b(i + 1), t(i + 1)]);
+        }
+    }
+    let mesh = Mesh3 { positions, triangles };
+    let mut report = check_meshes(&mesh, &mesh);
+    assert!(report.passed(), "{:?}", report.failures);
+    assert_eq!(report.non_gabriel_boundary_edges, 59);
+    let lines = &report.boundary_lines;
+    assert_eq!(lines.len(), delmesh::check::MAX_LINES_PER_KIND + 1, "{lines:?}");
+    assert_eq!(lines[20], "... and 39 more boundary edges facing an obtuse angle");
+    let excess = |line: &str| -> f64 {
+        let x = line.split("gamma-pi/2 = ").nth(1).unwrap();
+        x.split(' ').next().unwrap().parse().unwrap()
+    };
+    assert!(
+        lines[..20].windows(2).all(|w| excess(&w[0]) >= excess(&w[1])),
+        "{lines:?}"
+    );
+    assert!(excess(&lines[0]) > 1.0 && excess(&lines[19]) > 1.0);
+    report.require_gabriel_boundary();
+    assert!(!report.passed());
+    assert_eq!(report.failures.len(), 21);
+    assert!(
+        report.failure_counts.iter().any(|&(_, count)| count == 59),
+        "{:?}",
+        report.failure_counts
+    );
+}
