@@ -1743,4 +1743,48 @@ mod tests {
         let hits = assert_same_as_testing_every_edge(&mesh, edges, &grid, &on);
         assert_eq!(hits, on.len());
     }
+
+    /// A point computed on one input edge belongs to that edge only, though another runs
+    /// 2e-13 beside it, well within the on-edge tolerance (1.6e-11 here): of the edges that
+    /// contain a point, only those within `NEAREST_EDGE_SLACK` of the nearest count (taking
+    /// both let faces go to the wrong one of two nearly coplanar regions,
+    /// `tests/regressions/bug-checker-nearly-coplanar-regions.obj`).
+    #[test]
+    fn a_point_on_an_edge_is_not_given_a_parallel_edge_beside_it() {
+        let gap = 2e-13;
+        let mesh = Mesh3 {
+            positions: vec![
+                DVec3::ZERO,
+                DVec3::X,
+                DVec3::new(0.5, -1.0, 0.0),
+                DVec3::new(0.0, gap, 0.0),
+                DVec3::new(1.0, gap, 0.0),
+                DVec3::new(0.5, 1.0, 0.1),
+            ],
+            triangles: vec![[0, 1, 2], [4, 3, 5]],
+        };
+        let naming = Naming::default();
+        let model = InputModel::new(&mesh, &naming).expect("two separate triangles");
+        let edges = &model.prepared.edges;
+        let edge = |lo: u32, hi: u32| edges.iter().position(|e| (e.lo, e.hi) == (lo, hi)).unwrap() as u32;
+        let (below, above) = (edge(0, 1), edge(3, 4));
+        let all: Vec<u32> = (0..edges.len() as u32).collect();
+        let mut found = Vec::new();
+        for t in [0.1, 0.37, 0.5, 0.9] {
+            let on_below = DVec3::ZERO.lerp(DVec3::X, t);
+            let on_above = mesh.positions[3].lerp(mesh.positions[4], t);
+            // Both edges contain each point within the tolerance...
+            for p in [on_below, on_above] {
+                let (a, b) = (mesh.positions[0], mesh.positions[1]);
+                assert!(distance_on_edge(p, a, b).is_some());
+                let (a, b) = (mesh.positions[3], mesh.positions[4]);
+                assert!(distance_on_edge(p, a, b).is_some());
+            }
+            // ...but each belongs to its own.
+            nearest_edges_containing(&mesh, edges, &all, on_below, &mut found);
+            assert_eq!(found, [below], "{t}");
+            nearest_edges_containing(&mesh, edges, &all, on_above, &mut found);
+            assert_eq!(found, [above], "{t}");
+        }
+    }
 }
