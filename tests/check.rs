@@ -1548,6 +1548,50 @@ fn a_different_surface_is_not_called_overlapping_coplanar_regions() {
     );
 }
 
+/// Coincident copies of one square are regions whose faces cannot be told apart: their total
+/// area is checked, and the failure names the group, its first six regions and then "...".
+/// (Mutation testing: the "..." for groups over six was never exercised.)
+#[test]
+fn overlapping_coplanar_regions_are_checked_by_their_total_area() {
+    let squares = |copies: u32, faces: usize| {
+        let vertices: Vec<[f64; 3]> = (0..copies)
+            .flat_map(|_| [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]])
+            .collect();
+        let all: Vec<[u32; 3]> = (0..copies)
+            .flat_map(|k| [[4 * k, 4 * k + 1, 4 * k + 2], [4 * k, 4 * k + 2, 4 * k + 3]])
+            .collect();
+        obj(&vertices, &all[..faces])
+    };
+    // The last copy loses a face: which region lost it, geometry cannot tell.
+    let report = check_texts(&squares(2, 4), &squares(2, 3));
+    assert_failure(
+        &report,
+        "the 2 overlapping coplanar regions region 1 (containing input face 1), region 2 (containing input \
+         face 3) (whose faces cannot be told apart) have total area 8, which became 6",
+    );
+    let report = check_texts(&squares(7, 14), &squares(7, 13));
+    let named: Vec<String> = (1..=6)
+        .map(|r| format!("region {r} (containing input face {})", 2 * r - 1))
+        .collect();
+    assert_failure(
+        &report,
+        &format!(
+            "the 7 overlapping coplanar regions {}, ... (whose faces cannot be told apart) have total area 28, \
+             which became 26",
+            named.join(", ")
+        ),
+    );
+    assert!(!has(&report, "region 7 ("), "{report}");
+    // Six are all named.
+    let report = check_texts(&squares(6, 12), &squares(6, 11));
+    assert_failure(
+        &report,
+        &format!("regions {} (whose faces cannot be told apart)", named.join(", ")),
+    );
+    // Whole, the copies pass.
+    assert_passes(&check_texts(&squares(7, 14), &squares(7, 14)));
+}
+
 /// A file whose content is another format than its name says is refused as
 /// misnamed, as the main command refuses it, not with the named reader's
 /// reason (a PLY named `.obj` had "lines end in a carriage return alone").
