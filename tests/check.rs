@@ -502,10 +502,10 @@ fn face_added_across_the_boundary_is_reported() {
 ///
 /// ```text
 ///   v4 ----------- v3
-///   |  .         . |      faces (v1, v5, v4), (v5, v2, v3), (v5, v3, v4)
-///   |     .   .    |      and the collinear (v5, v1, v2): v5 at the middle of v1-v2,
-///   |       v5     |      which stays a boundary edge
-///   v1 ---------- v2
+///   | .           .|      faces (v1, v5, v4), (v5, v2, v3), (v5, v3, v4)
+///   |    .     .   |      and the collinear (v5, v1, v2): v5 at the middle of v1-v2,
+///   |       .      |      which stays a boundary edge
+///   v1 ---- v5 --- v2
 /// ```
 #[test]
 fn a_collinear_face_closing_the_boundary_is_reported() {
@@ -513,17 +513,15 @@ fn a_collinear_face_closing_the_boundary_is_reported() {
     let mut with_middle = square.to_vec();
     with_middle.push([1.0, 0.0, 0.0]);
     let faces = [[0, 4, 3], [4, 1, 2], [4, 2, 3], [4, 0, 1]];
-    let report = check_texts(&obj(&square, &[[0, 1, 2], [0, 2, 3]]), &obj(&with_middle, &faces));
+    let input = obj(&square, &[[0, 1, 2], [0, 2, 3]]);
+    let report = check_texts(&input, &obj(&with_middle, &faces));
     assert_failure(
         &report,
         "output face 4 (v5, v1, v2) has zero area (its corners are collinear) in region 1",
     );
     assert_eq!(report.failures.len(), 1, "{report}");
     // Without it, the three faces are a Delaunay mesh of the square, with v5 on its boundary.
-    assert_passes(&check_texts(
-        &obj(&square, &[[0, 1, 2], [0, 2, 3]]),
-        &obj(&with_middle, &faces[..3]),
-    ));
+    assert_passes(&check_texts(&input, &obj(&with_middle, &faces[..3])));
 }
 
 /// `misplaced_vertices` counts the output vertices off the input's edges, and those of them
