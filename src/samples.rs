@@ -792,17 +792,25 @@ mod tests {
         let s = 0.1f64.sin();
         assert_eq!(c.rho_v, (s / (0.5 + s)).min(0.5));
         assert_eq!(c.rho_e, 2.0 * c.rho_v * s);
+        // θ_min above 30° (nearly equilateral triangles): l_min·sin θ/(0.5 +
+        // sin θ) passes l_min/2, which caps ρ_v.
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_3, 3.0);
+        assert_eq!(c.rho_v, 1.5);
+        assert_eq!(c.rho_e, 3.0 * std::f64::consts::FRAC_PI_3.sin());
     }
 
     #[test]
     fn sample_positions() {
-        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
-                                                                        // Length 10: samples at 1, 2, ..., 9 (n = 8 intervals).
+        // ρ_v = ρ_e = 1. Length 10: samples at 1, 2, ..., 9 (n = 8 intervals).
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0);
         let s = EdgeSamples::new(10.0, &c);
         assert_eq!(s.count(), 9);
         for k in 0..9 {
             assert!((s.t(k) * 10.0 - (1.0 + k as f64)).abs() < 1e-12);
         }
+        // The nearest sample, clamped to those that exist.
+        let nearest = [0.0, 0.14, 0.26, 0.5, 0.74, 0.96, 1.0, -1.0, f64::NAN].map(|t| s.nearest(t));
+        assert_eq!(nearest, [0, 0, 2, 4, 6, 8, 8, 0, 0]);
         // Length 3.5: samples at 1 and 2.5 and one between: n = ⌈1.5⌉ = 2.
         let s = EdgeSamples::new(3.5, &c);
         assert_eq!(s.count(), 3);
@@ -982,5 +990,45 @@ mod tests {
             AlwaysCenter.doubled([true, true], 0),
             AlwaysCenter.doubled([true, false], 4)
         );
+    }
+
+    #[test]
+    fn split_aware_counts_a_flippable_outer_edge_as_delaunay_everywhere() {
+        // Samples at x = 1, ..., 9 on an edge of length 10; the sub-edge runs
+        // from 2 to 9, so its samples are 1, ..., 6 from `a` (k = 2, ..., 7).
+        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0);
+        let samples = EdgeSamples::new(10.0, &c);
+        let cond = |side, breakpoint| Condition { side, breakpoint };
+        let mut q = SplitQuery {
+            samples: &samples,
+            edge_ends: [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)],
+            t_a: 0.2,
+            t_b: 0.9,
+            pos_a: DVec3::new(2.0, 0.0, 0.0),
+            pos_b: DVec3::new(9.0, 0.0, 0.0),
+            // Both halves always Delaunay; outer edge 0 Delaunay at the first
+            // sample only, outer edge 1 at the last only, the others never.
+            halves: [cond(Side::AtMost, f64::NAN); 2],
+            outer: [
+                cond(Side::AtMost, 1.5),
+                cond(Side::AtLeast, 5.5),
+                cond(Side::AtMost, -1.0),
+                cond(Side::AtMost, -1.0),
+            ],
+            // Outer edge 0 can be flipped.
+            outer_flippable: [true, false, false, false],
+            score: Score::AlwaysCenter,
+            median: true,
+            shells: false,
+        };
+        // Always center: the first and the last sample tie (10 + 2); the
+        // median of the two is the first.
+        assert_eq!(choose(&q).map(|c| c.k), Some(2));
+        // Split-aware: outer edge 0 counts everywhere, so the last sample,
+        // where outer edge 1 holds as well, is the only best (10 + 2 + 2).
+        q.score = Score::SplitAware;
+        assert_eq!(q.score_where(|i| i < 3), 12);
+        assert_eq!(q.score_where(|i| i < 2 || i == 3), 14);
+        assert_eq!(choose(&q).map(|c| c.k), Some(7));
     }
 }
