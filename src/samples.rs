@@ -996,7 +996,8 @@ mod tests {
     fn split_aware_counts_a_flippable_outer_edge_as_delaunay_everywhere() {
         // Samples at x = 1, ..., 9 on an edge of length 10; the sub-edge runs
         // from 2 to 9, so its samples are 1, ..., 6 from `a` (k = 2, ..., 7).
-        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0);
+        // sin θ given exactly: ρ_v = ρ_e = 1, so the samples are exact.
+        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 2.0);
         let samples = EdgeSamples::new(10.0, &c);
         let cond = |side, breakpoint| Condition { side, breakpoint };
         let mut q = SplitQuery {
@@ -1030,5 +1031,42 @@ mod tests {
         assert_eq!(q.score_where(|i| i < 3), 12);
         assert_eq!(q.score_where(|i| i < 2 || i == 3), 14);
         assert_eq!(choose(&q).map(|c| c.k), Some(7));
+    }
+
+    #[test]
+    fn the_middle_sample_is_counted_from_a() {
+        // Samples at x = 1, ..., 9 on an edge of length 10 (k = 0, ..., 8).
+        // sin θ given exactly: ρ_v = ρ_e = 1, so the samples are exact.
+        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 2.0);
+        let samples = EdgeSamples::new(10.0, &c);
+        let never = Condition {
+            side: Side::AtMost,
+            breakpoint: -1.0,
+        };
+        let at = |x: f64| DVec3::new(x, 0.0, 0.0);
+        let query = |a: f64, b: f64| SplitQuery {
+            samples: &samples,
+            edge_ends: [at(0.0), at(10.0)],
+            t_a: a / 10.0,
+            t_b: b / 10.0,
+            pos_a: at(a),
+            pos_b: at(b),
+            halves: [never; 2],
+            outer: [never; 4],
+            outer_flippable: [false; 4],
+            score: Score::AllEqual,
+            median: true,
+            shells: false,
+        };
+        // From 2 to 9: samples k = 2, ..., 7 inside, the middle (by index,
+        // the upper one of an even count) k = 5; from 9 to 2, k = 4.
+        for (a, b, k) in [(2.0, 9.0, 5), (9.0, 2.0, 4), (0.0, 10.0, 4), (2.5, 4.5, 3)] {
+            let q = query(a, b);
+            let m = middle(&q).expect("samples inside");
+            assert_eq!((m.k, m.t), (k, samples.t(k)), "from {a} to {b}");
+            assert_eq!(Pieces::new(&q).map(|p| p.middle()), Some(m));
+        }
+        // Between two neighbouring samples: none inside.
+        assert_eq!(middle(&query(3.0, 4.0)), None);
     }
 }
