@@ -917,18 +917,42 @@ mod tests {
         assert_eq!(target(0.0, 0.005), 0.0025);
     }
 
+    /// The samples of an edge of length 10 with ρ_v = ρ_e = 1 exactly (sin θ
+    /// given, not computed): at x = 1, ..., 9 (k = 0, ..., 8).
+    fn ten_samples() -> EdgeSamples {
+        EdgeSamples::new(10.0, &SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 2.0))
+    }
+
+    /// A query on the sub-edge from x = `a` to x = `b` of [`ten_samples`]'
+    /// edge, from (0, 0, 0) to (10, 0, 0): no condition ever holds, score
+    /// all-equal, median.
+    fn query_on_ten(samples: &EdgeSamples, a: f64, b: f64) -> SplitQuery<'_> {
+        let at = |x: f64| DVec3::new(x, 0.0, 0.0);
+        let never = Condition {
+            side: Side::AtMost,
+            breakpoint: -1.0,
+        };
+        SplitQuery {
+            samples,
+            edge_ends: [at(0.0), at(10.0)],
+            t_a: a / 10.0,
+            t_b: b / 10.0,
+            pos_a: at(a),
+            pos_b: at(b),
+            halves: [never; 2],
+            outer: [never; 4],
+            outer_flippable: [false; 4],
+            score: Score::AllEqual,
+            median: true,
+            shells: false,
+        }
+    }
+
     #[test]
     fn the_best_interval_middle_has_the_best_score() {
-        let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
-        let samples = EdgeSamples::new(10.0, &c);
+        let samples = ten_samples();
         let cond = |side, breakpoint| Condition { side, breakpoint };
         let mut q = SplitQuery {
-            samples: &samples,
-            edge_ends: [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)],
-            t_a: 0.2,
-            t_b: 0.9,
-            pos_a: DVec3::new(2.0, 0.0, 0.0),
-            pos_b: DVec3::new(9.0, 0.0, 0.0),
             // Both halves Delaunay on x in [2.5, 4.0] (from a), outer edges
             // on [0, 3.2], [3.0, 7], never, always.
             halves: [cond(Side::AtMost, 4.0), cond(Side::AtLeast, 2.5)],
@@ -938,10 +962,8 @@ mod tests {
                 cond(Side::AtMost, -1.0),
                 cond(Side::AtLeast, f64::NAN),
             ],
-            outer_flippable: [false; 4],
             score: Score::AlwaysCenter,
-            median: true,
-            shells: false,
+            ..query_on_ten(&samples, 2.0, 9.0)
         };
         let score_at = |q: &SplitQuery, x: f64| {
             let conds = [q.halves[0], q.halves[1], q.outer[0], q.outer[1], q.outer[2], q.outer[3]];
@@ -994,19 +1016,11 @@ mod tests {
 
     #[test]
     fn split_aware_counts_a_flippable_outer_edge_as_delaunay_everywhere() {
-        // Samples at x = 1, ..., 9 on an edge of length 10; the sub-edge runs
-        // from 2 to 9, so its samples are 1, ..., 6 from `a` (k = 2, ..., 7).
-        // sin θ given exactly: ρ_v = ρ_e = 1, so the samples are exact.
-        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 2.0);
-        let samples = EdgeSamples::new(10.0, &c);
+        // The sub-edge from 2 to 9: its samples are 1, ..., 6 from `a` (k =
+        // 2, ..., 7).
+        let samples = ten_samples();
         let cond = |side, breakpoint| Condition { side, breakpoint };
         let mut q = SplitQuery {
-            samples: &samples,
-            edge_ends: [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)],
-            t_a: 0.2,
-            t_b: 0.9,
-            pos_a: DVec3::new(2.0, 0.0, 0.0),
-            pos_b: DVec3::new(9.0, 0.0, 0.0),
             // Both halves always Delaunay; outer edge 0 Delaunay at the first
             // sample only, outer edge 1 at the last only, the others never.
             halves: [cond(Side::AtMost, f64::NAN); 2],
@@ -1019,8 +1033,7 @@ mod tests {
             // Outer edge 0 can be flipped.
             outer_flippable: [true, false, false, false],
             score: Score::AlwaysCenter,
-            median: true,
-            shells: false,
+            ..query_on_ten(&samples, 2.0, 9.0)
         };
         // Always center: the first and the last sample tie (10 + 2); the
         // median of the two is the first.
@@ -1035,29 +1048,8 @@ mod tests {
 
     #[test]
     fn the_middle_sample_is_counted_from_a() {
-        // Samples at x = 1, ..., 9 on an edge of length 10 (k = 0, ..., 8).
-        // sin θ given exactly: ρ_v = ρ_e = 1, so the samples are exact.
-        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 2.0);
-        let samples = EdgeSamples::new(10.0, &c);
-        let never = Condition {
-            side: Side::AtMost,
-            breakpoint: -1.0,
-        };
-        let at = |x: f64| DVec3::new(x, 0.0, 0.0);
-        let query = |a: f64, b: f64| SplitQuery {
-            samples: &samples,
-            edge_ends: [at(0.0), at(10.0)],
-            t_a: a / 10.0,
-            t_b: b / 10.0,
-            pos_a: at(a),
-            pos_b: at(b),
-            halves: [never; 2],
-            outer: [never; 4],
-            outer_flippable: [false; 4],
-            score: Score::AllEqual,
-            median: true,
-            shells: false,
-        };
+        let samples = ten_samples();
+        let query = |a, b| query_on_ten(&samples, a, b);
         // From 2 to 9: samples k = 2, ..., 7 inside, the middle (by index,
         // the upper one of an even count) k = 5; from 9 to 2, k = 4.
         for (a, b, k) in [(2.0, 9.0, 5), (9.0, 2.0, 4), (0.0, 10.0, 4), (2.5, 4.5, 3)] {
