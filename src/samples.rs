@@ -815,6 +815,9 @@ mod tests {
         let s = EdgeSamples::new(3.5, &c);
         assert_eq!(s.count(), 3);
         assert!((s.t(1) * 3.5 - 1.75).abs() < 1e-12);
+        // The nearest sample on a spacing other than 1 (0.75 here): t = 0.7
+        // lies at 2.45, nearest the sample at 2.5.
+        assert_eq!(s.nearest(0.7), 2);
         // Shorter than 2ρ_v: the midpoint only.
         let s = EdgeSamples::new(1.5, &c);
         assert_eq!((s.count(), s.t(0)), (1, 0.5));
