@@ -1171,6 +1171,27 @@ mod tests {
         );
     }
 
+    /// Two faces folded onto each other in a tilted plane far from the origin, whose corners are
+    /// off that plane by their rounding only: the exact test says not coplanar, and `folded`
+    /// finds them within the rounding of their positions (`position_rounding`: their normals are
+    /// 6e-6 rad from opposite, where it allows 8e-4 and the arithmetic's rounding 1e-14). Unfolded,
+    /// the same pair is not folded. (Mutation testing: no fixture told `position_rounding`'s
+    /// factors apart.)
+    #[test]
+    fn a_pair_folded_within_the_rounding_of_its_positions_is_folded() {
+        //   c . d        (a, b, c) and (b, a, d) on one side of ab: folded
+        //   |  `.
+        //   a----b       in the plane z = 1e8 + 0.3 (x - 1e8) + 0.3 (y - 1e8)
+        let (p0, h) = (DVec3::splat(1e8), 2e-3);
+        let (e1, e2) = (DVec3::new(1.0, 0.0, 0.3), DVec3::new(0.0, 1.0, 0.3));
+        let (a, b, c) = (p0, p0 + e1 * h, p0 + e2 * h);
+        let d = p0 + (e1 * (0.3 * h) + e2 * (0.8 * h));
+        assert!(!coplanar_and_folded(a, b, c, d), "the case must defeat the exact test");
+        assert!(faces::folded([a, b, c, d]));
+        let unfolded = p0 + (e1 * (0.3 * h) - e2 * (0.8 * h));
+        assert!(!faces::folded([a, b, c, unfolded]));
+    }
+
     /// `angle` scales its vectors exactly: at ordinary lengths it gives what the plain formula
     /// gives, bit for bit; at needles whose products underflow it still finds right angles.
     #[test]
