@@ -1175,8 +1175,8 @@ mod tests {
     /// off that plane by their rounding only: the exact test says not coplanar, and `folded`
     /// finds them within the rounding of their positions (`position_rounding`: their normals are
     /// 6e-6 rad from opposite, where it allows 8e-4 and the arithmetic's rounding 1e-14). Unfolded,
-    /// the same pair is not folded. (Mutation testing: no fixture told `position_rounding`'s
-    /// factors apart.)
+    /// the same pair is not folded, nor is it with d lifted clear of the rounding. (Mutation
+    /// testing: no fixture told `position_rounding`'s factors apart, nor `folded`'s threshold.)
     #[test]
     fn a_pair_folded_within_the_rounding_of_its_positions_is_folded() {
         //   c . d        (a, b, c) and (b, a, d) on one side of ab: folded
@@ -1190,6 +1190,10 @@ mod tests {
         assert!(faces::folded([a, b, c, d]));
         let unfolded = p0 + (e1 * (0.3 * h) - e2 * (0.8 * h));
         assert!(!faces::folded([a, b, c, unfolded]));
+        // d lifted off the plane by 1e-5: their normals 6.5e-3 rad from opposite, where the
+        // rounding allows 8e-4: not folded.
+        let lifted = d + DVec3::new(-0.3, -0.3, 1.0) * (0.005 * h);
+        assert!(!faces::folded([a, b, c, lifted]));
     }
 
     /// `angle` scales its vectors exactly: at ordinary lengths it gives what the plain formula
