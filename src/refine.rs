@@ -354,8 +354,10 @@ pub fn make_delaunay_from(surface: &mut Surface, options: &Options, first_pass: 
     let mut ds = Ds::new(options.worklist, run.s.topo.n_edges());
     // First pass: count the input's non-Delaunay edges and fill DS.
     for &e in first_pass {
-        let (y, x) = (run.s.excess_sin_cos(e)).expect("a non-Delaunay edge is interior, or a tested boundary edge");
-        run.stats.non_delaunay_before += geometry::exceeds(y, x, ACCEPT_TOLERANCE) as usize;
+        // The test every other count makes (`Surface::count_non_delaunay_among`): an edge
+        // whose angles underflow counts too (sin(α + β − π) = 0 where both angles are nearly
+        // π, which `geometry::exceeds` alone reads as Delaunay).
+        run.stats.non_delaunay_before += run.s.is_non_delaunay(e, ACCEPT_TOLERANCE) as usize;
         ds.push(e, None, || run.s.edge_length(e));
     }
     // Debug builds (every test): the input's edges left alone by the first
