@@ -1349,6 +1349,21 @@ mod tests {
         assert!(!is_non_delaunay(a, b, c, d, ALGORITHM_TOLERANCE));
     }
 
+    /// `exceeds` is strict: an excess equal to the tolerance is not over it, at tolerance 0
+    /// (an exactly cocircular quad, y = 0) as at any other; an obtuse excess (x ≤ 0, y > 0) is.
+    /// (Mutation testing: no test told `>` from `>=` at the tolerance.)
+    #[test]
+    fn exceeds_is_strict() {
+        assert!(!exceeds(0.0, 1.0, 0.0));
+        assert!(exceeds(1e-300, 1.0, 0.0));
+        assert!(!exceeds(-1e-300, 1.0, 0.0));
+        let t: f64 = 1e-3;
+        let y = t.tan();
+        assert!(!exceeds(y, 1.0, t));
+        assert!(exceeds(y.next_up(), 1.0, t));
+        assert!(exceeds(1.0, 0.0, t) && exceeds(1.0, -1.0, t));
+    }
+
     #[test]
     fn tolerance_is_respected_near_pi() {
         // Four points near a circle, perturbed by tiny amounts.
