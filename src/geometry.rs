@@ -1364,6 +1364,17 @@ mod tests {
         assert!(exceeds(1.0, 0.0, t) && exceeds(1.0, -1.0, t));
     }
 
+    /// `decide` on the excess's sine and cosine: ±π/2 (cosine 0) is decided by the sine's
+    /// sign, not taken for underflow, which needs both 0. (Mutation testing.)
+    #[test]
+    fn decide_reads_a_zero_cosine_by_the_sine() {
+        let t = ALGORITHM_TOLERANCE;
+        assert_eq!(decide(-1.0, 0.0, t), DelaunayTest::Delaunay);
+        assert_eq!(decide(1.0, 0.0, t), DelaunayTest::NonDelaunay);
+        assert_eq!(decide(0.0, 0.0, t), DelaunayTest::Underflow);
+        assert_eq!(decide(0.0, -1.0, t), DelaunayTest::NonDelaunay);
+    }
+
     #[test]
     fn tolerance_is_respected_near_pi() {
         // Four points near a circle, perturbed by tiny amounts.
