@@ -878,31 +878,35 @@ mod tests {
         }
     }
 
+    /// [`shell_target`] on the sub-edge from `t_a` to `t_b` of `samples`'
+    /// edge, from (0, 0, 0) to (100, 0, 0) (no condition ever holds).
+    fn shell_target_on(samples: &EdgeSamples, t_a: f64, t_b: f64) -> f64 {
+        let at = |t: f64| DVec3::new(100.0 * t, 0.0, 0.0);
+        let never = Condition {
+            side: Side::AtMost,
+            breakpoint: -1.0,
+        };
+        shell_target(&SplitQuery {
+            samples,
+            edge_ends: [DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0)],
+            t_a,
+            t_b,
+            pos_a: at(t_a),
+            pos_b: at(t_b),
+            halves: [never; 2],
+            outer: [never; 4],
+            outer_flippable: [false; 4],
+            score: Score::AlwaysCenter,
+            median: true,
+            shells: true,
+        })
+    }
+
     #[test]
     fn shell_targets_are_powers_of_two_of_rho_v_from_the_input_vertex() {
         let c = SampleConstants::new(std::f64::consts::FRAC_PI_6, 2.0); // ρ_v = ρ_e = 1
         let samples = EdgeSamples::new(100.0, &c);
-        let target = |t_a: f64, t_b: f64| {
-            let at = |t: f64| DVec3::new(100.0 * t, 0.0, 0.0);
-            let never = Condition {
-                side: Side::AtMost,
-                breakpoint: -1.0,
-            };
-            shell_target(&SplitQuery {
-                samples: &samples,
-                edge_ends: [DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0)],
-                t_a,
-                t_b,
-                pos_a: at(t_a),
-                pos_b: at(t_b),
-                halves: [never; 2],
-                outer: [never; 4],
-                outer_flippable: [false; 4],
-                score: Score::AlwaysCenter,
-                median: true,
-                shells: true,
-            })
-        };
+        let target = |t_a: f64, t_b: f64| shell_target_on(&samples, t_a, t_b);
         // 30 long from the input vertex at t = 0: 2^4 = 16 is the power of
         // two nearest 15 on a log scale; from either direction.
         assert_eq!(target(0.0, 0.3), 0.16);
@@ -918,6 +922,29 @@ mod tests {
         assert_eq!(target(0.2, 0.6), 0.4);
         // Shorter than ρ_v from the vertex: no shell inside, the middle.
         assert_eq!(target(0.0, 0.005), 0.0025);
+        // Shorter than 2ρ_v but longer than ρ_v: r = 0.3 < 1, so 2^0 = ρ_v,
+        // not 2^-2 (nearer 0.3 on a log scale): shells stop at ρ_v, the
+        // first sample, and ρ_v does not fit inside 0.6 with room to spare.
+        assert_eq!(target(0.0, 0.006), 0.003);
+    }
+
+    #[test]
+    fn shell_targets_scale_with_rho_v() {
+        // sin θ = 1/2, l_min = 4: ρ_v = min(4·0.5/1, 2) = 2.
+        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 4.0);
+        assert_eq!(c.rho_v, 2.0);
+        let samples = EdgeSamples::new(100.0, &c);
+        // 30 from the vertex: r = 30/(2·2) = 7.5, nearest 2^3 on a log
+        // scale, so 2·8 = 16 from it.
+        assert_eq!(shell_target_on(&samples, 0.0, 0.3), 0.16);
+        assert_eq!(shell_target_on(&samples, 1.0, 0.7), 1.0 - 0.16);
+        // A subnormal ρ_v (l_min 1e-310): r = len/(2ρ_v) overflows, and
+        // no power of two of ρ_v is looked for: the middle.
+        let c = SampleConstants::with_sine(std::f64::consts::FRAC_PI_6, 0.5, 1e-310);
+        assert!(c.rho_v > 0.0 && c.rho_v < f64::MIN_POSITIVE);
+        let samples = EdgeSamples::new(100.0, &c);
+        assert_eq!(shell_target_on(&samples, 0.0, 0.5), 0.25);
+        assert_eq!(shell_target_on(&samples, 1.0, 0.5), 0.75);
     }
 
     /// The samples of an edge of length 10 with ρ_v = ρ_e = 1 exactly (sin θ
