@@ -1029,6 +1029,39 @@ mod tests {
     }
 
     #[test]
+    fn the_best_interval_middle_takes_the_first_longest_stretch_inside() {
+        let samples = ten_samples();
+        let cond = |side, breakpoint| Condition { side, breakpoint };
+        let always = cond(Side::AtLeast, f64::NAN);
+        // The sub-edge from x = 2 to x = 9 (7 long); all-equal scores: two
+        // per condition that holds.
+        let on = |halves, outer| {
+            let q = SplitQuery {
+                halves,
+                outer,
+                ..query_on_ten(&samples, 2.0, 9.0)
+            };
+            best_interval_middle(&q).map(|t| (t - 0.2) * 10.0)
+        };
+        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-12);
+        // Best on the last stretch, [4, 7], which ends at the sub-edge's
+        // length; before the sub-edge starts (x < 0, from breakpoints
+        // outside it) two more conditions would hold, but no split is there.
+        let x = on(
+            [cond(Side::AtLeast, 4.0), cond(Side::AtMost, -0.5)],
+            [cond(Side::AtMost, -0.5), cond(Side::AtLeast, -2.0), always, always],
+        );
+        assert!(near(x, 5.5), "{x:?}");
+        // The same score on [0, 3] and on [3, 7]: the longer, second one.
+        // Both conditions hold at x = 3 alone: a point, not a stretch.
+        let x = on([cond(Side::AtMost, 3.0), cond(Side::AtLeast, 3.0)], [always; 4]);
+        assert!(near(x, 5.0), "{x:?}");
+        // The same score on [0, 5] and on [5, 7]: the longer, first one.
+        let x = on([cond(Side::AtMost, 5.0), cond(Side::AtLeast, 5.0)], [always; 4]);
+        assert!(near(x, 2.5), "{x:?}");
+    }
+
+    #[test]
     fn scores_weigh_as_the_report_says() {
         use Score::*;
         assert_eq!(AllEqual.doubled([true, true], 4), 12);
