@@ -1059,6 +1059,34 @@ mod tests {
         // The same score on [0, 5] and on [5, 7]: the longer, first one.
         let x = on([cond(Side::AtMost, 5.0), cond(Side::AtLeast, 5.0)], [always; 4]);
         assert!(near(x, 2.5), "{x:?}");
+        // The same score on [1, 4] and on [4, 7], as long: the first.
+        let x = on(
+            [cond(Side::AtLeast, 1.0), cond(Side::AtMost, 4.0)],
+            [cond(Side::AtLeast, 4.0), always, always, always],
+        );
+        assert!(near(x, 2.5), "{x:?}");
+        // The same score on [1, 3] and on [3, 7], and on [0.5, 2] and on
+        // [2, 5]: the longer, second one, which neither starts at 0.
+        let x = on(
+            [cond(Side::AtLeast, 1.0), cond(Side::AtMost, 3.0)],
+            [cond(Side::AtLeast, 3.0), always, always, always],
+        );
+        assert!(near(x, 5.0), "{x:?}");
+        let x = on(
+            [cond(Side::AtLeast, 0.5), cond(Side::AtMost, 2.0)],
+            [cond(Side::AtLeast, 2.0), cond(Side::AtMost, 5.0), always, always],
+        );
+        assert!(near(x, 3.5), "{x:?}");
+        // A sub-edge one unit in the last place long: its middle rounds
+        // (to even) onto an end, which is no split point.
+        let one_ulp = |t_a: f64| SplitQuery {
+            t_a,
+            t_b: t_a + f64::EPSILON / 2.0,
+            ..query_on_ten(&samples, 2.0, 9.0)
+        };
+        assert_eq!(best_interval_middle(&one_ulp(0.5)), None); // onto t_a
+        assert_eq!(best_interval_middle(&one_ulp(0.5 + f64::EPSILON / 2.0)), None);
+        // onto t_b
     }
 
     #[test]
