@@ -1152,4 +1152,27 @@ mod tests {
         // Between two neighbouring samples: none inside.
         assert_eq!(middle(&query(3.0, 4.0)), None);
     }
+
+    #[test]
+    fn a_breakpoint_on_a_sample_counts_it_on_the_side_that_holds() {
+        // Each condition's breakpoint exactly at a sample's distance from
+        // `a` (the distance the window measures): an `AtMost` one holds
+        // there and from there back to `a`, an `AtLeast` one from there on.
+        let samples = ten_samples();
+        let cond = |side, breakpoint| Condition { side, breakpoint };
+        for (a, b) in [(0.0, 10.0), (10.0, 0.0), (2.0, 9.0), (9.0, 2.0)] {
+            let base = query_on_ten(&samples, a, b);
+            let x_of = |k: u64| (samples.t(k) - base.t_a).abs() * samples.len;
+            for (k1, k2, median) in (0..9).flat_map(|k1| (0..9).flat_map(move |k2| [(k1, k2, true), (k1, k2, false)])) {
+                let q = SplitQuery {
+                    halves: [cond(Side::AtLeast, x_of(k1)), cond(Side::AtMost, x_of(k2))],
+                    median,
+                    ..base
+                };
+                let conds = q.conditions();
+                let want = choose_by_enumeration(&q, |i, x| conds[i].holds(x));
+                assert_eq!(choose(&q), want, "from {a} to {b}: samples {k1}, {k2}, median {median}");
+            }
+        }
+    }
 }
